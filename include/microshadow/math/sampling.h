@@ -1,0 +1,166 @@
+// Deterministic random and low-discrepancy sequences, and the basic warps built on them.
+// Everything here is a pure function of its inputs (index, seed): results never depend on threads or time.
+#pragma once
+
+#include <microshadow/math/vec.h>
+
+#include <cstdint>
+
+namespace msh {
+
+// Largest float/double below 1: uniform samples live in [0, 1).
+template <class T>
+inline constexpr T kOneMinusEpsilon = T(1) - std::numeric_limits<T>::epsilon() / T(2);
+
+// PCG32 (O'Neill 2014, pcg-random.org, "XSH RR" output): small state, good statistics, reproducible streams.
+class Pcg32 {
+ public:
+  explicit Pcg32(uint64_t seed = 0x853c49e6748fea9bULL, uint64_t stream = 0xda3e39cb94b95bdbULL) {
+    state_ = 0u;
+    inc_ = (stream << 1u) | 1u;
+    next_u32();
+    state_ += seed;
+    next_u32();
+  }
+  uint32_t next_u32() {
+    const uint64_t old = state_;
+    state_ = old * 0x5851f42d4c957f2dULL + inc_;
+    const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+    const uint32_t rot = uint32_t(old >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
+  }
+  // Uniform in [0, 1).
+  float next_float() { return std::min(float(next_u32()) * 0x1p-32f, kOneMinusEpsilon<float>); }
+  double next_double() {
+    const uint64_t hi = next_u32(), lo = next_u32();
+    return double((hi << 21) ^ lo) * 0x1p-53;  // 53 random bits
+  }
+  template <class T>
+  T next() {
+    if constexpr (sizeof(T) == sizeof(float)) return next_float();
+    else return T(next_double());
+  }
+
+ private:
+  uint64_t state_, inc_;
+};
+
+// 64→32 bit mixing hash (a variant of MurmurHash3's finalizer), for deriving seeds.
+constexpr uint32_t hash_u32(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+constexpr uint32_t hash_combine(uint32_t seed, uint32_t v) {
+  return seed ^ (hash_u32(v) + 0x9e3779b9u + (seed << 6) + (seed >> 2));
+}
+
+constexpr uint32_t reverse_bits(uint32_t x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+
+// First two dimensions of the Sobol sequence as 32-bit fixed point. Dimension 0 is the van der Corput
+// sequence; dimension 1 uses the direction numbers v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1) (Pascal's
+// triangle mod 2). Any 2^k-point prefix is a (0, k, 2)-net.
+constexpr uint32_t sobol_dim0(uint32_t index) { return reverse_bits(index); }
+constexpr uint32_t sobol_dim1(uint32_t index) {
+  uint32_t r = 0, v = 0x80000000u;
+  for (; index; index >>= 1, v ^= v >> 1)
+    if (index & 1u) r ^= v;
+  return r;
+}
+
+// Owen scrambling by hashing (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)), with the
+// Laine-Karras style permutation in reversed-bit order. Keeps the net property; makes the estimate unbiased.
+constexpr uint32_t laine_karras_permutation(uint32_t x, uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+constexpr uint32_t nested_uniform_scramble(uint32_t x, uint32_t seed) {
+  return reverse_bits(laine_karras_permutation(reverse_bits(x), seed));
+}
+
+template <class T>
+constexpr T u32_to_unit(uint32_t x) {
+  const T v = T(x) * T(0x1p-32);
+  return v < kOneMinusEpsilon<T> ? v : kOneMinusEpsilon<T>;
+}
+
+// Point `index` of a 2D Sobol sequence; seed = 0 gives the plain (unscrambled) sequence, any other seed an
+// Owen-scrambled and index-shuffled one (Burley 2020, §4), independent per seed.
+template <class T>
+Vec2<T> sobol_2d(uint32_t index, uint32_t seed = 0) {
+  if (seed == 0) return {u32_to_unit<T>(sobol_dim0(index)), u32_to_unit<T>(sobol_dim1(index))};
+  const uint32_t i = nested_uniform_scramble(index, seed);
+  return {u32_to_unit<T>(nested_uniform_scramble(sobol_dim0(i), hash_combine(seed, 0))),
+          u32_to_unit<T>(nested_uniform_scramble(sobol_dim1(i), hash_combine(seed, 1)))};
+}
+
+// Hammersley point i of n: (i/n, radical inverse of i). A (0, m, 2)-net when n = 2^m.
+template <class T>
+Vec2<T> hammersley_2d(uint32_t i, uint32_t n) {
+  return {T(i) / T(n), u32_to_unit<T>(reverse_bits(i))};
+}
+
+// ---- Warps from the unit square. Each states its pdf (solid angle or area) next to it.
+
+// Concentric map to the unit disk (Shirley & Chiu 1997): area-preserving, low distortion. pdf = 1/π.
+template <class T>
+Vec2<T> sample_uniform_disk_concentric(Vec2<T> u) {
+  const T ox = T(2) * u.x - T(1), oy = T(2) * u.y - T(1);
+  if (ox == T(0) && oy == T(0)) return {T(0), T(0)};
+  T r, theta;
+  if (std::abs(ox) > std::abs(oy)) {
+    r = ox;
+    theta = kPi<T> / T(4) * (oy / ox);
+  } else {
+    r = oy;
+    theta = kPi<T> / T(2) - kPi<T> / T(4) * (ox / oy);
+  }
+  return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+// Cosine-weighted hemisphere about +z (Malley's method). pdf = cos θ / π.
+template <class T>
+Vec3<T> sample_cosine_hemisphere(Vec2<T> u) {
+  const Vec2<T> d = sample_uniform_disk_concentric(u);
+  return {d.x, d.y, safe_sqrt(T(1) - d.x * d.x - d.y * d.y)};
+}
+template <class T>
+T cosine_hemisphere_pdf(T cos_t) {
+  return cos_t > T(0) ? cos_t * kInvPi<T> : T(0);
+}
+
+// Uniform over the hemisphere about +z. pdf = 1/(2π).
+template <class T>
+Vec3<T> sample_uniform_hemisphere(Vec2<T> u) {
+  const T z = u.x;
+  return spherical_direction(z, T(2) * kPi<T> * u.y);
+}
+
+// Uniform over the sphere. pdf = 1/(4π).
+template <class T>
+Vec3<T> sample_uniform_sphere(Vec2<T> u) {
+  const T z = T(1) - T(2) * u.x;
+  return spherical_direction(z, T(2) * kPi<T> * u.y);
+}
+
+// Uniform over the cone of directions with cos θ ≥ cos_max about +z. pdf = 1/(2π(1 − cos_max)).
+template <class T>
+Vec3<T> sample_uniform_cone(Vec2<T> u, T cos_max) {
+  const T c = (T(1) - u.x) + u.x * cos_max;
+  return spherical_direction(c, T(2) * kPi<T> * u.y);
+}
+
+}  // namespace msh

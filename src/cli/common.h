@@ -1,0 +1,28 @@
+// Helpers shared by the CLI commands: argument parsing and JSON output.
+#pragma once
+
+#include <microshadow/math/vec.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "registry.h"
+
+namespace msh::cli {
+
+// Parses "X,Y,Z" (spaces allowed) into a vector; throws UsageError naming `what` on malformed or
+// non-finite input. Does not normalize.
+Vec3d parse_vec3(const std::string& text, const std::string& what);
+
+// Throws UsageError("<what> must be in [lo, hi], got <v>") unless lo <= v <= hi (NaN fails).
+void require_range(double v, double lo, double hi, const std::string& what);
+
+// Prints one JSON object on stdout, one line, with full double precision.
+void print_json(const nlohmann::json& j);
+
+// A CLI11 validator that rejects NaN/Inf (CLI11's own number parsing accepts "nan").
+extern const CLI::Validator Finite;
+
+}  // namespace msh::cli

@@ -1,0 +1,69 @@
+// microshadow command-line tool. Subcommands are added by src/cli/cmd_*.cpp through MSH_CLI_REGISTER.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <exception>
+#include <iostream>
+#include <utility>
+#include <vector>
+
+#include "registry.h"
+
+namespace msh::cli {
+namespace {
+std::vector<std::pair<int, Registrar>>& registrars() {
+  static std::vector<std::pair<int, Registrar>> r;
+  return r;
+}
+}  // namespace
+
+bool add_registrar(Registrar r, int order) {
+  registrars().emplace_back(order, r);
+  return true;
+}
+
+void run_registrars(Groups& g) {
+  auto& r = registrars();
+  std::stable_sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [order, fn] : r) fn(g);
+}
+
+}  // namespace msh::cli
+
+int main(int argc, char** argv) {
+  using namespace msh::cli;
+  CLI::App app{"microshadow: microfacet BRDFs, micro-shadowing, the bump-terminator fix, their LUTs and a "
+               "reference renderer.",
+               "microshadow"};
+  app.set_version_flag("--version", std::string("microshadow ") + MSH_VERSION);
+  app.require_subcommand(1);
+  Groups g;
+  g.root = &app;
+  g.eval = app.add_subcommand("eval", "Evaluate one term at one point and print JSON");
+  g.eval->require_subcommand(1);
+  g.bake = app.add_subcommand("bake", "Bake lookup tables");
+  g.bake->require_subcommand(1);
+  g.plot = app.add_subcommand("plot", "Write figure data (CSV) and figures (PNG)");
+  g.plot->require_subcommand(1);
+  run_registrars(g);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "microshadow: error: " << e.what() << " (see --help)" << std::endl;
+    return 2;
+  } catch (const UsageError& e) {
+    std::cerr << "microshadow: error: " << e.what() << std::endl;
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "microshadow: failed: " << e.what() << std::endl;
+    return 1;
+  }
+  return 0;
+}
