@@ -1,0 +1,65 @@
+// Texture and image I/O: DDS, KTX2, EXR, NPY, C header, PNG (layouts in docs/formats.md).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace msh::io {
+
+// A 3D (depth > 1) or 2D (depth == 1) float texture, channels interleaved, x fastest:
+// data[((z*height + y)*width + x)*channels + c]. NPY export shape is (depth, height, width, channels).
+struct Volume {
+  int width = 0, height = 0, depth = 1, channels = 4;
+  std::vector<float> data;
+
+  Volume() = default;
+  Volume(int w, int h, int d, int c)
+      : width(w), height(h), depth(d), channels(c), data(std::size_t(w) * h * d * c, 0.0f) {}
+  std::size_t index(int x, int y, int z, int c) const {
+    return ((std::size_t(z) * height + y) * width + x) * channels + c;
+  }
+  float& at(int x, int y, int z, int c) { return data[index(x, y, z, c)]; }
+  float at(int x, int y, int z, int c) const { return data[index(x, y, z, c)]; }
+  std::size_t texel_count() const { return std::size_t(width) * height * depth; }
+};
+
+enum class FileFormat { Dds, Ktx2, Exr, Npy, CHeader, Png };
+enum class PixelFormat {
+  RGBA8Unorm,
+  RGBA16Float,
+  RGBA32Float,
+  RG16Float,
+  RG32Float,
+  R16Float,
+  R32Float,
+  R8Unorm,
+  RG8Unorm
+};
+
+// By extension (.dds .ktx2 .exr .npy .h/.hpp .png, case-insensitive); InputError otherwise.
+FileFormat file_format_from_path(const std::filesystem::path& path);
+// "dds", "ktx2", "exr", "npy", "h", "png"; InputError otherwise.
+FileFormat file_format_from_name(const std::string& name);
+// "rgba8", "rgba16f", "rgba32f", "rg16f", "rg32f", "r16f", "r32f", "r8", "rg8"; InputError otherwise.
+PixelFormat pixel_format_from_name(const std::string& name);
+std::string pixel_format_name(PixelFormat pf);
+int pixel_format_channels(PixelFormat pf);
+
+// Writes atomically (io::AtomicPath/write_file_atomic). Channel count must match the PixelFormat (InputError).
+// Non-finite values are an error (InputError), never written. UNORM: round-to-nearest of saturate(x)*255.
+// The PixelFormat applies to DDS and KTX2; EXR stores half for *16Float and float otherwise; NPY and C header
+// always store float32 (the exact values); PNG stores 8 bits for *8Unorm and 16 bits otherwise.
+// `symbol` is the C identifier used by the C header writer.
+void write_volume(const std::filesystem::path& path, const Volume& v, FileFormat ff,
+                  PixelFormat pf = PixelFormat::RGBA16Float, const std::string& symbol = "lut");
+// Reads DDS, KTX2, EXR, NPY, PNG written by us (format by extension) → floats. InputError on any failure.
+Volume read_volume(const std::filesystem::path& path);
+
+// 2D images for the renderer: PNG (8/16-bit gray/GA/RGB/RGBA via libpng; values returned as-is in [0,1], no color
+// conversion) and EXR (half or float RGB/RGBA via OpenEXR). Volume with depth = 1.
+Volume read_image(const std::filesystem::path& path);  // .png or .exr; InputError naming the file on failure
+void write_png(const std::filesystem::path& path, const Volume& image_in_0_1, int bits = 8);  // 1–4 channels
+void write_exr(const std::filesystem::path& path, const Volume& image, bool half = true);
+
+}  // namespace msh::io
