@@ -46,18 +46,18 @@ PixelFormat pixel_format_from_name(const std::string& name);
 std::string pixel_format_name(PixelFormat pf);
 int pixel_format_channels(PixelFormat pf);
 
-// Writes atomically (io::AtomicPath/write_file_atomic). Channel count must match the PixelFormat (InputError).
-// Non-finite values are an error (InputError), never written. UNORM: round-to-nearest of saturate(x)*255.
-// The PixelFormat applies to DDS and KTX2; EXR stores half for *16Float and float otherwise; NPY and C header
-// always store float32 (the exact values); PNG stores 8 bits for *8Unorm and 16 bits otherwise.
-// `symbol` is the C identifier used by the C header writer.
+// Writes atomically (io::AtomicPath/write_file_atomic). Channel count must match the PixelFormat
+// (InputError). Non-finite values are an error (InputError), never written. UNORM: round-to-nearest of
+// saturate(x)*255. The PixelFormat applies to DDS and KTX2; EXR stores half for *16Float and float otherwise;
+// NPY and C header always store float32 (the exact values); PNG stores 8 bits for *8Unorm and 16 bits
+// otherwise. `symbol` is the C identifier used by the C header writer.
 void write_volume(const std::filesystem::path& path, const Volume& v, FileFormat ff,
                   PixelFormat pf = PixelFormat::RGBA16Float, const std::string& symbol = "lut");
 // Reads DDS, KTX2, EXR, NPY, PNG written by us (format by extension) → floats. InputError on any failure.
 Volume read_volume(const std::filesystem::path& path);
 
-// 2D images for the renderer: PNG (8/16-bit gray/GA/RGB/RGBA via libpng; values returned as-is in [0,1], no color
-// conversion) and EXR (half or float RGB/RGBA via OpenEXR). Volume with depth = 1.
+// 2D images for the renderer: PNG (8/16-bit gray/GA/RGB/RGBA via libpng; values returned as-is in [0,1], no
+// color conversion) and EXR (half or float RGB/RGBA via OpenEXR). Volume with depth = 1.
 Volume read_image(const std::filesystem::path& path);  // .png or .exr; InputError naming the file on failure
 void write_png(const std::filesystem::path& path, const Volume& image_in_0_1, int bits = 8);  // 1–4 channels
 void write_exr(const std::filesystem::path& path, const Volume& image, bool half = true);

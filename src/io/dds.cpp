@@ -1,0 +1,125 @@
+// DirectDraw Surface with the DX10 extension header (Microsoft docs: "DDS_HEADER", "DDS_PIXELFORMAT",
+// "DDS_HEADER_DXT10"): "DDS " + 124-byte DDS_HEADER + 20-byte DDS_HEADER_DXT10 + texels (x fastest, then y,
+// then z), one mip level, no padding between rows or slices.
+#include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/error.h>
+
+#include "texture_internal.h"
+
+namespace msh::io::detail {
+namespace fs = std::filesystem;
+
+namespace {
+// DDS_HEADER.dwFlags
+constexpr std::uint32_t DDSD_CAPS = 0x1, DDSD_HEIGHT = 0x2, DDSD_WIDTH = 0x4, DDSD_PITCH = 0x8,
+                        DDSD_PIXELFORMAT = 0x1000, DDSD_MIPMAPCOUNT = 0x20000, DDSD_DEPTH = 0x800000;
+constexpr std::uint32_t DDPF_FOURCC = 0x4;
+constexpr std::uint32_t DDSCAPS_TEXTURE = 0x1000;
+constexpr std::uint32_t DDSCAPS2_VOLUME = 0x200000;
+constexpr std::uint32_t FOURCC_DX10 = 0x30315844;  // 'D','X','1','0'
+constexpr std::uint32_t DIM_TEXTURE2D = 3, DIM_TEXTURE3D = 4;
+constexpr std::size_t kHeaderBytes = 4 + 124 + 20;
+
+std::uint32_t dxgi_format(PixelFormat pf) {
+  switch (pf) {
+    case PixelFormat::RGBA8Unorm:
+      return 28;  // DXGI_FORMAT_R8G8B8A8_UNORM
+    case PixelFormat::RGBA16Float:
+      return 10;  // DXGI_FORMAT_R16G16B16A16_FLOAT
+    case PixelFormat::RGBA32Float:
+      return 2;  // DXGI_FORMAT_R32G32B32A32_FLOAT
+    case PixelFormat::RG16Float:
+      return 34;  // DXGI_FORMAT_R16G16_FLOAT
+    case PixelFormat::RG32Float:
+      return 16;  // DXGI_FORMAT_R32G32_FLOAT
+    case PixelFormat::R16Float:
+      return 54;  // DXGI_FORMAT_R16_FLOAT
+    case PixelFormat::R32Float:
+      return 41;  // DXGI_FORMAT_R32_FLOAT
+    case PixelFormat::R8Unorm:
+      return 61;  // DXGI_FORMAT_R8_UNORM
+    case PixelFormat::RG8Unorm:
+      return 49;  // DXGI_FORMAT_R8G8_UNORM
+  }
+  return 0;
+}
+bool pixel_format_from_dxgi(std::uint32_t dxgi, PixelFormat& pf) {
+  for (PixelFormat p : {PixelFormat::RGBA8Unorm, PixelFormat::RGBA16Float, PixelFormat::RGBA32Float,
+                        PixelFormat::RG16Float, PixelFormat::RG32Float, PixelFormat::R16Float,
+                        PixelFormat::R32Float, PixelFormat::R8Unorm, PixelFormat::RG8Unorm})
+    if (dxgi_format(p) == dxgi) return pf = p, true;
+  return false;
+}
+}  // namespace
+
+void write_dds(const fs::path& path, const Volume& v, PixelFormat pf) {
+  const std::vector<std::byte> texels = encode_texels(v, pf, path);
+  const PixelInfo pi = pixel_info(pf);
+  const bool volume = v.depth > 1;
+  std::vector<std::byte> out;
+  out.reserve(kHeaderBytes + texels.size());
+  put_u32(out, 0x20534444);  // "DDS "
+  // DDS_HEADER
+  put_u32(out, 124);  // dwSize
+  put_u32(out, DDSD_CAPS | DDSD_HEIGHT | DDSD_WIDTH | DDSD_PITCH | DDSD_PIXELFORMAT | DDSD_MIPMAPCOUNT |
+                   (volume ? DDSD_DEPTH : 0u));
+  put_u32(out, std::uint32_t(v.height));
+  put_u32(out, std::uint32_t(v.width));
+  put_u32(out, std::uint32_t(v.width * pi.texel_bytes()));  // dwPitchOrLinearSize: row pitch (uncompressed)
+  put_u32(out, volume ? std::uint32_t(v.depth) : 0u);       // dwDepth
+  put_u32(out, 1);                                          // dwMipMapCount
+  for (int i = 0; i < 11; ++i) put_u32(out, 0);             // dwReserved1
+  // DDS_PIXELFORMAT: the real format is in the DX10 header.
+  put_u32(out, 32);
+  put_u32(out, DDPF_FOURCC);
+  put_u32(out, FOURCC_DX10);
+  for (int i = 0; i < 5; ++i) put_u32(out, 0);  // dwRGBBitCount, R/G/B/A masks
+  put_u32(out, DDSCAPS_TEXTURE);                // dwCaps (COMPLEX/MIPMAP only for several surfaces)
+  put_u32(out, volume ? DDSCAPS2_VOLUME : 0u);  // dwCaps2
+  put_u32(out, 0);                              // dwCaps3
+  put_u32(out, 0);                              // dwCaps4
+  put_u32(out, 0);                              // dwReserved2
+  // DDS_HEADER_DXT10
+  put_u32(out, dxgi_format(pf));
+  put_u32(out, volume ? DIM_TEXTURE3D : DIM_TEXTURE2D);
+  put_u32(out, 0);  // miscFlag (not a cube map)
+  put_u32(out, 1);  // arraySize (must be 1 for 3D)
+  put_u32(out, 0);  // miscFlags2: DDS_ALPHA_MODE_UNKNOWN
+  out.insert(out.end(), texels.begin(), texels.end());
+  write_file_atomic(path, out);
+}
+
+Volume read_dds(const fs::path& path) {
+  const std::vector<std::byte> bytes = read_file(path);
+  ByteReader r{bytes, &path};
+  r.require(0, kHeaderBytes);
+  if (r.u32(0) != 0x20534444) fail(path, "not a DDS file (bad magic)");
+  if (r.u32(4) != 124 || r.u32(4 + 72) != 32) fail(path, "corrupt DDS header (bad dwSize)");
+  const std::uint32_t flags = r.u32(8);
+  const std::uint32_t height = r.u32(12), width = r.u32(16);
+  const std::uint32_t depth_field = r.u32(24);
+  if (!(r.u32(4 + 76) & DDPF_FOURCC) || r.u32(4 + 80) != FOURCC_DX10)
+    fail(path, "only DDS files with a DX10 header are supported");
+  const std::uint32_t caps2 = r.u32(4 + 108);
+  const std::uint32_t dxgi = r.u32(128), dim = r.u32(132), misc = r.u32(136), array_size = r.u32(140);
+  PixelFormat pf;
+  if (!pixel_format_from_dxgi(dxgi, pf)) fail(path, fmt::format("unsupported DXGI format {}", dxgi));
+  if (misc & 0x4) fail(path, "cube maps are not supported");
+  if (array_size > 1) fail(path, "texture arrays are not supported");
+  long long depth = 1;
+  if (dim == DIM_TEXTURE3D) {
+    if (!(flags & DDSD_DEPTH) || !(caps2 & DDSCAPS2_VOLUME))
+      fail(path, "3D DDS without DDSD_DEPTH/DDSCAPS2_VOLUME");
+    depth = depth_field;
+  } else if (dim != DIM_TEXTURE2D) {
+    fail(path, fmt::format("unsupported DDS resource dimension {}", dim));
+  }
+  const PixelInfo pi = pixel_info(pf);
+  check_dimensions(path, width, height, depth, pi.channels);
+  const std::size_t n = std::size_t(width) * height * depth * pi.texel_bytes();
+  r.require(kHeaderBytes, n);  // extra data (further mips) is ignored
+  return decode_texels(std::span(bytes).subspan(kHeaderBytes, n), pf, int(width), int(height), int(depth));
+}
+
+}  // namespace msh::io::detail

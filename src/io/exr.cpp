@@ -1,0 +1,140 @@
+// OpenEXR images and volumes. A volume of depth D is stored as one scanline image of width W and height H*D
+// (slice z occupies rows z*H .. z*H + H - 1) with the int attributes "microshadow:depth" = D and
+// "microshadow:sliceHeight" = H. Channels: 1 → Y, 2 → R G, 3 → R G B, 4 → R G B A; half or float, ZIP.
+#include <Imath/half.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/error.h>
+
+#include <exception>
+
+#include "texture_internal.h"
+
+namespace msh::io::detail {
+namespace fs = std::filesystem;
+
+namespace {
+constexpr const char* kDepthAttr = "microshadow:depth";
+constexpr const char* kSliceAttr = "microshadow:sliceHeight";
+
+std::vector<std::string> channel_names(int channels) {
+  switch (channels) {
+    case 1:
+      return {"Y"};
+    case 2:
+      return {"R", "G"};
+    case 3:
+      return {"R", "G", "B"};
+    default:
+      return {"R", "G", "B", "A"};
+  }
+}
+}  // namespace
+
+void write_exr_volume(const fs::path& path, const Volume& v, bool half) {
+  validate_volume(v, path, 1, 4);
+  const long long total_h = (long long)v.height * v.depth;
+  if (total_h > (1 << 30)) fail(path, "volume too tall for an EXR image");
+  const std::vector<std::string> names = channel_names(v.channels);
+  const std::size_t xs_f = sizeof(float) * v.channels, ys_f = xs_f * v.width;
+
+  std::vector<Imath::half> hbuf;
+  if (half) {
+    hbuf.resize(v.data.size());
+    for (std::size_t i = 0; i < v.data.size(); ++i) {
+      hbuf[i] = Imath::half(v.data[i]);
+      if (hbuf[i].isInfinity())
+        fail(path, fmt::format("value {} at index {} overflows half float (max 65504); nothing written",
+                               v.data[i], i));
+    }
+  }
+  AtomicPath ap(path);
+  try {
+    Imf::Header header(v.width, int(total_h));
+    header.compression() = Imf::ZIP_COMPRESSION;
+    header.insert(kDepthAttr, Imf::IntAttribute(v.depth));
+    header.insert(kSliceAttr, Imf::IntAttribute(v.height));
+    Imf::FrameBuffer fb;
+    for (int c = 0; c < v.channels; ++c) {
+      if (half) {
+        header.channels().insert(names[c], Imf::Channel(Imf::HALF));
+        const std::size_t xs = sizeof(Imath::half) * v.channels;
+        fb.insert(names[c],
+                  Imf::Slice(Imf::HALF, reinterpret_cast<char*>(hbuf.data() + c), xs, xs * v.width));
+      } else {
+        header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
+        fb.insert(names[c],
+                  Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(v.data.data() + c)),
+                             xs_f, ys_f));
+      }
+    }
+    {
+      Imf::OutputFile out(ap.temp().c_str(), header);
+      out.setFrameBuffer(fb);
+      out.writePixels(int(total_h));
+    }
+  } catch (const std::exception& e) {
+    fail(path, fmt::format("cannot write EXR: {}", e.what()));
+  }
+  ap.commit();
+}
+
+Volume read_exr(const fs::path& path, bool as_volume) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) fail(path, "cannot open file");
+  try {
+    Imf::InputFile in(path.c_str());
+    const Imf::Header& h = in.header();
+    const Imath::Box2i dw = h.dataWindow();
+    const long long W = (long long)dw.max.x - dw.min.x + 1, Htot = (long long)dw.max.y - dw.min.y + 1;
+    const Imf::ChannelList& cl = h.channels();
+    std::vector<std::string> use;
+    auto has = [&](const char* n) { return cl.findChannel(n) != nullptr; };
+    if (has("R") && has("G") && has("B")) {
+      use = {"R", "G", "B"};
+      if (has("A")) use.push_back("A");
+    } else if (has("R") && has("G")) {
+      use = {"R", "G"};
+    } else if (has("Y")) {
+      use = {"Y"};
+      if (has("A")) use.push_back("A");
+    } else if (has("R")) {
+      use = {"R"};
+    } else {
+      int n = 0;
+      for (auto it = cl.begin(); it != cl.end(); ++it) ++n, use = {it.name()};
+      if (n != 1) fail(path, "unsupported EXR channel layout (expected Y, YA, R, RG, RGB or RGBA)");
+    }
+    long long D = 1, H = Htot;
+    if (as_volume) {
+      const auto* da = h.findTypedAttribute<Imf::IntAttribute>(kDepthAttr);
+      if (da && da->value() > 1) {
+        D = da->value();
+        if (Htot % D != 0)
+          fail(path, fmt::format("image height {} is not a multiple of {} = {}", Htot, kDepthAttr, D));
+        H = Htot / D;
+      }
+    }
+    check_dimensions(path, W, H, D, (long long)use.size());
+    Volume v(int(W), int(H), int(D), int(use.size()));
+    const std::size_t xs = sizeof(float) * v.channels, ys = xs * v.width;
+    Imf::FrameBuffer fb;
+    for (int c = 0; c < v.channels; ++c)
+      fb.insert(use[c], Imf::Slice::Make(Imf::FLOAT, v.data.data() + c, dw, xs, ys));
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+    return v;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail(path, fmt::format("cannot read EXR: {}", e.what()));
+  }
+}
+
+}  // namespace msh::io::detail

@@ -1,0 +1,160 @@
+// Khronos KTX 2.0 (KTX File Format Specification 2.0): identifier, header, index, one level index entry, a
+// basic data format descriptor (Khronos Data Format Specification 1.3), key/value data with KTXwriter, then
+// the texels (x fastest, then y, then z). No supercompression, one mip level, no array layers, one face.
+#include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/error.h>
+
+#include <numeric>
+
+#include "texture_internal.h"
+
+namespace msh::io::detail {
+namespace fs = std::filesystem;
+
+namespace {
+constexpr unsigned char kIdentifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32,
+                                           0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+
+std::uint32_t vk_format(PixelFormat pf) {
+  switch (pf) {
+    case PixelFormat::RGBA8Unorm:
+      return 37;  // VK_FORMAT_R8G8B8A8_UNORM
+    case PixelFormat::RGBA16Float:
+      return 97;  // VK_FORMAT_R16G16B16A16_SFLOAT
+    case PixelFormat::RGBA32Float:
+      return 109;  // VK_FORMAT_R32G32B32A32_SFLOAT
+    case PixelFormat::RG16Float:
+      return 83;  // VK_FORMAT_R16G16_SFLOAT
+    case PixelFormat::RG32Float:
+      return 103;  // VK_FORMAT_R32G32_SFLOAT
+    case PixelFormat::R16Float:
+      return 76;  // VK_FORMAT_R16_SFLOAT
+    case PixelFormat::R32Float:
+      return 100;  // VK_FORMAT_R32_SFLOAT
+    case PixelFormat::R8Unorm:
+      return 9;  // VK_FORMAT_R8_UNORM
+    case PixelFormat::RG8Unorm:
+      return 16;  // VK_FORMAT_R8G8_UNORM
+  }
+  return 0;
+}
+bool pixel_format_from_vk(std::uint32_t vk, PixelFormat& pf) {
+  for (PixelFormat p : {PixelFormat::RGBA8Unorm, PixelFormat::RGBA16Float, PixelFormat::RGBA32Float,
+                        PixelFormat::RG16Float, PixelFormat::RG32Float, PixelFormat::R16Float,
+                        PixelFormat::R32Float, PixelFormat::R8Unorm, PixelFormat::RG8Unorm})
+    if (vk_format(p) == vk) return pf = p, true;
+  return false;
+}
+
+// Basic DFD for an unpacked little-endian RGBA-ordered format (KDFS 1.3 §5; one sample per channel).
+std::vector<std::byte> basic_dfd(PixelFormat pf) {
+  const PixelInfo pi = pixel_info(pf);
+  const std::uint32_t block_size = 24 + 16 * pi.channels;
+  std::vector<std::byte> d;
+  put_u32(d, 4 + block_size);  // dfdTotalSize
+  put_u32(d, 0);               // vendorId = KHR_DF_VENDORID_KHRONOS (0), descriptorType = BASICFORMAT (0)
+  put_u32(d, 2u | (block_size << 16));  // versionNumber = KHR_DF_VERSIONNUMBER_1_3 (2), descriptorBlockSize
+  // colorModel RGBSDA (1), colorPrimaries BT709 (1), transferFunction LINEAR (1), flags ALPHA_STRAIGHT (0).
+  put_u32(d, 1u | (1u << 8) | (1u << 16));
+  put_u32(d, 0);                                // texelBlockDimension0..3 = 1x1x1x1 (stored minus one)
+  put_u32(d, std::uint32_t(pi.texel_bytes()));  // bytesPlane0
+  put_u32(d, 0);                                // bytesPlane4..7
+  const int bits = 8 * pi.bytes_per_channel;
+  for (int c = 0; c < pi.channels; ++c) {
+    const std::uint32_t channel_id = c == 3 ? 15u : std::uint32_t(c);     // R=0 G=1 B=2 A=15
+    const std::uint32_t qualifiers = pi.is_float ? (0x80u | 0x40u) : 0u;  // FLOAT | SIGNED for SFLOAT
+    put_u32(d, std::uint32_t(c * bits) | (std::uint32_t(bits - 1) << 16) | ((channel_id | qualifiers) << 24));
+    put_u32(d, 0);  // samplePosition0..3
+    if (pi.is_float) {
+      put_u32(d, 0xBF800000u);  // sampleLower = -1.0f
+      put_u32(d, 0x3F800000u);  // sampleUpper = 1.0f
+    } else {
+      put_u32(d, 0);
+      put_u32(d, (1u << bits) - 1u);
+    }
+  }
+  return d;
+}
+
+void pad_to(std::vector<std::byte>& out, std::size_t alignment) {
+  while (out.size() % alignment != 0) out.push_back(std::byte{0});
+}
+}  // namespace
+
+void write_ktx2(const fs::path& path, const Volume& v, PixelFormat pf) {
+  const std::vector<std::byte> texels = encode_texels(v, pf, path);
+  const PixelInfo pi = pixel_info(pf);
+  const std::vector<std::byte> dfd = basic_dfd(pf);
+  std::vector<std::byte> kvd;
+  {
+    const std::string key = "KTXwriter";
+    const std::string value = fmt::format("microshadow {}", MSH_VERSION);
+    const std::uint32_t len = std::uint32_t(key.size() + 1 + value.size() + 1);  // both NUL-terminated
+    put_u32(kvd, len);
+    for (char c : key) kvd.push_back(std::byte(c));
+    kvd.push_back(std::byte{0});
+    for (char c : value) kvd.push_back(std::byte(c));
+    kvd.push_back(std::byte{0});
+    pad_to(kvd, 4);  // valuePadding (counted in kvdByteLength)
+  }
+  constexpr std::size_t kIndexEnd = 12 + 36 + 32 + 24;  // identifier, header, index, one level entry
+  const std::size_t dfd_offset = kIndexEnd;
+  const std::size_t kvd_offset = dfd_offset + dfd.size();
+  const std::size_t alignment = std::lcm(std::size_t(pi.texel_bytes()), std::size_t(4));
+  std::size_t level_offset = kvd_offset + kvd.size();
+  level_offset = (level_offset + alignment - 1) / alignment * alignment;
+
+  std::vector<std::byte> out;
+  out.reserve(level_offset + texels.size());
+  for (unsigned char c : kIdentifier) out.push_back(std::byte(c));
+  put_u32(out, vk_format(pf));
+  put_u32(out, std::uint32_t(pi.bytes_per_channel));  // typeSize
+  put_u32(out, std::uint32_t(v.width));
+  put_u32(out, std::uint32_t(v.height));
+  put_u32(out, v.depth > 1 ? std::uint32_t(v.depth) : 0u);  // pixelDepth: 0 for 2D
+  put_u32(out, 0);                                          // layerCount: not an array
+  put_u32(out, 1);                                          // faceCount
+  put_u32(out, 1);                                          // levelCount
+  put_u32(out, 0);                                          // supercompressionScheme: none
+  put_u32(out, std::uint32_t(dfd_offset));
+  put_u32(out, std::uint32_t(dfd.size()));
+  put_u32(out, std::uint32_t(kvd_offset));
+  put_u32(out, std::uint32_t(kvd.size()));
+  put_u64(out, 0);              // sgdByteOffset
+  put_u64(out, 0);              // sgdByteLength
+  put_u64(out, level_offset);   // levels[0].byteOffset
+  put_u64(out, texels.size());  // levels[0].byteLength
+  put_u64(out, texels.size());  // levels[0].uncompressedByteLength
+  out.insert(out.end(), dfd.begin(), dfd.end());
+  out.insert(out.end(), kvd.begin(), kvd.end());
+  pad_to(out, alignment);  // mipPadding
+  out.insert(out.end(), texels.begin(), texels.end());
+  write_file_atomic(path, out);
+}
+
+Volume read_ktx2(const fs::path& path) {
+  const std::vector<std::byte> bytes = read_file(path);
+  ByteReader r{bytes, &path};
+  r.require(0, 12 + 36 + 32 + 24);
+  if (std::memcmp(bytes.data(), kIdentifier, 12) != 0) fail(path, "not a KTX2 file (bad identifier)");
+  const std::uint32_t vk = r.u32(12), width = r.u32(20), height = r.u32(24), depth = r.u32(28);
+  const std::uint32_t layers = r.u32(32), faces = r.u32(36), levels = r.u32(40), scheme = r.u32(44);
+  PixelFormat pf;
+  if (!pixel_format_from_vk(vk, pf)) fail(path, fmt::format("unsupported vkFormat {}", vk));
+  if (scheme != 0) fail(path, "supercompressed KTX2 files are not supported");
+  if (layers > 1 || faces != 1) fail(path, "KTX2 arrays and cube maps are not supported");
+  if (height == 0) fail(path, "1D KTX2 textures are not supported");
+  const PixelInfo pi = pixel_info(pf);
+  const long long d = depth == 0 ? 1 : depth;
+  check_dimensions(path, width, height, d, pi.channels);
+  (void)levels;  // level 0 (the first entry) is the full-resolution image whatever the count
+  const std::uint64_t offset = r.u64(80), length = r.u64(88);
+  const std::size_t n = std::size_t(width) * height * d * pi.texel_bytes();
+  if (length != n) fail(path, fmt::format("level 0 holds {} bytes, expected {}", length, n));
+  if (offset > bytes.size()) fail(path, "truncated or corrupt file (level 0 offset past the end)");
+  r.require(std::size_t(offset), n);
+  return decode_texels(std::span(bytes).subspan(std::size_t(offset), n), pf, int(width), int(height), int(d));
+}
+
+}  // namespace msh::io::detail

@@ -1,0 +1,269 @@
+// Format/pixel-format names, validation, texel packing and the write_volume/read_volume dispatch.
+#include <Imath/half.h>
+#include <fmt/format.h>
+#include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+
+#include "texture_internal.h"
+
+namespace msh::io {
+namespace fs = std::filesystem;
+
+namespace {
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+}  // namespace
+
+FileFormat file_format_from_path(const fs::path& path) {
+  const std::string ext = lower(path.extension().string());
+  if (ext == ".dds") return FileFormat::Dds;
+  if (ext == ".ktx2") return FileFormat::Ktx2;
+  if (ext == ".exr") return FileFormat::Exr;
+  if (ext == ".npy") return FileFormat::Npy;
+  if (ext == ".h" || ext == ".hpp") return FileFormat::CHeader;
+  if (ext == ".png") return FileFormat::Png;
+  throw InputError(fmt::format(
+      "'{}': unknown file extension '{}' (expected .dds .ktx2 .exr .npy .h .hpp .png)", path.string(), ext));
+}
+
+FileFormat file_format_from_name(const std::string& name) {
+  const std::string n = lower(name);
+  if (n == "dds") return FileFormat::Dds;
+  if (n == "ktx2") return FileFormat::Ktx2;
+  if (n == "exr") return FileFormat::Exr;
+  if (n == "npy") return FileFormat::Npy;
+  if (n == "h" || n == "hpp" || n == "header") return FileFormat::CHeader;
+  if (n == "png") return FileFormat::Png;
+  throw InputError(fmt::format("unknown file format '{}' (expected dds, ktx2, exr, npy, h, png)", name));
+}
+
+namespace {
+struct PfName {
+  PixelFormat pf;
+  const char* name;
+};
+constexpr PfName kPixelFormats[] = {
+    {PixelFormat::RGBA8Unorm, "rgba8"},    {PixelFormat::RGBA16Float, "rgba16f"},
+    {PixelFormat::RGBA32Float, "rgba32f"}, {PixelFormat::RG16Float, "rg16f"},
+    {PixelFormat::RG32Float, "rg32f"},     {PixelFormat::R16Float, "r16f"},
+    {PixelFormat::R32Float, "r32f"},       {PixelFormat::R8Unorm, "r8"},
+    {PixelFormat::RG8Unorm, "rg8"},
+};
+}  // namespace
+
+PixelFormat pixel_format_from_name(const std::string& name) {
+  const std::string n = lower(name);
+  for (const PfName& p : kPixelFormats)
+    if (n == p.name) return p.pf;
+  throw InputError(fmt::format(
+      "unknown pixel format '{}' (expected rgba8, rgba16f, rgba32f, rg16f, rg32f, r16f, r32f, r8, rg8)",
+      name));
+}
+
+std::string pixel_format_name(PixelFormat pf) {
+  for (const PfName& p : kPixelFormats)
+    if (pf == p.pf) return p.name;
+  return "unknown";
+}
+
+int pixel_format_channels(PixelFormat pf) { return detail::pixel_info(pf).channels; }
+
+void write_volume(const fs::path& path, const Volume& v, FileFormat ff, PixelFormat pf,
+                  const std::string& symbol) {
+  switch (ff) {
+    case FileFormat::Dds:
+      detail::write_dds(path, v, pf);
+      return;
+    case FileFormat::Ktx2:
+      detail::write_ktx2(path, v, pf);
+      return;
+    case FileFormat::Exr:
+      detail::write_exr_volume(path, v, detail::pixel_info(pf).bytes_per_channel == 2);
+      return;
+    case FileFormat::Npy:
+      detail::write_npy(path, v);
+      return;
+    case FileFormat::CHeader:
+      detail::write_c_header(path, v, symbol);
+      return;
+    case FileFormat::Png:
+      detail::write_png_volume(path, v, detail::pixel_info(pf).bytes_per_channel == 1 ? 8 : 16);
+      return;
+  }
+  throw InputError("write_volume: invalid file format");
+}
+
+Volume read_volume(const fs::path& path) {
+  switch (file_format_from_path(path)) {
+    case FileFormat::Dds:
+      return detail::read_dds(path);
+    case FileFormat::Ktx2:
+      return detail::read_ktx2(path);
+    case FileFormat::Exr:
+      return detail::read_exr(path, true);
+    case FileFormat::Npy:
+      return detail::read_npy(path);
+    case FileFormat::Png:
+      return detail::read_png(path, true);
+    case FileFormat::CHeader:
+      break;
+  }
+  throw InputError(
+      fmt::format("'{}': reading C headers is not supported (use .npy for a readable copy)", path.string()));
+}
+
+Volume read_image(const fs::path& path) {
+  const std::string ext = lower(path.extension().string());
+  if (ext == ".png") return detail::read_png(path, false);
+  if (ext == ".exr") return detail::read_exr(path, false);
+  throw InputError(fmt::format("'{}': images must be .png or .exr", path.string()));
+}
+
+void write_png(const fs::path& path, const Volume& image, int bits) {
+  if (bits != 8 && bits != 16)
+    throw InputError(fmt::format("'{}': PNG bit depth must be 8 or 16", path.string()));
+  detail::write_png_volume(path, image, bits);
+}
+
+void write_exr(const fs::path& path, const Volume& image, bool half) {
+  detail::write_exr_volume(path, image, half);
+}
+
+namespace detail {
+
+void fail(const fs::path& path, const std::string& what) {
+  throw InputError(fmt::format("'{}': {}", path.string(), what));
+}
+
+PixelInfo pixel_info(PixelFormat pf) {
+  switch (pf) {
+    case PixelFormat::RGBA8Unorm:
+      return {4, 1, false};
+    case PixelFormat::RGBA16Float:
+      return {4, 2, true};
+    case PixelFormat::RGBA32Float:
+      return {4, 4, true};
+    case PixelFormat::RG16Float:
+      return {2, 2, true};
+    case PixelFormat::RG32Float:
+      return {2, 4, true};
+    case PixelFormat::R16Float:
+      return {1, 2, true};
+    case PixelFormat::R32Float:
+      return {1, 4, true};
+    case PixelFormat::R8Unorm:
+      return {1, 1, false};
+    case PixelFormat::RG8Unorm:
+      return {2, 1, false};
+  }
+  throw InputError("invalid pixel format");
+}
+
+void check_dimensions(const fs::path& path, long long w, long long h, long long d, long long c) {
+  if (w < 1 || h < 1 || d < 1 || c < 1 || w > kMaxDimension || h > kMaxDimension || d > kMaxDimension ||
+      c > kMaxDimension)
+    fail(path, fmt::format("invalid dimensions {}x{}x{} with {} channels", w, h, d, c));
+  if (std::size_t(w) * std::size_t(h) * std::size_t(d) * std::size_t(c) > kMaxElements)
+    fail(path, fmt::format("dimensions {}x{}x{}x{} exceed the size limit", w, h, d, c));
+}
+
+void validate_volume(const Volume& v, const fs::path& path, int min_channels, int max_channels) {
+  check_dimensions(path, v.width, v.height, v.depth, v.channels);
+  if (v.channels < min_channels || v.channels > max_channels)
+    fail(path, fmt::format("{} channels not supported by this format (expected {}..{})", v.channels,
+                           min_channels, max_channels));
+  if (v.data.size() != v.texel_count() * std::size_t(v.channels))
+    fail(path, fmt::format("volume data holds {} values, expected {}x{}x{}x{} = {}", v.data.size(), v.width,
+                           v.height, v.depth, v.channels, v.texel_count() * std::size_t(v.channels)));
+  for (std::size_t i = 0; i < v.data.size(); ++i) {
+    if (!std::isfinite(v.data[i])) {
+      const std::size_t c = i % v.channels, t = i / v.channels;
+      const std::size_t x = t % v.width, y = (t / v.width) % v.height,
+                        z = t / (std::size_t(v.width) * v.height);
+      fail(path,
+           fmt::format("non-finite value {} at x={} y={} z={} c={}; nothing written", v.data[i], x, y, z, c));
+    }
+  }
+}
+
+std::uint8_t to_unorm8(float x) {
+  const double s = std::clamp(double(x), 0.0, 1.0);
+  return std::uint8_t(std::floor(s * 255.0 + 0.5));
+}
+std::uint16_t to_unorm16(float x) {
+  const double s = std::clamp(double(x), 0.0, 1.0);
+  return std::uint16_t(std::floor(s * 65535.0 + 0.5));
+}
+
+std::vector<std::byte> encode_texels(const Volume& v, PixelFormat pf, const fs::path& path) {
+  const PixelInfo pi = pixel_info(pf);
+  validate_volume(v, path);
+  if (v.channels != pi.channels)
+    fail(path, fmt::format("pixel format {} needs {} channels, the volume has {}", pixel_format_name(pf),
+                           pi.channels, v.channels));
+  std::vector<std::byte> out(v.data.size() * std::size_t(pi.bytes_per_channel));
+  for (std::size_t i = 0; i < v.data.size(); ++i) {
+    const float x = v.data[i];
+    std::byte* dst = out.data() + i * pi.bytes_per_channel;
+    if (pi.bytes_per_channel == 1) {
+      *dst = std::byte(to_unorm8(x));
+    } else if (pi.bytes_per_channel == 2) {
+      const Imath::half h(x);  // round to nearest even
+      if (h.isInfinity())
+        fail(path,
+             fmt::format("value {} at index {} overflows half float (max 65504); nothing written", x, i));
+      const std::uint16_t bits = h.bits();
+      std::memcpy(dst, &bits, 2);
+    } else {
+      std::memcpy(dst, &x, 4);
+    }
+  }
+  return out;
+}
+
+Volume decode_texels(std::span<const std::byte> bytes, PixelFormat pf, int w, int h, int d) {
+  const PixelInfo pi = pixel_info(pf);
+  Volume v(w, h, d, pi.channels);
+  for (std::size_t i = 0; i < v.data.size(); ++i) {
+    const std::byte* src = bytes.data() + i * pi.bytes_per_channel;
+    if (pi.bytes_per_channel == 1) {
+      v.data[i] = float(std::to_integer<unsigned>(*src)) / 255.0f;
+    } else if (pi.bytes_per_channel == 2) {
+      std::uint16_t bits;
+      std::memcpy(&bits, src, 2);
+      Imath::half hv;
+      hv.setBits(bits);
+      v.data[i] = float(hv);
+    } else {
+      std::memcpy(&v.data[i], src, 4);
+    }
+  }
+  return v;
+}
+
+std::vector<std::byte> read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) fail(path, "cannot open file");
+  const std::streamoff size = in.tellg();
+  if (size < 0) fail(path, "cannot read file");
+  std::vector<std::byte> bytes(static_cast<std::size_t>(size));
+  in.seekg(0);
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) fail(path, "cannot read file");
+  return bytes;
+}
+
+void ByteReader::require(std::size_t offset, std::size_t size) const {
+  if (offset > bytes.size() || size > bytes.size() - offset)
+    fail(*path, fmt::format("truncated or corrupt file (needs {} bytes at offset {}, file has {})", size,
+                            offset, bytes.size()));
+}
+
+}  // namespace detail
+}  // namespace msh::io

@@ -1,0 +1,94 @@
+// Private helpers shared by the texture/image readers and writers in src/io/.
+#pragma once
+
+#include <microshadow/io/texture.h>
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace msh::io::detail {
+
+static_assert(std::endian::native == std::endian::little, "the file writers assume a little-endian host");
+
+// Hard limits that keep a corrupt header from requesting absurd allocations.
+inline constexpr int kMaxDimension = 1 << 16;
+inline constexpr std::size_t kMaxElements = std::size_t(1) << 28;  // floats in one Volume (1 GiB)
+
+struct PixelInfo {
+  int channels;
+  int bytes_per_channel;  // 1 (UNORM8), 2 (half), 4 (float)
+  bool is_float;
+  int texel_bytes() const { return channels * bytes_per_channel; }
+};
+PixelInfo pixel_info(PixelFormat pf);
+
+// Dimensions positive and within limits, data.size() consistent, every value finite; InputError naming
+// `path`.
+void validate_volume(const Volume& v, const std::filesystem::path& path, int min_channels = 1,
+                     int max_channels = 1 << 16);
+// Dimensions read from a file: InputError naming `path` unless they are within limits.
+void check_dimensions(const std::filesystem::path& path, long long w, long long h, long long d, long long c);
+
+// Packs the volume into little-endian texels of `pf` (channel count must match: InputError). Half: round to
+// nearest even, overflow to infinity is an InputError. UNORM8: floor(saturate(x)*255 + 0.5).
+std::vector<std::byte> encode_texels(const Volume& v, PixelFormat pf, const std::filesystem::path& path);
+// The inverse: `bytes` must hold exactly w*h*d texels of `pf`.
+Volume decode_texels(std::span<const std::byte> bytes, PixelFormat pf, int w, int h, int d);
+
+std::uint8_t to_unorm8(float x);
+std::uint16_t to_unorm16(float x);
+
+// The whole file; InputError naming it when it cannot be opened or read.
+std::vector<std::byte> read_file(const std::filesystem::path& path);
+
+// Little-endian field access with bounds checks (InputError "truncated" naming `path`).
+struct ByteReader {
+  std::span<const std::byte> bytes;
+  const std::filesystem::path* path;
+  void require(std::size_t offset, std::size_t size) const;
+  std::uint32_t u32(std::size_t offset) const {
+    require(offset, 4);
+    std::uint32_t v;
+    std::memcpy(&v, bytes.data() + offset, 4);
+    return v;
+  }
+  std::uint64_t u64(std::size_t offset) const {
+    require(offset, 8);
+    std::uint64_t v;
+    std::memcpy(&v, bytes.data() + offset, 8);
+    return v;
+  }
+};
+
+// Appends little-endian values to a byte buffer.
+inline void put_u32(std::vector<std::byte>& out, std::uint32_t v) {
+  const auto* p = reinterpret_cast<const std::byte*>(&v);
+  out.insert(out.end(), p, p + 4);
+}
+inline void put_u64(std::vector<std::byte>& out, std::uint64_t v) {
+  const auto* p = reinterpret_cast<const std::byte*>(&v);
+  out.insert(out.end(), p, p + 8);
+}
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& what);
+
+// Per-format entry points (one .cpp each).
+void write_npy(const std::filesystem::path& path, const Volume& v);
+Volume read_npy(const std::filesystem::path& path);
+void write_exr_volume(const std::filesystem::path& path, const Volume& v, bool half);
+Volume read_exr(const std::filesystem::path& path, bool as_volume);
+void write_dds(const std::filesystem::path& path, const Volume& v, PixelFormat pf);
+Volume read_dds(const std::filesystem::path& path);
+void write_ktx2(const std::filesystem::path& path, const Volume& v, PixelFormat pf);
+Volume read_ktx2(const std::filesystem::path& path);
+void write_c_header(const std::filesystem::path& path, const Volume& v, const std::string& symbol);
+void write_png_volume(const std::filesystem::path& path, const Volume& v, int bits);
+Volume read_png(const std::filesystem::path& path, bool as_volume);
+
+}  // namespace msh::io::detail
