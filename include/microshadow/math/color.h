@@ -38,4 +38,24 @@ template <class T> bool is_finite(const Rgb<T>& c) { return std::isfinite(c.r) &
 using Rgbf = Rgb<float>;
 using Rgbd = Rgb<double>;
 
+// sRGB transfer functions, the exact piecewise curve of IEC 61966-2-1 (linear segment below the breakpoints
+// 0.04045 / 0.0031308, power 2.4 with offset 0.055 above). Domain: [0, 1]; negative inputs follow the linear
+// segment (finite, sign kept), inputs > 1 follow the power segment.
+template <class T>
+T srgb_to_linear(T c) {
+  return c <= T(0.04045) ? c / T(12.92) : std::pow((c + T(0.055)) / T(1.055), T(2.4));
+}
+template <class T>
+T linear_to_srgb(T l) {
+  return l <= T(0.0031308) ? l * T(12.92) : T(1.055) * std::pow(l, T(1) / T(2.4)) - T(0.055);
+}
+template <class T>
+Rgb<T> srgb_to_linear(const Rgb<T>& c) {
+  return {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b)};
+}
+template <class T>
+Rgb<T> linear_to_srgb(const Rgb<T>& c) {
+  return {linear_to_srgb(c.r), linear_to_srgb(c.g), linear_to_srgb(c.b)};
+}
+
 }  // namespace msh
