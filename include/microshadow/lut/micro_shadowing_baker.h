@@ -1,0 +1,53 @@
+// Baker for the micro-shadowing LUT (seed 002; layout REFERENCE.md §1 and micro_shadowing_lut.h).
+//
+// Algorithm (docs/lut.md): for the Smith profile the term is a ratio of VNDF masses,
+//   R(V) = P[min(n·m, m·l) > sqrt(1 − V)] / P[m·l > 0],   m ~ VNDF(v, α),
+// so for one (α, N·V) the VNDF samples are drawn once (Owen-scrambled Sobol, shared by all rows), and for one
+// (N·L, φ) a single pass that bins the key min(n·m, m·l) by the Visibility texel it crosses yields the whole
+// Visibility row (a cumulative histogram). The mean over φ ∈ [0, π] (and the cos(hφ) coefficients of the
+// azimuth-aware table) uses Gauss-Legendre nodes in φ, each with its own scrambled point set. The V = 0 and
+// V = 1 columns and the early-out region 2V + N·L < 1 are written exactly. Rows are independent tasks
+// (oneTBB), so the result is bit-identical for any thread count.
+#pragma once
+
+#include <microshadow/io/texture.h>
+#include <microshadow/lut/micro_shadowing_lut.h>
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace msh::lut {
+
+struct BakeOptions {
+  int n_vis = 64, n_nl = 64, n_nv = 64;  // texels per axis (each ≥ 2; n_nv unused with two_d)
+  std::vector<double> roughness = {0.1, 0.4, 0.7, 1.0};  // one channel each, strictly increasing, in [0, 1]
+  bool two_d = false;                                    // the N·V = 1 slice only (depth 1)
+  int harmonics = 0;   // 0: mean over φ; H ≥ 1: azimuth-aware table, also a_h for cos(hφ), h ≤ H
+  int samples = 8192;  // VNDF samples per φ node and (roughness, N·V) pair (rounded up to a power of 2)
+  int phi_nodes = 16;  // Gauss-Legendre nodes in φ ∈ [0, π]
+  uint32_t seed = 1;   // scrambling seed (any value; the default bake uses 1)
+  int threads = 0;     // 0: oneTBB's default
+  std::function<void(double fraction_done)> progress;  // called from worker threads, serialized
+};
+
+// Throws msh::InputError naming the first bad field.
+void validate(const BakeOptions& o);
+
+// The baked table: width n_vis, height n_nl, depth n_nv·(H + 1) (two_d: H + 1), channels = roughness.size().
+io::Volume bake_micro_shadowing_lut(const BakeOptions& o);
+
+// A view of `vol` as a table with the given roughness per channel and harmonic count (throws InputError when
+// the shape is inconsistent: depth not divisible by H + 1, more than 4 channels, roughness count ≠ channels).
+MicroShadowingLutView make_view(const io::Volume& vol, const std::vector<double>& roughness, int harmonics);
+
+// Gauss-Legendre nodes on [0, π] and weights normalized to sum to 1 (the φ rule of the baker).
+void phi_rule(int n, std::vector<double>& phi, std::vector<double>& weight);
+
+// The straightforward baker for one texel, as the seed's shader loop does it: `samples` independent random
+// VNDF samples (PCG32), split over `phi_strata` jittered φ strata, ratio of cone to hemisphere counts per
+// stratum, mean over strata. Kept to measure the speed-up of the binned baker at equal error (bench only).
+double monte_carlo_texel(double alpha, double visibility, double n_dot_l, double n_dot_v, int samples,
+                         int phi_strata, uint64_t seed);
+
+}  // namespace msh::lut

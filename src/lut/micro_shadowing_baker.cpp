@@ -1,0 +1,261 @@
+// Binned quasi-Monte Carlo baker for the micro-shadowing LUT; see micro_shadowing_baker.h and docs/lut.md.
+#include <fmt/format.h>
+#include <microshadow/io/error.h>
+#include <microshadow/lut/micro_shadowing_baker.h>
+#include <microshadow/math/sampling.h>
+#include <microshadow/microfacet/ggx.h>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <mutex>
+
+namespace msh::lut {
+
+// micro_shadowing_bins.cpp (Highway): bins[j] for the row pass below.
+void compute_bins(const float* mz, const float* p, std::size_t n, float zl, float sl, int32_t n_vis,
+                  int32_t* bins);
+
+void validate(const BakeOptions& o) {
+  auto size_ok = [](int n) { return n >= 2 && n <= 4096; };
+  if (!size_ok(o.n_vis))
+    throw InputError(fmt::format("Visibility size must be in [2, 4096], got {}", o.n_vis));
+  if (!size_ok(o.n_nl)) throw InputError(fmt::format("N·L size must be in [2, 4096], got {}", o.n_nl));
+  if (!o.two_d && !size_ok(o.n_nv))
+    throw InputError(fmt::format("N·V size must be in [2, 4096], got {}", o.n_nv));
+  if (o.roughness.empty() || o.roughness.size() > 4)
+    throw InputError(fmt::format("roughness list must have 1 to 4 values, got {}", o.roughness.size()));
+  for (std::size_t i = 0; i < o.roughness.size(); ++i) {
+    const double r = o.roughness[i];
+    if (!(r >= 0.0 && r <= 1.0)) throw InputError(fmt::format("roughness must be in [0, 1], got {}", r));
+    if (i > 0 && !(r > o.roughness[i - 1]))
+      throw InputError("roughness values must be strictly increasing (one per channel)");
+  }
+  if (o.harmonics < 0 || o.harmonics > 8)
+    throw InputError(fmt::format("harmonics must be in [0, 8], got {}", o.harmonics));
+  if (o.samples < 1 || o.samples > (1 << 24))
+    throw InputError(fmt::format("samples must be in [1, 2^24], got {}", o.samples));
+  if (o.phi_nodes < 1 || o.phi_nodes > 256)
+    throw InputError(fmt::format("phi nodes must be in [1, 256], got {}", o.phi_nodes));
+  if (o.threads < 0) throw InputError(fmt::format("threads must be ≥ 0, got {}", o.threads));
+}
+
+// Gauss-Legendre by Newton iteration on P_n (Numerical Recipes' gauleg), mapped to [0, π], weights sum to 1.
+void phi_rule(int n, std::vector<double>& phi, std::vector<double>& weight) {
+  phi.assign(n, 0.0);
+  weight.assign(n, 0.0);
+  for (int i = 0; i < (n + 1) / 2; ++i) {
+    double z = std::cos(kPi<double> * (i + 0.75) / (n + 0.5)), pp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p1 = 1.0, p2 = 0.0;
+      for (int j = 0; j < n; ++j) {
+        const double p3 = p2;
+        p2 = p1;
+        p1 = ((2.0 * j + 1.0) * z * p2 - j * p3) / (j + 1);
+      }
+      pp = n * (z * p1 - p2) / (z * z - 1.0);
+      const double dz = p1 / pp;
+      z -= dz;
+      if (std::abs(dz) < 1e-15) break;
+    }
+    const double w = 2.0 / ((1.0 - z * z) * pp * pp);
+    phi[i] = 0.5 * kPi<double> * (1.0 - z);
+    phi[n - 1 - i] = 0.5 * kPi<double> * (1.0 + z);
+    weight[i] = weight[n - 1 - i] = 0.5 * w;
+  }
+}
+
+MicroShadowingLutView make_view(const io::Volume& vol, const std::vector<double>& roughness, int harmonics) {
+  if (vol.channels < 1 || vol.channels > 4)
+    throw InputError(fmt::format("a LUT has 1 to 4 channels, got {}", vol.channels));
+  if (int(roughness.size()) != vol.channels)
+    throw InputError(
+        fmt::format("{} roughness values for a LUT with {} channels", roughness.size(), vol.channels));
+  if (harmonics < 0 || vol.depth % (harmonics + 1) != 0)
+    throw InputError(
+        fmt::format("LUT depth {} is not a multiple of harmonics + 1 = {}", vol.depth, harmonics + 1));
+  if (vol.width < 2 || vol.height < 2)
+    throw InputError("a LUT needs at least 2 texels along Visibility and N·L");
+  if (vol.data.size() != vol.texel_count() * std::size_t(vol.channels))
+    throw InputError("LUT data size mismatch");
+  MicroShadowingLutView v;
+  v.data = vol.data.data();
+  v.n_vis = vol.width;
+  v.n_nl = vol.height;
+  v.n_nv = vol.depth / (harmonics + 1);
+  v.channels = vol.channels;
+  v.harmonics = harmonics;
+  for (int c = 0; c < vol.channels; ++c) v.roughness[c] = float(roughness[c]);
+  return v;
+}
+
+namespace {
+
+// VNDF samples of one (α, N·V) pair for one φ node, reduced to what the row pass needs: n·m and the
+// tangential part of m along the light's azimuth, (m_x cos φ + m_y sin φ), so m·l = sl·P + zl·n·m.
+struct NodeSamples {
+  std::vector<float> mz, p;
+};
+
+// Precomputed Sobol points of one φ node: (cos 2πu1, sin 2πu1, u2) for the spherical-caps VNDF sampler.
+struct NodePoints {
+  std::vector<double> c, s, u2;
+};
+
+void draw_samples(const NodePoints& pts, double alpha, double zv, double cos_phi, double sin_phi,
+                  NodeSamples& out) {
+  // Dupuy & Benyoub 2023 (REFERENCE.md §4), v = (sv, 0, zv): the same arithmetic as GGX::Sample_wm.
+  const double sv = safe_sqrt(1.0 - zv * zv);
+  const Vec3d wi = normalize(Vec3d(alpha * sv, 0.0, zv));
+  const std::size_t n = pts.u2.size();
+  out.mz.resize(n);
+  out.p.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double z = (1.0 - pts.u2[j]) * (1.0 + wi.z) - wi.z;
+    const double s = safe_sqrt(1.0 - z * z);
+    const double hx = s * pts.c[j] + wi.x, hy = s * pts.s[j], hz = std::max(0.0, z + wi.z);
+    const Vec3d m = normalize(Vec3d(alpha * hx, alpha * hy, hz));
+    out.mz[j] = float(m.z);
+    out.p[j] = float(m.x * cos_phi + m.y * sin_phi);
+  }
+}
+
+// One (N·L, φ) pass: cumulative counts of samples with min(n·m, m·l) > c_i for every Visibility texel i.
+// Bin b = floor((n−1)(1 − key²)) + 1 is the first texel whose threshold the key exceeds (key > c_i ⟺
+// i > (n−1)(1 − key²)); bin n collects key ≤ 0 (not lit even by the hemisphere).
+void row_pass(const NodeSamples& smp, float zl, float sl, int n_vis, std::vector<int32_t>& bins,
+              std::vector<uint32_t>& hist) {
+  const std::size_t n = smp.mz.size();
+  bins.resize(n);
+  compute_bins(smp.mz.data(), smp.p.data(), n, zl, sl, n_vis, bins.data());
+  const int32_t* b = bins.data();
+  // Four interleaved histograms so consecutive increments of the same bin do not serialize.
+  const int stride = n_vis + 1;
+  hist.assign(4 * stride, 0u);
+  std::size_t j = 0;
+  for (; j + 4 <= n; j += 4) {
+    ++hist[b[j]];
+    ++hist[stride + b[j + 1]];
+    ++hist[2 * stride + b[j + 2]];
+    ++hist[3 * stride + b[j + 3]];
+  }
+  for (; j < n; ++j) ++hist[b[j]];
+  for (int i = 0; i < stride; ++i) hist[i] += hist[stride + i] + hist[2 * stride + i] + hist[3 * stride + i];
+}
+
+}  // namespace
+
+io::Volume bake_micro_shadowing_lut(const BakeOptions& o) {
+  validate(o);
+  const int n_vis = o.n_vis, n_nl = o.n_nl, n_nv = o.two_d ? 1 : o.n_nv, H = o.harmonics;
+  const int nr = int(o.roughness.size());
+  int n_samples = 1;
+  while (n_samples < o.samples) n_samples *= 2;
+  io::Volume vol(n_vis, n_nl, n_nv * (H + 1), nr);
+
+  std::vector<double> phi, wphi;
+  phi_rule(o.phi_nodes, phi, wphi);
+  const int K = o.phi_nodes;
+  std::vector<NodePoints> points(K);
+  for (int k = 0; k < K; ++k) {
+    const uint32_t seed = hash_combine(o.seed, uint32_t(k) + 1u) | 1u;  // seed 0 would mean "unscrambled"
+    NodePoints& pt = points[k];
+    pt.c.resize(n_samples), pt.s.resize(n_samples), pt.u2.resize(n_samples);
+    for (int j = 0; j < n_samples; ++j) {
+      const Vec2d u = sobol_2d<double>(uint32_t(j), seed);
+      pt.c[j] = std::cos(2.0 * kPi<double> * u.x);
+      pt.s[j] = std::sin(2.0 * kPi<double> * u.x);
+      pt.u2[j] = u.y;
+    }
+  }
+
+  const int tasks = nr * n_nv;
+  std::atomic<int> done{0};
+  std::mutex progress_mutex;
+  auto run = [&](int task) {
+    const int r = task / n_nv, z = task % n_nv;
+    const double alpha = std::max(roughness_to_alpha(o.roughness[r]), double(GGX<double>::kMinAlpha));
+    const double zv = o.two_d ? 1.0 : double(z) / (n_nv - 1);
+    std::vector<NodeSamples> smp(K);
+    for (int k = 0; k < K; ++k)
+      draw_samples(points[k], alpha, zv, std::cos(phi[k]), std::sin(phi[k]), smp[k]);
+    std::vector<int32_t> bins;
+    std::vector<uint32_t> hist;
+    std::vector<double> acc((H + 1) * n_vis), ratio(n_vis);
+    for (int y = 0; y < n_nl; ++y) {
+      const double zl = double(y) / (n_nl - 1);
+      const float zlf = float(zl), slf = float(safe_sqrt(1.0 - zl * zl));
+      std::fill(acc.begin(), acc.end(), 0.0);
+      for (int k = 0; k < K; ++k) {
+        row_pass(smp[k], zlf, slf, n_vis, bins, hist);
+        uint64_t cum = 0;
+        for (int i = 0; i < n_vis; ++i) {
+          cum += hist[i];
+          ratio[i] = double(cum);
+        }
+        const double den = ratio[n_vis - 1];
+        if (!(den > 0.0)) continue;  // no VNDF mass faces l at this φ: the term is 0 for V < 1
+        for (int h = 0; h <= H; ++h) {
+          const double w = h == 0 ? wphi[k] : 2.0 * wphi[k] * std::cos(h * phi[k]);
+          for (int i = 0; i < n_vis; ++i) acc[h * n_vis + i] += w * (ratio[i] / den);
+        }
+      }
+      for (int h = 0; h <= H; ++h)
+        for (int i = 0; i < n_vis; ++i) {
+          const double V = double(i) / (n_vis - 1);
+          double value = acc[h * n_vis + i];
+          if (i == n_vis - 1)
+            value = h == 0 ? 1.0 : 0.0;  // V = 1: the hemisphere itself
+          else if (i == 0 || 2.0 * V + zl < 1.0)
+            value = 0.0;  // V = 0 and the exact early-out
+          else if (h == 0)
+            value = clamp(value, 0.0, 1.0);
+          vol.at(i, y, h * n_nv + z, r) = float(value);
+        }
+    }
+    const int d = ++done;
+    if (o.progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      o.progress(double(d) / tasks);
+    }
+  };
+
+  std::unique_ptr<tbb::global_control> limit;
+  if (o.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o.threads);
+  tbb::parallel_for(tbb::blocked_range<int>(0, tasks, 1), [&](const tbb::blocked_range<int>& range) {
+    for (int t = range.begin(); t != range.end(); ++t) run(t);
+  });
+  return vol;
+}
+
+double monte_carlo_texel(double alpha, double visibility, double n_dot_l, double n_dot_v, int samples,
+                         int phi_strata, uint64_t seed) {
+  const GGX<float> ggx(float(std::max(alpha, 1e-4)));
+  const float c = float(std::sqrt(std::max(0.0, 1.0 - visibility)));
+  const float zv = float(n_dot_v), zl = float(n_dot_l);
+  const Vec3f v(std::sqrt(std::max(0.0f, 1.0f - zv * zv)), 0.0f, zv);
+  const float sl = std::sqrt(std::max(0.0f, 1.0f - zl * zl));
+  Pcg32 rng(seed, 0x9e3779b97f4a7c15ULL);
+  const int per = std::max(1, samples / std::max(1, phi_strata));
+  double sum = 0.0;
+  for (int k = 0; k < phi_strata; ++k) {
+    const float phi = kPi<float> * (float(k) + rng.next_float()) / float(phi_strata);
+    const Vec3f l(sl * std::cos(phi), sl * std::sin(phi), zl);
+    double cone = 0.0, hemi = 0.0;
+    for (int j = 0; j < per; ++j) {
+      const Vec3f m = ggx.Sample_wm(v, {rng.next_float(), rng.next_float()});
+      const float ml = dot(m, l);
+      // Seed 002, MicroShadowingTermPZGenericVNDFBased: the Smith weight G2/G1 is constant here and cancels.
+      hemi += (m.z > 0.0f && ml > 0.0f) ? 1.0 : 0.0;
+      cone += (m.z > c && ml > c) ? 1.0 : 0.0;
+    }
+    sum += hemi > 0.0 ? cone / hemi : 0.0;
+  }
+  return sum / phi_strata;
+}
+
+}  // namespace msh::lut

@@ -1,0 +1,58 @@
+// SIMD kernel of the LUT baker's row pass (Highway, dynamic dispatch): the Visibility bin of each VNDF
+// sample. Scalar definition (also the tail): key = min(n·m, m·l), m·l = sl·p + zl·n·m;
+//   bin = key > 0 ? min(int((n_vis − 1)(1 − key²)) + 1, n_vis − 1) : n_vis.
+#undef HWY_TARGET_INCLUDE
+// Re-included once per SIMD target; found through the project include directory (include/).
+#define HWY_TARGET_INCLUDE "../src/lut/micro_shadowing_bins.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+HWY_BEFORE_NAMESPACE();
+namespace msh::lut::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+void ComputeBins(const float* HWY_RESTRICT mz, const float* HWY_RESTRICT p, std::size_t n, float zl, float sl,
+                 int32_t n_vis, int32_t* HWY_RESTRICT bins) {
+  const hn::ScalableTag<float> df;
+  const hn::RebindToSigned<decltype(df)> di;
+  const std::size_t lanes = hn::Lanes(df);
+  const auto vzl = hn::Set(df, zl), vsl = hn::Set(df, sl), one = hn::Set(df, 1.0f);
+  const auto scale = hn::Set(df, float(n_vis - 1)), zero = hn::Zero(df);
+  const auto ione = hn::Set(di, 1), ilast = hn::Set(di, n_vis - 1), idump = hn::Set(di, n_vis);
+  std::size_t j = 0;
+  for (; j + lanes <= n; j += lanes) {
+    const auto z = hn::LoadU(df, mz + j);
+    // No fused multiply-add: every target (and the scalar tail) rounds the same way, so bins never depend
+    // on the CPU the baker runs on.
+    const auto ml = hn::Add(hn::Mul(vsl, hn::LoadU(df, p + j)), hn::Mul(vzl, z));
+    const auto key = hn::Min(z, ml);
+    const auto t = hn::Mul(scale, hn::Sub(one, hn::Mul(key, key)));
+    const auto bin = hn::Min(hn::Add(hn::ConvertTo(di, t), ione), ilast);
+    const auto lit = hn::RebindMask(di, hn::Gt(key, zero));
+    hn::StoreU(hn::IfThenElse(lit, bin, idump), di, bins + j);
+  }
+  for (; j < n; ++j) {
+    const float key = std::min(mz[j], sl * p[j] + zl * mz[j]);
+    const int32_t bin = std::min(int32_t(float(n_vis - 1) * (1.0f - key * key)) + 1, n_vis - 1);
+    bins[j] = key > 0.0f ? bin : n_vis;
+  }
+}
+
+}  // namespace msh::lut::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace msh::lut {
+HWY_EXPORT(ComputeBins);
+
+// Declared in micro_shadowing_baker.cpp.
+void compute_bins(const float* mz, const float* p, std::size_t n, float zl, float sl, int32_t n_vis,
+                  int32_t* bins) {
+  HWY_DYNAMIC_DISPATCH(ComputeBins)(mz, p, n, zl, sl, n_vis, bins);
+}
+}  // namespace msh::lut
+#endif
