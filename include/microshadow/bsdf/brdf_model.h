@@ -43,6 +43,9 @@ struct ParamSpec {
   std::vector<double> def;  // default value(s); size == components
   double lo = 0.0, hi = 1.0;
   int components = 1;
+  // Non-empty: an enumerated parameter. The CLI takes one of these names (`--fresnel schlick`) and stores its
+  // index as the value; lo = 0 and hi = choices.size() − 1.
+  std::vector<std::string> choices;
 };
 
 // Values by ParamSpec name; missing names take the spec default (ModelInfo::make receives a complete map).
