@@ -544,3 +544,130 @@ TEST(BumpHanika, DegenerateNormalsDoNotMoveAndStayFinite) {
   EXPECT_EQ(a, b);
   EXPECT_TRUE(is_finite(a));
 }
+
+// ---------------------------------------------------------------------------------------------------------
+// Command line: `eval bump-terminator` and `plot bump-terminator`.
+#ifdef MSH_CLI_PATH
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+CliRun run_cli(const std::string& args) {
+  const std::string err_path = std::string(MSH_BINARY_DIR) + "/test_bump_cli_stderr.txt";
+  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " 2>" + err_path;
+  CliRun r;
+  FILE* f = popen(cmd.c_str(), "r");
+  if (!f) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, f)) > 0) r.out.append(buf, n);
+  const int st = pclose(f);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  std::ifstream e(err_path);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  r.err = ss.str();
+  return r;
+}
+}  // namespace
+
+std::string vec_arg(const Vec3d& v) {
+  char b[128];
+  std::snprintf(b, sizeof b, "%.17g,%.17g,%.17g", v.x, v.y, v.z);
+  return b;
+}
+
+TEST(BumpCli, EvalPrintsTheLibraryValue) {
+  struct Case {
+    const char* method;
+    Method m;
+    Vec3d ng, ns, l;
+    bool hemi;
+  };
+  const Case cases[] = {{"conty-2019", Method::kConty2019, {0, 0, 1}, {0.5, 0, 1}, {1, 0, 0.1}, false},
+                        {"chiang-2019", Method::kChiang2019, {0, 0, 2}, {0.5, 0.2, 1}, {1, 0.3, 0.2}, false},
+                        {"conty-2019", Method::kConty2019, {0.1, 0.2, 3}, {-0.4, 0.1, 1}, {-3, 1, -1}, false},
+                        {"conty-2019", Method::kConty2019, {0.1, 0.2, 3}, {-0.4, 0.1, 1}, {-3, 1, -1}, true},
+                        {"chiang-2019", Method::kChiang2019, {0, 0, 1}, {0.3, 0, 1}, {1, 0, 0.05}, true}};
+  for (const Case& c : cases) {
+    const CliRun r = run_cli("eval bump-terminator --method " + std::string(c.method) + " --geometric-normal " +
+                          vec_arg(c.ng) + " --shading-normal " + vec_arg(c.ns) + " --light " + vec_arg(c.l) +
+                          (c.hemi ? " --hemisphere-test" : "") + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    const double want = term(c.m, normalize(c.ng), normalize(c.ns), normalize(c.l), c.hemi ? kOn : kOff);
+    EXPECT_NEAR(j.at("value").get<double>(), want, 1e-15) << r.out;
+    EXPECT_EQ(j.at("method").get<std::string>(), c.method);
+  }
+  // Hand-computed: tanθ_d = 0.5 → α² = 1/32; tanθ_i = 10 → G = 2/(1 + sqrt(1 + 100/32)).
+  const CliRun r = run_cli(
+      "eval bump-terminator --method conty-2019 --geometric-normal 0,0,1 --shading-normal 0.5,0,1 "
+      "--light 1,0,0.1 --json");
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j.at("value").get<double>(), 2 / (1 + std::sqrt(1 + 100.0 / 32)), 1e-14);
+  EXPECT_NEAR(j.at("alpha2").get<double>(), 1.0 / 32, 1e-15);
+}
+
+TEST(BumpCli, BadInputIsOneLineAndExitCode2) {
+  for (const char* args :
+       {"eval bump-terminator --method conty-2019 --shading-normal 0,0,0 --light 1,0,1 --json",
+        "eval bump-terminator --method chiang-2019 --shading-normal nan,0,1 --light 1,0,1 --json",
+        "eval bump-terminator --method conty-2019 --shading-normal 0,0,1 --light 1,0,inf --json",
+        "eval bump-terminator --method conty-2019 --geometric-normal 0,0 --shading-normal 0,0,1 --light "
+        "1,0,1",
+        "eval bump-terminator --method conty-2019 --geometric-normal 0,0,0 --shading-normal 0,0,1 --light "
+        "1,0,1",
+        "eval bump-terminator --method foo-2020 --shading-normal 0,0,1 --light 1,0,1",
+        "eval bump-terminator --method conty-2019 --light 1,0,1", "plot bump-terminator"}) {
+    const CliRun r = run_cli(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_TRUE(r.out.empty()) << args;
+    ASSERT_FALSE(r.err.empty()) << args;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
+  }
+}
+
+TEST(BumpCli, PlotWritesFigureDataDeterministically) {
+  namespace fs = std::filesystem;
+  const fs::path d = fs::path(MSH_BINARY_DIR) / "test_bump_plot";
+  fs::remove_all(d);
+  const CliRun a = run_cli("plot bump-terminator --out " + d.string());
+  ASSERT_EQ(a.code, 0) << a.err;
+  for (const char* f : {"bump_terminator_curves.csv", "bump_terminator_shading.csv",
+                        "bump_terminator_compare.csv", "bump_terminator_compare.json"})
+    EXPECT_TRUE(fs::exists(d / f)) << f;
+  std::ifstream in(d / "bump_terminator_curves.csv");
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "method,perturbation_deg,phi_deg,light_deg,value");
+  // Every CSV value is the library's term at that point (spot check a few rows).
+  std::string line;
+  int checked = 0;
+  for (int row = 0; std::getline(in, line); ++row) {
+    if (row % 997 != 0) continue;
+    std::stringstream ss(line);
+    std::string method, f[4];
+    std::getline(ss, method, ',');
+    for (auto& x : f) std::getline(ss, x, ',');
+    Method m{};
+    ASSERT_TRUE(parse_method(method, m)) << line;
+    const double d_deg = std::stod(f[0]), phi = std::stod(f[1]), th = std::stod(f[2]), v = std::stod(f[3]);
+    const Vec3d ns = spherical_direction(std::cos(d_deg * kDeg), phi * kDeg);
+    const Vec3d l = spherical_direction(std::cos(th * kDeg), 0.0);
+    EXPECT_NEAR(v, term(m, Vec3d(0, 0, 1), ns, l), 1e-8) << line;
+    ++checked;
+  }
+  EXPECT_GT(checked, 5);
+  const CliRun b = run_cli("plot bump-terminator --out " + d.string());
+  EXPECT_EQ(a.out, b.out);
+}
+#endif
