@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev
   python3 python3-numpy python3-matplotlib
+  glslang-tools mesa-vulkan-drivers libvulkan-dev
 )
 
 missing=()

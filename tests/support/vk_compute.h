@@ -1,0 +1,54 @@
+// Tiny Vulkan compute harness for shader tests: compile GLSL/HLSL to SPIR-V with glslangValidator, run one
+// compute dispatch on whatever Vulkan device is present (lavapipe, the Mesa CPU driver, on CI), read the
+// storage buffers back. The Vulkan loader is opened at run time (dlopen "libvulkan.so.1"), so nothing links
+// against Vulkan and tests that do not use it are unaffected; without a loader/device the harness reports why
+// and shader tests can GTEST_SKIP the run part (compile checks still run).
+//
+// Typical use:
+//   std::string why;
+//   auto* vk = msh::test::vk::Context::get(&why);            // nullptr + reason if unavailable
+//   std::vector<uint32_t> spv; std::string log;
+//   ASSERT_TRUE(msh::test::vk::compile_shader(source, msh::test::vk::Lang::kGlsl, &spv, &log)) << log;
+//   std::vector<std::byte> in = ..., out(n * 16);
+//   ASSERT_TRUE(vk->run(spv, {&in, &out}, &push, sizeof push, (n + 63) / 64, &why)) << why;
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace msh::test::vk {
+
+enum class Lang { kGlsl, kHlsl };
+
+// Path of glslangValidator ("" if not found on PATH or in /usr/bin).
+std::string glslang_validator();
+
+// Compiles a complete compute shader (GLSL with its #version line, or HLSL with entry point `main`) to
+// Vulkan SPIR-V. Returns false with the compiler's log on failure (or when glslangValidator is missing).
+bool compile_shader(const std::string& source, Lang lang, std::vector<uint32_t>* spirv, std::string* log);
+
+// A Vulkan instance + device with a compute queue; created once per process on first use.
+class Context {
+ public:
+  // The shared context, or nullptr with the reason in *why (no loader, no device, sanitizer build, ...).
+  static Context* get(std::string* why);
+
+  const std::string& device_name() const { return device_name_; }
+
+  // Runs `spirv` (entry point "main", descriptor set 0, storage buffers at bindings 0..buffers.size()-1, an
+  // optional push-constant block) as groups_x × 1 × 1 workgroups. Every buffer is uploaded before and
+  // downloaded after the dispatch. Returns false with a reason on any Vulkan error.
+  bool run(const std::vector<uint32_t>& spirv, const std::vector<std::vector<std::byte>*>& buffers,
+           const void* push, uint32_t push_size, uint32_t groups_x, std::string* why);
+
+  struct Impl;
+
+ private:
+  Context() = default;
+  Impl* impl_ = nullptr;
+  std::string device_name_;
+};
+
+}  // namespace msh::test::vk
