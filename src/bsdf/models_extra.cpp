@@ -221,7 +221,8 @@ ModelInfo iw_sheen() {
 ModelInfo kk() {
   ModelInfo m;
   m.name = "kajiya-kay";
-  m.summary = "Kajiya-Kay micro-cylinder (fibers along the tangent x): k_d/pi + k_s (p+2)/(2pi) cos^p(beta)";
+  m.summary =
+      "Kajiya-Kay micro-cylinder (fibers along the tangent x): k_d/pi + k_s/pi cos^p(beta), unnormalized";
   m.source = "Kajiya & Kay 1989; Banks 1994; RTR4 sec. 9.10.3";
   m.params = {rgb_param("diffuse", "k_d", 0.3), rgb_param("specular", "k_s", 0.2),
               num_param("exponent", "cone-lobe exponent p", 32, 0, 4096)};

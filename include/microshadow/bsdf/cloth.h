@@ -27,15 +27,17 @@ Rgb<T> uncharted2_cloth_diffuse(const Rgb<T>& rho, T cos_v, T k_rim, T a_rim, T 
 }
 
 // Wrap lighting (RTR4 9.71, Uncharted 4): REPLACES f_diff(l,v)(n·l)⁺ by
-// ρ/π · sat(c_scatter + sat(n·l)) · sat(n·l + w)/(1 + w). Nonzero down to n·l = −w. Domain: w in [0,1]
-// (clamped). Not a BRDF in the strict sense: it modifies the cosine too (use `wrap_diffuse_brdf` for f
-// alone).
+// ρ/π · sat(c_scatter + sat(n·l)) · sat((n·l + w)/(1 + w)). Nonzero down to n·l = −w. Domain: w in [0,1]
+// (clamped). The clamp is read as enclosing the whole fraction (the classic wrap term, Green 2004, GPU Gems
+// ch. 16); the seed's typesetting puts it on the numerator only, which would halve normal incidence at w = 1.
+// c_scatter = 0, w = 0 gives ρ/π (n·l)² as printed, not Lambert: the scatter factor acts as a tint.
+// Not a BRDF in the strict sense: it modifies the cosine too (use `wrap_diffuse_brdf` for f alone).
 template <class T>
 Rgb<T> wrap_diffuse_lighting(const Rgb<T>& rho, const Rgb<T>& c_scatter, T cos_l, T w) {
   w = saturate(w);
   const T nl = saturate(cos_l);
   const Rgb<T> s(saturate(c_scatter.r + nl), saturate(c_scatter.g + nl), saturate(c_scatter.b + nl));
-  return rho * s * (kInvPi<T> * saturate(cos_l + w) / (T(1) + w));
+  return rho * s * (kInvPi<T> * saturate((cos_l + w) / (T(1) + w)));
 }
 
 // 9.71 divided by (n·l)⁺, i.e. the equivalent BRDF above the horizon (zero for n·l ≤ 0, where the wrapped
@@ -202,9 +204,9 @@ Rgb<T> imageworks_sheen(const Vec3<T>& wo, const Vec3<T>& wi, const Rgb<T>& c_sh
 // ---------------------------------------------------------------------------------------------------------------
 // Kajiya-Kay micro-cylinder specular (Kajiya & Kay 1989; Banks 1994; RTR4 §9.10.3): fibers along tangent t;
 // the cone of mirror directions gives cos β = sin_l sin_v − (t·l)(t·v) (= 1 on the cone, since the mirror of
-// l about a fiber normal has t·r = −t·l). f = k_s (p + 2)/(2π) max(0, cos β)^p + k_d/π. Empirical: neither
-// the (p + 2)/(2π) factor nor k_d + k_s ≤ 1 makes it energy conserving (albedo measured in the tests).
-// Reciprocal.
+// l about a fiber normal has t·r = −t·l). f = k_d/π + k_s/π max(0, cos β)^p. Empirical and unnormalized (the
+// original form, as used for silk/velvet in Uncharted 4): a lobe around a cone has no simple normalization,
+// so the albedo is ≤ k_d + k_s (at p = 0) and falls with p. Reciprocal.
 template <class T>
 Rgb<T> kajiya_kay(const Vec3<T>& wo, const Vec3<T>& wi, const Vec3<T>& t, const Rgb<T>& k_d,
                   const Rgb<T>& k_s, T p) {
