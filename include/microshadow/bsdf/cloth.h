@@ -214,7 +214,7 @@ Rgb<T> kajiya_kay(const Vec3<T>& wo, const Vec3<T>& wi, const Vec3<T>& t, const 
   const T tl = clamp(dot(t, wi), T(-1), T(1)), tv = clamp(dot(t, wo), T(-1), T(1));
   const T cb = safe_sqrt(T(1) - tl * tl) * safe_sqrt(T(1) - tv * tv) - tl * tv;
   p = std::max(p, T(0));
-  const T spec = cb > T(0) ? (p + T(2)) / (T(2) * kPi<T>)*std::pow(std::min(cb, T(1)), p) : T(0);
+  const T spec = cb > T(0) ? kInvPi<T> * std::pow(std::min(cb, T(1)), p) : T(0);
   return k_d * kInvPi<T> + k_s * spec;
 }
 
