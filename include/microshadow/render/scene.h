@@ -1,0 +1,162 @@
+// Scene description for the reference renderer: camera, glTF-style texture-set materials, shapes, lights and
+// render settings, as parsed from a scene JSON file (format in docs/renderer.md).
+#pragma once
+
+#include <microshadow/math/color.h>
+#include <microshadow/math/vec.h>
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace msh::render {
+
+// A float texture with 1–4 channels, sampled bilinearly with wrap addressing. Texel (i, j) covers
+// u ∈ [i/w, (i+1)/w), its centre at (i + 0.5)/w; row j = 0 is the top of the image (v = 0).
+class Texture {
+ public:
+  Texture() = default;
+  Texture(int w, int h, int c) : w_(w), h_(h), c_(c), data_(std::size_t(w) * h * c, 0.0f) {}
+  static Texture constant(std::array<float, 4> value, int channels);
+  int width() const { return w_; }
+  int height() const { return h_; }
+  int channels() const { return c_; }
+  bool empty() const { return data_.empty(); }
+  float& at(int x, int y, int c) { return data_[(std::size_t(y) * w_ + x) * c_ + c]; }
+  float at(int x, int y, int c) const { return data_[(std::size_t(y) * w_ + x) * c_ + c]; }
+  // Texel with wrap addressing (any integer coordinates).
+  float texel(int x, int y, int c) const;
+  // Bilinear sample of channel c (channel index clamped to the last one) at (u, v), wrap addressing.
+  float sample(float u, float v, int c = 0) const;
+  Rgbf sample_rgb(float u, float v) const;
+
+ private:
+  int w_ = 0, h_ = 0, c_ = 0;
+  std::vector<float> data_;
+};
+
+// Reads a PNG or EXR as a texture. PNG colour textures (srgb = true) are decoded from sRGB to linear; data
+// textures (normal, roughness, metallic, visibility, height) are read as-is. InputError naming the file.
+Texture load_texture(const std::filesystem::path& path, bool srgb);
+
+// glTF-style metallic-roughness material with a micro-occlusion (visibility) map and an optional height map
+// (used only by the ground-truth displacement render).
+struct Material {
+  std::string name;
+  Texture base_color;  // linear RGB
+  Texture normal;  // tangent space, encoded n·0.5 + 0.5; x = +u (tangent), y = +v (bitangent); empty = flat
+  Texture roughness;   // perceptual roughness r (α = r²)
+  Texture metallic;    // 0 = dielectric (F0 = 0.04), 1 = metal (F0 = base colour)
+  Texture visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, REFERENCE.md §1)
+  Texture height;      // [0,1]; empty = no displacement
+  float height_texels = 0.0f;    // depth of the full height range in texel units (ground truth only)
+  float uv_scale = 1.0f;         // texture repeats per unit of the object's uv
+  float normal_strength = 1.0f;  // scales the tangent-space x, y of the normal map (bump-terminator figures)
+};
+
+// A triangle mesh with per-vertex attributes; tangents follow the MikkTSpace convention (xyz = ∂P/∂u
+// orthogonalised against n, w = ±1 with bitangent = w · cross(n, t) pointing along ∂P/∂v).
+struct Mesh {
+  std::vector<Vec3f> p, n;
+  std::vector<Vec2f> uv;
+  std::vector<std::array<float, 4>> tangent;
+  std::vector<std::array<uint32_t, 3>> tri;
+};
+
+// Per-vertex tangents (MikkTSpace convention): per-triangle ∂P/∂u, ∂P/∂v from uv differences, accumulated per
+// vertex weighted by the corner angle, Gram-Schmidt against the vertex normal, handedness from ∂P/∂v.
+void compute_tangents(Mesh& m);
+// Generators: UV sphere (smooth normals, `segments` around, `rings` pole to pole) and a capped-free cylinder
+// along +z (radius, height, smooth side normals), both centred at the origin.
+Mesh make_uv_sphere(float radius, int segments, int rings);
+Mesh make_cylinder(float radius, float height, int segments);
+// Wavefront OBJ (v, vt, vn, f; polygons fan-triangulated; negative indices). InputError naming file and line.
+Mesh load_obj(const std::filesystem::path& path);
+
+enum class ShapeType { Plane, Sphere, Mesh };
+
+struct Object {
+  ShapeType type = ShapeType::Plane;
+  int material = 0;
+  // Plane: centre, unit normal, unit tangent (+u), half extents along tangent and bitangent. uv ∈ [0,1]².
+  Vec3f center{0, 0, 0}, normal{0, 0, 1}, tangent{1, 0, 0};
+  Vec2f half_size{1, 1};
+  // Sphere: centre, radius; uv = (φ/2π, θ/π) with θ from +z.
+  float radius = 1.0f;
+  // Mesh (world space after the object's transform).
+  std::shared_ptr<Mesh> mesh;
+};
+
+enum class LightType { Directional, Point, Sphere };
+
+struct Light {
+  LightType type = LightType::Directional;
+  Vec3f direction{0, 0, 1};  // directional: unit vector towards the light
+  Vec3f position{0, 0, 0};   // point / sphere
+  float radius = 0.0f;       // sphere
+  Rgbf color{1, 1, 1};       // directional: irradiance at normal incidence; point/sphere: intensity (W/sr)
+};
+
+struct Camera {
+  Vec3f eye{0, -4, 2}, target{0, 0, 0}, up{0, 0, 1};
+  float fov_deg = 40.0f;  // vertical field of view
+};
+
+// Micro-shadowing term multiplying the direct light per light (REFERENCE.md §2), or the ground truth.
+enum class MicroShadowing {
+  None,           // no micro-occlusion at all
+  AO,             // V multiplies the direct light (what micro-shadowing replaces)
+  Reference,      // step(sqrt(1 − V), N·L)
+  BrinckMaximov,  // Brinck & Maximov 2016
+  Chan,           // Chan 2018
+  Part1,          // Part 1 analytic
+  GenericVndf,    // seed 002, Monte Carlo over visible normals (vndf_samples per light)
+  Lut3d,          // seed 002 3D LUT
+  Lut2d,          // seed 002 2D LUT (N·V = 1 slice)
+  GroundTruth     // height map rendered as real ray-traced micro-geometry, no normal or visibility map
+};
+const char* to_string(MicroShadowing m);
+MicroShadowing micro_shadowing_from_string(const std::string& s);  // InputError listing the valid names
+std::vector<std::string> micro_shadowing_names();
+
+enum class BumpTerminator { Off, Conty2019, Chiang2019 };
+const char* to_string(BumpTerminator b);
+BumpTerminator bump_terminator_from_string(const std::string& s);
+
+struct Settings {
+  int width = 512, height = 512, spp = 4;
+  MicroShadowing micro_shadowing = MicroShadowing::None;
+  int vndf_samples = 32;
+  BumpTerminator bump_terminator = BumpTerminator::Off;
+  bool hanika_offset = false;
+  bool area_lights = false;  // sphere lights: true = area sampling (reference), false = representative point
+  int area_samples = 16;
+  float exposure = 0.0f;
+  Rgbf background{0, 0, 0};
+  Rgbf ambient{0, 0, 0};  // constant ambient radiance times base colour (unshadowed; 0 in comparisons)
+  std::string lut_path;   // micro-shadowing LUT file for lut3d / lut2d
+  uint32_t seed = 1;
+};
+
+struct Scene {
+  Camera camera;
+  std::vector<Material> materials;
+  std::vector<Object> objects;
+  std::vector<Light> lights;
+  Settings settings;
+  std::filesystem::path source;  // the JSON file, for messages
+};
+
+// Parses a scene JSON file. Relative texture/OBJ paths resolve against `asset_dir` (default: the JSON file's
+// directory). Unknown keys, wrong types, unknown names, missing files and absurd values throw InputError
+// naming the file and the offending key.
+Scene load_scene(const std::filesystem::path& path, const std::filesystem::path& asset_dir = {});
+Scene parse_scene(const std::string& json_text, const std::filesystem::path& source_name,
+                  const std::filesystem::path& asset_dir);
+
+// Directional light direction from elevation above the z = 0 plane and azimuth from +x (degrees).
+Vec3f direction_from_angles(float elevation_deg, float azimuth_deg);
+
+}  // namespace msh::render

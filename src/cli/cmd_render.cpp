@@ -1,0 +1,190 @@
+// `microshadow render`, `microshadow gen-material`, `microshadow compare`: the reference renderer's commands.
+#include <fmt/format.h>
+#include <microshadow/render/image.h>
+#include <microshadow/render/renderer.h>
+#include <microshadow/render/scene.h>
+#include <microshadow/render/texture_gen.h>
+#include <tbb/global_control.h>
+
+#include <atomic>
+#include <iostream>
+#include <memory>
+#include <mutex>
+
+#include "common.h"
+
+namespace msh::cli {
+namespace {
+
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               std::size_t(threads));
+}
+
+struct RenderArgs {
+  std::string scene, out, method, bump, lut, assets;
+  int width = 0, height = 0, spp = 0, threads = 0, vndf_samples = 0, area_samples = 0;
+  double elevation = -1000, azimuth = -1000, exposure = -1000;
+  bool hanika = false, no_hanika = false, area = false, quiet = false;
+};
+
+void run_render(const RenderArgs& a) {
+  using namespace msh::render;
+  auto limit = thread_limit(a.threads);
+  Scene scene = load_scene(a.scene, a.assets);
+  Settings& s = scene.settings;
+  if (a.width) s.width = a.width;
+  if (a.height) s.height = a.height;
+  if (a.spp) s.spp = a.spp;
+  if (a.vndf_samples) s.vndf_samples = a.vndf_samples;
+  if (a.area_samples) s.area_samples = a.area_samples;
+  if (!a.method.empty()) s.micro_shadowing = micro_shadowing_from_string(a.method);
+  if (!a.bump.empty()) s.bump_terminator = bump_terminator_from_string(a.bump);
+  if (a.hanika) s.hanika_offset = true;
+  if (a.no_hanika) s.hanika_offset = false;
+  if (a.area) s.area_lights = true;
+  if (!a.lut.empty()) s.lut_path = a.lut;
+  if (a.exposure > -1000) s.exposure = float(a.exposure);
+  if (a.elevation > -1000 || a.azimuth > -1000) {
+    for (Light& l : scene.lights) {
+      if (l.type != LightType::Directional) continue;
+      const float el = a.elevation > -1000 ? float(a.elevation)
+                                           : std::asin(clamp(l.direction.z, -1.0f, 1.0f)) * 180 / kPi<float>;
+      const float az =
+          a.azimuth > -1000 ? float(a.azimuth) : std::atan2(l.direction.y, l.direction.x) * 180 / kPi<float>;
+      l.direction = direction_from_angles(el, az);
+    }
+  }
+  if (uint64_t(s.width) * s.height > (uint64_t(1) << 26))
+    throw UsageError(fmt::format("image size {}x{} is too large (at most 2^26 pixels)", s.width, s.height));
+  const Renderer renderer(scene);
+  std::mutex mu;
+  int last = -1;
+  auto progress = [&](double f) {
+    if (a.quiet) return;
+    const int pct = int(f * 100);
+    std::lock_guard<std::mutex> lock(mu);
+    if (pct / 10 != last / 10 || pct == 100) {
+      if (pct == last) return;
+      last = pct;
+      std::cerr << fmt::format("\rrender: {:3d}%", pct) << (pct == 100 ? "\n" : "") << std::flush;
+    }
+  };
+  RenderStats st;
+  const Image img = renderer.render(progress, &st);
+  write_exr(a.out + ".exr", img);
+  write_png(a.out + ".png", img, s.exposure);
+  const double rays = double(st.camera_rays + st.shadow_rays);
+  print_json({{"exr", a.out + ".exr"},
+              {"png", a.out + ".png"},
+              {"method", to_string(s.micro_shadowing)},
+              {"bump_terminator", to_string(s.bump_terminator)},
+              {"width", s.width},
+              {"height", s.height},
+              {"spp", s.spp},
+              {"seconds", st.seconds},
+              {"camera_rays", st.camera_rays},
+              {"shadow_rays", st.shadow_rays},
+              {"shaded_samples", st.shaded_samples},
+              {"rays_per_second", st.seconds > 0 ? rays / st.seconds : 0.0},
+              {"shaded_samples_per_second", st.seconds > 0 ? double(st.shaded_samples) / st.seconds : 0.0}});
+}
+
+void add_render(Groups& g) {
+  auto a = std::make_shared<RenderArgs>();
+  CLI::App* r = g.root->add_subcommand(
+      "render", "Render a scene JSON file to PREFIX.exr (linear) and PREFIX.png (sRGB)");
+  r->add_option("scene", a->scene, "Scene JSON file (see docs/renderer.md, examples/)")->required();
+  r->add_option("--out", a->out, "Output prefix: writes PREFIX.exr and PREFIX.png")->required();
+  r->add_option("--width", a->width, "Override settings.width")->check(CLI::Range(1, 16384));
+  r->add_option("--height", a->height, "Override settings.height")->check(CLI::Range(1, 16384));
+  r->add_option("--spp", a->spp, "Samples per pixel")->check(CLI::Range(1, 65536));
+  r->add_option("--threads", a->threads, "Worker threads (0 = all cores); the image does not depend on it")
+      ->check(CLI::Range(0, 1024));
+  r->add_option(
+      "--method", a->method,
+      "Micro-shadowing: none, ao, reference, brinck-maximov-2016, chan-2018, part1, generic-vndf, lut3d, "
+      "lut2d, ground-truth");
+  r->add_option("--vndf-samples", a->vndf_samples, "Samples per light for generic-vndf")
+      ->check(CLI::Range(1, 1 << 20));
+  r->add_option("--bump-terminator", a->bump, "off, conty-2019, chiang-2019");
+  r->add_flag("--hanika", a->hanika, "Hanika 2021 shadow-ray offset on meshes");
+  r->add_flag("--no-hanika", a->no_hanika, "Disable the Hanika offset");
+  r->add_flag("--area-lights", a->area,
+              "Sphere lights by area sampling (reference) instead of a representative point");
+  r->add_option("--area-samples", a->area_samples, "Samples per sphere light")->check(CLI::Range(1, 1 << 16));
+  r->add_option("--lut", a->lut, "Micro-shadowing LUT file for lut3d/lut2d");
+  r->add_option("--assets", a->assets,
+                "Resolve relative texture/OBJ paths against DIR (default: the scene's directory)");
+  r->add_option("--light-elevation", a->elevation, "Set every directional light's elevation (degrees)")
+      ->check(CLI::Range(-90.0, 90.0));
+  r->add_option("--light-azimuth", a->azimuth, "Set every directional light's azimuth (degrees from +x)")
+      ->check(CLI::Range(-360.0, 360.0));
+  r->add_option("--exposure", a->exposure, "PNG exposure in stops")->check(CLI::Range(-30.0, 30.0));
+  r->add_flag("--quiet", a->quiet, "No progress on stderr");
+  r->callback([a] { run_render(*a); });
+
+  auto m = std::make_shared<render::GenOptions>();
+  auto mdir = std::make_shared<std::string>();
+  auto mthreads = std::make_shared<int>(0);
+  CLI::App* gm = g.root->add_subcommand("gen-material",
+                                        "Generate a procedural texture set (height, normal, "
+                                        "roughness, metallic, base colour, baked micro-occlusion)");
+  gm->add_option("--kind", m->kind, "plaster (damaged plaster: noise, cracks, pits) or bark")
+      ->check(CLI::IsMember({"plaster", "bark"}));
+  gm->add_option("--size", m->size, "Texels per side")->check(CLI::Range(8, 8192));
+  gm->add_option("--out", *mdir, "Output directory (created)")->required();
+  gm->add_option("--depth", m->depth_texels, "Height range in texels (0 = kind default)")
+      ->check(CLI::Range(0.0, 1e4));
+  gm->add_option("--ao-rays", m->ao_rays, "Micro-occlusion bake rays per texel")->check(CLI::Range(1, 65536));
+  gm->add_option("--ao-distance", m->ao_max_distance, "Bake ray length in texels (0 = 8% of the size)")
+      ->check(CLI::Range(0.0, 1e6));
+  gm->add_option("--seed", m->seed, "Noise seed");
+  gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
+      ->check(CLI::Range(0, 1024));
+  gm->callback([m, mdir, mthreads] {
+    auto limit = thread_limit(*mthreads);
+    const auto set = render::generate_texture_set(*m);
+    render::write_texture_set(*mdir, set);
+    print_json({{"dir", *mdir}, {"kind", m->kind}, {"size", m->size}, {"height_texels", set.depth_texels}});
+  });
+
+  struct CmpArgs {
+    std::string a, b, diff;
+    double exposure = 0;
+    int down = 1;
+  };
+  auto c = std::make_shared<CmpArgs>();
+  CLI::App* cmp =
+      g.root->add_subcommand("compare", "Error of image A against reference B (linear EXR): RMSE, SSIM");
+  cmp->add_option("a", c->a, "Image (EXR)")->required();
+  cmp->add_option("b", c->b, "Reference image (EXR)")->required();
+  cmp->add_option("--exposure", c->exposure, "Exposure of the display images used by SSIM and --diff")
+      ->check(CLI::Range(-30.0, 30.0));
+  cmp->add_option("--diff", c->diff, "Write a false-colour difference PNG (red: A brighter, blue: A darker)");
+  cmp->add_option("--downsample", c->down, "Also compare after box-downsampling by this factor")
+      ->check(CLI::Range(1, 64));
+  cmp->callback([c] {
+    const auto A = render::read_exr(c->a), B = render::read_exr(c->b);
+    if (A.width != B.width || A.height != B.height)
+      throw UsageError(
+          fmt::format("{} is {}x{} but {} is {}x{}", c->a, A.width, A.height, c->b, B.width, B.height));
+    nlohmann::json j = {{"rmse", render::rmse(A, B)}, {"ssim", render::ssim(A, B, float(c->exposure))}};
+    if (c->down > 1) {
+      const auto a2 = render::downsample(A, c->down), b2 = render::downsample(B, c->down);
+      j["rmse_downsampled"] = render::rmse(a2, b2);
+      j["ssim_downsampled"] = render::ssim(a2, b2, float(c->exposure));
+      j["downsample"] = c->down;
+    }
+    if (!c->diff.empty())
+      render::write_png_display(c->diff, render::difference_image(A, B, float(c->exposure)));
+    print_json(j);
+  });
+}
+
+}  // namespace
+
+MSH_CLI_REGISTER(add_render, 90);
+
+}  // namespace msh::cli

@@ -1,0 +1,82 @@
+// Per-light terms of the renderer: micro-shadowing (REFERENCE.md §2) and the bump-terminator fix (§5).
+// Private to src/render/.
+#pragma once
+
+#include <fmt/format.h>
+#include <microshadow/io/error.h>
+#include <microshadow/microfacet/ggx.h>
+#include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/render/renderer.h>
+
+#include <memory>
+
+namespace msh::render {
+
+class LutSampler;  // render/lut_glue.cpp
+std::shared_ptr<const LutSampler> load_lut_sampler(const std::string& path, bool two_d);
+float sample_lut(const LutSampler& lut, float V, float n_dot_l, float n_dot_v, float roughness);
+
+// The micro-shadowing term: V from the micro-occlusion map; N·L and N·V with the shading (normal-mapped)
+// normal, as the seed's shaders do. Multiplies diffuse and specular of one light.
+class MicroShadowingTerm {
+ public:
+  explicit MicroShadowingTerm(const Settings& s) : mode_(s.micro_shadowing), n_(s.vndf_samples) {
+    if (mode_ == MicroShadowing::Lut3d || mode_ == MicroShadowing::Lut2d) {
+      if (s.lut_path.empty())
+        throw InputError(
+            fmt::format("micro-shadowing '{}' needs a LUT file (settings.lut or --lut)", to_string(mode_)));
+      lut_ = load_lut_sampler(s.lut_path, mode_ == MicroShadowing::Lut2d);
+    }
+  }
+  float eval(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, const Vec3f& tangent,
+             uint32_t seed) const {
+    const float V = sp.visibility, nl = dot(sp.n_shading, wi);
+    switch (mode_) {
+      case MicroShadowing::None:
+      case MicroShadowing::GroundTruth:
+        return 1.0f;
+      case MicroShadowing::AO:
+        return V;
+      case MicroShadowing::Reference:
+        return ms::reference_step(V, nl);
+      case MicroShadowing::BrinckMaximov:
+        return ms::brinck_maximov_2016(V, nl);
+      case MicroShadowing::Chan:
+        return ms::chan_2018(V, nl);
+      case MicroShadowing::Part1:
+        return ms::part1_analytic(V, nl);
+      case MicroShadowing::GenericVndf: {
+        if (ms::exact_zero(V, nl)) return 0.0f;
+        const Framef fr = Framef::from_zx(sp.n_shading, tangent);
+        Vec3f v = fr.to_local(wo);
+        v.z = std::max(v.z, 1e-4f);
+        const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
+        return ms::generic_vndf_estimate(V, ggx, normalize(v), fr.to_local(wi), n_,
+                                         ms::G2Form::HeightCorrelated, seed | 1u);
+      }
+      case MicroShadowing::Lut3d:
+      case MicroShadowing::Lut2d:
+        if (ms::exact_zero(V, nl)) return 0.0f;  // the seed's early-out: no LUT fetch
+        return sample_lut(*lut_, V, nl, saturate(dot(sp.n_shading, wo)), sp.roughness);
+    }
+    return 1.0f;
+  }
+
+ private:
+  MicroShadowing mode_;
+  int n_;
+  std::shared_ptr<const LutSampler> lut_;
+};
+
+// Bump-terminator shadowing of the light (seed 003 / REFERENCE §5): ng = the unperturbed (interpolated)
+// normal, ns = the bumped normal.
+class BumpTerminatorTerm {
+ public:
+  explicit BumpTerminatorTerm(BumpTerminator m);
+  float eval(const Vec3f& ng, const Vec3f& ns, const Vec3f& l) const;
+
+ private:
+  BumpTerminator mode_;
+};
+
+}  // namespace msh::render

@@ -1,0 +1,207 @@
+// Procedural texture sets (see render/texture_gen.h). Every noise here is periodic so the maps tile, and a
+// pure function of (u, v, seed), so generation is deterministic.
+#include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
+#include <microshadow/math/sampling.h>
+#include <microshadow/render/heightfield.h>
+#include <microshadow/render/image.h>
+#include <microshadow/render/texture_gen.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+
+namespace msh::render {
+
+namespace {
+
+float hash01(int i, int j, uint32_t seed) {
+  return float(hash_combine(hash_combine(hash_u32(seed), uint32_t(i)), uint32_t(j))) * 0x1p-32f;
+}
+int wrap(int i, int p) { return ((i % p) + p) % p; }
+float quintic(float t) { return t * t * t * (t * (t * 6 - 15) + 10); }
+float smoothstep(float a, float b, float x) {
+  const float t = saturate((x - a) / (b - a));
+  return t * t * (3 - 2 * t);
+}
+
+// Value noise with lattice period p (u, v ∈ [0,1) → one period), in [0,1].
+float value_noise(float u, float v, int p, uint32_t seed) {
+  const float x = u * p, y = v * p, fx = std::floor(x), fy = std::floor(y);
+  const int i = int(fx), j = int(fy);
+  const float tx = quintic(x - fx), ty = quintic(y - fy);
+  auto h = [&](int a, int b) { return hash01(wrap(a, p), wrap(b, p), seed); };
+  return lerp(ty, lerp(tx, h(i, j), h(i + 1, j)), lerp(tx, h(i, j + 1), h(i + 1, j + 1)));
+}
+// Fractional Brownian motion: octaves of value noise, period doubling; normalized to [0,1].
+float fbm(float u, float v, int p, int octaves, uint32_t seed) {
+  float s = 0, a = 0.5f, norm = 0;
+  for (int k = 0; k < octaves; ++k, p *= 2, a *= 0.5f) {
+    s += a * value_noise(u, v, p, hash_combine(seed, uint32_t(k)));
+    norm += a;
+  }
+  return s / norm;
+}
+// Periodic Worley noise (one feature point per cell, px × py cells): distances F1, F2 in cell units.
+Vec2f worley(float u, float v, int px, int py, uint32_t seed) {
+  const float x = u * px, y = v * py;
+  const int i = int(std::floor(x)), j = int(std::floor(y));
+  float f1 = 1e9f, f2 = 1e9f;
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      const int ci = i + di, cj = j + dj;
+      const float fx = float(ci) + hash01(wrap(ci, px), wrap(cj, py), seed);
+      const float fy = float(cj) + hash01(wrap(ci, px), wrap(cj, py), seed ^ 0x9e3779b9u);
+      const float d = std::hypot(x - fx, y - fy);
+      if (d < f1)
+        f2 = f1, f1 = d;
+      else if (d < f2)
+        f2 = d;
+    }
+  return {f1, f2};
+}
+
+float plaster_height(float u, float v, uint32_t seed) {
+  float h = 1.0f - 0.10f * fbm(u, v, 8, 5, seed + 1);
+  // Chipped areas: flat-bottomed plateaus where a low-frequency noise is low.
+  const float c = fbm(u, v, 4, 4, seed + 2);
+  h -= 0.35f * smoothstep(0.40f, 0.33f, c);
+  // Cracks: Worley cell edges (F2 − F1 small), domain-warped, only where a mask noise allows.
+  const float wu = u + 0.04f * (fbm(u, v, 4, 3, seed + 3) - 0.5f),
+              wv = v + 0.04f * (fbm(u, v, 4, 3, seed + 4) - 0.5f);
+  const Vec2f f = worley(wu, wv, 5, 5, seed + 5);
+  const float crack = 1.0f - smoothstep(0.0f, 0.06f, f.y - f.x);
+  h -= 0.75f * crack * smoothstep(0.42f, 0.55f, fbm(u, v, 4, 2, seed + 6));
+  // Pits: round holes with a parabolic profile, about one in three cells of a 16 × 16 grid.
+  const int P = 16;
+  const float x = u * P, y = v * P;
+  const int i = int(std::floor(x)), j = int(std::floor(y));
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      const int ci = wrap(i + di, P), cj = wrap(j + dj, P);
+      if (hash01(ci, cj, seed + 7) > 0.35f) continue;
+      const float cx = float(i + di) + hash01(ci, cj, seed + 8),
+                  cy = float(j + dj) + hash01(ci, cj, seed + 9);
+      const float r = 0.12f + 0.3f * hash01(ci, cj, seed + 10);
+      const float d = std::hypot(x - cx, y - cy) / r;
+      if (d < 1) h -= (0.3f + 0.4f * hash01(ci, cj, seed + 11)) * (1 - d * d);
+    }
+  return saturate(h);
+}
+
+float bark_height(float u, float v, uint32_t seed) {
+  // Vertical ridges with sharp furrows: a warped cosine along u (12 ridges per tile), flattened on top.
+  const float warp = 0.6f * (fbm(u, v, 4, 4, seed + 1) - 0.5f) + 0.15f * (fbm(u, v, 16, 2, seed + 2) - 0.5f);
+  const float s = 0.5f + 0.5f * std::cos(2 * kPi<float> * (12 * u + warp * 3));
+  float h = 0.1f + 0.9f * std::pow(s, 0.35f) * (0.8f + 0.2f * fbm(u, v, 16, 3, seed + 3));
+  // Horizontal fissures across the ridges: elongated Worley cells.
+  const Vec2f f = worley(u, v, 12, 4, seed + 4);
+  h -= 0.45f * (1.0f - smoothstep(0.0f, 0.08f, f.y - f.x)) *
+       smoothstep(0.45f, 0.6f, fbm(u, v, 8, 2, seed + 5));
+  return saturate(h);
+}
+
+}  // namespace
+
+Texture normal_map_from_height(const Texture& height, float depth) {
+  HeightField hf(height, depth);
+  Texture n(height.width(), height.height(), 3);
+  for (int j = 0; j < height.height(); ++j)
+    for (int i = 0; i < height.width(); ++i) {
+      const Vec3f v = hf.vertex_normal(i, j);
+      n.at(i, j, 0) = 0.5f * v.x + 0.5f, n.at(i, j, 1) = 0.5f * v.y + 0.5f, n.at(i, j, 2) = 0.5f * v.z + 0.5f;
+    }
+  return n;
+}
+
+Texture bake_visibility(const Texture& height, float depth, int rays, float max_distance) {
+  if (rays < 1) throw InputError("bake_visibility: rays must be >= 1");
+  HeightField hf(height, depth);
+  const int w = height.width(), h = height.height();
+  Texture vis(w, h, 1);
+  const float inf = 1e30f;
+  tbb::parallel_for(0, h, [&](int j) {
+    for (int i = 0; i < w; ++i) {
+      const Vec3f o(float(i), float(j), hf.z(i, j) + 1e-3f);
+      int free = 0;
+      for (int r = 0; r < rays; ++r) {
+        const Vec3f d = sample_cosine_hemisphere(
+            sobol_2d<float>(uint32_t(r), hash_combine(uint32_t(i), uint32_t(j)) + 1));
+        float t;
+        // The extent is unbounded (the map wraps); max_distance limits the ray as an artist's bake does.
+        if (!hf.intersect(o, d, 1e-3f, max_distance, {-inf, -inf}, {inf, inf}, &t, nullptr)) ++free;
+      }
+      vis.at(i, j, 0) = float(free) / float(rays);
+    }
+  });
+  return vis;
+}
+
+TextureSet generate_texture_set(const GenOptions& opt) {
+  if (opt.kind != "plaster" && opt.kind != "bark")
+    throw InputError(fmt::format("unknown material kind '{}' (plaster, bark)", opt.kind));
+  if (opt.size < 8 || opt.size > 8192)
+    throw InputError(fmt::format("size must be in [8, 8192], got {}", opt.size));
+  if (opt.ao_rays < 1 || opt.ao_rays > 65536) throw InputError("ao rays must be in [1, 65536]");
+  const int n = opt.size;
+  const float scale = float(n) / 256.0f;
+  TextureSet s;
+  s.depth_texels = opt.depth_texels > 0 ? opt.depth_texels : (opt.kind == "plaster" ? 6.0f : 12.0f) * scale;
+  const float maxd = opt.ao_max_distance > 0 ? opt.ao_max_distance : 0.08f * float(n);
+  s.height = Texture(n, n, 1);
+  s.base_color = Texture(n, n, 3);
+  s.roughness = Texture(n, n, 1);
+  s.metallic = Texture(n, n, 1);
+  tbb::parallel_for(0, n, [&](int j) {
+    for (int i = 0; i < n; ++i) {
+      const float u = (float(i) + 0.5f) / float(n), v = (float(j) + 0.5f) / float(n);
+      const float hv = opt.kind == "plaster" ? plaster_height(u, v, opt.seed) : bark_height(u, v, opt.seed);
+      s.height.at(i, j, 0) = hv;
+      const float tint = fbm(u, v, 8, 3, opt.seed + 50);
+      const Rgbf c = opt.kind == "plaster" ? Rgbf(0.80f, 0.77f, 0.72f) * (0.80f + 0.12f * hv + 0.08f * tint)
+                                           : Rgbf(0.36f, 0.25f, 0.17f) * (0.55f + 0.3f * hv + 0.15f * tint);
+      s.base_color.at(i, j, 0) = c.r, s.base_color.at(i, j, 1) = c.g, s.base_color.at(i, j, 2) = c.b;
+      // The seed's test: rough on the left half, smooth on the right half (a small noise breaks banding).
+      s.roughness.at(i, j, 0) =
+          saturate((u < 0.5f ? opt.rough_left : opt.rough_right) + 0.04f * (tint - 0.5f));
+      s.metallic.at(i, j, 0) = 0.0f;
+    }
+  });
+  s.normal = normal_map_from_height(s.height, s.depth_texels);
+  s.visibility = bake_visibility(s.height, s.depth_texels, opt.ao_rays, maxd);
+  return s;
+}
+
+namespace {
+void write_tex(const std::filesystem::path& p, const Texture& t, bool srgb, int bits) {
+  io::Volume v(t.width(), t.height(), 1, t.channels());
+  for (int y = 0; y < t.height(); ++y)
+    for (int x = 0; x < t.width(); ++x)
+      for (int c = 0; c < t.channels(); ++c)
+        v.at(x, y, 0, c) = srgb ? srgb_encode(t.at(x, y, c)) : t.at(x, y, c);
+  io::write_png(p, v, bits);
+}
+}  // namespace
+
+void write_texture_set(const std::filesystem::path& dir, const TextureSet& s) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", dir.string(), ec.message()));
+  write_tex(dir / "basecolor.png", s.base_color, true, 8);
+  write_tex(dir / "normal.png", s.normal, false, 16);
+  write_tex(dir / "roughness.png", s.roughness, false, 8);
+  write_tex(dir / "metallic.png", s.metallic, false, 8);
+  write_tex(dir / "micro_occlusion.png", s.visibility, false, 8);
+  write_tex(dir / "height.png", s.height, false, 16);
+  const std::string json = fmt::format(
+      "{{\n  \"base_color\": \"basecolor.png\",\n  \"normal\": \"normal.png\",\n  \"roughness\": "
+      "\"roughness.png\",\n"
+      "  \"metallic\": \"metallic.png\",\n  \"micro_occlusion\": \"micro_occlusion.png\",\n"
+      "  \"height\": \"height.png\",\n  \"height_texels\": {}\n}}\n",
+      s.depth_texels);
+  io::write_file_atomic(dir / "material.json", json);
+}
+
+}  // namespace msh::render
