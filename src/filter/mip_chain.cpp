@@ -77,7 +77,7 @@ void finish_level(const std::vector<Sums>& s, MipLevel& lv, FilterMethod method)
   double acc = 0;
   for (size_t i = 0; i < n; ++i) {
     const SlopeCovariance<double> cov = lean_covariance(s[i].lean.normalized());
-    acc += 0.5 * (cov.xx + cov.yy) - 0.5 * 0.5 * s[i].a2 / s[i].w;
+    acc += 0.5 * (cov.xx + cov.yy) - 0.5 * s[i].a2 / s[i].w;  // minus the base α²/2
   }
   lv.mean_normal_variance = std::max(0.0, acc / double(n));
 }
