@@ -1,0 +1,177 @@
+// CLI for the micro-shadowing LUT (include/microshadow/lut/):
+//   microshadow bake micro-shadowing [--size 64] [--2d] [--samples N] [--azimuth|--harmonics H]
+//       [--roughness 0.1,0.4,0.7,1.0] [--format dds|ktx2|exr|npy|h] [--pixel-format rgba16f] --out FILE
+// Writes FILE (atomically) and its JSON sidecar FILE.json (roughness per channel, harmonics, bake settings).
+#include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/texture.h>
+#include <microshadow/lut/micro_shadowing_baker.h>
+#include <microshadow/lut/micro_shadowing_loader.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common.h"
+
+namespace msh::cli {
+namespace {
+
+struct BakeLutOptions {
+  std::string out, format, pixel_format = "rgba16f", roughness = "0.1,0.4,0.7,1.0",
+                           symbol = "micro_shadowing_lut";
+  int size = 64, size_vis = 0, size_nl = 0, size_nv = 0;
+  bool two_d = false, azimuth = false, quiet = false;
+  int harmonics = -1, samples = 8192, phi_nodes = 16, threads = 0;
+  uint32_t seed = 1;
+};
+
+std::vector<double> parse_list(const std::string& text, const std::string& what) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    while (end && *end == ' ') ++end;
+    if (item.empty() || end == item.c_str() || (end && *end != '\0') || !std::isfinite(x))
+      throw UsageError(
+          fmt::format("{} must be a comma-separated list of finite numbers, got '{}'", what, text));
+    v.push_back(x);
+  }
+  if (v.empty()) throw UsageError(fmt::format("{} must not be empty", what));
+  return v;
+}
+
+// The pixel format with `channels` channels and the precision named by `name` (rgba8, rgba16f, rgba32f).
+io::PixelFormat pixel_format_for(const std::string& name, int channels) {
+  using PF = io::PixelFormat;
+  const io::PixelFormat base = io::pixel_format_from_name(name);
+  const int bits =
+      base == PF::RGBA8Unorm ? 8 : (base == PF::RGBA16Float ? 16 : (base == PF::RGBA32Float ? 32 : 0));
+  if (bits == 0)
+    throw UsageError(fmt::format("--pixel-format must be rgba8, rgba16f or rgba32f, got '{}'", name));
+  switch (channels) {
+    case 1:
+      return bits == 8 ? PF::R8Unorm : (bits == 16 ? PF::R16Float : PF::R32Float);
+    case 2:
+      return bits == 8 ? PF::RG8Unorm : (bits == 16 ? PF::RG16Float : PF::RG32Float);
+    case 4:
+      return base;
+    default:
+      throw UsageError(fmt::format(
+          "{} roughness values: textures take 1, 2 or 4 channels (NPY and C header any)", channels));
+  }
+}
+
+void run_bake(const BakeLutOptions& o) {
+  namespace fs = std::filesystem;
+  lut::BakeOptions b;
+  if (o.size < 2) throw UsageError(fmt::format("--size must be ≥ 2, got {}", o.size));
+  b.n_vis = o.size_vis ? o.size_vis : o.size;
+  b.n_nl = o.size_nl ? o.size_nl : o.size;
+  b.n_nv = o.size_nv ? o.size_nv : o.size;
+  b.two_d = o.two_d;
+  b.roughness = parse_list(o.roughness, "--roughness");
+  b.harmonics = o.harmonics >= 0 ? o.harmonics : (o.azimuth ? 2 : 0);
+  b.samples = o.samples;
+  b.phi_nodes = o.phi_nodes;
+  b.seed = o.seed;
+  b.threads = o.threads;
+  lut::validate(b);  // every domain error before any work or output
+
+  const fs::path out(o.out);
+  const io::FileFormat ff =
+      o.format.empty() ? io::file_format_from_path(out) : io::file_format_from_name(o.format);
+  if (ff == io::FileFormat::Png)
+    throw UsageError(
+        "a LUT cannot be written as PNG (use dds, ktx2, exr, npy or h; figures: scripts/plot_lut.py)");
+  const int channels = int(b.roughness.size());
+  io::PixelFormat pf = io::PixelFormat::RGBA32Float;
+  if (ff == io::FileFormat::Dds || ff == io::FileFormat::Ktx2 || ff == io::FileFormat::Exr) {
+    pf = pixel_format_for(o.pixel_format, channels);
+    if (b.harmonics > 0 && (pf == io::PixelFormat::RGBA8Unorm || pf == io::PixelFormat::RG8Unorm ||
+                            pf == io::PixelFormat::R8Unorm))
+      throw UsageError(
+          "azimuth-aware tables hold signed coefficients: use --pixel-format rgba16f or rgba32f");
+  } else {
+    io::pixel_format_from_name(o.pixel_format);  // still reject unknown names
+  }
+  if (out.has_parent_path() && !fs::is_directory(out.parent_path()))
+    throw UsageError(fmt::format("--out: directory '{}' does not exist", out.parent_path().string()));
+
+  int last_step = -1;
+  if (!o.quiet)
+    b.progress = [&last_step](double f) {
+      const int step = int(f * 10.0 + 1e-9);
+      if (step != last_step) {
+        last_step = step;
+        std::cerr << fmt::format("microshadow: baking micro-shadowing LUT: {:3d}%\n", step * 10);
+      }
+    };
+  const auto t0 = std::chrono::steady_clock::now();
+  const io::Volume vol = lut::bake_micro_shadowing_lut(b);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  io::write_volume(out, vol, ff, pf, o.symbol);
+  io::write_file_atomic(lut::sidecar_path(out), lut::sidecar_json(b));
+  nlohmann::json j;
+  j["out"] = out.string();
+  j["sidecar"] = lut::sidecar_path(out).string();
+  j["size"] = {vol.width, vol.height, vol.depth};
+  j["channels"] = vol.channels;
+  j["roughness"] = b.roughness;
+  j["harmonics"] = b.harmonics;
+  j["samples"] = b.samples;
+  j["phi_nodes"] = b.phi_nodes;
+  j["bake_seconds"] = seconds;
+  print_json(j);
+}
+
+void add_lut(Groups& g) {
+  auto o = std::make_shared<BakeLutOptions>();
+  CLI::App* c = g.bake->add_subcommand(
+      "micro-shadowing",
+      "Bake the micro-shadowing LUT (seed 002, generic VNDF-based term, isotropic Smith-GGX): x = "
+      "Visibility, "
+      "y = N.L, z = N.V, one channel per roughness; each texel is the mean over the relative azimuth of the "
+      "exact "
+      "term. Also writes OUT.json (roughness per channel, harmonics, settings). See docs/lut.md.");
+  c->add_option("--out", o->out, "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
+      ->required();
+  c->add_option("--format", o->format, "dds, ktx2, exr, npy or h (overrides the extension)");
+  c->add_option("--pixel-format", o->pixel_format,
+                "Precision for dds/ktx2/exr: rgba8, rgba16f or rgba32f (NPY and C header are always float32)")
+      ->capture_default_str();
+  c->add_option("--size", o->size, "Texels per axis (≥ 2)")->capture_default_str();
+  c->add_option("--size-visibility", o->size_vis, "Texels along Visibility (default: --size)");
+  c->add_option("--size-nl", o->size_nl, "Texels along N.L (default: --size)");
+  c->add_option("--size-nv", o->size_nv, "Texels along N.V (default: --size)");
+  c->add_flag("--2d", o->two_d, "The 2D LUT: the N.V = 1 slice only");
+  c->add_option("--roughness", o->roughness, "Perceptual roughness per channel, strictly increasing")
+      ->capture_default_str();
+  c->add_flag("--azimuth", o->azimuth,
+              "Azimuth-aware table: also the cos(phi) and cos(2 phi) coefficients, stacked as slabs along z "
+              "(same as --harmonics 2)");
+  c->add_option("--harmonics", o->harmonics, "Number of cos(h phi) coefficient slabs (0 = plain mean LUT)");
+  c->add_option("--samples", o->samples, "VNDF samples per azimuth node and (roughness, N.V) pair")
+      ->capture_default_str();
+  c->add_option("--phi-nodes", o->phi_nodes, "Gauss-Legendre nodes over the relative azimuth [0, pi]")
+      ->capture_default_str();
+  c->add_option("--seed", o->seed, "Scrambling seed")->capture_default_str();
+  c->add_option("--threads", o->threads, "Worker threads (0 = all); the output does not depend on it")
+      ->capture_default_str();
+  c->add_option("--symbol", o->symbol, "C identifier for the .h output")->capture_default_str();
+  c->add_flag("--quiet", o->quiet, "No progress on stderr");
+  c->callback([o] { run_bake(*o); });
+}
+
+}  // namespace
+
+MSH_CLI_REGISTER(add_lut, 40);
+
+}  // namespace msh::cli
