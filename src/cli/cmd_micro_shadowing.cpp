@@ -1,0 +1,372 @@
+// `eval micro-shadowing` and `plot micro-shadowing`: the micro-shadowing terms of
+// include/microshadow/occlusion/micro_shadowing.h (docs/micro-shadowing.md).
+//
+//   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
+//       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
+//   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
+#include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/occlusion/micro_shadowing.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <vector>
+
+#include "common.h"
+
+namespace msh::cli {
+namespace {
+
+using ms::G2Form;
+
+const std::vector<std::string> kMethods = {
+    "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic", "generic-vndf", "lut3d", "lut2d"};
+
+struct EvalArgs {
+  std::string method = "generic-vndf", g2 = "height-correlated", lut;
+  double visibility = 1, roughness = 0.5, ndotl = 1, ndotv = 1, phi = 0, roughness_y = 0;
+  int64_t samples = 0;
+  uint32_t seed = 1;
+  bool json = false;
+  CLI::Option *phi_opt = nullptr, *ry_opt = nullptr, *samples_opt = nullptr;
+};
+
+G2Form parse_g2(const std::string& s) {
+  if (s == "height-correlated") return G2Form::HeightCorrelated;
+  if (s == "uncorrelated") return G2Form::Uncorrelated;
+  throw UsageError(fmt::format("--g2 must be height-correlated or uncorrelated, got '{}'", s));
+}
+
+// v in the xz plane (azimuth 0 = along the tangent), l at relative azimuth phi.
+Vec3d view_dir(double ndotv) { return {safe_sqrt(1 - ndotv * ndotv), 0.0, ndotv}; }
+Vec3d light_dir(double ndotl, double phi) {
+  const double s = safe_sqrt(1 - ndotl * ndotl);
+  return {s * std::cos(phi), s * std::sin(phi), ndotl};
+}
+
+// Number of azimuths (midpoints of equal strata of [0, π]) of the sampled azimuth mean.
+constexpr int kEstimateAzimuths = 32;
+
+// Generic term: exact (no samples) or the seed's Sobol estimator; at one azimuth or the mean over [0, π].
+double eval_generic(double V, double ax, double ay, double nl, double nv, const double* phi, int64_t samples,
+                    G2Form form, uint32_t seed) {
+  const Vec3d v = view_dir(nv);
+  if (samples == 0) {
+    if (phi) return ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, *phi), form);
+    if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv, form);
+    // Anisotropic mean: the same adaptive rule over φ (the term is symmetric in φ → −φ for axis-aligned α).
+    const auto f = [&](double p) {
+      return std::array<double, 1>{ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, p), form)};
+    };
+    const double h = 0.5 * kPi<double>;
+    return (ms::detail::gk_adaptive<ms::detail::GK15, 1>(f, 0, h, 1e-5 * h)[0] +
+            ms::detail::gk_adaptive<ms::detail::GK15, 1>(f, h, 2 * h, 1e-5 * h)[0]) /
+           kPi<double>;
+  }
+  const GGX<double> ggx(ax, ay);
+  if (phi) return ms::generic_vndf_estimate(V, ggx, v, light_dir(nl, *phi), int(samples), form, seed);
+  double sum = 0;
+  for (int k = 0; k < kEstimateAzimuths; ++k) {
+    const double p = kPi<double> * (k + 0.5) / kEstimateAzimuths;
+    sum += ms::generic_vndf_estimate(V, ggx, v, light_dir(nl, p), int(samples), form, hash_combine(seed, k));
+  }
+  return sum / kEstimateAzimuths;
+}
+
+void run_eval(const EvalArgs& a) {
+  if (std::find(kMethods.begin(), kMethods.end(), a.method) == kMethods.end()) {
+    std::string known;
+    for (const auto& m : kMethods) known += (known.empty() ? "" : ", ") + m;
+    throw UsageError(fmt::format("--method must be one of: {}; got '{}'", known, a.method));
+  }
+  require_range(a.visibility, 0, 1, "--visibility");
+  require_range(a.roughness, 0, 1, "--roughness");
+  require_range(a.ndotl, 0, 1, "--ndotl");
+  require_range(a.ndotv, 0, 1, "--ndotv");
+  const bool has_phi = a.phi_opt->count() > 0, has_ry = a.ry_opt->count() > 0;
+  if (has_phi) require_range(a.phi, 0, kPi<double>, "--phi (relative azimuth, radians)");
+  if (has_ry) require_range(a.roughness_y, 0, 1, "--roughness-y");
+  if (a.samples_opt->count() && (a.samples < 1 || a.samples > (int64_t(1) << 30)))
+    throw UsageError(fmt::format("--samples must be in [1, 2^30], got {}", a.samples));
+  const G2Form form = parse_g2(a.g2);
+  const double ax = roughness_to_alpha(a.roughness),
+               ay = roughness_to_alpha(has_ry ? a.roughness_y : a.roughness);
+  const bool early = ms::exact_zero(a.visibility, a.ndotl);
+
+  nlohmann::json inputs = {
+      {"visibility", a.visibility}, {"roughness", a.roughness}, {"alpha_x", ax}, {"alpha_y", ay},
+      {"ndotl", a.ndotl},           {"ndotv", a.ndotv},         {"g2", a.g2}};
+  inputs["phi"] = has_phi ? nlohmann::json(a.phi) : nlohmann::json(nullptr);
+  nlohmann::json out = {{"method", a.method}, {"inputs", inputs}, {"early_out", early}};
+
+  double value = 0;
+  const std::string& m = a.method;
+  if (m == "lut3d" || m == "lut2d") {
+    throw UsageError("lut methods need the LUT module (not built into this CLI yet)");
+  } else if (m == "generic-vndf") {
+    value = eval_generic(a.visibility, ax, ay, a.ndotl, a.ndotv, has_phi ? &a.phi : nullptr, a.samples, form,
+                         a.seed);
+    out["azimuth"] = has_phi ? "fixed" : "mean over [0, pi]";
+    if (a.samples > 0) {
+      out["samples"] = a.samples;
+      out["seed"] = a.seed;
+      out["estimator"] =
+          has_phi ? "sobol-owen" : fmt::format("sobol-owen, {} azimuth strata", kEstimateAzimuths);
+    } else {
+      out["samples"] = nullptr;
+      out["estimator"] = "exact quadrature (|error| < 1e-6)";
+    }
+  } else {
+    if (has_phi || has_ry || a.samples > 0)
+      throw UsageError(
+          fmt::format("--phi, --roughness-y and --samples apply to generic-vndf only, not {}", m));
+    if (m == "reference") value = ms::reference_step(a.visibility, a.ndotl);
+    if (m == "brinck-maximov-2016") value = ms::brinck_maximov_2016(a.visibility, a.ndotl);
+    if (m == "chan-2018") value = ms::chan_2018(a.visibility, a.ndotl);
+    if (m == "part1-analytic") value = ms::part1_analytic(a.visibility, a.ndotl);
+  }
+  out["value"] = value;
+  if (a.json)
+    print_json(out);
+  else
+    fmt::print("{:.9g}\n", value);
+}
+
+// ---- plot ------------------------------------------------------------------------------------------------
+
+struct PlotArgs {
+  std::string out;
+  int size = 33;
+  int azimuth_configs = 2000;
+  int64_t mc_samples = int64_t(1) << 22;
+};
+
+const std::vector<double> kPlotRoughness = {0.0, 0.1, 0.4, 0.7, 1.0};
+const std::vector<double> kPlotNdotV = {1.0, 0.5, 0.1};
+
+std::string fmtd(double x) { return fmt::format("{:.9g}", x); }
+
+// Percentile p ∈ [0, 1] of sorted values (nearest rank).
+double percentile(const std::vector<double>& s, double p) {
+  if (s.empty()) return 0;
+  const double rank = std::ceil(p * double(s.size()));
+  return s[std::min(s.size() - 1, size_t(std::max(1.0, rank)) - 1)];
+}
+
+void run_plot(const PlotArgs& a) {
+  if (a.out.empty()) throw UsageError("--out is required");
+  if (a.size < 2 || a.size > 257) throw UsageError(fmt::format("--size must be in [2, 257], got {}", a.size));
+  if (a.azimuth_configs < 0 || a.azimuth_configs > 1000000)
+    throw UsageError("--azimuth-configs must be in [0, 1e6]");
+  if (a.mc_samples < 0 || a.mc_samples > (int64_t(1) << 28))
+    throw UsageError("--mc-samples must be in [0, 2^28]");
+  const std::filesystem::path dir(a.out);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+      throw UsageError(fmt::format("cannot create --out '{}'", a.out));
+  }
+
+  // 1. Maps of every method over (Visibility, N·L) for each roughness and N·V (generic: azimuth mean).
+  const int n = a.size;
+  struct Cell {
+    double rough, nv, V, nl, ref, bm, chan, p1, gen;
+  };
+  std::vector<Cell> cells;
+  for (double r : kPlotRoughness)
+    for (double nv : kPlotNdotV)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          cells.push_back({r, nv, double(i) / (n - 1), double(j) / (n - 1), 0, 0, 0, 0, 0});
+  tbb::parallel_for(size_t(0), cells.size(), [&](size_t k) {
+    Cell& c = cells[k];
+    c.ref = ms::reference_step(c.V, c.nl);
+    c.bm = ms::brinck_maximov_2016(c.V, c.nl);
+    c.chan = ms::chan_2018(c.V, c.nl);
+    c.p1 = ms::part1_analytic(c.V, c.nl);
+    c.gen = ms::generic_vndf_exact_azimuth_mean(c.V, roughness_to_alpha(c.rough), c.nl, c.nv);
+  });
+  std::ostringstream maps;
+  maps << "roughness,ndotv,visibility,ndotl,reference,brinck_maximov_2016,chan_2018,part1_analytic,generic_"
+          "vndf\n";
+  for (const Cell& c : cells)
+    maps << fmtd(c.rough) << ',' << fmtd(c.nv) << ',' << fmtd(c.V) << ',' << fmtd(c.nl) << ',' << fmtd(c.ref)
+         << ',' << fmtd(c.bm) << ',' << fmtd(c.chan) << ',' << fmtd(c.p1) << ',' << fmtd(c.gen) << '\n';
+  io::write_file_atomic(dir / "maps.csv", maps.str());
+
+  // 2. Error of the older terms vs the exact generic term, per roughness and N·V (RMS and max over the map).
+  std::ostringstream err;
+  err << "roughness,ndotv,method,rms,max_abs,mean_signed\n";
+  const char* names[4] = {"reference", "brinck_maximov_2016", "chan_2018", "part1_analytic"};
+  for (double r : kPlotRoughness)
+    for (double nv : kPlotNdotV) {
+      double s2[4] = {}, mx[4] = {}, sm[4] = {};
+      int cnt = 0;
+      for (const Cell& c : cells) {
+        if (c.rough != r || c.nv != nv) continue;
+        const double vals[4] = {c.ref, c.bm, c.chan, c.p1};
+        for (int q = 0; q < 4; ++q) {
+          const double d = vals[q] - c.gen;
+          s2[q] += d * d, sm[q] += d, mx[q] = std::max(mx[q], std::abs(d));
+        }
+        ++cnt;
+      }
+      for (int q = 0; q < 4; ++q)
+        err << fmtd(r) << ',' << fmtd(nv) << ',' << names[q] << ',' << fmtd(std::sqrt(s2[q] / cnt)) << ','
+            << fmtd(mx[q]) << ',' << fmtd(sm[q] / cnt) << '\n';
+    }
+  io::write_file_atomic(dir / "errors.csv", err.str());
+
+  // 3. Beyond the seed: what ignoring the azimuth costs. Random (V, roughness, N·L, N·V, φ): the exact term
+  // at
+  //    φ minus its azimuth mean (what a LUT without an azimuth axis stores at best).
+  struct Az {
+    double V, rough, nl, nv, phi, exact, mean;
+  };
+  std::vector<Az> az(size_t(a.azimuth_configs));
+  for (size_t k = 0; k < az.size(); ++k) {
+    Pcg32 rng(0x5eed + k, 7);
+    az[k] = {rng.next_double(),
+             0.1 + 0.9 * rng.next_double(),
+             rng.next_double(),
+             rng.next_double(),
+             kPi<double> * rng.next_double(),
+             0,
+             0};
+  }
+  tbb::parallel_for(size_t(0), az.size(), [&](size_t k) {
+    Az& z = az[k];
+    const double al = roughness_to_alpha(z.rough);
+    z.exact = ms::generic_vndf_exact(z.V, al, al, view_dir(z.nv), light_dir(z.nl, z.phi));
+    z.mean = ms::generic_vndf_exact_azimuth_mean(z.V, al, z.nl, z.nv);
+  });
+  std::ostringstream azc;
+  azc << "visibility,roughness,ndotl,ndotv,phi,exact,azimuth_mean,error\n";
+  for (const Az& z : az)
+    azc << fmtd(z.V) << ',' << fmtd(z.rough) << ',' << fmtd(z.nl) << ',' << fmtd(z.nv) << ',' << fmtd(z.phi)
+        << ',' << fmtd(z.exact) << ',' << fmtd(z.mean) << ',' << fmtd(z.exact - z.mean) << '\n';
+  io::write_file_atomic(dir / "azimuth_error.csv", azc.str());
+  nlohmann::json summary = nlohmann::json::object();
+  for (int subset = 0; subset < 2; ++subset) {
+    std::vector<double> e;
+    for (const Az& z : az)
+      if (subset == 0 || !ms::exact_zero(z.V, z.nl)) e.push_back(std::abs(z.exact - z.mean));
+    std::sort(e.begin(), e.end());
+    double s2 = 0;
+    for (double x : e) s2 += x * x;
+    summary[subset == 0 ? "all" : "outside_early_out"] = {
+        {"count", e.size()},
+        {"rms", e.empty() ? 0.0 : std::sqrt(s2 / double(e.size()))},
+        {"p50", percentile(e, 0.5)},
+        {"p90", percentile(e, 0.9)},
+        {"p99", percentile(e, 0.99)},
+        {"max", e.empty() ? 0.0 : e.back()},
+        {"frac_above_0.5_over_255",
+         e.empty() ? 0.0
+                   : double(std::count_if(e.begin(), e.end(), [](double x) { return x > 0.5 / 255; })) /
+                         double(e.size())}};
+  }
+
+  // 4. Exact vs a high-sample Monte Carlo (PCG32, spherical-caps sampler) at a few fixed points.
+  std::ostringstream val;
+  val << "visibility,alpha_x,alpha_y,ndotl,ndotv,phi,exact,mc,mc_sigma,samples\n";
+  const std::vector<std::array<double, 6>> pts = {
+      {0.5, 0.16, 0.16, 0.3, 0.8, 1.2}, {0.8, 0.49, 0.49, 0.6, 0.3, 2.5}, {0.9, 0.01, 0.01, 0.35, 0.5, 0.4},
+      {0.7, 1.0, 1.0, 0.9, 0.1, 3.0},   {0.6, 0.09, 0.64, 0.5, 0.6, 0.8}, {0.95, 0.25, 0.25, 0.2, 0.95, 1.6}};
+  std::vector<std::array<double, 3>> vres(pts.size());
+  if (a.mc_samples > 0)
+    tbb::parallel_for(size_t(0), pts.size(), [&](size_t k) {
+      const auto& p = pts[k];
+      const GGX<double> g(p[1], p[2]);
+      const Vec3d v = view_dir(p[4]), l = light_dir(p[3], p[5]);
+      const double c = std::sqrt(1 - p[0]);
+      Pcg32 rng(99 + k, 3);
+      double cone = 0, hemi = 0;
+      for (int64_t i = 0; i < a.mc_samples; ++i) {
+        const Vec3d m = g.sample_vndf_spherical_caps(v, Vec2d(rng.next_double(), rng.next_double()));
+        hemi += (m.z > 0 && dot(m, l) > 0);
+        cone += (m.z > c && dot(m, l) > c);
+      }
+      const double r = hemi > 0 ? cone / hemi : 0;
+      vres[k] = {ms::generic_vndf_exact(p[0], p[1], p[2], v, l), r,
+                 std::sqrt(r * (1 - r) / std::max(hemi, 1.0))};
+    });
+  for (size_t k = 0; k < pts.size() && a.mc_samples > 0; ++k) {
+    for (double x : pts[k]) val << fmtd(x) << ',';
+    val << fmtd(vres[k][0]) << ',' << fmtd(vres[k][1]) << ',' << fmtd(vres[k][2]) << ',' << a.mc_samples
+        << '\n';
+  }
+  io::write_file_atomic(dir / "validation.csv", val.str());
+
+  summary["size"] = n;
+  summary["azimuth_configs"] = a.azimuth_configs;
+  nlohmann::json jsum = {{"azimuth_error", summary},
+                         {"files", {"maps.csv", "errors.csv", "azimuth_error.csv", "validation.csv"}}};
+  io::write_file_atomic(dir / "summary.json", jsum.dump(2) + "\n");
+  print_json(jsum);
+}
+
+void add_micro_shadowing(Groups& g) {
+  auto ea = std::make_shared<EvalArgs>();
+  CLI::App* e = g.eval->add_subcommand("micro-shadowing",
+                                       "Micro-shadowing term at one point (docs/micro-shadowing.md). "
+                                       "generic-vndf without --phi: the mean over the "
+                                       "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
+                                       "exact term at that azimuth. Without "
+                                       "--samples the generic term is the exact quadrature (error < 1e-6).");
+  e->add_option("--method", ea->method,
+                "reference | brinck-maximov-2016 | chan-2018 | part1-analytic | generic-vndf | lut3d | lut2d")
+      ->capture_default_str();
+  e->add_option("--visibility", ea->visibility,
+                "Micro-occlusion visibility V in [0, 1] (projected solid angle)")
+      ->check(Finite)
+      ->required();
+  e->add_option("--roughness", ea->roughness,
+                "Perceptual roughness r in [0, 1] (alpha = r^2); alpha_x if anisotropic")
+      ->check(Finite)
+      ->capture_default_str();
+  ea->ry_opt =
+      e->add_option("--roughness-y", ea->roughness_y, "Perceptual roughness along y (anisotropic GGX)")
+          ->check(Finite);
+  e->add_option("--ndotl", ea->ndotl, "N.L in [0, 1]")->check(Finite)->required();
+  e->add_option("--ndotv", ea->ndotv, "N.V in [0, 1]")->check(Finite)->capture_default_str();
+  ea->phi_opt =
+      e->add_option("--phi", ea->phi, "Relative azimuth of l and v in [0, pi] (radians)")->check(Finite);
+  ea->samples_opt = e->add_option("--samples", ea->samples,
+                                  "Estimate with N Owen-scrambled Sobol VNDF samples (the seed's loop)");
+  e->add_option("--seed", ea->seed, "Scrambling seed of --samples")->capture_default_str();
+  e->add_option("--g2", ea->g2, "height-correlated | uncorrelated (Smith G2/G1 weight)")
+      ->capture_default_str();
+  e->add_option("--lut", ea->lut, "LUT file for lut3d / lut2d");
+  e->add_flag("--json", ea->json, "Print one JSON object");
+  e->callback([ea] { run_eval(*ea); });
+
+  auto pa = std::make_shared<PlotArgs>();
+  CLI::App* p = g.plot->add_subcommand(
+      "micro-shadowing",
+      "Figure data for the micro-shadowing terms: maps.csv (every method over Visibility x N.L for roughness "
+      "0, 0.1, "
+      "0.4, 0.7, 1 and N.V 1, 0.5, 0.1), errors.csv (older terms vs the exact generic term), "
+      "azimuth_error.csv "
+      "(exact term vs its azimuth mean at random configurations), validation.csv (exact vs Monte Carlo), "
+      "summary.json. PNGs: scripts/plot_micro_shadowing.py.");
+  p->add_option("--out", pa->out, "Output directory (created if missing)")->required();
+  p->add_option("--size", pa->size, "Grid points per axis of the maps")->capture_default_str();
+  p->add_option("--azimuth-configs", pa->azimuth_configs, "Random configurations of the azimuth study")
+      ->capture_default_str();
+  p->add_option("--mc-samples", pa->mc_samples, "Monte Carlo samples per validation point (0: skip)")
+      ->capture_default_str();
+  p->callback([pa] { run_plot(*pa); });
+}
+
+}  // namespace
+
+MSH_CLI_REGISTER(add_micro_shadowing, 30);
+
+}  // namespace msh::cli
