@@ -3,8 +3,9 @@
 // docs/bump-terminator.md. Vectors: ng = geometric normal, ns = shading (bumped) normal, l = direction to the
 // light, all pointing away from the surface; none needs to be unit length (every term is scale-invariant).
 // Precision (float32, measured against a double-precision evaluation of the closed forms on the same inputs):
-// Conty |err| <= 1e-6 for |cos(ng,l)| >= 0.05, <= 5e-6 for >= 0.01, <= 1e-4 closer to grazing (the term is
-// steep there: dG/dcos ~ 2/alpha); Chiang |err| <= 2e-5 for |cos(ns,l)| > 1e-3. Zero vectors give 1 (no
+// Conty |err| <= 1e-6 for |cos(ng,l)| >= 0.05, <= 5e-6 for >= 0.01; closer to grazing the term is steep
+// (dG/dcos ~ 2/alpha) and the error is bounded by ~1.2e-7/alpha from the rounding of dot(ng,l) alone (7e-6
+// measured over 300k random inputs). Chiang |err| <= 2e-5 for |cos(ns,l)| > 1e-3. Zero vectors give 1 (no
 // correction); NaN/Inf inputs are not guaranteed on GPUs (compilers may assume finite math).
 #ifndef MSH_BUMP_TERMINATOR_HLSL
 #define MSH_BUMP_TERMINATOR_HLSL
