@@ -58,7 +58,13 @@ Vec3d tilt(const Vec3d& ng, double delta, double phi) {
 
 template <class T>
 Vec3<T> cast(const Vec3d& v) {
-  return Vec3<T>(v);
+  // Saturate finite values out of T's range to ±max (a double → float conversion out of range is UB);
+  // ±Inf and NaN convert as they are.
+  auto c = [](double x) {
+    const double m = double(std::numeric_limits<T>::max());
+    return std::isfinite(x) ? T(std::clamp(x, -m, m)) : T(x);
+  };
+  return Vec3<T>(c(v.x), c(v.y), c(v.z));
 }
 
 template <class T>
