@@ -27,7 +27,8 @@ struct BakeLutOptions {
                            symbol = "micro_shadowing_lut";
   int size = 64, size_vis = 0, size_nl = 0, size_nv = 0;
   bool two_d = false, azimuth = false, quiet = false;
-  int harmonics = -1, samples = 8192, phi_nodes = 16, threads = 0;
+  int harmonics = 0, samples = 8192, phi_nodes = 16, threads = 0;
+  const CLI::Option* harmonics_opt = nullptr;  // set when --harmonics was given
   uint32_t seed = 1;
 };
 
@@ -78,7 +79,7 @@ void run_bake(const BakeLutOptions& o) {
   b.n_nv = o.size_nv ? o.size_nv : o.size;
   b.two_d = o.two_d;
   b.roughness = parse_list(o.roughness, "--roughness");
-  b.harmonics = o.harmonics >= 0 ? o.harmonics : (o.azimuth ? 2 : 0);
+  b.harmonics = o.harmonics_opt && o.harmonics_opt->count() > 0 ? o.harmonics : (o.azimuth ? 2 : 0);
   b.samples = o.samples;
   b.phi_nodes = o.phi_nodes;
   b.seed = o.seed;
@@ -157,7 +158,8 @@ void add_lut(Groups& g) {
   c->add_flag("--azimuth", o->azimuth,
               "Azimuth-aware table: also the cos(phi) and cos(2 phi) coefficients, stacked as slabs along z "
               "(same as --harmonics 2)");
-  c->add_option("--harmonics", o->harmonics, "Number of cos(h phi) coefficient slabs (0 = plain mean LUT)");
+  o->harmonics_opt = c->add_option("--harmonics", o->harmonics,
+                                   "Number of cos(h phi) coefficient slabs (0 = plain mean LUT)");
   c->add_option("--samples", o->samples, "VNDF samples per azimuth node and (roughness, N.V) pair")
       ->capture_default_str();
   c->add_option("--phi-nodes", o->phi_nodes, "Gauss-Legendre nodes over the relative azimuth [0, pi]")

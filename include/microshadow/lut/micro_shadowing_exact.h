@@ -86,7 +86,8 @@ inline double cone_mass(const MsGeometry& g, double alpha, double c_cap, double 
   for (double t : {theta_c - theta_l, theta_l - theta_c, kPi<double> / 2 - theta_v, theta_l + theta_c})
     if (t > 0.0 && t < theta_max) brk[nb++] = t;
   brk[nb++] = theta_max;
-  std::sort(brk, brk + nb);
+  for (int i = 1; i < nb; ++i)  // insertion sort of ≤ 6 values
+    for (int j = i; j > 0 && brk[j - 1] > brk[j]; --j) std::swap(brk[j - 1], brk[j]);
   auto to_omega = [&](double th) {
     return th >= kPi<double> / 2 ? kPi<double> / 2 : std::atan(std::tan(th) / alpha);
   };
