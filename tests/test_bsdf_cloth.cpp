@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <microshadow/bsdf/cloth.h>
 
-#include "brdf_extra_chi2.h"
+#include "support/chi2.h"
 
 using namespace msh;
 using namespace msh::bsdf;
@@ -76,23 +76,26 @@ TEST(ClothNdf, VelvetMatchesPrintedEquation) {
 }
 
 TEST(ClothNdf, SamplersChiSquare) {
-  const double sig = 1 - std::pow(0.99, 1.0 / 8);  // Šidák over the 8 runs below
+  // tests/support/chi2.h: full-sphere (cos θ, φ) grid, adaptive quadrature of the pdf, Šidák over the 8 runs.
+  auto u = [](uint32_t i) {
+    Pcg32 r(i, 0x5eed);
+    const double a = r.next_double();
+    return Vec2d(a, r.next_double());
+  };
   for (double a : {0.1, 0.5}) {
     for (double k : {0.5, 3.0}) {
       const VelvetNdf<double> d(a, k);
       const auto r =
-          test_extra::chi2_directions([&](Vec2d u) { return std::optional<Vec3d>(d.sample_ndf(u)); },
-                                      [&](const Vec3d& m) { return d.pdf_ndf(m); }, 200000, 7);
-      EXPECT_GT(r.p_value, sig) << "velvet alpha " << a << " k " << k << " chi2 " << r.statistic;
-      EXPECT_FALSE(r.sample_in_empty_cell);
+          test::chi2_test_directions([&](uint32_t i) { return std::optional<Vec3d>(d.sample_ndf(u(i))); },
+                                     [&](const Vec3d& m) { return d.pdf_ndf(m); }, 300000, 40, 80, 0.01, 8);
+      EXPECT_TRUE(r.pass) << "velvet alpha " << a << " k " << k << " p " << r.p_value << "\n" << r.table;
     }
     for (double as : {a, a * 0.3}) {
       const SheenNdf<double> d(as);
       const auto r =
-          test_extra::chi2_directions([&](Vec2d u) { return std::optional<Vec3d>(d.sample_ndf(u)); },
-                                      [&](const Vec3d& m) { return d.pdf_ndf(m); }, 200000, 11);
-      EXPECT_GT(r.p_value, sig) << "sheen alpha " << as << " chi2 " << r.statistic;
-      EXPECT_FALSE(r.sample_in_empty_cell);
+          test::chi2_test_directions([&](uint32_t i) { return std::optional<Vec3d>(d.sample_ndf(u(i))); },
+                                     [&](const Vec3d& m) { return d.pdf_ndf(m); }, 300000, 40, 80, 0.01, 8);
+      EXPECT_TRUE(r.pass) << "sheen alpha " << as << " p " << r.p_value << "\n" << r.table;
     }
   }
 }
