@@ -34,12 +34,18 @@ struct FresnelSpec {
     s.eta = P.rgb("eta");
     s.k = P.rgb("k");
     switch (s.kind) {
-      case FresnelKind::None: s.avg = Rgbd(1.0); break;
-      case FresnelKind::Schlick: s.avg = fresnel_average_schlick<double>(s.f0); break;
+      case FresnelKind::None:
+        s.avg = Rgbd(1.0);
+        break;
+      case FresnelKind::Schlick:
+        s.avg = fresnel_average_schlick<double>(s.f0);
+        break;
       case FresnelKind::SchlickGeneralized:
         s.avg = fresnel_average_schlick_generalized(s.f0, s.f90, s.p);
         break;
-      case FresnelKind::Dielectric: s.avg = Rgbd(fresnel_average_dielectric(s.ior)); break;
+      case FresnelKind::Dielectric:
+        s.avg = Rgbd(fresnel_average_dielectric(s.ior));
+        break;
       case FresnelKind::Conductor:
         s.avg = {fresnel_average_conductor(s.eta.r, s.k.r), fresnel_average_conductor(s.eta.g, s.k.g),
                  fresnel_average_conductor(s.eta.b, s.k.b)};
@@ -49,11 +55,16 @@ struct FresnelSpec {
   }
   Rgbd operator()(double c) const {
     switch (kind) {
-      case FresnelKind::None: return Rgbd(1.0);
-      case FresnelKind::Schlick: return fresnel_schlick(f0, c);
-      case FresnelKind::SchlickGeneralized: return fresnel_schlick_generalized(f0, f90, p, c);
-      case FresnelKind::Dielectric: return Rgbd(fresnel_dielectric(c, ior));
-      case FresnelKind::Conductor: return fresnel_conductor(c, eta, k);
+      case FresnelKind::None:
+        return Rgbd(1.0);
+      case FresnelKind::Schlick:
+        return fresnel_schlick(f0, c);
+      case FresnelKind::SchlickGeneralized:
+        return fresnel_schlick_generalized(f0, f90, p, c);
+      case FresnelKind::Dielectric:
+        return Rgbd(fresnel_dielectric(c, ior));
+      case FresnelKind::Conductor:
+        return fresnel_conductor(c, eta, k);
     }
     return Rgbd(1.0);
   }
@@ -64,15 +75,30 @@ std::vector<ParamSpec> fresnel_params(const std::string& def_kind = "schlick") {
   for (size_t i = 0; i < kFresnelNames.size(); ++i)
     if (kFresnelNames[i] == def_kind) def = double(i);
   return {
-      {"fresnel", "Fresnel term: none (F = 1), schlick (9.16), schlick-generalized (9.18), dielectric, conductor",
-       {def}, 0, double(kFresnelNames.size() - 1), 1, kFresnelNames},
+      {"fresnel",
+       "Fresnel term: none (F = 1), schlick (9.16), schlick-generalized (9.18), dielectric, conductor",
+       {def},
+       0,
+       double(kFresnelNames.size() - 1),
+       1,
+       kFresnelNames},
       {"f0", "Normal-incidence reflectance F0 (schlick, schlick-generalized)", {0.04}, 0, 1, 3, {}},
       {"f90", "Grazing reflectance F90 (schlick-generalized)", {1.0}, 0, 1, 3, {}},
-      {"p", "Exponent p of the generalized Schlick form, F90 weight (1 - cos)^(1/p); 0.2 = Schlick", {0.2}, 0.01,
-       100, 1, {}},
+      {"p",
+       "Exponent p of the generalized Schlick form, F90 weight (1 - cos)^(1/p); 0.2 = Schlick",
+       {0.2},
+       0.01,
+       100,
+       1,
+       {}},
       {"ior", "Relative index of refraction (dielectric)", {1.5}, 1, 5, 1, {}},
-      {"eta", "Conductor IOR, real part per channel (default: gold, Rec.709 approx.)",
-       {0.143, 0.374, 1.442}, 0.01, 20, 3, {}},
+      {"eta",
+       "Conductor IOR, real part per channel (default: gold, Rec.709 approx.)",
+       {0.143, 0.374, 1.442},
+       0.01,
+       20,
+       3,
+       {}},
       {"k", "Conductor IOR, imaginary part per channel (default: gold)", {3.983, 2.385, 1.603}, 0, 20, 3, {}},
   };
 }
@@ -140,7 +166,8 @@ class GgxSpecular final : public BrdfModel {
 class GgxDual final : public BrdfModel {
  public:
   GgxDual(double r1, double r2, double w, FresnelSpec fr)
-      : mix_(GGX<double>(roughness_to_alpha(r1)), GGX<double>(roughness_to_alpha(r2)), w), fr_(std::move(fr)) {}
+      : mix_(GGX<double>(roughness_to_alpha(r1)), GGX<double>(roughness_to_alpha(r2)), w),
+        fr_(std::move(fr)) {}
   Rgbd f(const Vec3d& wo, const Vec3d& wi) const override {
     const auto e = microfacet_specular(mix_, wo, wi);
     return fr_(e.cos_hl) * e.f1;
@@ -235,7 +262,8 @@ class SpecularPlusDiffuse final : public BrdfModel {
   double q_;
 };
 
-ModelInfo diffuse_info(std::string name, std::string summary, std::string source, std::vector<ParamSpec> params,
+ModelInfo diffuse_info(std::string name, std::string summary, std::string source,
+                       std::vector<ParamSpec> params,
                        std::function<DiffuseModel::Fn(const BrdfParams&)> make_fn, bool reciprocal,
                        bool conserving) {
   ModelInfo m;
@@ -249,7 +277,9 @@ ModelInfo diffuse_info(std::string name, std::string summary, std::string source
   return m;
 }
 
-ParamSpec f0_param() { return {"f0", "Specular normal-incidence reflectance F0 (Schlick)", {0.04}, 0, 1, 3, {}}; }
+ParamSpec f0_param() {
+  return {"f0", "Specular normal-incidence reflectance F0 (Schlick)", {0.04}, 0, 1, 3, {}};
+}
 
 }  // namespace
 
@@ -257,30 +287,37 @@ std::vector<ModelInfo> core_brdf_models() {
   std::vector<ModelInfo> v;
   const std::vector<std::string> g2_names = {"height-correlated", "separable"};
 
-  v.push_back({"ggx", "GGX microfacet specular, optional Kulla-Conty multiple-bounce lobe",
-               "RTR4 9.34 + 9.41/9.53 (GGX) + 9.31/9.27 (Smith G2) + 9.55 (aniso) + 9.56-9.59 (multiple bounce); "
-               "Walter et al. 2007, Kulla & Conty 2017",
-               concat({roughness_param(),
-                       {"anisotropy", "Imageworks anisotropy k (9.55): ax = r^2(1+k), ay = r^2(1-k)", {0.0}, -1, 1,
-                        1, {}},
-                       {"g2", "Smith masking-shadowing form", {0}, 0, 1, 1, g2_names},
-                       onoff_param("multiscatter", "Add the Kulla-Conty multiple-bounce lobe (9.56)", false)},
-                      fresnel_params()),
-               [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
-                 return std::make_unique<GgxSpecular>(P.get("roughness"), P.get("anisotropy"),
-                                                      FresnelSpec::from(P), G2Form(int(P.get("g2"))),
-                                                      P.get("multiscatter") > 0.5);
-               }});
+  v.push_back(
+      {"ggx", "GGX microfacet specular, optional Kulla-Conty multiple-bounce lobe",
+       "RTR4 9.34 + 9.41/9.53 (GGX) + 9.31/9.27 (Smith G2) + 9.55 (aniso) + 9.56-9.59 (multiple bounce); "
+       "Walter et al. 2007, Kulla & Conty 2017",
+       concat({roughness_param(),
+               {"anisotropy",
+                "Imageworks anisotropy k (9.55): ax = r^2(1+k), ay = r^2(1-k)",
+                {0.0},
+                -1,
+                1,
+                1,
+                {}},
+               {"g2", "Smith masking-shadowing form", {0}, 0, 1, 1, g2_names},
+               onoff_param("multiscatter", "Add the Kulla-Conty multiple-bounce lobe (9.56)", false)},
+              fresnel_params()),
+       [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
+         return std::make_unique<GgxSpecular>(P.get("roughness"), P.get("anisotropy"), FresnelSpec::from(P),
+                                              G2Form(int(P.get("g2"))), P.get("multiscatter") > 0.5);
+       }});
 
-  v.push_back({"ggx-dual", "Two-lobe GGX specular: a blend of two GGX NDFs as one extended NDF (Imageworks)",
-               "RTR4 §9.8.1 (multiple lobes) + 9.34; Kulla & Conty 2017; Smith Λ of the mixture = mixture of Λ",
-               concat({roughness_param(), roughness_param("roughness2", 0.8),
-                       {"mix", "Weight w of the second NDF: D = (1-w) D1 + w D2", {0.3}, 0, 1, 1, {}}},
-                      fresnel_params()),
-               [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
-                 return std::make_unique<GgxDual>(P.get("roughness"), P.get("roughness2"), P.get("mix"),
-                                                  FresnelSpec::from(P));
-               }});
+  v.push_back(
+      {"ggx-dual", "Two-lobe GGX specular: a blend of two GGX NDFs as one extended NDF (Imageworks)",
+       "RTR4 §9.8.1 (multiple lobes) + 9.34; Kulla & Conty 2017; Smith Λ of the mixture = mixture of Λ",
+       concat({roughness_param(),
+               roughness_param("roughness2", 0.8),
+               {"mix", "Weight w of the second NDF: D = (1-w) D1 + w D2", {0.3}, 0, 1, 1, {}}},
+              fresnel_params()),
+       [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
+         return std::make_unique<GgxDual>(P.get("roughness"), P.get("roughness2"), P.get("mix"),
+                                          FresnelSpec::from(P));
+       }});
 
   v.push_back(diffuse_info(
       "lambert", "Lambertian diffuse rho/pi", "RTR4 9.61", {albedo_param()},
@@ -329,8 +366,10 @@ std::vector<ModelInfo> core_brdf_models() {
       },
       true, true));
   v.push_back(diffuse_info(
-      "disney-diffuse", "Disney (Burley 2012) diffuse with the subsurface term", "RTR4 9.66-9.67; Burley 2012",
-      {albedo_param("base-color"), roughness_param(),
+      "disney-diffuse", "Disney (Burley 2012) diffuse with the subsurface term",
+      "RTR4 9.66-9.67; Burley 2012",
+      {albedo_param("base-color"),
+       roughness_param(),
        {"subsurface", "Subsurface blend k_ss", {0.0}, 0, 1, 1, {}}},
       [](const BrdfParams& P) -> DiffuseModel::Fn {
         const Rgbd a = P.rgb("base-color");
@@ -339,16 +378,17 @@ std::vector<ModelInfo> core_brdf_models() {
       },
       true, false));
   v.push_back(diffuse_info(
-      "hammon", "Hammon 2017 diffuse for GGX + height-correlated Smith microsurfaces", "RTR4 9.68-9.69; Hammon 2017",
-      {albedo_param(), roughness_param(), f0_param()},
+      "hammon", "Hammon 2017 diffuse for GGX + height-correlated Smith microsurfaces",
+      "RTR4 9.68-9.69; Hammon 2017", {albedo_param(), roughness_param(), f0_param()},
       [](const BrdfParams& P) -> DiffuseModel::Fn {
         const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
         const double alpha = roughness_to_alpha(P.get("roughness"));
         return [a, f0, alpha](const Vec3d& l, const Vec3d& v) { return diffuse_hammon(a, alpha, f0, l, v); };
       },
       true, false));
-  const ParamSpec sigma{"sigma", "Oren-Nayar slope-angle standard deviation sigma (radians)", {0.5}, 0, 1.5707963267948966,
-                        1, {}};
+  const ParamSpec sigma{
+      "sigma", "Oren-Nayar slope-angle standard deviation sigma (radians)", {0.5}, 0, 1.5707963267948966, 1,
+      {}};
   v.push_back(diffuse_info(
       "oren-nayar", "Oren-Nayar 1994, full model with interreflection", "Oren & Nayar 1994 (RTR4 §9.9.4)",
       {albedo_param(), sigma},
@@ -376,8 +416,8 @@ std::vector<ModelInfo> core_brdf_models() {
                  {albedo_param(), roughness_param(), f0_param(),
                   onoff_param("multiscatter", "Add the Kulla-Conty multiple-bounce lobe (9.56)", false)},
                  [ksk](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
-                   return std::make_unique<SpecularPlusDiffuse>(P.get("roughness"), P.rgb("f0"),
-                                                                P.get("multiscatter") > 0.5, P.rgb("rho"), ksk);
+                   return std::make_unique<SpecularPlusDiffuse>(
+                       P.get("roughness"), P.rgb("f0"), P.get("multiscatter") > 0.5, P.rgb("rho"), ksk);
                  }});
   }
   return v;

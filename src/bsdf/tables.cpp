@@ -1,10 +1,9 @@
+#include <fmt/format.h>
 #include <microshadow/bsdf/multiscatter.h>
 #include <microshadow/bsdf/quadrature.h>
 #include <microshadow/bsdf/tables.h>
 #include <microshadow/io/error.h>
 #include <tbb/parallel_for.h>
-
-#include <fmt/format.h>
 
 namespace msh::bsdf {
 
@@ -63,7 +62,8 @@ std::string shipped_tables_header(const GgxAlbedoTable& t) {
   s += fmt::format(
       "// GGX (height-correlated Smith) directional albedo tables, {0}x{0}, {1} QMC samples per texel.\n"
       "// Index [j * {0} + i]: mu = N.V = i/{2}, perceptual roughness r = j/{2} (alpha = r^2).\n"
-      "// kGgxE = E (F = 1), kGgxEFc = E weighted by (1 - v.h)^5; *Avg = 2 * integral of x(mu) mu dmu over mu.\n",
+      "// kGgxE = E (F = 1), kGgxEFc = E weighted by (1 - v.h)^5; *Avg = 2 * integral of x(mu) mu dmu over "
+      "mu.\n",
       t.n_mu, t.samples, t.n_mu - 1);
   s += "#pragma once\n\nnamespace msh::bsdf::shipped {\n\n";
   s += fmt::format("inline constexpr int kGgxTableSize = {};\n", t.n_mu);

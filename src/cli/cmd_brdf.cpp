@@ -1,11 +1,10 @@
 // `eval brdf`, `bake ggx-albedo`, `bake dfg`, `bake brdf-shipped`: the BRDF models and their tables.
+#include <fmt/format.h>
 #include <microshadow/bsdf/albedo.h>
 #include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/tables.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
-
-#include <fmt/format.h>
 
 #include <map>
 #include <memory>
@@ -40,7 +39,8 @@ std::vector<double> parse_param(const bsdf::ParamSpec& spec, const std::string& 
   size_t start = 0;
   while (true) {
     const size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const std::string item =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     char* end = nullptr;
     const double x = std::strtod(item.c_str(), &end);
     while (end && *end == ' ') ++end;
@@ -83,7 +83,8 @@ void run_eval_brdf(const EvalBrdfArgs& a) {
       for (const auto& m : bsdf::brdf_models()) {
         std::string ps;
         for (const auto& p : m.params) ps += " --" + p.name;
-        fmt::print("{:24s} {}\n{:24s}   source: {}\n{:24s}   params:{}\n", m.name, m.summary, "", m.source, "", ps);
+        fmt::print("{:24s} {}\n{:24s}   source: {}\n{:24s}   params:{}\n", m.name, m.summary, "", m.source,
+                   "", ps);
       }
     }
     return;
@@ -164,7 +165,8 @@ io::PixelFormat checked_pixel_format(const std::string& name, const std::string&
 
 void check_bake(const BakeArgs& a) {
   if (a.out.empty()) throw UsageError("--out is required");
-  if (a.size < 2 || a.size > 1024) throw UsageError(fmt::format("--size must be in [2, 1024], got {}", a.size));
+  if (a.size < 2 || a.size > 1024)
+    throw UsageError(fmt::format("--size must be in [2, 1024], got {}", a.size));
   if (a.samples < 1 || a.samples > (1u << 24)) throw UsageError("--samples must be in [1, 2^24]");
 }
 
@@ -201,7 +203,8 @@ void run_bake_dfg(const BakeArgs& a) {
     for (int i = 0; i < a.size; ++i) {
       const size_t k = size_t(j) * size_t(a.size) + size_t(i);
       const double e = t.e[k], efc = t.e_fc[k], ea = t.e_avg[size_t(j)], efa = t.efc_avg[size_t(j)];
-      const double vals[4] = {karis ? e - efc : efc, karis ? efc : e, karis ? ea - efa : efa, karis ? efa : ea};
+      const double vals[4] = {karis ? e - efc : efc, karis ? efc : e, karis ? ea - efa : efa,
+                              karis ? efa : ea};
       for (int c = 0; c < ch; ++c) v.at(i, j, 0, c) = float(vals[c]);
     }
   io::write_volume(a.out, v, ff, pf, karis ? "msh_dfg_split_sum" : "msh_dfg_multiscatter");
@@ -209,16 +212,18 @@ void run_bake_dfg(const BakeArgs& a) {
 
 void run_bake_shipped(const BakeArgs& a) {
   if (a.out.empty()) throw UsageError("--out is required");
-  const auto t = bsdf::bake_ggx_albedo(bsdf::kShippedTableSize, bsdf::kShippedTableSize, bsdf::kShippedTableSamples);
+  const auto t =
+      bsdf::bake_ggx_albedo(bsdf::kShippedTableSize, bsdf::kShippedTableSize, bsdf::kShippedTableSamples);
   io::write_file_atomic(a.out, bsdf::shipped_tables_header(t));
 }
 
 void add_brdf(Groups& g) {
   auto eval_args = std::make_shared<EvalBrdfArgs>();
-  CLI::App* e = g.eval->add_subcommand(
-      "brdf",
-      "Evaluate a BRDF model f(v, l) (no cosine) at N.V = --ndotv, view in the xz plane, light --light (default: "
-      "the mirror direction), or its directional albedo with --albedo. --list shows every model and parameter.");
+  CLI::App* e = g.eval->add_subcommand("brdf",
+                                       "Evaluate a BRDF model f(v, l) (no cosine) at N.V = --ndotv, view in "
+                                       "the xz plane, light --light (default: "
+                                       "the mirror direction), or its directional albedo with --albedo. "
+                                       "--list shows every model and parameter.");
   e->add_option("--model", eval_args->model, "Model name (see --list)");
   e->add_option("--ndotv", eval_args->ndotv, "N.V of the view direction, in [0, 1]")
       ->check(Finite)
@@ -226,7 +231,8 @@ void add_brdf(Groups& g) {
   e->add_option("--light", eval_args->light, "Light direction X,Y,Z in the shading frame (normalized)");
   e->add_flag("--albedo", eval_args->albedo,
               "Print the directional albedo at N.V (deterministic QMC with the model's importance sampling)");
-  e->add_option("--samples", eval_args->samples, "QMC samples for --albedo (power of two best)")->default_val(1u << 18);
+  e->add_option("--samples", eval_args->samples, "QMC samples for --albedo (power of two best)")
+      ->default_val(1u << 18);
   e->add_flag("--json", eval_args->json, "Print one JSON object");
   e->add_flag("--list", eval_args->list, "List the models and their parameters");
   // Union of the parameter names of every model.
@@ -253,7 +259,8 @@ void add_brdf_bake(Groups& g) {
   auto ba = std::make_shared<BakeArgs>();
   CLI::App* b = g.bake->add_subcommand(
       "ggx-albedo",
-      "Bake the GGX (height-correlated Smith, F = 1) directional albedo E(mu, r): x = N.V = i/(n-1), y = perceptual "
+      "Bake the GGX (height-correlated Smith, F = 1) directional albedo E(mu, r): x = N.V = i/(n-1), y = "
+      "perceptual "
       "roughness r = j/(n-1) (alpha = r^2). Channels: 1 -> E; 2 -> E, Ebar(r); 4 -> E, Ebar, E_Fc, Ebar_Fc.");
   b->add_option("--out", ba->out, "Output file: .dds .ktx2 .exr .npy .h")->required();
   b->add_option("--size", ba->size, "Texels per axis")->default_val(32);
@@ -264,11 +271,12 @@ void add_brdf_bake(Groups& g) {
   auto bd = std::make_shared<BakeArgs>();
   bd->size = 128;
   bd->samples = 1u << 12;
-  CLI::App* d = g.bake->add_subcommand(
-      "dfg",
-      "Bake the split-sum DFG table: x = N.V = i/(n-1), y = perceptual roughness r = j/(n-1). split-sum (Karis): "
-      "(scale, bias), E = F0*scale + bias; multiscatter (Filament): (DFG.x, DFG.y), E = mix(x, y, F0), y = E(F=1). "
-      "RGBA adds the cosine-weighted averages over N.V of R and G.");
+  CLI::App* d = g.bake->add_subcommand("dfg",
+                                       "Bake the split-sum DFG table: x = N.V = i/(n-1), y = perceptual "
+                                       "roughness r = j/(n-1). split-sum (Karis): "
+                                       "(scale, bias), E = F0*scale + bias; multiscatter (Filament): (DFG.x, "
+                                       "DFG.y), E = mix(x, y, F0), y = E(F=1). "
+                                       "RGBA adds the cosine-weighted averages over N.V of R and G.");
   d->add_option("--out", bd->out, "Output file: .dds .ktx2 .exr .npy .h")->required();
   d->add_option("--size", bd->size, "Texels per axis")->default_val(128);
   d->add_option("--samples", bd->samples, "QMC samples per texel")->default_val(1u << 12);
@@ -278,7 +286,8 @@ void add_brdf_bake(Groups& g) {
 
   auto bs = std::make_shared<BakeArgs>();
   CLI::App* s = g.bake->add_subcommand(
-      "brdf-shipped", "Regenerate include/microshadow/bsdf/tables_data.h (32x32 GGX E and E_Fc, 2^16 samples)");
+      "brdf-shipped",
+      "Regenerate include/microshadow/bsdf/tables_data.h (32x32 GGX E and E_Fc, 2^16 samples)");
   s->add_option("--out", bs->out, "Output C++ header")->required();
   s->callback([bs] { run_bake_shipped(*bs); });
 }

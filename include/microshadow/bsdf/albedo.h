@@ -13,8 +13,8 @@ namespace msh::bsdf {
 // Fixed scrambling seed of every albedo estimate in the project.
 inline constexpr uint32_t kAlbedoSeed = 0x6a1bd0e5u;
 
-// Σ weight(u_i) / n over the first n Sobol points. weight(u) returns f · cos / pdf for the sample drawn from u
-// (zero for a failed sample). W may be a scalar or a colour; n should be a power of two (a (0,m,2)-net).
+// Σ weight(u_i) / n over the first n Sobol points. weight(u) returns f · cos / pdf for the sample drawn from
+// u (zero for a failed sample). W may be a scalar or a colour; n should be a power of two (a (0,m,2)-net).
 template <class T, class W, class WeightFn>
 W qmc_integrate_2d(WeightFn&& weight, uint32_t n, uint32_t seed = kAlbedoSeed) {
   W sum{};

@@ -1,8 +1,9 @@
 // Diffuse (local subsurface) BRDF terms, RTR4 §9.9: Lambert (9.61), the (1 − F) couplings (9.62, 9.63),
 // Shirley et al. 1997 (9.64), Ashikhmin-Shirley / Kelemen-Szirmay-Kalos (9.65), Disney diffuse with its
-// subsurface term (Burley 2012; 9.66–9.67), Hammon 2017 (9.68–9.69), and Oren-Nayar 1994 (full and qualitative).
-// Local frame, n = +z; l = wi (light), v = wo (view). All return the BRDF without the cosine, zero when either
-// direction is at or below the horizon, finite for every unit input. C is the colour type (T or Rgb<T>).
+// subsurface term (Burley 2012; 9.66–9.67), Hammon 2017 (9.68–9.69), and Oren-Nayar 1994 (full and
+// qualitative). Local frame, n = +z; l = wi (light), v = wo (view). All return the BRDF without the cosine,
+// zero when either direction is at or below the horizon, finite for every unit input. C is the colour type (T
+// or Rgb<T>).
 #pragma once
 
 #include <microshadow/bsdf/fresnel.h>
@@ -37,7 +38,8 @@ C diffuse_fresnel_n(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& 
   return (C(T(1)) - fresnel_schlick(f0, l.z)) * rho * kInvPi<T>;
 }
 
-// (1 − F(h, l)) ρ/π with Schlick F (RTR4 9.63): coupling to a microfacet specular term. Reciprocal (h·l = h·v).
+// (1 − F(h, l)) ρ/π with Schlick F (RTR4 9.63): coupling to a microfacet specular term. Reciprocal (h·l =
+// h·v).
 template <class T, class C>
 C diffuse_fresnel_h(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& v) {
   if (!detail::both_above(l, v)) return C(T(0));
@@ -50,7 +52,7 @@ C diffuse_fresnel_h(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& 
 template <class T, class C>
 C diffuse_shirley(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& v) {
   if (!detail::both_above(l, v)) return C(T(0));
-  const T k = T(21) / (T(20) * kPi<T>) * (T(1) - schlick_weight(l.z)) * (T(1) - schlick_weight(v.z));
+  const T k = T(21) / (T(20) * kPi<T>)*(T(1) - schlick_weight(l.z)) * (T(1) - schlick_weight(v.z));
   return (C(T(1)) - f0) * rho * k;
 }
 
@@ -71,11 +73,11 @@ C diffuse_ksk(const C& rho, const C& r_l, const C& r_v, const C& r_avg, const Ve
   return rho * (one - r_l) * (one - r_v) / den * kInvPi<T>;
 }
 
-// Disney diffuse with the subsurface term (Burley 2012, "Physically-Based Shading at Disney"; RTR4 9.66–9.67):
-// ρ/π ((1 − k_ss) f_d + 1.25 k_ss f_ss). roughness = perceptual r (RTR4's √α), k_ss = subsurface in [0,1].
-// f_ss uses 1/(n·l + n·v) as in Burley's reference code (disney.brdf, BRDF Explorer); RTR4 prints
-// 1/((n·l)(n·v)), which diverges at grazing — we follow the source. Reciprocal; not energy conserving (f_d
-// retro-reflects up to F_D90 = 2.5).
+// Disney diffuse with the subsurface term (Burley 2012, "Physically-Based Shading at Disney";
+// RTR4 9.66–9.67): ρ/π ((1 − k_ss) f_d + 1.25 k_ss f_ss). roughness = perceptual r (RTR4's √α), k_ss =
+// subsurface in [0,1]. f_ss uses 1/(n·l + n·v) as in Burley's reference code (disney.brdf, BRDF Explorer);
+// RTR4 prints 1/((n·l)(n·v)), which diverges at grazing — we follow the source. Reciprocal; not energy
+// conserving (f_d retro-reflects up to F_D90 = 2.5).
 template <class T, class C>
 C diffuse_disney(const C& rho, T roughness, T subsurface, const Vec3<T>& l, const Vec3<T>& v) {
   if (!detail::both_above(l, v)) return C(T(0));
@@ -116,7 +118,8 @@ void oren_nayar_angles(const Vec3<T>& l, const Vec3<T>& v, T& alpha, T& beta, T&
   alpha = std::max(tl, tv);
   beta = std::min(tl, tv);
   const T sl = sin_theta(l), sv = sin_theta(v);
-  cos_dphi = (sl > T(1e-12) && sv > T(1e-12)) ? clamp((l.x * v.x + l.y * v.y) / (sl * sv), T(-1), T(1)) : T(0);
+  cos_dphi =
+      (sl > T(1e-12) && sv > T(1e-12)) ? clamp((l.x * v.x + l.y * v.y) / (sl * sv), T(-1), T(1)) : T(0);
 }
 template <class T>
 T tan_clamped(T theta) {
@@ -137,7 +140,8 @@ C diffuse_oren_nayar(const C& rho, T sigma, const Vec3<T>& l, const Vec3<T>& v) 
   const T k2 = T(0.45) * s2 / (s2 + T(0.09));
   const T c2 = cphi >= T(0) ? k2 * std::sin(a) : k2 * (std::sin(a) - std::pow(T(2) * b / kPi<T>, T(3)));
   const T c3 = T(0.125) * s2 / (s2 + T(0.09)) * sqr(T(4) * a * b / (kPi<T> * kPi<T>));
-  const T l1 = c1 + cphi * c2 * detail::tan_clamped(b) + (T(1) - std::abs(cphi)) * c3 * detail::tan_clamped((a + b) / T(2));
+  const T l1 = c1 + cphi * c2 * detail::tan_clamped(b) +
+               (T(1) - std::abs(cphi)) * c3 * detail::tan_clamped((a + b) / T(2));
   const T l2 = T(0.17) * s2 / (s2 + T(0.13)) * (T(1) - cphi * sqr(T(2) * b / kPi<T>));
   return rho * (kInvPi<T> * l1) + rho * rho * (kInvPi<T> * l2);
 }

@@ -30,8 +30,8 @@ T smith_g2(T g1o, T g1i, G2Form form) {
   const T den = g1o + g1i - g1o * g1i;
   return den > T(0) ? g1o * g1i / den : T(0);
 }
-// G2 / G1(wo): the estimator weight of VNDF sampling. Height-correlated: G1i / (G1o + G1i − G1o G1i), which is
-// 1 at G1o = 0 (grazing view), so the weight stays finite where both G2 and G1(wo) vanish.
+// G2 / G1(wo): the estimator weight of VNDF sampling. Height-correlated: G1i / (G1o + G1i − G1o G1i), which
+// is 1 at G1o = 0 (grazing view), so the weight stays finite where both G2 and G1(wo) vanish.
 template <class T>
 T smith_g2_over_g1o(T g1o, T g1i, G2Form form) {
   if (form == G2Form::Separable) return g1i;

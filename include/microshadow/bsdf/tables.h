@@ -14,14 +14,15 @@ namespace msh::bsdf {
 struct GgxAlbedoTable {
   int n_mu = 0, n_r = 0;
   uint32_t samples = 0;
-  std::vector<double> e;       // E(μ, r) = ∫ f_sF1 (n·l) dl, height-correlated GGX, F = 1
-  std::vector<double> e_fc;    // E_Fc(μ, r) = ∫ (1 − v·h)⁵ f_sF1 (n·l) dl
-  std::vector<double> e_avg;   // Ē(r) = 2 ∫ E(μ) μ dμ            [j]
-  std::vector<double> efc_avg; // Ē_Fc(r) = 2 ∫ E_Fc(μ) μ dμ      [j]
+  std::vector<double> e;        // E(μ, r) = ∫ f_sF1 (n·l) dl, height-correlated GGX, F = 1
+  std::vector<double> e_fc;     // E_Fc(μ, r) = ∫ (1 − v·h)⁵ f_sF1 (n·l) dl
+  std::vector<double> e_avg;    // Ē(r) = 2 ∫ E(μ) μ dμ            [j]
+  std::vector<double> efc_avg;  // Ē_Fc(r) = 2 ∫ E_Fc(μ) μ dμ      [j]
 };
 
-// Bakes n_mu × n_r texels with `samples` QMC samples each; the averages use a 32-node Gauss-Legendre rule in μ
-// (E evaluated directly at the nodes, not interpolated). Threads: oneTBB; result independent of their number.
+// Bakes n_mu × n_r texels with `samples` QMC samples each; the averages use a 32-node Gauss-Legendre rule in
+// μ (E evaluated directly at the nodes, not interpolated). Threads: oneTBB; result independent of their
+// number.
 GgxAlbedoTable bake_ggx_albedo(int n_mu, int n_r, uint32_t samples, int avg_nodes = 32);
 
 // The C++ source of include/microshadow/bsdf/tables_data.h for a baked table (n_mu == n_r required).
