@@ -2,6 +2,7 @@
 // mapping, and the mip-chain builder on normal maps of known slope variance (expected roughness per mip from
 // the sample-variance formula σ²(1 − 1/N), N = texels per footprint).
 #include <gtest/gtest.h>
+#include <microshadow/filter/blend.h>
 #include <microshadow/filter/lean.h>
 #include <microshadow/filter/mip_chain.h>
 #include <microshadow/filter/toksvig.h>
@@ -158,4 +159,39 @@ TEST(MipChain, BadInput) {
     for (const auto& l : lv)
       for (float r : l.roughness) EXPECT_TRUE(std::isfinite(r) && r >= 0 && r <= 1);
   }
+}
+
+
+TEST(Blend, LinearAndVarianceSpace) {
+  EXPECT_NEAR(blend_linear(0.25, 1.0, 3.0), 1.5, 1e-15);
+  const Rgbd c = blend_linear(0.5, Rgbd(0, 0.2, 1), Rgbd(1, 0.4, 1));
+  EXPECT_NEAR(c.g, 0.3, 1e-15);
+  // r = 0.2 and 0.6 at t = 0.5: α² = (0.2⁴ + 0.6⁴)/2.
+  EXPECT_NEAR(std::pow(blend_roughness(0.5, 0.2, 0.6), 4), 0.5 * (std::pow(0.2, 4) + std::pow(0.6, 4)),
+              1e-15);
+  EXPECT_NEAR(blend_roughness(0.0, 0.2, 0.6), 0.2, 1e-15);
+}
+
+TEST(Blend, SlopeBlendOfHeightMaps) {
+  // Two planar height fields h = a·x and h = c·x: their blend (1−t)a + tc has the blended slope.
+  const Vec3d na = normalize(Vec3d(-0.3, 0, 1)), nb = normalize(Vec3d(0.5, 0.2, 1));
+  const Vec3d m = blend_normals_slopes(0.25, na, nb);
+  EXPECT_NEAR(-m.x / m.z, 0.75 * 0.3 + 0.25 * -0.5, 1e-12);
+  EXPECT_NEAR(-m.y / m.z, 0.25 * -0.2, 1e-12);
+  EXPECT_NEAR(length(blend_normals_slopes(1.0, na, nb) - nb), 0.0, 1e-12);
+}
+
+TEST(Blend, ReorientedNormalMappingIsTheRotation) {
+  const Vec3d base = normalize(Vec3d(0.4, -0.3, 0.8)), detail = normalize(Vec3d(-0.2, 0.5, 0.9));
+  // Independent reference: Rodrigues rotation taking +z to base, applied to detail.
+  const Vec3d z(0, 0, 1), k = normalize(cross(z, base));
+  const double th = std::acos(base.z);
+  const Vec3d rot =
+      detail * std::cos(th) + cross(k, detail) * std::sin(th) + k * (dot(k, detail) * (1 - std::cos(th)));
+  const Vec3d got = detail_normal_rnm(base, detail);
+  EXPECT_NEAR(length(got - rot), 0.0, 1e-12);
+  EXPECT_NEAR(length(detail_normal_rnm(base, z) - base), 0.0, 1e-12);      // flat detail → base
+  EXPECT_NEAR(length(detail_normal_rnm(z, detail) - detail), 0.0, 1e-12);  // flat base → detail
+  EXPECT_TRUE(is_finite(detail_normal_rnm(Vec3d(0, 0, -1), detail)));
+  EXPECT_TRUE(is_finite(detail_normal_rnm(Vec3d(0, 0, 0), Vec3d(0, 0, 0))));
 }
