@@ -29,6 +29,8 @@ struct RenderArgs {
   bool hanika = false, no_hanika = false, area = false, quiet = false;
 };
 
+void render_one(const render::Scene& scene, const std::string& prefix, bool quiet);
+
 void run_render(const RenderArgs& a) {
   using namespace msh::render;
   auto limit = thread_limit(a.threads);
@@ -39,7 +41,6 @@ void run_render(const RenderArgs& a) {
   if (a.spp) s.spp = a.spp;
   if (a.vndf_samples) s.vndf_samples = a.vndf_samples;
   if (a.area_samples) s.area_samples = a.area_samples;
-  if (!a.method.empty()) s.micro_shadowing = micro_shadowing_from_string(a.method);
   if (!a.bump.empty()) s.bump_terminator = bump_terminator_from_string(a.bump);
   if (a.hanika) s.hanika_offset = true;
   if (a.no_hanika) s.hanika_offset = false;
@@ -58,11 +59,31 @@ void run_render(const RenderArgs& a) {
   }
   if (uint64_t(s.width) * s.height > (uint64_t(1) << 26))
     throw UsageError(fmt::format("image size {}x{} is too large (at most 2^26 pixels)", s.width, s.height));
+  // --method a,b,c renders each method in turn (one process: the scene and the LUT load once) to
+  // PREFIX_<method>.{exr,png}; a single method writes PREFIX.{exr,png}.
+  std::vector<MicroShadowing> methods;
+  std::string rest = a.method;
+  while (!rest.empty()) {
+    const auto comma = rest.find(',');
+    methods.push_back(micro_shadowing_from_string(rest.substr(0, comma)));
+    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+  }
+  if (methods.empty()) methods.push_back(s.micro_shadowing);
+  for (const MicroShadowing method : methods) {
+    s.micro_shadowing = method;
+    const std::string prefix = methods.size() > 1 ? a.out + "_" + to_string(method) : a.out;
+    render_one(scene, prefix, a.quiet);
+  }
+}
+
+void render_one(const render::Scene& scene, const std::string& prefix, bool quiet) {
+  using namespace msh::render;
+  const Settings& s = scene.settings;
   const Renderer renderer(scene);
   std::mutex mu;
   int last = -1;
   auto progress = [&](double f) {
-    if (a.quiet) return;
+    if (quiet) return;
     const int pct = int(f * 100);
     std::lock_guard<std::mutex> lock(mu);
     if (pct / 10 != last / 10 || pct == 100) {
@@ -73,11 +94,11 @@ void run_render(const RenderArgs& a) {
   };
   RenderStats st;
   const Image img = renderer.render(progress, &st);
-  write_exr(a.out + ".exr", img);
-  write_png(a.out + ".png", img, s.exposure);
+  write_exr(prefix + ".exr", img);
+  write_png(prefix + ".png", img, s.exposure);
   const double rays = double(st.camera_rays + st.shadow_rays);
-  print_json({{"exr", a.out + ".exr"},
-              {"png", a.out + ".png"},
+  print_json({{"exr", prefix + ".exr"},
+              {"png", prefix + ".png"},
               {"method", to_string(s.micro_shadowing)},
               {"bump_terminator", to_string(s.bump_terminator)},
               {"width", s.width},

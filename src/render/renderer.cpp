@@ -331,7 +331,10 @@ struct Renderer::Impl {
       // normal) times the bump-terminator term.
       return ms.eval(sp, wo, wi, h.tangent, s) * bt.eval(sp.n_smooth, sp.n_shading, wi);
     };
-    Pcg32 rng(seed, 0x2545f4914f6cdd1dULL);
+    // Meshes leave the geometric-hemisphere test to the shadow ray (so that the Hanika offset can light faces
+    // whose flat normal already turned away, as a smooth surface would); other shapes test N_g·L.
+    const bool is_mesh = ob.type == ShapeType::Mesh;
+    auto above = [&](const Vec3f& wi) { return is_mesh || dot(h.ng, wi) > 0; };
     for (std::size_t li = 0; li < scene.lights.size(); ++li) {
       const Light& light = scene.lights[li];
       const uint32_t ls = hash_combine(seed, uint32_t(li));
@@ -346,7 +349,7 @@ struct Renderer::Impl {
           wi = dl / dist;
           E = E / (dist * dist);
         }
-        if (!(dot(h.ng, wi) > 0) || !(dot(sp.n_shading, wi) > 0)) continue;
+        if (!above(wi) || !(dot(sp.n_shading, wi) > 0)) continue;
         const float k = term(wi, ls);
         if (!(k > 0)) continue;
         if (shadow(wi, dist * (1 - 1e-4f))) continue;
@@ -360,13 +363,13 @@ struct Renderer::Impl {
         const Vec3f wc = dl / dist;
         const Rgbf E = light.color / (dist * dist);
         if (shadow(wc, dist - light.radius)) continue;
-        if (dot(h.ng, wc) > 0 && dot(sp.n_shading, wc) > 0)
+        if (above(wc) && dot(sp.n_shading, wc) > 0)
           L += brdf_cos(sp, wo, wc, 1.0f, true, false) * E * term(wc, ls);
         const Vec3f r = reflect(wo, sp.n_shading);
         const Vec3f to_ray = r * dot(dl, r) - dl;
         const Vec3f cp = dl + to_ray * saturate(light.radius / std::max(length(to_ray), 1e-12f));
         const Vec3f ws = normalize(cp);
-        if (dot(h.ng, ws) > 0 && dot(sp.n_shading, ws) > 0) {
+        if (above(ws) && dot(sp.n_shading, ws) > 0) {
           const float a = roughness_to_alpha(std::max(sp.roughness, 0.02f));
           const float a2 = saturate(a + light.radius / (2 * dist));
           L += brdf_cos(sp, wo, ws, sqr(a / a2), false, true) * E * term(ws, ls);
@@ -383,7 +386,7 @@ struct Renderer::Impl {
         Rgbf acc(0.0f);
         for (int k = 0; k < set.area_samples; ++k) {
           const Vec3f wi = fr.to_world(sample_uniform_cone(sobol_2d<float>(uint32_t(k), ls + 1), cos_max));
-          if (!(dot(h.ng, wi) > 0) || !(dot(sp.n_shading, wi) > 0)) continue;
+          if (!above(wi) || !(dot(sp.n_shading, wi) > 0)) continue;
           const float t = term(wi, hash_combine(ls, uint32_t(k)));
           if (!(t > 0)) continue;
           // Distance to the sphere's near surface along wi.
@@ -395,7 +398,6 @@ struct Renderer::Impl {
         L += acc / float(set.area_samples);
       }
     }
-    (void)rng;
     return L;
   }
 

@@ -22,9 +22,6 @@ class MicroShadowingTerm {
  public:
   explicit MicroShadowingTerm(const Settings& s) : mode_(s.micro_shadowing), n_(s.vndf_samples) {
     if (mode_ == MicroShadowing::Lut3d || mode_ == MicroShadowing::Lut2d) {
-      if (s.lut_path.empty())
-        throw InputError(
-            fmt::format("micro-shadowing '{}' needs a LUT file (settings.lut or --lut)", to_string(mode_)));
       lut_ = load_lut_sampler(s.lut_path, mode_ == MicroShadowing::Lut2d);
     }
   }

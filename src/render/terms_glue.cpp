@@ -1,4 +1,6 @@
 // Glue between the renderer and the other areas' headers: bump-terminator terms and the micro-shadowing LUT.
+#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/occlusion/bump_terminator.h>
 
 #include "shading_terms.h"
@@ -19,11 +21,27 @@ float BumpTerminatorTerm::eval(const Vec3f& ng, const Vec3f& ns, const Vec3f& l)
   return 1.0f;
 }
 
-class LutSampler {};
+class LutSampler {
+ public:
+  std::shared_ptr<const lut::MicroShadowingLut> table;
+  lut::MicroShadowingLutView view;
+  bool two_d = false;
+};
 
-std::shared_ptr<const LutSampler> load_lut_sampler(const std::string&, bool) {
-  throw InputError("the micro-shadowing LUT methods are not available yet (the LUT module has not landed)");
+std::shared_ptr<const LutSampler> load_lut_sampler(const std::string& path, bool two_d) {
+  auto s = std::make_shared<LutSampler>();
+  s->two_d = two_d;
+  // No file: the LUT module's default table (64³ or 64², baked once per process and cached).
+  s->table = path.empty()
+                 ? lut::default_micro_shadowing_lut(two_d)
+                 : std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(path));
+  s->view = s->table->view();
+  return s;
 }
-float sample_lut(const LutSampler&, float, float, float, float) { return 1.0f; }
+
+// The 2D LUT is the N·V = 1 slice (seed 002): N·V is not looked up.
+float sample_lut(const LutSampler& l, float V, float n_dot_l, float n_dot_v, float roughness) {
+  return lut::sample_micro_shadowing(l.view, V, n_dot_l, l.two_d ? 1.0f : n_dot_v, roughness);
+}
 
 }  // namespace msh::render

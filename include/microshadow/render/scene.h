@@ -136,7 +136,7 @@ struct Settings {
   float exposure = 0.0f;
   Rgbf background{0, 0, 0};
   Rgbf ambient{0, 0, 0};  // constant ambient radiance times base colour (unshadowed; 0 in comparisons)
-  std::string lut_path;   // micro-shadowing LUT file for lut3d / lut2d
+  std::string lut_path;   // micro-shadowing LUT file for lut3d / lut2d (empty: the LUT module's default table)
   uint32_t seed = 1;
 };
 
