@@ -6,13 +6,16 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/lut/micro_shadowing_baker.h>
+#include <microshadow/lut/micro_shadowing_exact.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -133,6 +136,80 @@ void run_bake(const BakeLutOptions& o) {
   print_json(j);
 }
 
+// ---------------------------------------------------------------------------------------------------------
+// plot micro-shadowing-lut: the exact azimuth-mean term on N·V slices of a table's grid (the error maps'
+// reference; scripts/plot_lut.py draws the figures), and error summaries of the 3D and 2D tables.
+
+struct PlotLutOptions {
+  std::string out, lut, lut2d, slices = "0,16,32,48,63";
+};
+
+void run_plot(const PlotLutOptions& o) {
+  namespace fs = std::filesystem;
+  const lut::MicroShadowingLut table = lut::load_micro_shadowing_lut(o.lut);
+  const lut::MicroShadowingLutView view = table.view();
+  std::vector<int> zs;
+  for (double z : parse_list(o.slices, "--slices")) {
+    if (!(z >= 0 && z < view.n_nv && z == std::floor(z)))
+      throw UsageError(
+          fmt::format("--slices must be N.V texel indices in [0, {}], got {}", view.n_nv - 1, z));
+    zs.push_back(int(z));
+  }
+  std::optional<lut::MicroShadowingLut> table2d;
+  if (!o.lut2d.empty()) {
+    table2d = lut::load_micro_shadowing_lut(o.lut2d);
+    const auto v2 = table2d->view();
+    if (v2.n_nv != 1 || v2.n_vis != view.n_vis || v2.n_nl != view.n_nl || v2.channels != view.channels)
+      throw UsageError("--lut2d must be the 2D LUT (depth 1) of the same size and channels as --lut");
+  }
+  const fs::path dir(o.out);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw UsageError(fmt::format("--out: cannot create directory '{}'", o.out));
+
+  const int nx = view.n_vis, ny = view.n_nl, nc = view.channels, ns = int(zs.size());
+  io::Volume exact(nx, ny, ns, nc);
+  std::vector<double> vis(nx);
+  for (int i = 0; i < nx; ++i) vis[i] = double(i) / (nx - 1);
+  tbb::parallel_for(0, ns * ny * nc, [&](int row) {
+    const int s = row / (ny * nc), y = (row / nc) % ny, c = row % nc;
+    const double r = table.roughness[c], nv = view.n_nv > 1 ? double(zs[s]) / (view.n_nv - 1) : 1.0;
+    std::vector<double> ex(nx);
+    lut::micro_shadowing_semi_analytic_row(r * r, double(y) / (ny - 1), nv, vis.data(), nx, ex.data(), 2, 2);
+    for (int x = 0; x < nx; ++x) exact.at(x, y, s, c) = float(ex[x]);
+  });
+  double max3 = 0, max2 = 0, sum2 = 0;
+  long n = 0;
+  for (int s = 0; s < ns; ++s)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        for (int c = 0; c < nc; ++c) {
+          const double e = exact.at(x, y, s, c);
+          max3 = std::max(max3, std::abs(table.volume.at(x, y, zs[s], c) - e));
+          if (table2d) {
+            const double d = table2d->volume.at(x, y, 0, c) - e;
+            max2 = std::max(max2, std::abs(d)), sum2 += std::abs(d), ++n;
+          }
+        }
+  io::write_volume(dir / "micro_shadowing_exact_slices.npy", exact, io::FileFormat::Npy,
+                   io::PixelFormat::RGBA32Float);
+  nlohmann::json j;
+  j["exact"] = (dir / "micro_shadowing_exact_slices.npy").string();
+  j["slices_z"] = zs;
+  std::vector<double> nvs;
+  for (int z : zs) nvs.push_back(view.n_nv > 1 ? double(z) / (view.n_nv - 1) : 1.0);
+  j["slices_n_dot_v"] = nvs;
+  j["roughness"] = table.roughness;
+  j["lut3d_max_abs_error_on_slices"] = max3;
+  if (table2d) {
+    j["lut2d_max_abs_error_on_slices"] = max2;
+    j["lut2d_mean_abs_error_on_slices"] = sum2 / double(std::max(1L, n));
+  }
+  io::write_file_atomic(dir / "micro_shadowing_exact_slices.json", j.dump(2) + "\n");
+  print_json(j);
+}
+
 void add_lut(Groups& g) {
   auto o = std::make_shared<BakeLutOptions>();
   CLI::App* c = g.bake->add_subcommand(
@@ -170,6 +247,18 @@ void add_lut(Groups& g) {
   c->add_option("--symbol", o->symbol, "C identifier for the .h output")->capture_default_str();
   c->add_flag("--quiet", o->quiet, "No progress on stderr");
   c->callback([o] { run_bake(*o); });
+
+  auto p = std::make_shared<PlotLutOptions>();
+  CLI::App* pc = g.plot->add_subcommand(
+      "micro-shadowing-lut",
+      "Exact azimuth-mean micro-shadowing on N.V slices of a baked LUT's grid (NPY + JSON with error "
+      "summaries of "
+      "the 3D LUT and, with --lut2d, of the 2D LUT); scripts/plot_lut.py draws the slice and error figures.");
+  pc->add_option("--lut", p->lut, "The baked 3D LUT (any format bake micro-shadowing writes)")->required();
+  pc->add_option("--lut2d", p->lut2d, "The baked 2D LUT of the same size (optional)");
+  pc->add_option("--slices", p->slices, "N.V texel indices of the slices")->capture_default_str();
+  pc->add_option("--out", p->out, "Output directory")->required();
+  pc->callback([p] { run_plot(*p); });
 }
 
 }  // namespace
