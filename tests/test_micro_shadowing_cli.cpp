@@ -93,6 +93,19 @@ TEST(MicroShadowingCli, EvalJson) {
   EXPECT_EQ(r.out, "0.25\n");
 }
 
+// LUT methods (the LUT module's default table, baked on first use): wired to the right slice and close to the
+// exact azimuth mean (the table's own accuracy is tested in test_lut*).
+TEST(MicroShadowingCli, LutMethods) {
+  const auto a = eval_json("--method lut3d --visibility 0.7 --roughness 0.4 --ndotl 0.6 --ndotv 0.3");
+  EXPECT_EQ(a["lut_size"][2], 64);
+  EXPECT_NEAR(a["value"].get<double>(), ms::generic_vndf_exact_azimuth_mean(0.7, 0.16, 0.6, 0.3), 0.01);
+  const auto b = eval_json("--method lut2d --visibility 0.7 --roughness 0.4 --ndotl 0.6 --ndotv 0.3");
+  EXPECT_EQ(b["lut_size"][2], 1);
+  EXPECT_NEAR(b["value"].get<double>(), ms::generic_vndf_exact_azimuth_mean(0.7, 0.16, 0.6, 1.0), 0.01);
+  EXPECT_EQ(eval_json("--method lut3d --visibility 0.2 --roughness 0.4 --ndotl 0.5")["value"].get<double>(),
+            0.0);
+}
+
 TEST(MicroShadowingCli, BadInputExitsTwo) {
   for (const char* args :
        {"--visibility 1.5 --ndotl 0.3", "--visibility nan --ndotl 0.3", "--visibility 0.5 --ndotl inf",
@@ -101,7 +114,7 @@ TEST(MicroShadowingCli, BadInputExitsTwo) {
         "--visibility 0.5 --ndotl 0.3 --samples 0", "--visibility 0.5 --ndotl 0.3 --g2 separable",
         "--visibility 0.5", "--visibility 0.5 --ndotl 0.3 --method chan-2018 --samples 8",
         "--visibility 0.5 --ndotl 0.3 --method lut3d --lut /nonexistent.dds",
-        "--visibility 0.5 --ndotl 0.3 --method lut2d", "--visibility 0.5 --ndotl abc"}) {
+        "--visibility 0.5 --ndotl 0.3 --method lut2d --roughness-y 0.2", "--visibility 0.5 --ndotl abc"}) {
     const CliRun r = run(std::string("eval micro-shadowing ") + args);
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_TRUE(r.out.empty()) << args;

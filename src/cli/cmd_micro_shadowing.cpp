@@ -3,9 +3,11 @@
 //
 //   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
 //       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
-//   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
+//   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, lut3d, lut2d [--lut
+//   FILE]) microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
+#include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <tbb/parallel_for.h>
 
@@ -107,7 +109,27 @@ void run_eval(const EvalArgs& a) {
   double value = 0;
   const std::string& m = a.method;
   if (m == "lut3d" || m == "lut2d") {
-    throw UsageError("lut methods need the LUT module (not built into this CLI yet)");
+    if (has_ry) throw UsageError("the LUT is isotropic: --roughness-y applies to generic-vndf only");
+    if (a.samples > 0) throw UsageError("--samples applies to generic-vndf only");
+    // --lut FILE (any format the loader reads, with its sidecar) or the default table, baked on first use.
+    std::shared_ptr<const lut::MicroShadowingLut> table;
+    if (!a.lut.empty())
+      table = std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(a.lut));
+    else
+      table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 2 : 0);
+    const lut::MicroShadowingLutView view = table->view();
+    if (m == "lut3d" && view.n_nv < 2)
+      throw UsageError("lut3d needs a 3D table (depth > 1); use --method lut2d for an N.V = 1 table");
+    // lut2d: the N·V = 1 slice whatever the table (a 2D table has only that slice).
+    const double nv = m == "lut2d" ? 1.0 : a.ndotv;
+    value = has_phi ? lut::sample_micro_shadowing_azimuth(view, a.visibility, a.ndotl, nv, a.roughness,
+                                                          std::cos(a.phi))
+                    : lut::sample_micro_shadowing(view, a.visibility, a.ndotl, nv, a.roughness);
+    out["lut"] = a.lut.empty() ? nlohmann::json("default (baked on first use)") : nlohmann::json(a.lut);
+    out["lut_size"] = {view.n_vis, view.n_nl, view.n_nv};
+    out["lut_roughness"] = table->roughness;
+    out["harmonics"] = view.harmonics;
+    out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
   } else if (m == "generic-vndf") {
     value = eval_generic(a.visibility, ax, ay, a.ndotl, a.ndotv, has_phi ? &a.phi : nullptr, a.samples, form,
                          a.seed);
@@ -385,7 +407,10 @@ void add_micro_shadowing(Groups& g) {
   e->add_option("--seed", ea->seed, "Scrambling seed of --samples")->capture_default_str();
   e->add_option("--g2", ea->g2, "height-correlated | uncorrelated (Smith G2/G1 weight)")
       ->capture_default_str();
-  e->add_option("--lut", ea->lut, "LUT file for lut3d / lut2d");
+  e->add_option(
+      "--lut", ea->lut,
+      "LUT file for lut3d / lut2d (from `bake micro-shadowing`; default: the default table, baked on "
+      "first use; with --phi an azimuth-aware one)");
   e->add_flag("--json", ea->json, "Print one JSON object");
   e->callback([ea] { run_eval(*ea); });
 
