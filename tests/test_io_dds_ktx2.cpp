@@ -77,6 +77,40 @@ void check_format(FileFormat ff, const char* ext, const char* cmd) {
 TEST(IoDds, HeaderAndTexelsMatchSpec) { check_format(FileFormat::Dds, "dds", "dds"); }
 TEST(IoKtx2, HeaderDfdKvdAndTexelsMatchSpec) { check_format(FileFormat::Ktx2, "ktx2", "ktx2"); }
 
+// Our readers on files from the independent Python encoders (DDS without the optional PITCH/MIPMAPCOUNT
+// flags, KTX2 with two key/value entries): every value equals the stored value decoded by numpy.
+void read_foreign(const char* cmd, const char* ext) {
+  const auto dir = scratch_dir();
+  PythonBatch batch(dir / "make.txt");
+  std::vector<std::tuple<std::string, PixelFormat, Dims>> files;
+  for (PixelFormat pf : kAll)
+    for (Dims k : kDims) {
+      const Volume v = test_volume(pf, k);
+      const std::string stem = fmt::format("{}_{}x{}x{}", pixel_format_name(pf), k.w, k.h, k.d);
+      write_raw(dir / (stem + ".raw"), v);
+      batch.add(fmt::format("{} {} {} {} {} {} {} {}", cmd, quote(dir / (stem + ext)),
+                            quote(dir / (stem + ".raw")), k.d, k.h, k.w, v.channels, pixel_format_name(pf)));
+      files.emplace_back(stem, pf, k);
+    }
+  batch.run_all();
+  for (const auto& [stem, pf, k] : files) {
+    SCOPED_TRACE(stem);
+    const Volume r = read_volume(dir / (stem + ext));
+    ASSERT_EQ(r.width, k.w);
+    ASSERT_EQ(r.height, k.h);
+    ASSERT_EQ(r.depth, k.d);
+    ASSERT_EQ(r.channels, pixel_format_channels(pf));
+    std::vector<float> want(r.data.size());
+    std::ifstream(dir / (stem + ext + ".expected.raw"), std::ios::binary)
+        .read(reinterpret_cast<char*>(want.data()), std::streamsize(want.size() * 4));
+    for (std::size_t i = 0; i < want.size(); ++i)
+      ASSERT_NEAR(r.data[i], want[i], 1e-7 * std::abs(want[i])) << i;
+  }
+}
+
+TEST(IoDds, ReadsFilesFromAnIndependentEncoder) { read_foreign("make-dds", ".dds"); }
+TEST(IoKtx2, ReadsFilesFromAnIndependentEncoder) { read_foreign("make-ktx2", ".ktx2"); }
+
 TEST(IoDdsKtx2, HalfOverflowIsAnErrorNothingWritten) {
   const auto dir = scratch_dir();
   Volume v = make_volume(2, 2, 1, 4, 0.f, 1.f);

@@ -11,6 +11,8 @@ Usage:
   msh_iocheck.py ktx2 FILE RAW D H W C PF
   msh_iocheck.py png  FILE RAW D H W C BITS
   msh_iocheck.py make-png OUT RAW H W C BITS [palette]   (writes OUT and OUT.expected.raw)
+  msh_iocheck.py make-dds OUT RAW D H W C PF    (writes OUT and OUT.expected.raw: the stored values as float32)
+  msh_iocheck.py make-ktx2 OUT RAW D H W C PF
   msh_iocheck.py batch MANIFEST      (one command per line, as above; every line checked, failures listed)
 RAW is the float32 little-endian source data, C order (D, H, W, C). PF is a pixel-format name (rgba16f, ...).
 """
@@ -329,6 +331,57 @@ def make_png(out, raw, h, w, c, bits, palette):
     (q.astype(np.float64) / maxv).astype("<f4").tofile(out + ".expected.raw")
 
 
+def stored_values(src, pf):
+    q = quantize(src, pf)
+    return (q.astype(np.float64) / 255.0).astype("<f4") if PIXEL_FORMATS[pf][2] == "u" else q.astype("<f4")
+
+
+def make_dds(out, raw, d, h, w, c, pf):
+    """A DX10 DDS written from the Microsoft documentation (a second, independent encoder)."""
+    ch, nbytes, kind = PIXEL_FORMATS[pf]
+    src = load_raw(raw, (d, h, w, c))
+    volume = d > 1
+    flags = 0x1 | 0x2 | 0x4 | 0x1000 | (0x800000 if volume else 0)  # no PITCH/MIPMAPCOUNT: both optional
+    hdr = struct.pack("<7I11I", 124, flags, h, w, 0, d if volume else 0, 0, *([0] * 11))
+    hdr += struct.pack("<II4s5I", 32, 0x4, b"DX10", 0, 0, 0, 0, 0)
+    hdr += struct.pack("<5I", 0x1000, 0x200000 if volume else 0, 0, 0, 0)
+    hdr += struct.pack("<5I", DXGI[pf], 4 if volume else 3, 0, 1, 0)
+    open(out, "wb").write(b"DDS " + hdr + quantize(src, pf).tobytes())
+    stored_values(src, pf).tofile(out + ".expected.raw")
+
+
+def make_ktx2(out, raw, d, h, w, c, pf):
+    """A KTX2 file written from the KTX 2.0 spec with two key/value entries (a second, independent encoder)."""
+    ch, nbytes, kind = PIXEL_FORMATS[pf]
+    src = load_raw(raw, (d, h, w, c))
+    texel = ch * nbytes
+    samples = b""
+    for i in range(ch):
+        quals = 0xC0 if kind == "f" else 0
+        lower, upper = (0xBF800000, 0x3F800000) if kind == "f" else (0, 255)
+        samples += struct.pack("<4I", (i * 8 * nbytes) | ((8 * nbytes - 1) << 16) | (([0, 1, 2, 15][i] | quals) << 24),
+                               0, lower, upper)
+    block = 24 + 16 * ch
+    dfd = struct.pack("<7I", 4 + block, 0, 2 | (block << 16), 1 | (1 << 8) | (1 << 16), 0, texel, 0) + samples
+    kvd = b""
+    for key, value in ((b"KTXorientation", b"rd\0"), (b"KTXwriter", b"msh_iocheck.py\0")):
+        entry = key + b"\0" + value
+        kvd += struct.pack("<I", len(entry)) + entry + b"\0" * ((-len(entry)) % 4)
+    dfd_off = 80 + 24
+    kvd_off = dfd_off + len(dfd)
+    align = int(np.lcm(texel, 4))
+    lvl_off = (kvd_off + len(kvd) + align - 1) // align * align
+    data = quantize(src, pf).tobytes()
+    ident = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
+    head = ident + struct.pack("<9I", VKFORMAT[pf], nbytes, w, h, d if d > 1 else 0, 0, 1, 1, 0)
+    head += struct.pack("<4I2Q", dfd_off, len(dfd), kvd_off, len(kvd), 0, 0)
+    head += struct.pack("<3Q", lvl_off, len(data), len(data))
+    body = head + dfd + kvd
+    body += b"\0" * (lvl_off - len(body))
+    open(out, "wb").write(body + data)
+    stored_values(src, pf).tofile(out + ".expected.raw")
+
+
 def main(argv):
     cmd = argv[1]
     if cmd == "batch":
@@ -352,6 +405,8 @@ def main(argv):
         (check_dds if cmd == "dds" else check_ktx2)(argv[2], argv[3], *map(int, argv[4:8]), argv[8])
     elif cmd == "png":
         check_png(argv[2], argv[3], *map(int, argv[4:9]))
+    elif cmd in ("make-dds", "make-ktx2"):
+        (make_dds if cmd == "make-dds" else make_ktx2)(argv[2], argv[3], *map(int, argv[4:8]), argv[8])
     elif cmd == "make-png":
         make_png(argv[2], argv[3], *map(int, argv[4:8]), len(argv) > 8 and argv[8] == "palette")
     else:
