@@ -9,6 +9,7 @@
 #include <microshadow/filter/variance_mapping.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
+#include <microshadow/occlusion/bump_terminator.h>
 #include <tbb/global_control.h>
 
 #include <random>
@@ -161,7 +162,6 @@ TEST(MipChain, BadInput) {
   }
 }
 
-
 TEST(Blend, LinearAndVarianceSpace) {
   EXPECT_NEAR(blend_linear(0.25, 1.0, 3.0), 1.5, 1e-15);
   const Rgbd c = blend_linear(0.5, Rgbd(0, 0.2, 1), Rgbd(1, 0.4, 1));
@@ -194,4 +194,20 @@ TEST(Blend, ReorientedNormalMappingIsTheRotation) {
   EXPECT_NEAR(length(detail_normal_rnm(z, detail) - detail), 0.0, 1e-12);  // flat base → detail
   EXPECT_TRUE(is_finite(detail_normal_rnm(Vec3d(0, 0, -1), detail)));
   EXPECT_TRUE(is_finite(detail_normal_rnm(Vec3d(0, 0, 0), Vec3d(0, 0, 0))));
+}
+
+TEST(VarianceMapping, Conty2019Convention) {
+  // k = 2 matches bump_terminator.h: total slope variance 2α² ↔ per-axis α² (σ² = 2 × per-axis).
+  for (double var : {0.001, 0.02, 0.2}) {
+    const double r = slope_variance_to_roughness(var, kConty2019);
+    EXPECT_NEAR(r * r, bump::ggx_alpha_from_variance(2 * var), 1e-12);
+  }
+  // The mip builder with k = 2: α'² = α0² + 2s²(1 − 1/N)/2.
+  const int W = 128;
+  const double s = 0.1, r0 = 0.4, a0 = r0 * r0;
+  const auto normals = gaussian_slope_normals(W, W, s, s, 9);
+  const auto lv = build_roughness_mips(W, W, normals, {float(r0)}, FilterMethod::Variance, 0, kConty2019);
+  const double expect = a0 * a0 + expected_box_variance(s * s, double(W) * W);
+  EXPECT_NEAR(mean_alpha2(lv.back(), 0), expect, 0.03 * expect);
+  EXPECT_THROW(build_roughness_mips(W, W, normals, {0.4f}, FilterMethod::Variance, 0, -1.0), InputError);
 }

@@ -8,6 +8,7 @@
 // variance does not depend on it); EXR stores n as-is; 2-channel maps get n_z = sqrt(1 − x² − y²).
 #include <fmt/format.h>
 #include <microshadow/filter/mip_chain.h>
+#include <microshadow/filter/variance_mapping.h>
 #include <microshadow/io/texture.h>
 
 #include <filesystem>
@@ -24,7 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct FilterOptions {
-  std::string normal, roughness, out, method = "variance", format = "png";
+  std::string normal, roughness, out, method = "variance", format = "png", ggx_variance = "beckmann";
   std::optional<double> roughness_value;
   int levels = 0;
   bool write_normals = false, json = false;
@@ -91,12 +92,19 @@ void run_filter(const FilterOptions& o) {
   if (o.roughness_value) require_range(*o.roughness_value, 0.0, 1.0, "--roughness-value");
   if (o.levels < 0) throw UsageError(fmt::format("--levels must be >= 0, got {}", o.levels));
   if (o.out.empty()) throw UsageError("--out must not be empty");
+  double k = 0;
+  if (o.ggx_variance == "beckmann")
+    k = filter::kBeckmannEquivalent;
+  else if (o.ggx_variance == "conty")
+    k = filter::kConty2019;
+  else
+    throw UsageError(fmt::format("--ggx-variance must be beckmann or conty, got '{}'", o.ggx_variance));
 
   int w = 0, h = 0;
   const auto normals = load_normals(o.normal, w, h);
   const auto rough =
       o.roughness_value ? std::vector<float>{float(*o.roughness_value)} : load_roughness(o.roughness, w, h);
-  const auto mips = filter::build_roughness_mips(w, h, normals, rough, method, o.levels);
+  const auto mips = filter::build_roughness_mips(w, h, normals, rough, method, o.levels, k);
 
   const bool dir_out = !o.out.empty() && (o.out.back() == '/' || o.out.back() == '\\');
   if (dir_out)
@@ -188,6 +196,11 @@ void add_filter(Groups& g) {
                 "(<prefix>_mip<k>.<ext>)")
       ->required();
   c->add_option("--method", o->method, "toksvig | variance | lean (lean writes r_x, r_y in R, G)")
+      ->capture_default_str();
+  c->add_option(
+       "--ggx-variance", o->ggx_variance,
+       "GGX alpha <-> slope variance: beckmann (per-axis alpha^2/2, RTR4 9.13.1 practice) | conty (2 alpha^2 "
+       "total, Conty 2019)")
       ->capture_default_str();
   c->add_option("--levels", o->levels, "Number of mip levels to write (0 = down to 1x1)")
       ->capture_default_str();

@@ -41,7 +41,7 @@ struct Sums {
   }
 };
 
-void finish_level(const std::vector<Sums>& s, MipLevel& lv, FilterMethod method) {
+void finish_level(const std::vector<Sums>& s, MipLevel& lv, FilterMethod method, double k) {
   const size_t n = size_t(lv.width) * size_t(lv.height);
   lv.channels = method == FilterMethod::Lean ? 2 : 1;
   lv.roughness.assign(n * size_t(lv.channels), 0.0f);
@@ -63,11 +63,11 @@ void finish_level(const std::vector<Sums>& s, MipLevel& lv, FilterMethod method)
         }
         case FilterMethod::Variance:
           // Mean per-axis slope variance (base roughness included through the LEAN diagonal).
-          lv.roughness[i] = float(slope_variance_to_roughness(0.5 * (cov.xx + cov.yy)));
+          lv.roughness[i] = float(slope_variance_to_roughness(0.5 * (cov.xx + cov.yy), k));
           break;
         case FilterMethod::Lean: {
-          lv.roughness[2 * i + 0] = float(slope_variance_to_roughness(cov.xx));
-          lv.roughness[2 * i + 1] = float(slope_variance_to_roughness(cov.yy));
+          lv.roughness[2 * i + 0] = float(slope_variance_to_roughness(cov.xx, k));
+          lv.roughness[2 * i + 1] = float(slope_variance_to_roughness(cov.yy, k));
           break;
         }
       }
@@ -77,7 +77,7 @@ void finish_level(const std::vector<Sums>& s, MipLevel& lv, FilterMethod method)
   double acc = 0;
   for (size_t i = 0; i < n; ++i) {
     const SlopeCovariance<double> cov = lean_covariance(s[i].lean.normalized());
-    acc += 0.5 * (cov.xx + cov.yy) - 0.5 * s[i].a2 / s[i].w;  // minus the base α²/2
+    acc += 0.5 * (cov.xx + cov.yy) - 0.5 * k * s[i].a2 / s[i].w;  // minus the base k α²/2
   }
   lv.mean_normal_variance = std::max(0.0, acc / double(n));
 }
@@ -86,7 +86,10 @@ void finish_level(const std::vector<Sums>& s, MipLevel& lv, FilterMethod method)
 
 std::vector<MipLevel> build_roughness_mips(int width, int height, const std::vector<Vec3f>& normals,
                                            const std::vector<float>& roughness, FilterMethod method,
-                                           int max_levels) {
+                                           int max_levels, double ggx_variance_scale) {
+  const double k = ggx_variance_scale;
+  if (!(k > 0) || !std::isfinite(k))
+    throw InputError(fmt::format("filter: GGX variance scale must be positive, got {}", k));
   if (width <= 0 || height <= 0) throw InputError("filter: empty normal map");
   const size_t n0 = size_t(width) * size_t(height);
   if (normals.size() != n0)
@@ -107,7 +110,7 @@ std::vector<MipLevel> build_roughness_mips(int width, int height, const std::vec
       const double a = rr * rr;
       Sums s;
       s.w = 1, s.nx = nd.x, s.ny = nd.y, s.nz = nd.z, s.a2 = a * a;
-      s.lean = LeanMoments<double>::from_normal(nd, a, a);
+      s.lean = LeanMoments<double>::from_normal(nd, a, a, k);
       cur[i] = s;
     }
   });
@@ -117,7 +120,7 @@ std::vector<MipLevel> build_roughness_mips(int width, int height, const std::vec
   for (int level = 0;; ++level) {
     MipLevel lv;
     lv.width = w, lv.height = h;
-    finish_level(cur, lv, method);
+    finish_level(cur, lv, method, k);
     out.push_back(std::move(lv));
     if ((w == 1 && h == 1) || (max_levels > 0 && int(out.size()) >= max_levels)) break;
     const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);

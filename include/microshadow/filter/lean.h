@@ -19,15 +19,15 @@ struct LeanMoments {
   T weight = 0;                 // sum of weights (the filter's normalisation)
 
   // Slope and moments of a unit normal (n_z clamped to ≥ 1e-4) with base roughness α_x, α_y (per-axis slope
-  // variance α²/2 added on the diagonal). Weight 1.
-  static LeanMoments from_normal(const Vec3<T>& n, T alpha_x, T alpha_y) {
+  // variance k α²/2 added on the diagonal; k = 1 is the Beckmann mapping, see variance_mapping.h). Weight 1.
+  static LeanMoments from_normal(const Vec3<T>& n, T alpha_x, T alpha_y, T k = T(1)) {
     const Vec3<T> u = normalize(n);
     const T z = std::max(u.z, T(1e-4));
     LeanMoments m;
     m.bx = -u.x / z;
     m.by = -u.y / z;
-    m.mxx = m.bx * m.bx + T(0.5) * alpha_x * alpha_x;
-    m.myy = m.by * m.by + T(0.5) * alpha_y * alpha_y;
+    m.mxx = m.bx * m.bx + T(0.5) * k * alpha_x * alpha_x;
+    m.myy = m.by * m.by + T(0.5) * k * alpha_y * alpha_y;
     m.mxy = m.bx * m.by;
     m.weight = T(1);
     return m;

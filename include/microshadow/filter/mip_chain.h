@@ -29,8 +29,11 @@ struct MipLevel {
 // value). roughness: width*height perceptual roughness in [0,1] (clamped), or a single value for a constant.
 // Levels: 0 (the input resolution) down to 1×1 (each level halves, floor, min 1; odd sizes give the last
 // texel a 3-wide footprint), or at most max_levels when > 0. Throws msh::InputError on size mismatch.
+// ggx_variance_scale: the GGX α ↔ slope-variance convention k of variance_mapping.h (1 = Beckmann
+// equivalence, 2 = Conty et al. 2019's σ² = 2α²); used by Variance and Lean (Toksvig uses the Walter et al.
+// exponent mapping).
 std::vector<MipLevel> build_roughness_mips(int width, int height, const std::vector<Vec3f>& normals,
                                            const std::vector<float>& roughness, FilterMethod method,
-                                           int max_levels = 0);
+                                           int max_levels = 0, double ggx_variance_scale = 1.0);
 
 }  // namespace msh::filter
