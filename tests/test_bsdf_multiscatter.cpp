@@ -45,8 +45,9 @@ TEST(ShippedTables, MatchPublishedValues) {
 }
 
 TEST(ShippedTables, MatchIndependentQuadrature) {
-  // microfacet/albedo.h (the core's graded Gauss-Legendre quadrature, written independently of this QMC baker).
-  // μ = 0 is excluded: E is 0/0 there; the table stores the limit μ → 0⁺ (= 1, see the μ = 1e-4 check).
+  // microfacet/albedo.h (the core's graded Gauss-Legendre quadrature, written independently of this QMC
+  // baker). μ = 0 is excluded: E is 0/0 there; the table stores the limit μ → 0⁺ (= 1, see the μ = 1e-4
+  // check).
   double worst = 0;
   for (int k = 1; k < N * N; k += 4) {
     const int i = k % N, j = k / N;

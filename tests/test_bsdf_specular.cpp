@@ -156,6 +156,8 @@ TEST(Specular, QmcAlbedoMatchesQuadrature) {
                                    {"mix", {0.4}},
                                    {"fresnel", {choice("ggx-dual", "fresnel", "dielectric")}}});
   EXPECT_NEAR(directional_albedo(*d, 0.6, 1u << 18).g, quadrature_albedo(*d, dir(0.6)), 2e-4);
+  const auto b = make("beckmann", {{"roughness", {0.7}}, {"fresnel", {none}}, {"g2", {1.0}}});
+  EXPECT_NEAR(directional_albedo(*b, 0.35, 1u << 18).g, quadrature_albedo(*b, dir(0.35)), 2e-4);
 }
 
 TEST(Specular, MirrorLimitReturnsFresnel) {
@@ -178,6 +180,8 @@ TEST(Specular, SamplersMatchTheirPdf) {
   expect_sampler_matches_pdf(*g3, dir(0.4, 0.0), "ggx + multiscatter");
   const auto d = make("ggx-dual", {{"roughness", {0.2}}, {"roughness2", {0.8}}, {"mix", {0.5}}});
   expect_sampler_matches_pdf(*d, dir(0.5, 0.0), "ggx-dual");
+  const auto b = make("beckmann", {{"roughness", {0.5}}, {"anisotropy", {-0.4}}});
+  expect_sampler_matches_pdf(*b, dir(0.45, 0.7), "beckmann");
   const auto k = make("ggx-ksk", {{"roughness", {0.4}}});
   expect_sampler_matches_pdf(*k, dir(0.7, 0.0), "ggx-ksk");
 }

@@ -64,6 +64,23 @@ SpecularEval<T> microfacet_specular(const Dist& dist, const Vec3<T>& wo, const V
   return r;
 }
 
+// RTR4 9.34 with F = 1 and any G2 form given as g2(wo, wi, h), e.g. the direction-correlated forms of
+// microfacet/masking.h: [&](auto& o, auto& i, auto& h) { return G2_direction_correlated(ndf, o, i, h, λ); }.
+template <class T, class Dist, class G2Fn>
+SpecularEval<T> microfacet_specular_custom_g2(const Dist& dist, const Vec3<T>& wo, const Vec3<T>& wi,
+                                              G2Fn&& g2) {
+  SpecularEval<T> r;
+  if (!(wo.z > T(0)) || !(wi.z > T(0))) return r;
+  const Vec3<T> hs = wo + wi;
+  const T l2 = dot(hs, hs);
+  if (!(l2 > T(1e-24))) return r;
+  const Vec3<T> h = hs / std::sqrt(l2);
+  r.cos_hl = saturate(dot(h, wi));
+  const T f = dist.D(h) * g2(wo, wi, h) / (T(4) * wo.z * wi.z);
+  r.f1 = std::isfinite(f) ? f : T(0);
+  return r;
+}
+
 // Solid-angle pdf of wi under VNDF sampling: D_wo(h) / (4 |wo·h|) (Heitz 2014, eq. 17 + reflection Jacobian).
 template <class T, class Dist>
 T microfacet_specular_pdf(const Dist& dist, const Vec3<T>& wo, const Vec3<T>& wi) {
