@@ -112,11 +112,21 @@ void run_eval(const EvalArgs& a) {
     if (has_ry) throw UsageError("the LUT is isotropic: --roughness-y applies to generic-vndf only");
     if (a.samples > 0) throw UsageError("--samples applies to generic-vndf only");
     // --lut FILE (any format the loader reads, with its sidecar) or the default table, baked on first use.
+    // (The default table is not baked for an early-out point: the sampler returns 0 before any fetch.)
     std::shared_ptr<const lut::MicroShadowingLut> table;
     if (!a.lut.empty())
       table = std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(a.lut));
-    else
+    else if (!early)
       table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 2 : 0);
+    if (!table) {
+      out["value"] = 0.0;
+      out["lut"] = "default (not needed: early-out)";
+      if (a.json)
+        print_json(out);
+      else
+        fmt::print("0\n");
+      return;
+    }
     const lut::MicroShadowingLutView view = table->view();
     if (m == "lut3d" && view.n_nv < 2)
       throw UsageError("lut3d needs a 3D table (depth > 1); use --method lut2d for an N.V = 1 table");
