@@ -2,10 +2,12 @@
 #include <fmt/format.h>
 #include <microshadow/bsdf/albedo.h>
 #include <microshadow/bsdf/brdf_model.h>
+#include <microshadow/bsdf/sphere_grid.h>
 #include <microshadow/bsdf/tables.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
 
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
@@ -292,9 +294,149 @@ void add_brdf_bake(Groups& g) {
   s->callback([bs] { run_bake_shipped(*bs); });
 }
 
+// ---- Sphere-grid figures.
+
+std::unique_ptr<bsdf::BrdfModel> make_model(const std::string& name,
+                                            const std::map<std::string, std::vector<double>>& values) {
+  const bsdf::ModelInfo& info = bsdf::find_brdf_model(name);
+  bsdf::BrdfParams p;
+  p.values = values;
+  return info.make(bsdf::complete_params(info, p));
+}
+double choice_index(const std::string& model, const std::string& param, const std::string& value) {
+  for (const auto& p : bsdf::find_brdf_model(model).params)
+    if (p.name == param)
+      for (size_t i = 0; i < p.choices.size(); ++i)
+        if (p.choices[i] == value) return double(i);
+  throw std::logic_error("no choice " + value);
+}
+
+struct SphereFigure {
+  std::string file, caption;
+  std::vector<std::string> row_labels;
+  std::vector<std::vector<std::unique_ptr<bsdf::BrdfModel>>> rows;
+};
+
+std::vector<double> ramp(double a, double b, int n) {
+  std::vector<double> v;
+  for (int i = 0; i < n; ++i) v.push_back(a + (b - a) * i / (n - 1));
+  return v;
+}
+
+std::vector<SphereFigure> sphere_figures(int cols) {
+  std::vector<SphereFigure> figs;
+  const auto rs = ramp(0.1, 1.0, cols);
+  {
+    SphereFigure f{
+        "spheres_multiscatter.png",
+        "RTR4 fig. 9.39: roughness 0.1 -> 1 left to right; gold without / with the Kulla-Conty multiple-"
+        "bounce lobe, black dielectric (IOR 1.5) without / with",
+        {"gold, single scattering", "gold, + multiple bounce", "black dielectric, single scattering",
+         "black dielectric, + multiple bounce"},
+        {}};
+    const double cond = choice_index("ggx", "fresnel", "conductor"),
+                 diel = choice_index("ggx", "fresnel", "dielectric");
+    for (const double fr : {cond, diel})
+      for (const double ms : {0.0, 1.0}) {
+        std::vector<std::unique_ptr<bsdf::BrdfModel>> row;
+        for (double r : rs)
+          row.push_back(make_model("ggx", {{"roughness", {r}}, {"fresnel", {fr}}, {"multiscatter", {ms}}}));
+        f.rows.push_back(std::move(row));
+      }
+    figs.push_back(std::move(f));
+  }
+  {
+    SphereFigure f{
+        "spheres_ksk.png",
+        "RTR4 fig. 9.41: GGX (F0 0.04, multiple bounce) + Lambert vs + Kelemen/Szirmay-Kalos coupled "
+        "diffuse; rows 1-2 roughness 0.1 -> 0.5, rows 3-4 0.55 -> 1",
+        {"+ Lambert (low r)", "+ KSK coupled (low r)", "+ Lambert (high r)", "+ KSK coupled (high r)"},
+        {}};
+    for (const auto& range : {ramp(0.1, 0.5, cols), ramp(0.55, 1.0, cols)})
+      for (const char* m : {"ggx-lambert", "ggx-ksk"}) {
+        std::vector<std::unique_ptr<bsdf::BrdfModel>> row;
+        for (double r : range)
+          row.push_back(
+              make_model(m, {{"roughness", {r}}, {"rho", {0.5, 0.25, 0.12}}, {"multiscatter", {1.0}}}));
+        f.rows.push_back(std::move(row));
+      }
+    figs.push_back(std::move(f));
+  }
+  {
+    SphereFigure f{"spheres_diffuse.png",
+                   "Diffuse models, roughness (Oren-Nayar sigma 0 -> 1.2 rad) increasing left to right",
+                   {"lambert", "shirley (9.64)", "disney-diffuse", "disney-diffuse, subsurface 1", "hammon",
+                    "oren-nayar", "oren-nayar-qualitative"},
+                   {}};
+    const std::vector<double> rho = {0.8, 0.8, 0.8};
+    auto row_of = [&](auto fn) {
+      std::vector<std::unique_ptr<bsdf::BrdfModel>> row;
+      for (int c = 0; c < cols; ++c) row.push_back(fn(double(c) / (cols - 1)));
+      f.rows.push_back(std::move(row));
+    };
+    row_of([&](double) { return make_model("lambert", {{"rho", rho}}); });
+    row_of([&](double) { return make_model("shirley", {{"rho", rho}}); });
+    row_of([&](double t) { return make_model("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}}); });
+    row_of([&](double t) {
+      return make_model("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}, {"subsurface", {1.0}}});
+    });
+    row_of([&](double t) { return make_model("hammon", {{"rho", rho}, {"roughness", {t}}}); });
+    row_of([&](double t) { return make_model("oren-nayar", {{"rho", rho}, {"sigma", {1.2 * t}}}); });
+    row_of([&](double t) {
+      return make_model("oren-nayar-qualitative", {{"rho", rho}, {"sigma", {1.2 * t}}});
+    });
+    figs.push_back(std::move(f));
+  }
+  return figs;
+}
+
+struct PlotArgs {
+  std::string out;
+  int size = 96, cols = 6;
+};
+
+void run_plot_spheres(const PlotArgs& a) {
+  if (a.out.empty()) throw UsageError("--out is required");
+  if (a.size < 8 || a.size > 1024)
+    throw UsageError(fmt::format("--size must be in [8, 1024], got {}", a.size));
+  if (a.cols < 2 || a.cols > 16)
+    throw UsageError(fmt::format("--columns must be in [2, 16], got {}", a.cols));
+  const std::filesystem::path dir(a.out);
+  if (!std::filesystem::is_directory(dir))
+    throw UsageError(fmt::format("--out '{}' is not a directory", a.out));
+  std::string legend;
+  for (const auto& f : sphere_figures(a.cols)) {
+    std::vector<std::vector<const bsdf::BrdfModel*>> rows;
+    for (const auto& r : f.rows) {
+      rows.emplace_back();
+      for (const auto& m : r) rows.back().push_back(m.get());
+    }
+    const io::Volume img = bsdf::encode_srgb(bsdf::render_sphere_grid(rows, a.size));
+    io::write_png(dir / f.file, img, 8);
+    legend += f.file + ": " + f.caption + "\n";
+    for (size_t i = 0; i < f.row_labels.size(); ++i)
+      legend += fmt::format("  row {}: {}\n", i + 1, f.row_labels[i]);
+  }
+  io::write_file_atomic(dir / "spheres.txt", legend);
+}
+
+void add_brdf_plot(Groups& g) {
+  auto pa = std::make_shared<PlotArgs>();
+  CLI::App* p = g.plot->add_subcommand("brdf-figures",
+                                       "Render sphere grids of the BRDF models (uniform white environment + "
+                                       "one directional light, orthographic): "
+                                       "spheres_multiscatter.png (RTR4 fig. 9.39), spheres_ksk.png (fig. "
+                                       "9.41), spheres_diffuse.png, spheres.txt");
+  p->add_option("--out", pa->out, "Output directory (must exist)")->required();
+  p->add_option("--size", pa->size, "Pixels per sphere")->default_val(96);
+  p->add_option("--columns", pa->cols, "Spheres per row (roughness steps)")->default_val(6);
+  p->callback([pa] { run_plot_spheres(*pa); });
+}
+
 }  // namespace
 
 MSH_CLI_REGISTER(add_brdf, 60);
+MSH_CLI_REGISTER(add_brdf_plot, 61);
 MSH_CLI_REGISTER(add_brdf_bake, 61);
 
 }  // namespace msh::cli
