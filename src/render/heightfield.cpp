@@ -86,14 +86,17 @@ bool HeightField::intersect(const Vec3f& o, const Vec3f& d, float tmin, float tm
     if (std::min(za, zb) <= std::max(std::max(z00, z10), std::max(z01, z11)) + 1e-4f) {
       const Vec3f A(float(i), float(j), z00), B(float(i + 1), float(j), z10),
           C(float(i + 1), float(j + 1), z11), D(float(i), float(j + 1), z01);
-      const float ta = tri_hit(o, d, A, B, C), tb = tri_hit(o, d, A, C, D);
+      // Front faces only (normals point up, +z): a ray above the surface can only enter through a front face,
+      // and a ray leaving the surface from a point on it never re-hits its own triangle, so no origin offset
+      // is needed (an offset lets rays from the foot of a steep slope leak through it).
+      const Vec3f n1 = cross(B - A, C - A), n2 = cross(C - A, D - A);
+      const float ta = dot(d, n1) < 0 ? tri_hit(o, d, A, B, C) : inf;
+      const float tb = dot(d, n2) < 0 ? tri_hit(o, d, A, C, D) : inf;
       const float eps = 1e-4f * (tnext - tcell + 1e-3f);
       float best = inf;
       Vec3f n;
-      if (ta > tmin && ta >= tcell - eps && ta <= tnext + eps && ta < best)
-        best = ta, n = cross(B - A, C - A);
-      if (tb > tmin && tb >= tcell - eps && tb <= tnext + eps && tb < best)
-        best = tb, n = cross(C - A, D - A);
+      if (ta >= tmin && ta >= tcell - eps && ta <= tnext + eps && ta < best) best = ta, n = n1;
+      if (tb >= tmin && tb >= tcell - eps && tb <= tnext + eps && tb < best) best = tb, n = n2;
       if (best < inf && best < tmax) {
         *t_hit = best;
         if (ng) *ng = normalize(n);

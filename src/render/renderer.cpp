@@ -64,9 +64,10 @@ Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec
   const float nv = std::max(dot(n, wo), 1e-4f);
   const Vec3f h = normalize(wi + wo, n);
   const float vh = saturate(dot(wo, h));
-  const Rgbf f0 = lerp(sp.metallic, Rgbf(0.04f), sp.base_color);
+  const Rgbf f0 = lerp(sp.metallic, Rgbf(0.04f * sp.specular), sp.base_color);
   const float fw = std::pow(1.0f - vh, 5.0f);
-  const Rgbf F = f0 + (Rgbf(1.0f) - f0) * fw;
+  const Rgbf F =
+      f0 + (Rgbf(1.0f) - f0) * (fw * std::min(1.0f, sp.specular));  // specular 0: no Fresnel at all
   Rgbf out(0.0f);
   if (specular) {
     const Framef fr = Framef::from_z(n);
@@ -298,6 +299,7 @@ struct Renderer::Impl {
     sp.base_color = m.base_color.sample_rgb(u, v);
     sp.roughness = saturate(m.roughness.sample(u, v));
     sp.metallic = saturate(m.metallic.sample(u, v));
+    sp.specular = m.specular;
     sp.n_geometric = h.ng;
     sp.n_smooth = h.ns;
     sp.n_shading = h.ns;

@@ -107,7 +107,7 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
   const std::string w = "materials." + name;
   c.keys(j, w,
          {"base_color", "normal", "roughness", "metallic", "micro_occlusion", "height", "height_texels",
-          "uv_scale", "normal_strength"});
+          "uv_scale", "normal_strength", "specular"});
   Material m;
   m.name = name;
   m.base_color = j.contains("base_color") ? texture_slot(c, j["base_color"], w + ".base_color", 3, true)
@@ -123,6 +123,7 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
   if (j.contains("height")) m.height = texture_slot(c, j["height"], w + ".height", 1, false);
   if (j.contains("height_texels")) m.height_texels = c.num(j["height_texels"], w + ".height_texels", 0, 1e4);
   if (j.contains("uv_scale")) m.uv_scale = c.num(j["uv_scale"], w + ".uv_scale", 1e-3, 1e4);
+  if (j.contains("specular")) m.specular = c.num(j["specular"], w + ".specular", 0, 25);
   if (j.contains("normal_strength"))
     m.normal_strength = c.num(j["normal_strength"], w + ".normal_strength", 0, 100);
   return m;

@@ -24,9 +24,9 @@ class HeightField {
   Vec3f smooth_normal(float x, float y) const;
   Vec3f vertex_normal(int i, int j) const;
 
-  // First intersection of o + t·d with the surface for t ∈ (tmin, tmax), restricted to x ∈ [lo.x, hi.x],
-  // y ∈ [lo.y, hi.y] (the plane's extent in grid space). Grid-space ray (need not be unit length). On a hit
-  // stores t and the geometric (triangle) normal.
+  // First front-face (upward-facing) intersection of o + t·d with the surface for t ∈ [tmin, tmax),
+  // restricted to x ∈ [lo.x, hi.x], y ∈ [lo.y, hi.y] (the plane's extent in grid space). Grid-space ray (need
+  // not be unit length). On a hit stores t and the geometric (triangle) normal.
   bool intersect(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Vec2f lo, Vec2f hi, float* t_hit,
                  Vec3f* ng) const;
 

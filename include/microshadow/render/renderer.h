@@ -24,11 +24,12 @@ struct ShadePoint {
   Vec3f n_smooth;   // interpolated (unbumped) normal
   Vec3f n_geometric;
   Rgbf base_color;
-  float roughness = 0.5f, metallic = 0.0f, visibility = 1.0f;
+  float roughness = 0.5f, metallic = 0.0f, visibility = 1.0f, specular = 1.0f;
 };
 
 // GGX (height-correlated Smith G2, 9.31 + 9.41) + Lambert BRDF times cosine, with Schlick Fresnel
-// F0 = lerp(metallic, 0.04, base colour); diffuse weighted by (1 − F)(1 − metallic). wo, wi, n unit vectors.
+// F0 = lerp(metallic, 0.04·specular, base colour); diffuse weighted by (1 − F)(1 − metallic). wo, wi, n unit
+// vectors.
 Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec_scale = 1.0f,
               bool diffuse = true, bool specular = true);
 

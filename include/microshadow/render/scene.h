@@ -53,6 +53,7 @@ struct Material {
   Texture height;      // [0,1]; empty = no displacement
   float height_texels = 0.0f;    // depth of the full height range in texel units (ground truth only)
   float uv_scale = 1.0f;         // texture repeats per unit of the object's uv
+  float specular = 1.0f;         // dielectric F0 = 0.04 · specular (0 = pure Lambert, for closed-form tests)
   float normal_strength = 1.0f;  // scales the tangent-space x, y of the normal map (bump-terminator figures)
 };
 
@@ -136,7 +137,7 @@ struct Settings {
   float exposure = 0.0f;
   Rgbf background{0, 0, 0};
   Rgbf ambient{0, 0, 0};  // constant ambient radiance times base colour (unshadowed; 0 in comparisons)
-  std::string lut_path;   // micro-shadowing LUT file for lut3d / lut2d (empty: the LUT module's default table)
+  std::string lut_path;  // micro-shadowing LUT file for lut3d / lut2d (empty: the LUT module's default table)
   uint32_t seed = 1;
 };
 

@@ -1,0 +1,326 @@
+// Renderer tests: closed-form golden images (analytic sphere and plane under a directional light, Lambert),
+// sphere-light irradiance, the height-field ray caster and micro-occlusion bake against geometry with a known
+// answer, tangent frames, scene/OBJ parsing errors, image metrics, and determinism across thread counts.
+#include <gtest/gtest.h>
+#include <microshadow/io/error.h>
+#include <microshadow/render/heightfield.h>
+#include <microshadow/render/image.h>
+#include <microshadow/render/renderer.h>
+#include <microshadow/render/scene.h>
+#include <microshadow/render/texture_gen.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace msh;
+using namespace msh::render;
+
+namespace {
+
+// Pure Lambert (specular 0), albedo 0.5, one directional light from elevation 35°, azimuth 20°.
+const char* kLambertSphere = R"({
+  "camera": {"eye": [0, -4, 1], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 40},
+  "materials": {"m": {"base_color": 0.5, "roughness": 0.7, "specular": 0}},
+  "objects": [{"type": "sphere", "material": "m", "center": [0, 0, 0], "radius": 1}],
+  "lights": [{"type": "directional", "elevation_deg": 35, "azimuth_deg": 20, "intensity": 2}],
+  "settings": {"width": 48, "height": 40, "spp": 1, "background": 0.25}
+})";
+
+struct Ray {
+  Vec3d o, d;
+};
+// The camera model of docs/renderer.md, in double: pixel centre (x + 0.5, y + 0.5) for spp = 1.
+Ray camera_ray(const Scene& s, int x, int y) {
+  const Vec3d eye(s.camera.eye), f = normalize(Vec3d(s.camera.target) - eye);
+  const Vec3d r = normalize(cross(f, Vec3d(s.camera.up))), up = cross(r, f);
+  const double th = std::tan(0.5 * s.camera.fov_deg * kPi<double> / 180);
+  const double aspect = double(s.settings.width) / s.settings.height;
+  const double px = (2 * (x + 0.5) / s.settings.width - 1) * th * aspect,
+               py = (1 - 2 * (y + 0.5) / s.settings.height) * th;
+  return {eye, normalize(f + r * px + up * py)};
+}
+
+}  // namespace
+
+// Golden image from an independent path: for each pixel, the ray–sphere hit in double and ρ/π · E · max(0,
+// n·l). Tolerance: 2e-4 relative (float renderer vs double closed form); pixels whose ray grazes the
+// silhouette
+// (|discriminant| < 1e-3) are skipped, since float and double may disagree on hit/miss there.
+TEST(RenderGolden, LambertSphereMatchesClosedForm) {
+  const Scene s = parse_scene(kLambertSphere, "inline.json", ".");
+  const Renderer r(s);
+  const Vec3d l = Vec3d(direction_from_angles(35, 20));
+  int checked_hit = 0, checked_miss = 0;
+  for (int y = 0; y < s.settings.height; ++y)
+    for (int x = 0; x < s.settings.width; ++x) {
+      const Ray ray = camera_ray(s, x, y);
+      const double b = dot(ray.o, ray.d), c = dot(ray.o, ray.o) - 1, disc = b * b - c;
+      if (std::abs(disc) < 1e-3) continue;
+      const Rgbf got = r.render_pixel(x, y);
+      double expect = 0.25;
+      if (disc > 0) {
+        const Vec3d n = normalize(ray.o + ray.d * (-b - std::sqrt(disc)));
+        expect = 0.5 / kPi<double> * 2.0 * std::max(0.0, dot(n, l));
+        ++checked_hit;
+      } else {
+        ++checked_miss;
+      }
+      EXPECT_NEAR(got.r, expect, 2e-4 * std::max(expect, 0.01) + 1e-6) << x << "," << y;
+      EXPECT_EQ(got.r, got.g);
+    }
+  EXPECT_GT(checked_hit, 300);
+  EXPECT_GT(checked_miss, 300);
+}
+
+// Plane with constant visibility V: every method's term is a closed form of (V, N·L) (REFERENCE.md §2),
+// written here independently of the micro-shadowing module.
+TEST(RenderGolden, PlaneMicroShadowingTermsMatchClosedForms) {
+  const double V = 0.6, el = 30, nl = std::sin(el * kPi<double> / 180);
+  const double base = 0.5 / kPi<double> * 2.0 * nl;
+  const double cos_t = std::sqrt(1 - V);
+  const std::vector<std::pair<std::string, double>> cases = {
+      {"none", 1.0},
+      {"ao", V},
+      {"reference", nl > cos_t ? 1.0 : 0.0},
+      {"brinck-maximov-2016", std::clamp(nl + 2 * V * V - 1, 0.0, 1.0)},
+      {"chan-2018", std::pow(std::clamp(nl / cos_t, 0.0, 1.0), 2.0)},
+      {"part1", std::pow(std::clamp(nl / std::sqrt(1 - std::pow(V, 5)), 0.0, 1.0), 0.75 / V)}};
+  for (const auto& [method, term] : cases) {
+    const std::string json = R"({
+      "camera": {"eye": [0, -2, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+      "materials": {"m": {"base_color": 0.5, "specular": 0, "micro_occlusion": 0.6}},
+      "objects": [{"type": "plane", "material": "m", "size": [20, 20]}],
+      "lights": [{"type": "directional", "elevation_deg": 30, "intensity": 2}],
+      "settings": {"width": 8, "height": 8, "spp": 2, "micro_shadowing": ")" +
+                             method + R"("}})";
+    const Scene s = parse_scene(json, "inline.json", ".");
+    const Image img = Renderer(s).render();
+    for (const Rgbf& p : img.px) EXPECT_NEAR(p.r, base * term, 1e-5 + 1e-4 * base) << method;
+  }
+}
+
+// A sphere light of intensity I at distance d, seen by a Lambert plane facing its centre: irradiance is
+// π L sin²α = I/d² exactly (uniform sphere fully above the horizon), for area sampling and the representative
+// point alike.
+TEST(RenderLights, SphereLightIrradianceClosedForm) {
+  for (const bool area : {false, true}) {
+    const std::string json = std::string(R"({
+      "camera": {"eye": [0, -3, 0.5], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 1},
+      "materials": {"m": {"base_color": 0.5, "specular": 0}},
+      "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+      "lights": [{"type": "sphere", "position": [0, 0, 2], "radius": 0.8, "intensity": 8}],
+      "settings": {"width": 1, "height": 1, "spp": 1, "area_samples": 256, "area_lights": )") +
+                             (area ? "true" : "false") + "}}";
+    // Look at the origin from the side (the light is not visible to camera rays).
+    Scene s = parse_scene(json, "inline.json", ".");
+    s.camera.eye = {0.0f, -3.0f, 0.5f};
+    s.camera.up = {0, 0, 1};
+    const Renderer r(s);
+    const Rgbf got = r.render_pixel(0, 0);
+    // The pixel ray hits the plane near the origin; the exact formula at that point: I/d² · cos... evaluate
+    // it.
+    const Vec3d eye(s.camera.eye), d = normalize(Vec3d(s.camera.target) - eye);
+    const Vec3d p = eye + d * (-eye.z / d.z);
+    const Vec3d c(0, 0, 2);
+    const double dist = length(c - p), cosn = (c - p).z / dist;
+    // Uniform sphere of radiance L = I/(πr²) fully above the horizon: E = I cosθ / d² (cosθ at the centre).
+    const double expect = 0.5 / kPi<double> * 8.0 * cosn / (dist * dist);
+    EXPECT_NEAR(got.r, expect, (area ? 0.01 : 1e-4) * expect) << (area ? "area" : "representative");
+  }
+}
+
+// Height-field ray casting against a tilted plane (a ramp) with a known intersection.
+TEST(HeightField, RampIntersectionIsExact) {
+  Texture h(16, 16, 1);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) h.at(i, j, 0) = 0.5f;  // flat at z = (0.5 − 1)·4 = −2
+  const HeightField hf(h, 4.0f);
+  float t;
+  Vec3f ng;
+  const Vec3f o(3.3f, 4.7f, 5.0f), d = normalize(Vec3f(0.3f, -0.2f, -1.0f));
+  ASSERT_TRUE(hf.intersect(o, d, 0, 1e9f, {-100, -100}, {100, 100}, &t, &ng));
+  EXPECT_NEAR(o.z + t * d.z, -2.0f, 1e-4f);
+  EXPECT_NEAR(ng.z, 1.0f, 1e-6f);
+  // Upward rays and rays outside the extent miss.
+  EXPECT_FALSE(hf.intersect(o, Vec3f(0, 0, 1), 0, 1e9f, {-100, -100}, {100, 100}, &t, &ng));
+  EXPECT_FALSE(hf.intersect(o, d, 0, 1e9f, {10, 10}, {20, 20}, &t, &ng));
+}
+
+// Micro-occlusion bake: a flat field is fully visible; at the foot of a (practically) infinite wall, half of
+// the cosine-weighted hemisphere is blocked, V → 1/2 (the wall occupies the half-space x > 0; rays reach at
+// most 8 texels, so the far wall of the wrapped stripe, 31 texels away, is out of reach).
+TEST(TextureGen, BakeMatchesKnownVisibility) {
+  Texture flat(32, 8, 1);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 32; ++i) flat.at(i, j, 0) = 0.7f;
+  const Texture v0 = bake_visibility(flat, 5.0f, 64, 8.0f);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 32; ++i) EXPECT_EQ(v0.at(i, j, 0), 1.0f);
+  Texture wall(64, 8, 1);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 64; ++i) wall.at(i, j, 0) = i >= 32 ? 1.0f : 0.0f;
+  const Texture v = bake_visibility(wall, 1000.0f, 4096, 8.0f);
+  // Near-vertical rays with sin θ < 1/8 can clear the 1-texel ramp: at most sin²θ = 1/64 more visibility.
+  EXPECT_NEAR(v.at(31, 3, 0), 0.5f + 0.5f / 64, 0.02f);
+}
+
+TEST(TextureGen, DeterministicAndThreadIndependent) {
+  GenOptions o;
+  o.size = 32;
+  o.ao_rays = 16;
+  TextureSet a, b;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    a = generate_texture_set(o);
+  }
+  b = generate_texture_set(o);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i) {
+      EXPECT_EQ(a.height.at(i, j, 0), b.height.at(i, j, 0));
+      EXPECT_EQ(a.visibility.at(i, j, 0), b.visibility.at(i, j, 0));
+    }
+  o.kind = "wood";
+  EXPECT_THROW(generate_texture_set(o), InputError);
+}
+
+// The ground truth of a flat height field equals the flat plane without micro-shadowing.
+TEST(RenderGroundTruth, FlatHeightFieldEqualsFlatPlane) {
+  const auto dir = std::filesystem::temp_directory_path() / "msh_test_render_flat";
+  std::filesystem::create_directories(dir);
+  TextureSet set;
+  set.height = Texture(16, 16, 1);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) set.height.at(i, j, 0) = 1.0f;
+  set.normal = normal_map_from_height(set.height, 4);
+  set.roughness = set.metallic = set.visibility = set.height;
+  set.base_color = Texture::constant({0.5f, 0.5f, 0.5f, 1}, 3);
+  set.depth_texels = 4;
+  write_texture_set(dir, set);
+  const std::string json = R"({
+    "camera": {"eye": [0, -1.5, 1.5], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+    "materials": {"m": {"base_color": 0.5, "normal": "normal.png", "roughness": 0.6, "height": "height.png",
+                        "height_texels": 4}},
+    "objects": [{"type": "plane", "material": "m", "size": [2, 2]}],
+    "lights": [{"type": "directional", "elevation_deg": 30, "intensity": 2}],
+    "settings": {"width": 16, "height": 16, "spp": 1}})";
+  Scene s = parse_scene(json, "inline.json", dir);
+  const Image flat = Renderer(s).render();
+  s.settings.micro_shadowing = MicroShadowing::GroundTruth;
+  const Image gt = Renderer(s).render();
+  EXPECT_LT(rmse(flat, gt), 1e-4);
+  std::filesystem::remove_all(dir);
+}
+
+// MikkTSpace convention on the UV sphere: tangent along ∂P/∂u (east), bitangent sign makes w·(n × t) point
+// along ∂P/∂v (south, v grows from the north pole).
+TEST(Mesh, UvSphereTangentsFollowConvention) {
+  const Mesh m = make_uv_sphere(1.0f, 16, 8);
+  for (std::size_t i = 0; i < m.p.size(); ++i) {
+    const Vec3f n = m.n[i];
+    const float s = std::sqrt(n.x * n.x + n.y * n.y);
+    if (s < 0.2f) continue;  // poles: ∂P/∂u vanishes
+    const Vec3f east(-n.y / s, n.x / s, 0), t(m.tangent[i][0], m.tangent[i][1], m.tangent[i][2]);
+    EXPECT_GT(dot(t, east), 0.97f) << i;
+    const Vec3f b = cross(n, t) * m.tangent[i][3];
+    EXPECT_LT(b.z, 0.0f) << i;  // south
+  }
+}
+
+TEST(Mesh, ObjLoaderAndErrors) {
+  const auto dir = std::filesystem::temp_directory_path() / "msh_test_render_obj";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                       "f 1/1 2/2 3/3 4/4\n";
+    std::ofstream(dir / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
+    std::ofstream(dir / "junk.obj") << "v 0 zero 0\n";
+  }
+  const Mesh m = load_obj(dir / "quad.obj");
+  EXPECT_EQ(m.tri.size(), 2u);
+  for (const auto& n : m.n) EXPECT_NEAR(n.z, 1.0f, 1e-6f);
+  for (const auto& t : m.tangent) EXPECT_NEAR(t[0], 1.0f, 1e-5f);
+  for (const char* f : {"bad.obj", "junk.obj", "missing.obj"}) {
+    try {
+      load_obj(dir / f);
+      ADD_FAILURE() << f;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SceneJson, StrictErrorsNameFileAndKey) {
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [], "bogus": 1})",
+       "bogus"},
+      {R"({"materials": {"m": {"roughnes": 0.5}}, "objects": [{"type": "sphere", "material": "m"}], "lights": []})",
+       "roughnes"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "torus", "material": "m"}], "lights": []})", "torus"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "x"}], "lights": []})", "'x'"},
+      {R"({"materials": {"m": {"base_color": "nope.png"}}, "objects": [{"type": "sphere", "material": "m"}],
+          "lights": []})",
+       "nope.png"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"micro_shadowing": "magic"}})",
+       "magic"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"width": 100000}})",
+       "width"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m", "radius": -1}], "lights": []})",
+       "radius"},
+      {R"({"materials": {"m": {}}, "objects": [)", "malformed JSON"}};
+  for (const auto& [json, word] : bad) {
+    try {
+      parse_scene(json, "scene_under_test.json", ".");
+      ADD_FAILURE() << "accepted: " << json;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("scene_under_test.json"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(word), std::string::npos) << msg;
+    }
+  }
+}
+
+TEST(ImageMetrics, RmseAndSsim) {
+  Image a(32, 32), b(32, 32);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x)
+      a.at(x, y) = Rgbf(float((x * 7 + y * 3) % 11) / 11.0f), b.at(x, y) = a.at(x, y) + Rgbf(0.1f);
+  EXPECT_NEAR(rmse(a, b), 0.1, 1e-6);
+  EXPECT_NEAR(ssim(a, a, 0), 1.0, 1e-12);
+  EXPECT_LT(ssim(a, Image(32, 32), 0), 0.5);
+  EXPECT_NEAR(srgb_decode(srgb_encode(0.3f)), 0.3f, 1e-6f);
+}
+
+// Every pixel has its own random streams: the image is bit-identical with 1 and 2 threads.
+TEST(RenderDeterminism, SameImageWhateverTheThreadCount) {
+  const std::string json = R"({
+    "camera": {"eye": [0, -6, 3], "target": [0, 0, 0.5], "up": [0, 0, 1], "fov_deg": 40},
+    "materials": {"a": {"base_color": [0.7, 0.3, 0.2], "roughness": 0.3, "micro_occlusion": 0.7},
+                  "b": {"base_color": 0.5, "roughness": 0.8}},
+    "objects": [{"type": "uv-sphere", "material": "a", "center": [-1, 0, 1], "radius": 1},
+                {"type": "cylinder", "material": "a", "center": [1.5, 0, 0.5], "radius": 0.5, "height": 1},
+                {"type": "plane", "material": "b", "size": [10, 10]}],
+    "lights": [{"type": "sphere", "position": [2, -2, 3], "radius": 0.5, "intensity": 10},
+               {"type": "directional", "elevation_deg": 40, "intensity": 1}],
+    "settings": {"width": 40, "height": 30, "spp": 3, "micro_shadowing": "generic-vndf", "vndf_samples": 8,
+                 "area_lights": true, "area_samples": 4, "hanika_offset": true}})";
+  const Scene s = parse_scene(json, "inline.json", ".");
+  Image one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = Renderer(s).render();
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = Renderer(s).render();
+  }
+  ASSERT_EQ(one.px.size(), two.px.size());
+  for (std::size_t i = 0; i < one.px.size(); ++i) ASSERT_TRUE(one.px[i] == two.px[i]) << i;
+  double sum = 0;
+  for (const Rgbf& p : one.px) sum += p.r;
+  EXPECT_GT(sum, 1.0);  // the scene is lit
+}
