@@ -98,20 +98,28 @@ struct Context::Impl {
   VkQueue queue = VK_NULL_HANDLE;
   uint32_t family = 0;
   VkPhysicalDeviceMemoryProperties mem{};
+  VkFormatFeatureFlags rgba32f_optimal_features = 0;
   std::mutex mutex;
 
 #define MSH_VK_DEVICE_FNS(X)                                                                                \
   X(GetDeviceQueue)                                                                                         \
   X(CreateBuffer)                                                                                           \
-  X(DestroyBuffer) X(GetBufferMemoryRequirements) X(AllocateMemory) X(FreeMemory) X(BindBufferMemory)       \
-      X(MapMemory) X(UnmapMemory) X(CreateShaderModule) X(DestroyShaderModule) X(CreateDescriptorSetLayout) \
+  X(DestroyBuffer)                                                                                          \
+  X(GetBufferMemoryRequirements) X(AllocateMemory) X(FreeMemory) X(BindBufferMemory) X(MapMemory)           \
+      X(UnmapMemory) X(CreateShaderModule) X(DestroyShaderModule) X(CreateDescriptorSetLayout)              \
           X(DestroyDescriptorSetLayout) X(CreatePipelineLayout) X(DestroyPipelineLayout)                    \
               X(CreateComputePipelines) X(DestroyPipeline) X(CreateDescriptorPool) X(DestroyDescriptorPool) \
                   X(AllocateDescriptorSets) X(UpdateDescriptorSets) X(CreateCommandPool)                    \
                       X(DestroyCommandPool) X(AllocateCommandBuffers) X(BeginCommandBuffer)                 \
                           X(EndCommandBuffer) X(CmdBindPipeline) X(CmdBindDescriptorSets)                   \
                               X(CmdPushConstants) X(CmdDispatch) X(CmdPipelineBarrier) X(QueueSubmit)       \
-                                  X(QueueWaitIdle) X(DestroyDevice)
+                                  X(QueueWaitIdle) X(DestroyDevice) MSH_VK_IMAGE_FNS(X)
+// Added for sampled-image tests (run() with images).
+#define MSH_VK_IMAGE_FNS(X)                                                                                \
+  X(CreateImage)                                                                                           \
+  X(DestroyImage)                                                                                          \
+  X(GetImageMemoryRequirements) X(BindImageMemory) X(CreateImageView) X(DestroyImageView) X(CreateSampler) \
+      X(DestroySampler) X(CmdCopyBufferToImage)
 #define MSH_VK_DECLARE(name) PFN_vk##name name = nullptr;
   MSH_VK_DEVICE_FNS(MSH_VK_DECLARE)
 #undef MSH_VK_DECLARE
@@ -148,6 +156,7 @@ T make(VkStructureType type) {
   MSH_VK_INSTANCE_FN(GetPhysicalDeviceQueueFamilyProperties)
   MSH_VK_INSTANCE_FN(GetPhysicalDeviceMemoryProperties)
   MSH_VK_INSTANCE_FN(CreateDevice)
+  MSH_VK_INSTANCE_FN(GetPhysicalDeviceFormatProperties)
 #undef MSH_VK_INSTANCE_FN
   v.GetDeviceProcAddr =
       reinterpret_cast<PFN_vkGetDeviceProcAddr>(v.GetInstanceProcAddr(v.instance, "vkGetDeviceProcAddr"));
@@ -175,6 +184,11 @@ T make(VkStructureType type) {
   GetPhysicalDeviceProperties(v.phys, &props);
   *name = props.deviceName;
   GetPhysicalDeviceMemoryProperties(v.phys, &v.mem);
+  if (GetPhysicalDeviceFormatProperties) {
+    VkFormatProperties fp{};
+    GetPhysicalDeviceFormatProperties(v.phys, VK_FORMAT_R32G32B32A32_SFLOAT, &fp);
+    v.rgba32f_optimal_features = fp.optimalTilingFeatures;
+  }
   const float prio = 1.0f;
   auto qci = make<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
   qci.queueFamilyIndex = v.family;
@@ -202,6 +216,15 @@ int host_memory_type(const Context::Impl& v, uint32_t bits) {
   return -1;
 }
 
+int any_memory_type(const Context::Impl& v, uint32_t bits) {
+  for (uint32_t i = 0; i < v.mem.memoryTypeCount; ++i)
+    if ((bits & (1u << i)) && (v.mem.memoryTypes[i].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT))
+      return int(i);
+  for (uint32_t i = 0; i < v.mem.memoryTypeCount; ++i)
+    if (bits & (1u << i)) return int(i);
+  return -1;
+}
+
 }  // namespace
 
 Context* Context::get(std::string* why) {
@@ -223,6 +246,12 @@ Context* Context::get(std::string* why) {
 
 bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vector<std::byte>*>& buffers,
                   const void* push, uint32_t push_size, uint32_t groups_x, std::string* why) {
+  return run(spirv, buffers, {}, push, push_size, groups_x, why);
+}
+
+bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vector<std::byte>*>& buffers,
+                  const std::vector<Image>& images, const void* push, uint32_t push_size, uint32_t groups_x,
+                  std::string* why) {
   Impl& v = *impl_;
   std::lock_guard<std::mutex> lock(v.mutex);
   const VkDevice dev = v.device;
@@ -235,6 +264,12 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
   VkPipeline pipeline = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkCommandPool cpool = VK_NULL_HANDLE;
+  const uint32_t ni = uint32_t(images.size());
+  std::vector<VkImage> imgs(ni, VK_NULL_HANDLE);
+  std::vector<VkImageView> views(ni, VK_NULL_HANDLE);
+  std::vector<VkDeviceMemory> img_mems(ni, VK_NULL_HANDLE), staging_mems(ni, VK_NULL_HANDLE);
+  std::vector<VkBuffer> staging(ni, VK_NULL_HANDLE);
+  VkSampler sampler = VK_NULL_HANDLE;
   bool ok = false;
   auto fail = [&](const char* what) {
     *why = what;
@@ -264,21 +299,91 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
       if (!buffers[i]->empty()) std::memcpy(p, buffers[i]->data(), buffers[i]->size());
       v.UnmapMemory(dev, mems[i]);
     }
+    if (ni) {
+      const VkFormatFeatureFlags need =
+          VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+      if ((v.rgba32f_optimal_features & need) != need)
+        return fail("device cannot linearly filter VK_FORMAT_R32G32B32A32_SFLOAT images");
+      auto sci = make<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
+      sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
+      sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+      sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+      sci.maxLod = 0.0f;
+      if (v.CreateSampler(dev, &sci, nullptr, &sampler) != VK_SUCCESS) return fail("vkCreateSampler failed");
+    }
+    for (uint32_t i = 0; i < ni; ++i) {
+      const Image& im = images[i];
+      const bool is3d = im.depth > 0;
+      const uint32_t d = is3d ? im.depth : 1;
+      const size_t bytes = size_t(im.width) * im.height * d * 16;
+      if (!im.texels || bytes == 0) return fail("empty image");
+      auto ici = make<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
+      ici.imageType = is3d ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
+      ici.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+      ici.extent = {im.width, im.height, d};
+      ici.mipLevels = 1;
+      ici.arrayLayers = 1;
+      ici.samples = VK_SAMPLE_COUNT_1_BIT;
+      ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+      ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+      ici.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+      ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+      if (v.CreateImage(dev, &ici, nullptr, &imgs[i]) != VK_SUCCESS) return fail("vkCreateImage failed");
+      VkMemoryRequirements req{};
+      v.GetImageMemoryRequirements(dev, imgs[i], &req);
+      const int type = any_memory_type(v, req.memoryTypeBits);
+      if (type < 0) return fail("no memory type for the image");
+      auto mai = make<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+      mai.allocationSize = req.size;
+      mai.memoryTypeIndex = uint32_t(type);
+      if (v.AllocateMemory(dev, &mai, nullptr, &img_mems[i]) != VK_SUCCESS)
+        return fail("vkAllocateMemory failed (image)");
+      if (v.BindImageMemory(dev, imgs[i], img_mems[i], 0) != VK_SUCCESS)
+        return fail("vkBindImageMemory failed");
+      auto ivci = make<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
+      ivci.image = imgs[i];
+      ivci.viewType = is3d ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
+      ivci.format = ici.format;
+      ivci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      if (v.CreateImageView(dev, &ivci, nullptr, &views[i]) != VK_SUCCESS)
+        return fail("vkCreateImageView failed");
+      auto bci = make<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+      bci.size = bytes;
+      bci.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+      bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+      if (v.CreateBuffer(dev, &bci, nullptr, &staging[i]) != VK_SUCCESS)
+        return fail("vkCreateBuffer failed (staging)");
+      v.GetBufferMemoryRequirements(dev, staging[i], &req);
+      const int htype = host_memory_type(v, req.memoryTypeBits);
+      if (htype < 0) return fail("no host-visible coherent memory type");
+      mai.allocationSize = req.size;
+      mai.memoryTypeIndex = uint32_t(htype);
+      if (v.AllocateMemory(dev, &mai, nullptr, &staging_mems[i]) != VK_SUCCESS)
+        return fail("vkAllocateMemory failed (staging)");
+      if (v.BindBufferMemory(dev, staging[i], staging_mems[i], 0) != VK_SUCCESS)
+        return fail("vkBindBufferMemory failed (staging)");
+      void* p = nullptr;
+      if (v.MapMemory(dev, staging_mems[i], 0, VK_WHOLE_SIZE, 0, &p) != VK_SUCCESS)
+        return fail("vkMapMemory failed");
+      std::memcpy(p, im.texels, bytes);
+      v.UnmapMemory(dev, staging_mems[i]);
+    }
     auto smci = make<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
     smci.codeSize = spirv.size() * 4;
     smci.pCode = spirv.data();
     if (v.CreateShaderModule(dev, &smci, nullptr, &module) != VK_SUCCESS)
       return fail("vkCreateShaderModule failed");
-    std::vector<VkDescriptorSetLayoutBinding> binds(nb);
-    for (uint32_t i = 0; i < nb; ++i) {
+    std::vector<VkDescriptorSetLayoutBinding> binds(nb + ni);
+    for (uint32_t i = 0; i < nb + ni; ++i) {
       binds[i] = {};
       binds[i].binding = i;
-      binds[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      binds[i].descriptorType =
+          i < nb ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
       binds[i].descriptorCount = 1;
       binds[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
     auto dlci = make<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-    dlci.bindingCount = nb;
+    dlci.bindingCount = nb + ni;
     dlci.pBindings = binds.data();
     if (v.CreateDescriptorSetLayout(dev, &dlci, nullptr, &dsl) != VK_SUCCESS)
       return fail("vkCreateDescriptorSetLayout failed");
@@ -298,11 +403,12 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
     cpci.layout = layout;
     if (v.CreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline) != VK_SUCCESS)
       return fail("vkCreateComputePipelines failed");
-    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(nb, 1u)};
+    const VkDescriptorPoolSize ps[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(nb, 1u)},
+                                        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::max(ni, 1u)}};
     auto dpci = make<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
     dpci.maxSets = 1;
-    dpci.poolSizeCount = 1;
-    dpci.pPoolSizes = &ps;
+    dpci.poolSizeCount = ni ? 2 : 1;
+    dpci.pPoolSizes = ps;
     if (v.CreateDescriptorPool(dev, &dpci, nullptr, &pool) != VK_SUCCESS)
       return fail("vkCreateDescriptorPool failed");
     auto dsai = make<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
@@ -323,7 +429,18 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
       writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       writes[i].pBufferInfo = &infos[i];
     }
-    v.UpdateDescriptorSets(dev, nb, writes.data(), 0, nullptr);
+    std::vector<VkDescriptorImageInfo> img_infos(ni);
+    for (uint32_t i = 0; i < ni; ++i) {
+      img_infos[i] = {sampler, views[i], VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      auto w = make<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+      w.dstSet = set;
+      w.dstBinding = nb + i;
+      w.descriptorCount = 1;
+      w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      w.pImageInfo = &img_infos[i];
+      writes.push_back(w);
+    }
+    v.UpdateDescriptorSets(dev, uint32_t(writes.size()), writes.data(), 0, nullptr);
     auto cpi = make<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
     cpi.queueFamilyIndex = v.family;
     if (v.CreateCommandPool(dev, &cpi, nullptr, &cpool) != VK_SUCCESS)
@@ -338,6 +455,28 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
     auto bi = make<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     v.BeginCommandBuffer(cb, &bi);
+    for (uint32_t i = 0; i < ni; ++i) {
+      const Image& im = images[i];
+      auto ib = make<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+      ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      ib.image = imgs[i];
+      ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+      ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+      ib.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+      v.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                           nullptr, 0, nullptr, 1, &ib);
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = {im.width, im.height, im.depth > 0 ? im.depth : 1};
+      v.CmdCopyBufferToImage(cb, staging[i], imgs[i], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+      ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+      ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+      ib.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+      ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+      v.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                           nullptr, 0, nullptr, 1, &ib);
+    }
     v.CmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     v.CmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
     if (push_size) v.CmdPushConstants(cb, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
@@ -369,6 +508,14 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
   if (layout) v.DestroyPipelineLayout(dev, layout, nullptr);
   if (dsl) v.DestroyDescriptorSetLayout(dev, dsl, nullptr);
   if (module) v.DestroyShaderModule(dev, module, nullptr);
+  for (uint32_t i = 0; i < ni; ++i) {
+    if (views[i]) v.DestroyImageView(dev, views[i], nullptr);
+    if (imgs[i]) v.DestroyImage(dev, imgs[i], nullptr);
+    if (img_mems[i]) v.FreeMemory(dev, img_mems[i], nullptr);
+    if (staging[i]) v.DestroyBuffer(dev, staging[i], nullptr);
+    if (staging_mems[i]) v.FreeMemory(dev, staging_mems[i], nullptr);
+  }
+  if (sampler) v.DestroySampler(dev, sampler, nullptr);
   for (uint32_t i = 0; i < nb; ++i) {
     if (bufs[i]) v.DestroyBuffer(dev, bufs[i], nullptr);
     if (mems[i]) v.FreeMemory(dev, mems[i], nullptr);
@@ -385,6 +532,11 @@ Context* Context::get(std::string* why) {
 }
 bool Context::run(const std::vector<uint32_t>&, const std::vector<std::vector<std::byte>*>&, const void*,
                   uint32_t, uint32_t, std::string* why) {
+  *why = "built without Vulkan headers";
+  return false;
+}
+bool Context::run(const std::vector<uint32_t>&, const std::vector<std::vector<std::byte>*>&,
+                  const std::vector<Image>&, const void*, uint32_t, uint32_t, std::string* why) {
   *why = "built without Vulkan headers";
   return false;
 }

@@ -43,6 +43,20 @@ class Context {
   bool run(const std::vector<uint32_t>& spirv, const std::vector<std::vector<std::byte>*>& buffers,
            const void* push, uint32_t push_size, uint32_t groups_x, std::string* why);
 
+  // A read-only RGBA32F texture, bound as a combined image sampler with linear filtering (min/mag), no
+  // mipmaps, clamp-to-edge addressing and normalized coordinates. depth = 0: a 2D image; depth ≥ 1: a 3D
+  // image. texels: width·height·max(depth,1)·4 floats, x fastest, then y, then z.
+  struct Image {
+    uint32_t width = 0, height = 0, depth = 0;
+    const float* texels = nullptr;
+  };
+  // As run() above, plus `images` at bindings buffers.size() .. buffers.size() + images.size() − 1 (GLSL
+  // sampler2D / sampler3D; HLSL Texture2D/3D and a SamplerState sharing the binding via [[vk::binding(k)]]).
+  // Fails with a reason if the device cannot linearly filter RGBA32F.
+  bool run(const std::vector<uint32_t>& spirv, const std::vector<std::vector<std::byte>*>& buffers,
+           const std::vector<Image>& images, const void* push, uint32_t push_size, uint32_t groups_x,
+           std::string* why);
+
   struct Impl;
 
  private:
