@@ -30,7 +30,7 @@ struct BakeLutOptions {
                            symbol = "micro_shadowing_lut";
   int size = 64, size_vis = 0, size_nl = 0, size_nv = 0;
   bool two_d = false, azimuth = false, quiet = false;
-  int harmonics = 0, samples = 8192, phi_nodes = 16, threads = 0;
+  int harmonics = 0, samples = 16384, phi_nodes = 16, threads = 0;
   const CLI::Option* harmonics_opt = nullptr;  // set when --harmonics was given
   uint32_t seed = 1;
 };

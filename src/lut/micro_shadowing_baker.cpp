@@ -43,6 +43,14 @@ void validate(const BakeOptions& o) {
   if (o.threads < 0) throw InputError(fmt::format("threads must be ≥ 0, got {}", o.threads));
 }
 
+int samples_for_roughness(const BakeOptions& o, double roughness) {
+  int n = 1;
+  while (n < o.samples) n *= 2;
+  if (roughness < 0.25) return std::max(1, n / 4);
+  if (roughness < 0.55) return std::max(1, n / 2);
+  return n;
+}
+
 // Gauss-Legendre by Newton iteration on P_n (Numerical Recipes' gauleg), mapped to [0, π], weights sum to 1.
 void phi_rule(int n, std::vector<double>& phi, std::vector<double>& weight) {
   phi.assign(n, 0.0);
@@ -105,12 +113,11 @@ struct NodePoints {
   std::vector<double> c, s, u2;
 };
 
-void draw_samples(const NodePoints& pts, double alpha, double zv, double cos_phi, double sin_phi,
-                  NodeSamples& out) {
+void draw_samples(const NodePoints& pts, std::size_t n, double alpha, double zv, double cos_phi,
+                  double sin_phi, NodeSamples& out) {
   // Dupuy & Benyoub 2023 (REFERENCE.md §4), v = (sv, 0, zv): the same arithmetic as GGX::Sample_wm.
   const double sv = safe_sqrt(1.0 - zv * zv);
   const Vec3d wi = normalize(Vec3d(alpha * sv, 0.0, zv));
-  const std::size_t n = pts.u2.size();
   out.mz.resize(n);
   out.p.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
@@ -152,19 +159,21 @@ io::Volume bake_micro_shadowing_lut(const BakeOptions& o) {
   validate(o);
   const int n_vis = o.n_vis, n_nl = o.n_nl, n_nv = o.two_d ? 1 : o.n_nv, H = o.harmonics;
   const int nr = int(o.roughness.size());
-  int n_samples = 1;
-  while (n_samples < o.samples) n_samples *= 2;
   io::Volume vol(n_vis, n_nl, n_nv * (H + 1), nr);
 
   std::vector<double> phi, wphi;
   phi_rule(o.phi_nodes, phi, wphi);
   const int K = o.phi_nodes;
+  // Owen-scrambled Sobol points per φ node (independent scrambles), as (cos 2πu1, sin 2πu1, u2). A smaller
+  // sample count uses a prefix (a power-of-2 prefix of a Sobol sequence is itself a net).
+  int max_samples = 1;
+  for (double r : o.roughness) max_samples = std::max(max_samples, samples_for_roughness(o, r));
   std::vector<NodePoints> points(K);
   for (int k = 0; k < K; ++k) {
     const uint32_t seed = hash_combine(o.seed, uint32_t(k) + 1u) | 1u;  // seed 0 would mean "unscrambled"
     NodePoints& pt = points[k];
-    pt.c.resize(n_samples), pt.s.resize(n_samples), pt.u2.resize(n_samples);
-    for (int j = 0; j < n_samples; ++j) {
+    pt.c.resize(max_samples), pt.s.resize(max_samples), pt.u2.resize(max_samples);
+    for (int j = 0; j < max_samples; ++j) {
       const Vec2d u = sobol_2d<double>(uint32_t(j), seed);
       pt.c[j] = std::cos(2.0 * kPi<double> * u.x);
       pt.s[j] = std::sin(2.0 * kPi<double> * u.x);
@@ -179,9 +188,10 @@ io::Volume bake_micro_shadowing_lut(const BakeOptions& o) {
     const int r = task / n_nv, z = task % n_nv;
     const double alpha = std::max(roughness_to_alpha(o.roughness[r]), double(GGX<double>::kMinAlpha));
     const double zv = o.two_d ? 1.0 : double(z) / (n_nv - 1);
+    const std::size_t n_samples = std::size_t(samples_for_roughness(o, o.roughness[r]));
     std::vector<NodeSamples> smp(K);
     for (int k = 0; k < K; ++k)
-      draw_samples(points[k], alpha, zv, std::cos(phi[k]), std::sin(phi[k]), smp[k]);
+      draw_samples(points[k], n_samples, alpha, zv, std::cos(phi[k]), std::sin(phi[k]), smp[k]);
     std::vector<int32_t> bins;
     std::vector<uint32_t> hist;
     std::vector<double> acc((H + 1) * n_vis), ratio(n_vis);
