@@ -440,9 +440,9 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
   std::printf(
       "[ %s ] max |shader - double|: chan %.2e, brinck %.2e, part1 %.2e (vis < 0.05: %.2e), projected alpha "
       "(rel) %.2e, G1 %.2e, sample m %.2e (C++ float %.2e; alpha < 0.01 or u.y at 0 or 1: %.2e), weight "
-      "%.2e\n",
+      "%.2e, cone cos and azimuth cos %.2e\n",
       label, e_chan_d, e_brinck_d, e_part1_d, e_part1_small, e_palpha_d, e_g1_d, e_m_d, e_m_cpu_d,
-      e_m_d_sharp, e_w_d);
+      e_m_d_sharp, e_w_d, e_misc);
   std::printf(
       "[ %s ] max |shader - C++ float|: closed forms %.2e, m %.2e, weight %.2e, estimate (n = %d) %.2e, "
       "LUT 3D %.2e, 2D %.2e, azimuth %.2e; reference-step boundary flips %d; decision mismatches %d of %d\n",

@@ -38,7 +38,7 @@ float msh_ms_brinck_maximov2016(float vis, float n_dot_l) {
 }
 
 // Chan 2018 (Activision, CoD WWII; Filament's computeMicroShadowing): saturate(N.L / sqrt(1 - vis))^2.
-// vis = 1 gives 1 for N.L > 0, else 0 (the limit). |err| <= 1e-6 relative to the value.
+// vis = 1 gives 1 for N.L > 0, else 0 (the limit). |err| <= 1e-6 (1.6e-7 measured).
 float msh_ms_chan2018(float vis, float n_dot_l) {
   float nl = clamp(n_dot_l, 0.0, 1.0);
   float c = msh_ms_cone_cos(vis);
@@ -49,7 +49,7 @@ float msh_ms_chan2018(float vis, float n_dot_l) {
 
 // Part 1 "analytical alternative" (Zurita 2026, REFERENCE §2): vis in {0,1} returns vis; else
 // pow(saturate(N.L / sqrt(1 - vis^5)), 0.75 / vis). Precision limited by pow (exp2/log2): |err| <= 2e-6 for
-// vis >= 0.05; for smaller vis the exponent 0.75/vis is large and the error grows (see docs/shaders.md).
+// vis >= 0.05 (1.1e-6 measured); below, the exponent 0.75/vis is large: |err| <= 2e-5 (6.5e-6 measured).
 float msh_ms_part1_analytic(float vis, float n_dot_l) {
   float v = clamp(vis, 0.0, 1.0);
   if (v == 0.0 || v == 1.0) return v;
@@ -77,8 +77,10 @@ vec3 msh_ms_safe_normalize(vec3 a) {
 }
 
 // Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with Spherical Caps" (HPG): microfacet normal m with
-// pdf D_v(m) (the VNDF of v), u in [0,1)^2; v.z < 0 is mirrored to -v. |m - m_C++| <= 1e-5 (GPU sin/cos;
-// Vulkan only guarantees 2^-11 absolute for sin/cos, other GPUs may differ more).
+// pdf D_v(m) (the VNDF of v), u in [0,1)^2; v.z < 0 is mirrored to -v. |m - m_C++float| <= 5e-6 (1.8e-6
+// measured); vs double <= 1e-5 for alpha >= 0.01 and u.y not within 1e-4 of 0 or 1 (5.5e-6 measured; the
+// C++ float code: 6.8e-6); outside that the float algorithm itself is ill-conditioned (C++ float likewise).
+// Depends on the GPU's sin/cos: Vulkan only guarantees 2^-11 absolute, other GPUs may differ more.
 vec3 msh_ggx_sample_vndf(vec3 v, vec2 alpha, vec2 u) {
   vec2 a = max(alpha, vec2(MSH_MS_MIN_ALPHA));
   vec3 wi = msh_ms_safe_normalize(vec3(a.x * v.x, a.y * v.y, v.z));
@@ -121,7 +123,8 @@ float msh_ms_smith_g2_over_g1(float g1_l, float g1_v, bool height_correlated) {
 // The seed's per-microfacet function GenericM_m (seed 002, MicroShadowingTermPZGenericVNDFBased), anisotropic
 // GGX, shading frame: m from the VNDF of v (Dupuy-Benyoub 2023), weight G2/G1 from the projected roughness of
 // v and l. cone/hemisphere are 0 or the weight; exact (bit-identical decisions) except where n.m or m.l lies
-// within ~1e-5 of cos_t (the sampler's precision); weight |err| <= 1e-6.
+// within ~1e-5 of cos_t (the sampler's precision; 0 mismatches measured away from 1e-4 of the thresholds);
+// weight |err| <= 1e-6 (1.8e-7 measured).
 void msh_ms_generic_vndf_sample(float cos_t, vec2 alpha, vec3 v, vec3 l, vec2 u, bool height_correlated,
                                 out float cone, out float hemisphere, out float weight) {
   vec3 m = msh_ggx_sample_vndf(v, alpha, u);
@@ -199,7 +202,7 @@ vec2 msh_hammersley_2d(uint i, uint n) { return vec2(float(i) / float(n), msh_u3
 // msh::ms::generic_vndf_estimate uses seed 1 by default): sum(cone) / sum(hemisphere); 0 when no sample reaches
 // the hemisphere or when the exact early-out holds (no samples taken). The same points as C++, so the result
 // differs from the C++ float estimate only by samples whose decision flips within the sampler's precision
-// (|diff| <= 2/n observed). QMC error vs the exact term: docs/micro-shadowing.md.
+// (tested |diff| <= 2/n; 8e-7 measured, no flips). QMC error vs the exact term: docs/shaders.md.
 float msh_ms_generic_vndf_estimate(float vis, vec2 alpha, vec3 v, vec3 l, int n, bool height_correlated,
                                    uint seed) {
   float V = clamp(vis, 0.0, 1.0);
@@ -252,13 +255,13 @@ vec4 msh_ms_lut_fetch(sampler3D lut, float vis, float n_dot_l, float n_dot_v) {
 }
 
 // 3D LUT (seed 002): early-out before the fetch, trilinear fetch, roughness interpolation. The table holds the
-// mean over the relative azimuth. Perceptual roughness. |shader - C++| <= 2e-6 on lavapipe.
+// mean over the relative azimuth. Perceptual roughness. |shader - C++| <= 1e-6 on lavapipe (1.8e-7 measured).
 float msh_ms_lut_sample(sampler3D lut, float vis, float n_dot_l, float n_dot_v, float roughness) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
   return clamp(msh_ms_lut_roughness_default(msh_ms_lut_fetch(lut, vis, n_dot_l, n_dot_v), roughness), 0.0, 1.0);
 }
 
-// 2D LUT (seed 002): the N.V = 1 slice, x = vis, y = N.L. |shader - C++| <= 2e-6 on lavapipe.
+// 2D LUT (seed 002): the N.V = 1 slice, x = vis, y = N.L. |shader - C++| <= 1e-6 on lavapipe (1.2e-7 meas.).
 float msh_ms_lut_sample_2d(sampler2D lut, float vis, float n_dot_l, float roughness) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
   vec2 n = vec2(textureSize(lut, 0));
@@ -278,7 +281,7 @@ float msh_ms_relative_azimuth_cos(vec3 v, vec3 l) {
 // holds H+1 slabs of n_nv = depth/(H+1) slices; slab h holds the cos(h phi) Fourier coefficient, so the term is
 // a_0 + sum_h a_h cos(h phi), cos(h phi) by the Chebyshev recurrence. The z coordinate stays inside a slab
 // (texel centres of its first and last slice), so slabs never bleed. A 2D azimuth table (n_nv = 1) is a 3D
-// texture of depth H+1. |shader - C++| <= 4e-6 on lavapipe.
+// texture of depth H+1. |shader - C++| <= 1e-6 on lavapipe (1.8e-7 measured).
 float msh_ms_lut_sample_azimuth(sampler3D lut, int harmonics, float vis, float n_dot_l, float n_dot_v,
                                 float roughness, float cos_phi) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;

@@ -1,4 +1,5 @@
-// microshadow: micro-shadowing terms for HLSL (SM 5.0+ / DXC / glslang's HLSL front end). Include-only. Port of include/microshadow/occlusion/micro_shadowing.h (namespace msh::ms), the GGX VNDF
+// microshadow: micro-shadowing terms for HLSL (SM 5.0+ / DXC / glslang's HLSL front end). Include-only.
+// Port of include/microshadow/occlusion/micro_shadowing.h (namespace msh::ms), the GGX VNDF
 // sampler of include/microshadow/microfacet/ggx.h, the Sobol sequence of math/sampling.h and the LUT sampler
 // of include/microshadow/lut/micro_shadowing_lut.h; see docs/shaders.md and docs/micro-shadowing.md.
 //
@@ -19,7 +20,9 @@
 // ---- Closed-form terms -------------------------------------------------------------------------------------
 
 // (dot(w,t), dot(w,b), dot(w,n)): a world-space direction in the shading frame (t, b, n orthonormal).
-float3 msh_ms_to_shading_frame(float3 w, float3 t, float3 b, float3 n) { return float3(dot(w, t), dot(w, b), dot(w, n)); }
+float3 msh_ms_to_shading_frame(float3 w, float3 t, float3 b, float3 n) {
+  return float3(dot(w, t), dot(w, b), dot(w, n));
+}
 
 // Cosine of the visibility cone's half-angle, sqrt(1 - vis) (seed 002, Nusselt analog). |err| <= 1.2e-7.
 float msh_ms_cone_cos(float vis) { return sqrt(1.0 - clamp(vis, 0.0, 1.0)); }
@@ -37,7 +40,7 @@ float msh_ms_brinck_maximov2016(float vis, float n_dot_l) {
 }
 
 // Chan 2018 (Activision, CoD WWII; Filament's computeMicroShadowing): saturate(N.L / sqrt(1 - vis))^2.
-// vis = 1 gives 1 for N.L > 0, else 0 (the limit). |err| <= 1e-6 relative to the value.
+// vis = 1 gives 1 for N.L > 0, else 0 (the limit). |err| <= 1e-6 (1.6e-7 measured).
 float msh_ms_chan2018(float vis, float n_dot_l) {
   float nl = clamp(n_dot_l, 0.0, 1.0);
   float c = msh_ms_cone_cos(vis);
@@ -48,7 +51,7 @@ float msh_ms_chan2018(float vis, float n_dot_l) {
 
 // Part 1 "analytical alternative" (Zurita 2026, REFERENCE §2): vis in {0,1} returns vis; else
 // pow(saturate(N.L / sqrt(1 - vis^5)), 0.75 / vis). Precision limited by pow (exp2/log2): |err| <= 2e-6 for
-// vis >= 0.05; for smaller vis the exponent 0.75/vis is large and the error grows (see docs/shaders.md).
+// vis >= 0.05 (1.1e-6 measured); below, the exponent 0.75/vis is large: |err| <= 2e-5 (6.5e-6 measured).
 float msh_ms_part1_analytic(float vis, float n_dot_l) {
   float v = clamp(vis, 0.0, 1.0);
   if (v == 0.0 || v == 1.0) return v;
@@ -76,8 +79,10 @@ float3 msh_ms_safe_normalize(float3 a) {
 }
 
 // Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with Spherical Caps" (HPG): microfacet normal m with
-// pdf D_v(m) (the VNDF of v), u in [0,1)^2; v.z < 0 is mirrored to -v. |m - m_C++| <= 1e-5 (GPU sin/cos;
-// Vulkan only guarantees 2^-11 absolute for sin/cos, other GPUs may differ more).
+// pdf D_v(m) (the VNDF of v), u in [0,1)^2; v.z < 0 is mirrored to -v. |m - m_C++float| <= 5e-6 (1.8e-6
+// measured); vs double <= 1e-5 for alpha >= 0.01 and u.y not within 1e-4 of 0 or 1 (5.5e-6 measured; the
+// C++ float code: 6.8e-6); outside that the float algorithm itself is ill-conditioned (C++ float likewise).
+// Depends on the GPU's sin/cos: Vulkan only guarantees 2^-11 absolute, other GPUs may differ more.
 float3 msh_ggx_sample_vndf(float3 v, float2 alpha, float2 u) {
   float2 a = max(alpha, float2(MSH_MS_MIN_ALPHA, MSH_MS_MIN_ALPHA));
   float3 wi = msh_ms_safe_normalize(float3(a.x * v.x, a.y * v.y, v.z));
@@ -89,7 +94,9 @@ float3 msh_ggx_sample_vndf(float3 v, float2 alpha, float2 u) {
   return msh_ms_safe_normalize(float3(a.x * h.x, a.y * h.y, max(0.0, h.z)));
 }
 // Isotropic GGX: msh_ggx_sample_vndf with alpha_x = alpha_y.
-float3 msh_ggx_sample_vndf_isotropic(float3 v, float alpha, float2 u) { return msh_ggx_sample_vndf(v, float2(alpha, alpha), u); }
+float3 msh_ggx_sample_vndf_isotropic(float3 v, float alpha, float2 u) {
+  return msh_ggx_sample_vndf(v, float2(alpha, alpha), u);
+}
 
 // Projected roughness alpha(phi_w) = sqrt(ax^2 cos^2 phi + ay^2 sin^2 phi) along the azimuth of w (seed 002
 // ProjectRoughnessGGX; RTR4 9.51); sqrt((ax^2 + ay^2)/2) at the pole. |err| <= 2.5e-7 relative.
@@ -120,7 +127,8 @@ float msh_ms_smith_g2_over_g1(float g1_l, float g1_v, bool height_correlated) {
 // The seed's per-microfacet function GenericM_m (seed 002, MicroShadowingTermPZGenericVNDFBased), anisotropic
 // GGX, shading frame: m from the VNDF of v (Dupuy-Benyoub 2023), weight G2/G1 from the projected roughness of
 // v and l. cone/hemisphere are 0 or the weight; exact (bit-identical decisions) except where n.m or m.l lies
-// within ~1e-5 of cos_t (the sampler's precision); weight |err| <= 1e-6.
+// within ~1e-5 of cos_t (the sampler's precision; 0 mismatches measured away from 1e-4 of the thresholds);
+// weight |err| <= 1e-6 (1.8e-7 measured).
 void msh_ms_generic_vndf_sample(float cos_t, float2 alpha, float3 v, float3 l, float2 u, bool height_correlated,
                                 out float cone, out float hemisphere, out float weight) {
   float3 m = msh_ggx_sample_vndf(v, alpha, u);
@@ -198,7 +206,7 @@ float2 msh_hammersley_2d(uint i, uint n) { return float2(float(i) / float(n), ms
 // msh::ms::generic_vndf_estimate uses seed 1 by default): sum(cone) / sum(hemisphere); 0 when no sample reaches
 // the hemisphere or when the exact early-out holds (no samples taken). The same points as C++, so the result
 // differs from the C++ float estimate only by samples whose decision flips within the sampler's precision
-// (|diff| <= 2/n observed). QMC error vs the exact term: docs/micro-shadowing.md.
+// (tested |diff| <= 2/n; 8e-7 measured, no flips). QMC error vs the exact term: docs/shaders.md.
 float msh_ms_generic_vndf_estimate(float vis, float2 alpha, float3 v, float3 l, int n, bool height_correlated,
                                    uint seed) {
   float V = clamp(vis, 0.0, 1.0);
@@ -215,7 +223,8 @@ float msh_ms_generic_vndf_estimate(float vis, float2 alpha, float3 v, float3 l, 
 }
 
 // ---- LUT sampling (seed 002 "LUT-Based Approximation"; layout REFERENCE.md §1) ---------------------------------
-// RGBA float texture (Texture2D/3D<float4> + a SamplerState), linear filtering, clamp-to-edge, no mips: x = vis, y = N.L, z = N.V; channel c holds
+// RGBA float texture (Texture2D/3D<float4> + a SamplerState), linear filtering, clamp-to-edge, no mips:
+// x = vis, y = N.L, z = N.V; channel c holds
 // roughness knots[c] (default 0.1, 0.4, 0.7, 1.0). Texel i of an axis of n texels holds i/(n-1).
 // Precision vs the C++ sampler (msh::lut::sample_micro_shadowing*) on lavapipe: see each function; on other GPUs
 // the filter weights are quantized (Vulkan: subTexelPrecisionBits >= 4, commonly 8), which adds up to
@@ -253,7 +262,7 @@ float4 msh_ms_lut_fetch(Texture3D<float4> lut, SamplerState smp, float vis, floa
 }
 
 // 3D LUT (seed 002): early-out before the fetch, trilinear fetch, roughness interpolation. The table holds the
-// mean over the relative azimuth. Perceptual roughness. |shader - C++| <= 2e-6 on lavapipe.
+// mean over the relative azimuth. Perceptual roughness. |shader - C++| <= 1e-6 on lavapipe (1.8e-7 measured).
 float msh_ms_lut_sample(Texture3D<float4> lut, SamplerState smp, float vis, float n_dot_l, float n_dot_v,
                         float roughness) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
@@ -261,7 +270,7 @@ float msh_ms_lut_sample(Texture3D<float4> lut, SamplerState smp, float vis, floa
                1.0);
 }
 
-// 2D LUT (seed 002): the N.V = 1 slice, x = vis, y = N.L. |shader - C++| <= 2e-6 on lavapipe.
+// 2D LUT (seed 002): the N.V = 1 slice, x = vis, y = N.L. |shader - C++| <= 1e-6 on lavapipe (1.2e-7 meas.).
 float msh_ms_lut_sample_2d(Texture2D<float4> lut, SamplerState smp, float vis, float n_dot_l, float roughness) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
   uint w, h;
@@ -282,7 +291,7 @@ float msh_ms_relative_azimuth_cos(float3 v, float3 l) {
 // holds H+1 slabs of n_nv = depth/(H+1) slices; slab h holds the cos(h phi) Fourier coefficient, so the term is
 // a_0 + sum_h a_h cos(h phi), cos(h phi) by the Chebyshev recurrence. The z coordinate stays inside a slab
 // (texel centres of its first and last slice), so slabs never bleed. A 2D azimuth table (n_nv = 1) is a 3D
-// texture of depth H+1. |shader - C++| <= 4e-6 on lavapipe.
+// texture of depth H+1. |shader - C++| <= 1e-6 on lavapipe (1.8e-7 measured).
 float msh_ms_lut_sample_azimuth(Texture3D<float4> lut, SamplerState smp, int harmonics, float vis,
                                 float n_dot_l, float n_dot_v, float roughness, float cos_phi) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
