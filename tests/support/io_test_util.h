@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
-#include <unistd.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -20,11 +20,12 @@ namespace msh::io::test {
 inline const char* kPython = "/usr/bin/python3";
 inline std::string checker() { return std::string(MSH_SOURCE_DIR) + "/tests/support/msh_iocheck.py"; }
 
-// A fresh empty directory under the build tree, unique per test.
+// A fresh empty directory under the build tree, one per test (emptied at the start of each run, kept after it
+// for inspection).
 inline std::filesystem::path scratch_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::filesystem::path p = std::filesystem::path(MSH_BINARY_DIR) / "io_test_tmp" /
-                            fmt::format("{}.{}.{}", info->test_suite_name(), info->name(), ::getpid());
+                            fmt::format("{}.{}", info->test_suite_name(), info->name());
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p;
