@@ -7,7 +7,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
+#include <charconv>
+#include <string_view>
 
 #include "texture_internal.h"
 
@@ -19,11 +20,13 @@ bool is_c_identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha((unsigned char)s[0]) || s[0] == '_')) return false;
   return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum((unsigned char)c) || c == '_'; });
 }
+// %.9g via std::to_chars (same text as printf by definition, without the locale and varargs cost).
 void append_float(std::string& out, float x) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", double(x));
-  out += buf;
-  if (!std::strpbrk(buf, ".e")) out += ".0";  // "1f" is not a floating literal
+  const auto res = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 9);
+  const std::string_view text(buf, std::size_t(res.ptr - buf));
+  out += text;
+  if (text.find_first_of(".e") == std::string_view::npos) out += ".0";  // "1f" is not a floating literal
   out += 'f';
 }
 }  // namespace
