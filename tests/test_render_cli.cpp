@@ -1,0 +1,115 @@
+// CLI tests of `render`, `gen-material` and `compare`: bad input gives one error line naming the problem,
+// exit code 2 and no output file; output is bit-identical whatever --threads is.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string err;
+};
+
+Result run(const std::string& args) {
+  const fs::path err = fs::temp_directory_path() / "msh_render_cli_stderr.txt";
+  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " > /dev/null 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(err);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class RenderCli : public ::testing::Test {
+ protected:
+  fs::path dir = fs::temp_directory_path() / "msh_test_render_cli";
+  void SetUp() override {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return dir / name;
+  }
+  static std::string scene(const std::string& material, const std::string& extra_object = "") {
+    return R"({"camera": {"eye": [0, -4, 1], "target": [0, 0, 0], "up": [0, 0, 1]},
+      "materials": {"m": )" +
+           material + R"(}, "objects": [{"type": "sphere", "material": "m"})" + extra_object + R"(],
+      "lights": [{"type": "directional", "elevation_deg": 30}], "settings": {"width": 24, "height": 16}})";
+  }
+};
+
+}  // namespace
+
+TEST_F(RenderCli, BadInputExitsTwoWithOneLineAndNoOutput) {
+  const std::string out = (dir / "out").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {write("malformed.json", "{\"materials\": ").string(), "malformed JSON"},
+      {write("unknown_key.json", scene("{\"colour\": 1}")).string(), "colour"},
+      {write("missing_tex.json", scene("{\"normal\": \"no_such.png\"}")).string(), "no_such.png"},
+      {write("bad_obj.json", scene("{}", R"(, {"type": "obj", "file": "broken.obj", "material": "m"})"))
+           .string(),
+       "broken.obj"},
+      {(dir / "does_not_exist.json").string(), "does_not_exist.json"}};
+  write("broken.obj", "v 0 0 0\nf 1 2 3\n");
+  for (const auto& [file, word] : cases) {
+    const Result r = run("render " + file + " --out " + out);
+    EXPECT_EQ(r.code, 2) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(word), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out + ".exr"));
+    EXPECT_FALSE(fs::exists(out + ".png"));
+  }
+  const fs::path ok = write("ok.json", scene("{}"));
+  for (const std::string& args : {std::string("--method magic"), std::string("--width 100000"),
+                                  std::string("--bump-terminator sideways"), std::string("--spp 0")}) {
+    const Result r = run("render " + ok.string() + " --out " + out + " " + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out + ".exr")) << args;
+  }
+  EXPECT_EQ(run("render " + ok.string() + " --out " + (dir / "no_dir" / "x").string()).code, 2);
+  EXPECT_EQ(run("gen-material --kind wood --out " + (dir / "mat").string()).code, 2);
+  EXPECT_EQ(run("gen-material --size 100000 --out " + (dir / "mat").string()).code, 2);
+  EXPECT_EQ(run("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string()).code, 2);
+  EXPECT_EQ(run("render --help").code, 0);
+  EXPECT_EQ(run("gen-material --help").code, 0);
+}
+
+TEST_F(RenderCli, OutputIndependentOfThreadCount) {
+  const fs::path s = write("s.json", scene(R"({"base_color": [0.6, 0.4, 0.3], "micro_occlusion": 0.5})"));
+  const std::string a = (dir / "a").string(), b = (dir / "b").string();
+  ASSERT_EQ(
+      run("render " + s.string() + " --quiet --spp 3 --method chan-2018,generic-vndf --threads 1 --out " + a)
+          .code,
+      0);
+  ASSERT_EQ(
+      run("render " + s.string() + " --quiet --spp 3 --method chan-2018,generic-vndf --threads 2 --out " + b)
+          .code,
+      0);
+  for (const char* m : {"_chan-2018.exr", "_generic-vndf.exr", "_chan-2018.png"}) {
+    const std::string x = slurp(a + m), y = slurp(b + m);
+    EXPECT_FALSE(x.empty()) << m;
+    EXPECT_EQ(x, y) << m;
+  }
+  // compare: identical images give RMSE 0; the diff PNG is written.
+  const Result r =
+      run("compare " + a + "_chan-2018.exr " + b + "_chan-2018.exr --diff " + (dir / "d.png").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "d.png"));
+}
