@@ -41,6 +41,10 @@ void validate(const BakeOptions& o) {
   if (o.phi_nodes < 1 || o.phi_nodes > 256)
     throw InputError(fmt::format("phi nodes must be in [1, 256], got {}", o.phi_nodes));
   if (o.threads < 0) throw InputError(fmt::format("threads must be ≥ 0, got {}", o.threads));
+  const double values =
+      double(o.n_vis) * o.n_nl * (o.two_d ? 1 : o.n_nv) * (o.harmonics + 1) * double(o.roughness.size());
+  if (values > double(1 << 28))
+    throw InputError(fmt::format("table too large: {} values (at most 2^28)", values));
 }
 
 int samples_for_roughness(const BakeOptions& o, double roughness) {
