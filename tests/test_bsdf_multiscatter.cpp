@@ -202,6 +202,21 @@ TEST(Ksk, CoupledPairConservesEnergy) {
   EXPECT_GT(directional_albedo(*l, 1.0, 1u << 14).g, 1.02);
 }
 
+TEST(Dfg, FilamentConventionMatchesSchlickAlbedo) {
+  // E(F0) = mix(DFG.x, DFG.y, F0) (REFERENCE.md §6) against the QMC albedo of the runtime GGX + Schlick
+  // model.
+  for (int j : {6, 15, 31})
+    for (int i : {4, 15, 31})
+      for (double f0 : {0.04, 0.5, 0.95}) {
+        const double mu = i / 31.0, r = j / 31.0;
+        const double x = shipped::kGgxEFc[j * N + i], y = shipped::kGgxE[j * N + i];
+        const auto m =
+            make("ggx", {{"roughness", {r}}, {"fresnel", {fresnel_index("schlick")}}, {"f0", {f0}}});
+        EXPECT_NEAR(directional_albedo(*m, mu, 1u << 16).g, x + f0 * (y - x), 5e-5)
+            << mu << " " << r << " " << f0;
+      }
+}
+
 TEST(Dfg, EnergyCompensationRestoresWhiteFurnace) {
   // Filament: E_single(F0 = 1) · (1 + (1/E − 1)) = 1 exactly with the same table.
   for (double r : {0.3, 0.9})
