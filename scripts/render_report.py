@@ -124,6 +124,28 @@ if errors:
             h.append(f"<td>{t['seconds']:.2f}</td>" if t else "<td>—</td>")
         h.append("</tr>")
     h.append("</table>")
+    smooth = [m for m in METHODS if (elevations[0], "smooth:" + m) in err]
+    if smooth:
+        h.append("<h3>Ablation: N·L and N·V from the unperturbed normal (<code>--ms-normal smooth</code>)</h3>"
+                 "<p>The default follows the seed and feeds the terms the normal-mapped shading normal. The micro-"
+                 "occlusion bake measures its cone about the flat (unperturbed) normal; measuring N·L in that same "
+                 "frame changes the errors as follows (same metrics, ground truth and renders otherwise).</p>")
+        h.append("<table><tr><th>method</th>")
+        for el in elevations:
+            h.append(f"<th>RMSE {el}° shading → smooth</th><th>RMSE 8×8 {el}°</th><th>SSIM {el}°</th>")
+        h.append("</tr>")
+        for m in smooth:
+            h.append(f"<tr><td>{html.escape(LABELS[m])}</td>")
+            for el in elevations:
+                a, b = err.get((el, m)), err.get((el, "smooth:" + m))
+                if a and b:
+                    h.append(f"<td>{a['rmse']:.4f} → {b['rmse']:.4f}</td>"
+                             f"<td>{a['rmse_downsampled']:.4f} → {b['rmse_downsampled']:.4f}</td>"
+                             f"<td>{a['ssim']:.3f} → {b['ssim']:.3f}</td>")
+                else:
+                    h.append("<td>—</td><td>—</td><td>—</td>")
+            h.append("</tr>")
+        h.append("</table>")
     if renders:
         r0 = renders[0]
         h.append(f"<p>Render size {r0['width']}×{r0['height']}, {r0['spp']} samples per pixel for the methods (16 "

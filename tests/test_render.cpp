@@ -324,3 +324,28 @@ TEST(RenderDeterminism, SameImageWhateverTheThreadCount) {
   for (const Rgbf& p : one.px) sum += p.r;
   EXPECT_GT(sum, 1.0);  // the scene is lit
 }
+
+// With a (constant) normal map, the shading normal n_s sets the cosine, and the term's N·L comes from n_s
+// (default) or from the unperturbed normal (micro_shadowing_normal = smooth): both closed forms.
+TEST(RenderGolden, MicroShadowingNormalChoice) {
+  // Tangent-space normal (0.3, 0, 0.954) encoded n·0.5 + 0.5; the plane's tangent is +x, the light comes from
+  // +x.
+  const double nx = 0.3, nz = std::sqrt(1 - nx * nx), V = 0.5, el = 20;
+  const Vec3d l(std::cos(el * kPi<double> / 180), 0, std::sin(el * kPi<double> / 180));
+  const double nl_shading = nx * l.x + nz * l.z, nl_flat = l.z;
+  auto chan = [&](double nl) { return std::pow(std::clamp(nl / std::sqrt(1 - V), 0.0, 1.0), 2.0); };
+  for (const bool smooth : {false, true}) {
+    const std::string json = std::string(R"({
+      "camera": {"eye": [0, -2, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 20},
+      "materials": {"m": {"base_color": 0.5, "specular": 0, "micro_occlusion": 0.5,
+                          "normal": [0.65, 0.5, 0.9770084209183945]}},
+      "objects": [{"type": "plane", "material": "m", "size": [20, 20]}],
+      "lights": [{"type": "directional", "elevation_deg": 20, "intensity": 2}],
+      "settings": {"width": 4, "height": 4, "spp": 1, "micro_shadowing": "chan-2018",
+                   "micro_shadowing_normal": ")") +
+                             (smooth ? "smooth" : "shading") + R"("}})";
+    const Image img = Renderer(parse_scene(json, "inline.json", ".")).render();
+    const double expect = 0.5 / kPi<double> * 2.0 * nl_shading * chan(smooth ? nl_flat : nl_shading);
+    for (const Rgbf& p : img.px) EXPECT_NEAR(p.r, expect, 2e-4 * expect) << smooth;
+  }
+}

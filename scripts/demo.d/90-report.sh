@@ -14,6 +14,7 @@ SIZE=${RENDER_SIZE:-384}
 LUT=()
 [[ -f "$OUT/lut/micro_shadowing_lut.npy" ]] && LUT=(--lut "$OUT/lut/micro_shadowing_lut.npy")
 METHODS=none,ao,reference,brinck-maximov-2016,chan-2018,part1,generic-vndf,lut3d,lut2d
+SMOOTH_METHODS=reference,brinck-maximov-2016,chan-2018,part1,generic-vndf,lut3d,lut2d
 COMMON=(--assets "$R" --width "$SIZE" --height "$SIZE" --quiet "${LUT[@]}")
 : > "$R/renders.jsonl"
 for el in 10 25 45; do
@@ -23,6 +24,9 @@ for el in 10 25 45; do
   "$MSH" render examples/plaster_plane.json "${COMMON[@]}" --spp 16 --light-elevation "$el" \
     --method ground-truth --out "$R/plane/el${el}_ground-truth" |
     sed "s/^{/{\"scene\":\"plane\",\"elevation\":$el,/" >> "$R/renders.jsonl"
+  # Ablation: N·L and N·V of the term from the unperturbed normal (the bake's frame) instead of the shading normal.
+  "$MSH" render examples/plaster_plane.json "${COMMON[@]}" --spp 4 --vndf-samples 16 --light-elevation "$el" \
+    --ms-normal smooth --method "$SMOOTH_METHODS" --out "$R/plane/el${el}_smooth" > /dev/null
   "$MSH" render examples/plaster_sphere.json "${COMMON[@]}" --spp 4 --vndf-samples 16 --light-elevation "$el" \
     --method "$METHODS" --out "$R/sphere/el${el}" | sed "s/^{/{\"scene\":\"sphere\",\"elevation\":$el,/" >> "$R/renders.jsonl"
 done
@@ -31,6 +35,10 @@ for el in 10 25 45; do
   for m in ${METHODS//,/ }; do
     "$MSH" compare "$R/plane/el${el}_$m.exr" "$R/plane/el${el}_ground-truth.exr" --downsample 8 \
       --diff "$R/plane/el${el}_${m}_diff.png" | sed "s/^{/{\"elevation\":$el,\"method\":\"$m\",/" >> "$R/errors.jsonl"
+  done
+  for m in ${SMOOTH_METHODS//,/ }; do
+    "$MSH" compare "$R/plane/el${el}_smooth_$m.exr" "$R/plane/el${el}_ground-truth.exr" --downsample 8 |
+      sed "s/^{/{\"elevation\":$el,\"method\":\"smooth:$m\",/" >> "$R/errors.jsonl"
   done
 done
 # Bump terminator on a strongly normal-mapped sphere, and the Hanika offset on a low-poly sphere.

@@ -253,7 +253,8 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   const std::string w = "settings";
   c.keys(j, w,
          {"width", "height", "spp", "micro_shadowing", "vndf_samples", "bump_terminator", "hanika_offset",
-          "area_lights", "area_samples", "exposure", "background", "ambient", "lut", "seed"});
+          "area_lights", "area_samples", "exposure", "background", "ambient", "lut", "seed",
+          "micro_shadowing_normal"});
   if (j.contains("width")) s.width = c.integer(j["width"], w + ".width", 1, 16384);
   if (j.contains("height")) s.height = c.integer(j["height"], w + ".height", 1, 16384);
   if (j.contains("spp")) s.spp = c.integer(j["spp"], w + ".spp", 1, 65536);
@@ -272,6 +273,12 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
     } catch (const InputError& e) {
       c.fail(w + ".bump_terminator", e.what());
     }
+  }
+  if (j.contains("micro_shadowing_normal")) {
+    const std::string n = c.str(j["micro_shadowing_normal"], w + ".micro_shadowing_normal");
+    if (n != "shading" && n != "smooth")
+      c.fail(w + ".micro_shadowing_normal", "expected 'shading' or 'smooth'");
+    s.ms_smooth_normal = n == "smooth";
   }
   if (j.contains("hanika_offset")) s.hanika_offset = c.boolean(j["hanika_offset"], w + ".hanika_offset");
   if (j.contains("area_lights")) s.area_lights = c.boolean(j["area_lights"], w + ".area_lights");

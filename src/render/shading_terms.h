@@ -20,14 +20,16 @@ float sample_lut(const LutSampler& lut, float V, float n_dot_l, float n_dot_v, f
 // normal, as the seed's shaders do. Multiplies diffuse and specular of one light.
 class MicroShadowingTerm {
  public:
-  explicit MicroShadowingTerm(const Settings& s) : mode_(s.micro_shadowing), n_(s.vndf_samples) {
+  explicit MicroShadowingTerm(const Settings& s)
+      : mode_(s.micro_shadowing), n_(s.vndf_samples), smooth_(s.ms_smooth_normal) {
     if (mode_ == MicroShadowing::Lut3d || mode_ == MicroShadowing::Lut2d) {
       lut_ = load_lut_sampler(s.lut_path, mode_ == MicroShadowing::Lut2d);
     }
   }
   float eval(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, const Vec3f& tangent,
              uint32_t seed) const {
-    const float V = sp.visibility, nl = dot(sp.n_shading, wi);
+    const Vec3f& n = smooth_ ? sp.n_smooth : sp.n_shading;
+    const float V = sp.visibility, nl = dot(n, wi);
     switch (mode_) {
       case MicroShadowing::None:
       case MicroShadowing::GroundTruth:
@@ -44,7 +46,7 @@ class MicroShadowingTerm {
         return ms::part1_analytic(V, nl);
       case MicroShadowing::GenericVndf: {
         if (ms::exact_zero(V, nl)) return 0.0f;
-        const Framef fr = Framef::from_zx(sp.n_shading, tangent);
+        const Framef fr = Framef::from_zx(n, tangent);
         Vec3f v = fr.to_local(wo);
         v.z = std::max(v.z, 1e-4f);
         const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
@@ -54,7 +56,7 @@ class MicroShadowingTerm {
       case MicroShadowing::Lut3d:
       case MicroShadowing::Lut2d:
         if (ms::exact_zero(V, nl)) return 0.0f;  // the seed's early-out: no LUT fetch
-        return sample_lut(*lut_, V, nl, saturate(dot(sp.n_shading, wo)), sp.roughness);
+        return sample_lut(*lut_, V, nl, saturate(dot(n, wo)), sp.roughness);
     }
     return 1.0f;
   }
@@ -62,6 +64,7 @@ class MicroShadowingTerm {
  private:
   MicroShadowing mode_;
   int n_;
+  bool smooth_;
   std::shared_ptr<const LutSampler> lut_;
 };
 

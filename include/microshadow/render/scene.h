@@ -130,6 +130,10 @@ struct Settings {
   int width = 512, height = 512, spp = 4;
   MicroShadowing micro_shadowing = MicroShadowing::None;
   int vndf_samples = 32;
+  // Normal for the micro-shadowing term's N·L and N·V: false = the shading (normal-mapped) normal, as the
+  // seed's shaders do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion bake's
+  // cone uses.
+  bool ms_smooth_normal = false;
   BumpTerminator bump_terminator = BumpTerminator::Off;
   bool hanika_offset = false;
   bool area_lights = false;  // sphere lights: true = area sampling (reference), false = representative point
