@@ -109,7 +109,7 @@ void run_bake(const BakeLutOptions& o) {
   if (out.has_parent_path() && !fs::is_directory(out.parent_path()))
     throw UsageError(fmt::format("--out: directory '{}' does not exist", out.parent_path().string()));
 
-  int last_step = -1;
+  int last_step = 0;  // report 10%, 20%, ..., 100%
   if (!o.quiet)
     b.progress = [&last_step](double f) {
       const int step = int(f * 10.0 + 1e-9);

@@ -5,12 +5,11 @@
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
 #include <tbb/blocked_range.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <atomic>
 #include <cmath>
-#include <memory>
 #include <mutex>
 
 namespace msh::lut {
@@ -237,12 +236,17 @@ io::Volume bake_micro_shadowing_lut(const BakeOptions& o) {
     }
   };
 
-  std::unique_ptr<tbb::global_control> limit;
-  if (o.threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o.threads);
-  tbb::parallel_for(tbb::blocked_range<int>(0, tasks, 1), [&](const tbb::blocked_range<int>& range) {
-    for (int t = range.begin(); t != range.end(); ++t) run(t);
-  });
+  auto all_rows = [&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, tasks, 1), [&](const tbb::blocked_range<int>& range) {
+      for (int t = range.begin(); t != range.end(); ++t) run(t);
+    });
+  };
+  if (o.threads > 0) {
+    tbb::task_arena arena(o.threads);  // local limit: other work in the process keeps its threads
+    arena.execute(all_rows);
+  } else {
+    all_rows();
+  }
   return vol;
 }
 
