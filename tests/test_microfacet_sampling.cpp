@@ -19,7 +19,7 @@ namespace {
 
 // Šidák correction over every chi-square run in this executable.
 constexpr int kTests = 40;
-constexpr int kSamples = 400000;
+constexpr int kSamples = 250000;
 
 struct Rng {
   Pcg32 r;
@@ -158,6 +158,6 @@ TEST(MicrofacetSampling, FloatSamplersAgreeWithDouble) {
     const Vec3d a = Vec3d(gf.Sample_wm(wf, uf)), b = gd.Sample_wm(w, Vec2d(uf.x, uf.y));
     EXPECT_LT(length(a - b), 1e-4);
     const Vec3d c = Vec3d(bf.Sample_wm(wf, uf)), d = bd.Sample_wm(w, Vec2d(uf.x, uf.y));
-    EXPECT_LT(length(c - d), 2e-3);
+    EXPECT_LT(length(c - d), 5e-3);  // float Newton tolerance 1e-6 on the CDF
   }
 }
