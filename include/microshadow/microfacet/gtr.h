@@ -21,6 +21,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace msh {
@@ -40,7 +41,9 @@ inline double gtr_normalization(double alpha, double gamma) {
 template <class T>
 class GTR {
  public:
-  static constexpr T kMinAlpha = T(1e-4);
+  // Below α = 1e-2 the Λ-table quadrature can take seconds (the NDF peak is ~α wide); GTR is a rough-lobe
+  // model.
+  static constexpr T kMinAlpha = T(1e-2);
   static constexpr T kMinGamma = T(0.05), kMaxGamma = T(20);
   static constexpr int kTableSize = 257;
 
@@ -149,11 +152,18 @@ class GTR {
       return D_of_cos(cm, log_k, alpha, gamma) * 2.0 * A * g * sm;
     };
     // Panels graded (×4) from α/8 so the NDF peak at θm = 0 (inside the range at grazing v) is resolved.
-    double sum = 0.0, lo = t0;
-    for (double b = alpha / 8.0; lo < 0.5 * kPi<double>; b *= 4.0) {
+    std::vector<std::pair<double, double>> panels;
+    for (double b = alpha / 8.0, lo = t0; lo < 0.5 * kPi<double>; b *= 4.0) {
       const double hi = std::min(b, 0.5 * kPi<double>);
-      if (hi > lo) sum += detail::gauss_kronrod(f, lo, hi, 1e-17, 1e-10), lo = hi;
+      if (hi > lo) panels.emplace_back(lo, hi), lo = hi;
     }
+    // Absolute tolerance 1e-11 × a first estimate of the whole integral, or 1e-10 relative per panel.
+    double est = 0.0;
+    for (const auto& p : panels) est += std::abs(detail::gauss_kronrod(f, p.first, p.second, 1e300, 0.0));
+    const double tol = 1e-11 * est / double(panels.size());
+    double sum = 0.0;
+    for (const auto& p : panels)
+      sum += detail::gauss_kronrod(f, p.first, p.second, std::max(tol, 1e-17), 1e-10);
     return sum;
   }
 
