@@ -80,7 +80,7 @@ float3 msh_ms_safe_normalize(float3 a) {
 
 // Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with Spherical Caps" (HPG): microfacet normal m with
 // pdf D_v(m) (the VNDF of v), u in [0,1)^2; v.z < 0 is mirrored to -v. |m - m_C++float| <= 5e-6 (1.8e-6
-// measured); vs double <= 1e-5 for alpha >= 0.01 and u.y not within 1e-4 of 0 or 1 (5.5e-6 measured; the
+// measured); vs double <= 1e-5 for alpha >= 0.01 and u.y not within 1e-4 of 1 (5.5e-6 measured; the
 // C++ float code: 6.8e-6); outside that the float algorithm itself is ill-conditioned (C++ float likewise).
 // Depends on the GPU's sin/cos: Vulkan only guarantees 2^-11 absolute, other GPUs may differ more.
 float3 msh_ggx_sample_vndf(float3 v, float2 alpha, float2 u) {
@@ -88,8 +88,9 @@ float3 msh_ggx_sample_vndf(float3 v, float2 alpha, float2 u) {
   float3 wi = msh_ms_safe_normalize(float3(a.x * v.x, a.y * v.y, v.z));
   if (wi.z < 0.0) wi = -wi;
   float phi = 2.0 * MSH_MS_PI * u.x;
+  // sin^2 = (1 - z)(1 + z) from factors without cancellation (as ggx.h): exact near both poles.
   float z = (1.0 - u.y) * (1.0 + wi.z) - wi.z;
-  float s = sqrt(max(1.0 - z * z, 0.0));
+  float s = sqrt(max((u.y * (1.0 + wi.z)) * ((1.0 - u.y) * (1.0 + wi.z) + (1.0 - wi.z)), 0.0));
   float3 h = float3(s * cos(phi), s * sin(phi), z) + wi;
   return msh_ms_safe_normalize(float3(a.x * h.x, a.y * h.y, max(0.0, h.z)));
 }

@@ -101,8 +101,12 @@ class GGX {
     Vec3<T> wi = normalize(Vec3<T>(ax_ * w.x, ay_ * w.y, w.z));
     if (wi.z < T(0)) wi = -wi;
     const T phi = T(2) * kPi<T> * u.x;
+    // z = (1 − u.y)(1 + wi.z) − wi.z. sin² = 1 − z² = (1 − z)(1 + z) with 1 − z = u.y(1 + wi.z) and
+    // 1 + z = (1 − u.y)(1 + wi.z) + (1 − wi.z): no cancellation at either pole (1 − z² lost ~1e-4 in float).
+    const T one_minus_z = u.y * (T(1) + wi.z);
+    const T one_plus_z = (T(1) - u.y) * (T(1) + wi.z) + (T(1) - wi.z);
     const T z = (T(1) - u.y) * (T(1) + wi.z) - wi.z;
-    const T s = safe_sqrt(T(1) - z * z);
+    const T s = safe_sqrt(one_minus_z * one_plus_z);
     const Vec3<T> h = Vec3<T>(s * std::cos(phi), s * std::sin(phi), z) + wi;
     return normalize(Vec3<T>(ax_ * h.x, ay_ * h.y, std::max(T(0), h.z)));
   }
