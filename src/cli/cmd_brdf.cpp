@@ -37,22 +37,7 @@ std::vector<double> parse_param(const bsdf::ParamSpec& spec, const std::string& 
     for (const auto& c : spec.choices) known += (known.empty() ? "" : ", ") + c;
     throw UsageError(fmt::format("--{} must be one of: {}; got '{}'", spec.name, known, text));
   }
-  std::vector<double> v;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = text.find(',', start);
-    const std::string item =
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    char* end = nullptr;
-    const double x = std::strtod(item.c_str(), &end);
-    while (end && *end == ' ') ++end;
-    if (item.empty() || end == item.c_str() || *end != '\0' || !std::isfinite(x))
-      throw UsageError(fmt::format("--{} must be finite number(s), got '{}'", spec.name, text));
-    v.push_back(x);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return v;
+  return parse_list(text, "--" + spec.name);
 }
 
 nlohmann::json rgb_json(const Rgbd& c) { return nlohmann::json::array({c.r, c.g, c.b}); }

@@ -35,23 +35,6 @@ struct BakeLutOptions {
   uint32_t seed = 1;
 };
 
-std::vector<double> parse_list(const std::string& text, const std::string& what) {
-  std::vector<double> v;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    const double x = std::strtod(item.c_str(), &end);
-    while (end && *end == ' ') ++end;
-    if (item.empty() || end == item.c_str() || (end && *end != '\0') || !std::isfinite(x))
-      throw UsageError(
-          fmt::format("{} must be a comma-separated list of finite numbers, got '{}'", what, text));
-    v.push_back(x);
-  }
-  if (v.empty()) throw UsageError(fmt::format("{} must not be empty", what));
-  return v;
-}
-
 // The pixel format with `channels` channels and the precision named by `name` (rgba8, rgba16f, rgba32f).
 io::PixelFormat pixel_format_for(const std::string& name, int channels) {
   using PF = io::PixelFormat;

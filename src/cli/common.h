@@ -7,10 +7,15 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "registry.h"
 
 namespace msh::cli {
+
+// Parses "a,b,c,..." (spaces after numbers allowed) into numbers; throws UsageError naming `what` on an empty
+// list, an empty item, a malformed or a non-finite number.
+std::vector<double> parse_list(const std::string& text, const std::string& what);
 
 // Parses "X,Y,Z" (spaces allowed) into a vector; throws UsageError naming `what` on malformed or
 // non-finite input. Does not normalize.
