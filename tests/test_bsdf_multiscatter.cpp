@@ -16,10 +16,7 @@ namespace {
 
 std::unique_ptr<BrdfModel> make(const std::string& name,
                                 const std::map<std::string, std::vector<double>>& v) {
-  const ModelInfo& info = find_brdf_model(name);
-  BrdfParams p;
-  p.values = v;
-  return info.make(complete_params(info, p));
+  return make_brdf(name, v);
 }
 double fresnel_index(const std::string& value) {
   for (const auto& p : find_brdf_model("ggx").params)

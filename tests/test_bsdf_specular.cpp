@@ -19,10 +19,7 @@ namespace {
 
 std::unique_ptr<BrdfModel> make(const std::string& name,
                                 const std::map<std::string, std::vector<double>>& v) {
-  const ModelInfo& info = find_brdf_model(name);
-  BrdfParams p;
-  p.values = v;
-  return info.make(complete_params(info, p));
+  return make_brdf(name, v);
 }
 double choice(const std::string& model, const std::string& param, const std::string& value) {
   for (const auto& p : find_brdf_model(model).params)

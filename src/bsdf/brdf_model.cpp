@@ -69,4 +69,12 @@ BrdfParams complete_params(const ModelInfo& info, const BrdfParams& given) {
   return out;
 }
 
+std::unique_ptr<BrdfModel> make_brdf(const std::string& name,
+                                     const std::map<std::string, std::vector<double>>& values) {
+  const ModelInfo& info = find_brdf_model(name);
+  BrdfParams given;
+  given.values = values;
+  return info.make(complete_params(info, given));
+}
+
 }  // namespace msh::bsdf

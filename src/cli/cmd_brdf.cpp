@@ -281,13 +281,6 @@ void add_brdf_bake(Groups& g) {
 
 // ---- Sphere-grid figures.
 
-std::unique_ptr<bsdf::BrdfModel> make_model(const std::string& name,
-                                            const std::map<std::string, std::vector<double>>& values) {
-  const bsdf::ModelInfo& info = bsdf::find_brdf_model(name);
-  bsdf::BrdfParams p;
-  p.values = values;
-  return info.make(bsdf::complete_params(info, p));
-}
 double choice_index(const std::string& model, const std::string& param, const std::string& value) {
   for (const auto& p : bsdf::find_brdf_model(model).params)
     if (p.name == param)
@@ -325,7 +318,7 @@ std::vector<SphereFigure> sphere_figures(int cols) {
       for (const double ms : {0.0, 1.0}) {
         std::vector<std::unique_ptr<bsdf::BrdfModel>> row;
         for (double r : rs)
-          row.push_back(make_model("ggx", {{"roughness", {r}}, {"fresnel", {fr}}, {"multiscatter", {ms}}}));
+          row.push_back(bsdf::make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {fr}}, {"multiscatter", {ms}}}));
         f.rows.push_back(std::move(row));
       }
     figs.push_back(std::move(f));
@@ -342,7 +335,7 @@ std::vector<SphereFigure> sphere_figures(int cols) {
         std::vector<std::unique_ptr<bsdf::BrdfModel>> row;
         for (double r : range)
           row.push_back(
-              make_model(m, {{"roughness", {r}}, {"rho", {0.5, 0.25, 0.12}}, {"multiscatter", {1.0}}}));
+              bsdf::make_brdf(m, {{"roughness", {r}}, {"rho", {0.5, 0.25, 0.12}}, {"multiscatter", {1.0}}}));
         f.rows.push_back(std::move(row));
       }
     figs.push_back(std::move(f));
@@ -359,16 +352,16 @@ std::vector<SphereFigure> sphere_figures(int cols) {
       for (int c = 0; c < cols; ++c) row.push_back(fn(double(c) / (cols - 1)));
       f.rows.push_back(std::move(row));
     };
-    row_of([&](double) { return make_model("lambert", {{"rho", rho}}); });
-    row_of([&](double) { return make_model("shirley", {{"rho", rho}}); });
-    row_of([&](double t) { return make_model("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}}); });
+    row_of([&](double) { return bsdf::make_brdf("lambert", {{"rho", rho}}); });
+    row_of([&](double) { return bsdf::make_brdf("shirley", {{"rho", rho}}); });
+    row_of([&](double t) { return bsdf::make_brdf("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}}); });
     row_of([&](double t) {
-      return make_model("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}, {"subsurface", {1.0}}});
+      return bsdf::make_brdf("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}, {"subsurface", {1.0}}});
     });
-    row_of([&](double t) { return make_model("hammon", {{"rho", rho}, {"roughness", {t}}}); });
-    row_of([&](double t) { return make_model("oren-nayar", {{"rho", rho}, {"sigma", {1.2 * t}}}); });
+    row_of([&](double t) { return bsdf::make_brdf("hammon", {{"rho", rho}, {"roughness", {t}}}); });
+    row_of([&](double t) { return bsdf::make_brdf("oren-nayar", {{"rho", rho}, {"sigma", {1.2 * t}}}); });
     row_of([&](double t) {
-      return make_model("oren-nayar-qualitative", {{"rho", rho}, {"sigma", {1.2 * t}}});
+      return bsdf::make_brdf("oren-nayar-qualitative", {{"rho", rho}, {"sigma", {1.2 * t}}});
     });
     figs.push_back(std::move(f));
   }

@@ -70,6 +70,11 @@ const ModelInfo& find_brdf_model(const std::string& name);
 // Fills defaults and range-checks; throws msh::InputError naming the parameter on bad values.
 BrdfParams complete_params(const ModelInfo& info, const BrdfParams& given);
 
+// find_brdf_model + complete_params + make: a configured model from a name and (partial) parameter values.
+// Throws msh::InputError on an unknown name or bad values.
+std::unique_ptr<BrdfModel> make_brdf(const std::string& name,
+                                     const std::map<std::string, std::vector<double>>& values = {});
+
 // Specular, Fresnel, multiple-bounce and diffuse models (src/bsdf/models_core.cpp).
 std::vector<ModelInfo> core_brdf_models();
 // Cloth, thin film and layered models (src/bsdf/models_extra.cpp).
