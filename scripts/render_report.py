@@ -183,7 +183,10 @@ for name, cap in [("bump_off", "bump-mapped sphere, grazing light: no fix"), ("b
         h.append(fig(p, cap))
 h.append("</div>")
 
-# Every other area's figures.
+# Every other area's figures, each with the doc that explains it (output folder -> docs/ file).
+AREA_DOCS = {"bump": "bump-terminator.md", "filter": "filtering.md", "io": "formats.md", "shaders": "shaders.md",
+             "microfacet": "microfacet.md", "brdf": "brdf.md", "brdf-extra": "brdf-extra.md", "lut": "lut.md",
+             "micro-shadowing": "micro-shadowing.md"}
 for area in sorted(os.listdir(OUT)):
     d = os.path.join(OUT, area)
     if area == "render" or not os.path.isdir(d):
@@ -191,7 +194,8 @@ for area in sorted(os.listdir(OUT)):
     pngs = sorted(f for f in os.listdir(d) if f.endswith(".png"))
     if not pngs:
         continue
-    h.append(f"<h2>{html.escape(area)} (docs/{html.escape(area)}.md)</h2><div>")
+    doc = AREA_DOCS.get(area, f"{area}.md")
+    h.append(f"<h2>{html.escape(area)} (docs/{html.escape(doc)})</h2><div>")
     for f in pngs:
         h.append(fig(os.path.join(d, f), f, 360))
     h.append("</div>")
