@@ -47,6 +47,15 @@ Lobe reflect_lobe(double w, SampleM sm, PdfM pm) {
           }};
 }
 
+// Half cosine-weighted, half reflection about a normal sampled from the cloth NDF (its own
+// sample_ndf/pdf_ndf).
+template <class Ndf>
+std::vector<Lobe> cosine_and_ndf_lobes(const Ndf& ndf) {
+  return {cosine_lobe(0.5), reflect_lobe(
+                                0.5, [ndf](const Vec3d&, Vec2d u) { return ndf.sample_ndf(u); },
+                                [ndf](const Vec3d&, const Vec3d& mm) { return ndf.pdf_ndf(mm); })};
+}
+
 class LambdaModel : public BrdfModel {
  public:
   using F = std::function<Rgbd(const Vec3d&, const Vec3d&)>;
@@ -188,11 +197,7 @@ ModelInfo velvet() {
     const VelvetNdf<double> ndf(p.get("alpha"), p.get("k-amp"));
     return std::make_unique<LambdaModel>(
         [=](const Vec3d& wo, const Vec3d& wi) { return velvet_cloth(wo, wi, rho, f0, ndf); },
-        std::vector<Lobe>{cosine_lobe(0.5),
-                          reflect_lobe(
-                              0.5, [ndf](const Vec3d&, Vec2d u) { return ndf.sample_ndf(u); },
-                              [ndf](const Vec3d&, const Vec3d& mm) { return ndf.pdf_ndf(mm); })},
-        true, true);
+        cosine_and_ndf_lobes(ndf), true, true);
   };
   return m;
 }
@@ -209,11 +214,7 @@ ModelInfo iw_sheen() {
     const SheenNdf<double> ndf(roughness_to_alpha(p.get("roughness")));
     return std::make_unique<LambdaModel>(
         [=](const Vec3d& wo, const Vec3d& wi) { return imageworks_sheen(wo, wi, c, ndf); },
-        std::vector<Lobe>{cosine_lobe(0.5),
-                          reflect_lobe(
-                              0.5, [ndf](const Vec3d&, Vec2d u) { return ndf.sample_ndf(u); },
-                              [ndf](const Vec3d&, const Vec3d& mm) { return ndf.pdf_ndf(mm); })},
-        true, true);
+        cosine_and_ndf_lobes(ndf), true, true);
   };
   return m;
 }
