@@ -1,4 +1,4 @@
-// Multiple-bounce specular and its tables: shipped table vs published values (REFERENCE.md §6), re-baked
+// Multiple-bounce specular and its tables: shipped table vs published values (docs/theory.md §2), re-baked
 // texels vs the shipped ones, the α → 0 DFG limit, the white furnace (= 1 within 1% with F = 1), the
 // Fresnel factor against its geometric series, the KSK-coupled pair (= 1 at ρ = 1).
 #include <gtest/gtest.h>
@@ -101,7 +101,8 @@ TEST(ShippedTables, AveragesAreConsistentWithTheTable) {
 }
 
 TEST(Dfg, MirrorLimit) {
-  // REFERENCE.md §6: at α = 0, DFG = ((1 − N·V)⁵, 1). r = 0.01 (α = 1e-4) through the VNDF estimator.
+  // Filament's DFG convention (docs/theory.md §2): at α = 0, DFG = ((1 − N·V)⁵, 1). r = 0.01 (α = 1e-4)
+  // through the VNDF estimator.
   for (double mu : {0.05, 0.3, 0.6, 1.0}) {
     const Vec2d d = ggx_dfg_reference(mu, 0.01, 1u << 12);
     EXPECT_NEAR(d.x, std::pow(1 - mu, 5), 1e-3) << mu;
@@ -200,8 +201,8 @@ TEST(Ksk, CoupledPairConservesEnergy) {
 }
 
 TEST(Dfg, FilamentConventionMatchesSchlickAlbedo) {
-  // E(F0) = mix(DFG.x, DFG.y, F0) (REFERENCE.md §6) against the QMC albedo of the runtime GGX + Schlick
-  // model.
+  // E(F0) = mix(DFG.x, DFG.y, F0) (Filament's convention, docs/theory.md §2) against the QMC albedo of the
+  // runtime GGX + Schlick model.
   for (int j : {6, 15, 31})
     for (int i : {4, 15, 31})
       for (double f0 : {0.04, 0.5, 0.95}) {

@@ -1,7 +1,7 @@
 // Specular microfacet BRDF (9.34), the two-lobe GGX NDF and the runtime specular models: published albedo
-// values (REFERENCE.md §6), the closed-form GGX visibility 9.43, NDF/VNDF normalization of the mixture (9.21,
-// 9.23) by adaptive quadrature, QMC albedo vs quadrature albedo, the mirror limit, chi-square of every
-// specular sampler against its pdf.
+// values (Blender Cycles table_ggx_E, docs/theory.md §2), the closed-form GGX visibility 9.43, NDF/VNDF
+// normalization of the mixture (9.21, 9.23) by adaptive quadrature, QMC albedo vs quadrature albedo, the
+// mirror limit, chi-square of every specular sampler against its pdf.
 #include <gtest/gtest.h>
 #include <microshadow/bsdf/albedo.h>
 #include <microshadow/bsdf/brdf_model.h>

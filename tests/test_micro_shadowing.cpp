@@ -1,6 +1,6 @@
 // Micro-shadowing terms (include/microshadow/occlusion/micro_shadowing.h) against independent references:
 // closed forms re-derived in long double, Monte Carlo with samplers and estimators written here, a plain
-// 1D quadrature of the θ integrand, a brute-force azimuth mean, and the limits of REFERENCE.md §2.
+// 1D quadrature of the θ integrand, a brute-force azimuth mean, and the limits of docs/theory.md §3.
 #include <gtest/gtest.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 
@@ -354,8 +354,8 @@ TEST(MicroShadowingEstimate, G2FormsAgreeWhereTheWeightCancels) {
   }
 }
 
-// The seed's estimator (Owen-scrambled Sobol, float) converges to the exact term; independent seeds scatter
-// around it.
+// The Monte Carlo estimator of Zurita 2026b (Owen-scrambled Sobol, float) converges to the exact term;
+// independent seeds scatter around it.
 TEST(MicroShadowingEstimate, ConvergesToExact) {
   Pcg32 rng(41);
   for (int t = 0; t < 20; ++t) {

@@ -1,8 +1,8 @@
-// Chi-square goodness of fit (tests/support/chi2.h, REFERENCE.md §7) of every microfacet sampler against its
-// own pdf: both GGX VNDF samplers against the analytic VNDF (isotropic, anisotropic, normal, grazing and
-// backfacing incidence), the bounded VNDF (over m and over the reflected direction), Beckmann VNDF, and plain
-// NDF sampling of every NDF. Peaked lobes (α ≤ 0.1) are also tested on the stretched sphere, where they fill
-// the grid.
+// Chi-square goodness of fit (tests/support/chi2.h, the pbrt-v4 / Mitsuba 3 habit) of every microfacet
+// sampler against its own pdf: both GGX VNDF samplers against the analytic VNDF (isotropic, anisotropic,
+// normal, grazing and backfacing incidence), the bounded VNDF (over m and over the reflected direction),
+// Beckmann VNDF, and plain NDF sampling of every NDF. Peaked lobes (α ≤ 0.1) are also tested on the stretched
+// sphere, where they fill the grid.
 #include <gtest/gtest.h>
 #include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/blinn_phong.h>

@@ -1,4 +1,5 @@
-// Chi-square goodness-of-fit test for direction samplers (the pbrt-v4 / Mitsuba 3 habit, REFERENCE.md §7).
+// Chi-square goodness-of-fit test for direction samplers (the habit of pbrt-v4's and Mitsuba 3's
+// sampler tests).
 //
 // Samples are histogrammed on a (cos θ, φ) grid over the FULL sphere; since dω = d(cos θ) dφ, the expected
 // mass of a cell is the plain integral of pdf(cos θ, φ) over the rectangle, computed here by adaptive

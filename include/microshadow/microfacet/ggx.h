@@ -28,7 +28,10 @@ class GGX {
   T alpha_x() const { return ax_; }
   T alpha_y() const { return ay_; }
   bool is_isotropic() const { return ax_ == ay_; }
-  // Roughness so small that a renderer should treat the lobe as a delta (pbrt-v4 uses the same threshold).
+  // Roughness so small that a renderer should treat the lobe as a delta: both αx and αy below 1e-3. We test
+  // max(αx, αy) so that an anisotropic lobe that is sharp along one axis but rough along the other keeps its
+  // microfacet evaluation (a delta would drop its spread). pbrt-v4's TrowbridgeReitzDistribution uses the
+  // same 1e-3 but on min(αx, αy), so it treats such a lobe as specular. Nothing in the library calls this.
   bool effectively_smooth() const { return std::max(ax_, ay_) < T(1e-3); }
 
   // NDF D(m), 9.53, written as 1 / (π αx αy (x²/αx² + y²/αy² + z²)²): no tan, exact at the pole.
@@ -41,7 +44,8 @@ class GGX {
 
   // Projected roughness α(φ_w)² = αx² cos²φ + αy² sin²φ times sin²θ: the stretched tangential length².
   T projected_alpha2_sin2(const Vec3<T>& w) const { return sqr(ax_ * w.x) + sqr(ay_ * w.y); }
-  // Projected roughness along the azimuth of w (the seed's ProjectRoughnessGGX). α at the pole.
+  // Projected roughness along the azimuth of w (Zurita 2026b, "Improving Direct Lighting Material Occlusion –
+  // Part 2": ProjectRoughnessGGX; RTR4 (9.51)). α at the pole.
   T projected_alpha(const Vec3<T>& w) const {
     const T s2 = sqr(w.x) + sqr(w.y);
     if (!(s2 > T(0))) return std::sqrt(T(0.5) * (ax_ * ax_ + ay_ * ay_));
@@ -65,12 +69,11 @@ class GGX {
     return den > T(0) ? T(2) * z / den : T(1);
   }
   // G1(w, m) with the χ⁺ factor: zero when w sees the back of the microfacet (sign(w·m) ≠ sign(w·n)).
-  T G1(const Vec3<T>& w, const Vec3<T>& wm) const {
-    return dot(w, wm) * w.z > T(0) ? G1(w) : T(0);
-  }
+  T G1(const Vec3<T>& w, const Vec3<T>& wm) const { return dot(w, wm) * w.z > T(0) ? G1(w) : T(0); }
   // Height-correlated Smith G2 (9.31): 1 / (1 + Λ(wo) + Λ(wi)), without χ⁺ factors.
   T G2(const Vec3<T>& wo, const Vec3<T>& wi) const {
-    // Written through G1 so grazing directions stay finite: 1/(1/G1o + 1/G1i − 1) = G1o G1i/(G1o + G1i − G1o G1i).
+    // Written through G1 so grazing directions stay finite:
+    // 1/(1/G1o + 1/G1i − 1) = G1o G1i/(G1o + G1i − G1o G1i).
     const T go = G1(wo), gi = G1(wi);
     const T den = go + gi - go * gi;
     return den > T(0) ? go * gi / den : T(0);
@@ -147,7 +150,7 @@ class GGX {
   T ax_ = T(0.5), ay_ = T(0.5);
 };
 
-// User-facing perceptual roughness r ∈ [0,1] to GGX/Beckmann α = r² (REFERENCE.md §1).
+// User-facing perceptual roughness r ∈ [0,1] to GGX/Beckmann α = r² (Burley 2012; docs/theory.md §1).
 template <class T>
 constexpr T roughness_to_alpha(T r) {
   return r * r;
