@@ -5,8 +5,8 @@
 #include <microshadow/bsdf/albedo.h>
 #include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/multiscatter.h>
-#include <microshadow/bsdf/quadrature.h>
 #include <microshadow/bsdf/tables.h>
+#include <microshadow/math/quadrature.h>
 #include <microshadow/microfacet/albedo.h>
 
 using namespace msh;

@@ -1,38 +1,37 @@
 // GGX / Trowbridge-Reitz microfacet distribution with the Smith masking function.
 // RTR4 eqs. 9.41 (isotropic), 9.53 (anisotropic), 9.24 (G1), 9.31 (height-correlated G2); Heitz 2014,
 // "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs". All directions are in the local
-// shading frame (n = +z, t = x, b = y) and need not be in the upper hemisphere unless stated.
+// shading frame (n = +z, t = x, b = y) and need not be in the upper hemisphere unless stated. The Smith
+// members shared with the other NDFs (G1(w, m), G2, D(w, m), PDF, pdf_ndf) are in smith.h.
 //
-// Domain: alpha_x, alpha_y ≥ 0 (values below kMinAlpha are clamped to it, so roughness 0 is a very sharp but
-// finite lobe); unit-length directions. Every member returns a finite value for any finite unit input,
-// including grazing (z = 0) and backfacing directions.
+// Domain: alpha_x, alpha_y ≥ 0, not NaN (values below kMinAlpha are clamped to it, so roughness 0 is a very
+// sharp but finite lobe; see AnisotropicAlpha); unit-length directions. Every member returns a finite value
+// for any finite unit input, including grazing (z = 0) and backfacing directions.
 #pragma once
 
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
+#include <microshadow/microfacet/smith.h>
 
 #include <limits>
 
 namespace msh {
 
 template <class T>
-class GGX {
+class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
+  using Smith = SmithMicrofacet<GGX<T>, T>;
+  using Alpha = AnisotropicAlpha<T>;
+  using Alpha::ax_;
+  using Alpha::ay_;
+
  public:
-  // Below this alpha the lobe is treated as a (near) mirror; D stays finite in float.
-  static constexpr T kMinAlpha = T(1e-4);
+  using Alpha::kMinAlpha;
+  using Smith::D;
+  using Smith::G1;
 
   GGX() = default;
   explicit GGX(T alpha) : GGX(alpha, alpha) {}
-  GGX(T alpha_x, T alpha_y) : ax_(clamp_alpha(alpha_x)), ay_(clamp_alpha(alpha_y)) {}
-
-  T alpha_x() const { return ax_; }
-  T alpha_y() const { return ay_; }
-  bool is_isotropic() const { return ax_ == ay_; }
-  // Roughness so small that a renderer should treat the lobe as a delta: both αx and αy below 1e-3. We test
-  // max(αx, αy) so that an anisotropic lobe that is sharp along one axis but rough along the other keeps its
-  // microfacet evaluation (a delta would drop its spread). pbrt-v4's TrowbridgeReitzDistribution uses the
-  // same 1e-3 but on min(αx, αy), so it treats such a lobe as specular. Nothing in the library calls this.
-  bool effectively_smooth() const { return std::max(ax_, ay_) < T(1e-3); }
+  GGX(T alpha_x, T alpha_y) : Alpha(alpha_x, alpha_y) {}
 
   // NDF D(m), 9.53, written as 1 / (π αx αy (x²/αx² + y²/αy² + z²)²): no tan, exact at the pole.
   // Normalized so that ∫ D(m) (n·m) dm = 1. Zero for m.z ≤ 0.
@@ -42,21 +41,19 @@ class GGX {
     return T(1) / (kPi<T> * ax_ * ay_ * k * k);
   }
 
-  // Projected roughness α(φ_w)² = αx² cos²φ + αy² sin²φ times sin²θ: the stretched tangential length².
-  T projected_alpha2_sin2(const Vec3<T>& w) const { return sqr(ax_ * w.x) + sqr(ay_ * w.y); }
   // Projected roughness along the azimuth of w (Zurita 2026b, "Improving Direct Lighting Material Occlusion –
   // Part 2": ProjectRoughnessGGX; RTR4 (9.51)). α at the pole.
   T projected_alpha(const Vec3<T>& w) const {
     const T s2 = sqr(w.x) + sqr(w.y);
     if (!(s2 > T(0))) return std::sqrt(T(0.5) * (ax_ * ax_ + ay_ * ay_));
-    return std::sqrt(projected_alpha2_sin2(w) / s2);
+    return std::sqrt(this->projected_alpha2_sin2(w) / s2);
   }
 
   // Smith Λ(w) = (−1 + sqrt(1 + α²tan²θ)) / 2 (9.37 with a from 9.51), in the cancellation-free form
   // x / (2(1 + sqrt(1 + x))), x = α²tan²θ. Even in w.z. Grazing w (z = 0) gives the largest finite T.
   T Lambda(const Vec3<T>& w) const {
     const T z2 = sqr(w.z);
-    const T x = projected_alpha2_sin2(w) / z2;
+    const T x = this->projected_alpha2_sin2(w) / z2;
     if (!(x < std::numeric_limits<T>::infinity())) return std::numeric_limits<T>::max();
     return x / (T(2) * (T(1) + std::sqrt(T(1) + x)));
   }
@@ -65,34 +62,14 @@ class GGX {
   T G1(const Vec3<T>& w) const {
     // 2|z| / (|z| + sqrt(z² + αx²x² + αy²y²)): the same value, finite and exact at grazing.
     const T z = std::abs(w.z);
-    const T den = z + std::sqrt(sqr(w.z) + projected_alpha2_sin2(w));
+    const T den = z + std::sqrt(sqr(w.z) + this->projected_alpha2_sin2(w));
     return den > T(0) ? T(2) * z / den : T(1);
   }
-  // G1(w, m) with the χ⁺ factor: zero when w sees the back of the microfacet (sign(w·m) ≠ sign(w·n)).
-  T G1(const Vec3<T>& w, const Vec3<T>& wm) const { return dot(w, wm) * w.z > T(0) ? G1(w) : T(0); }
-  // Height-correlated Smith G2 (9.31): 1 / (1 + Λ(wo) + Λ(wi)), without χ⁺ factors.
-  T G2(const Vec3<T>& wo, const Vec3<T>& wi) const {
-    // Written through G1 so grazing directions stay finite:
-    // 1/(1/G1o + 1/G1i − 1) = G1o G1i/(G1o + G1i − G1o G1i).
-    const T go = G1(wo), gi = G1(wi);
-    const T den = go + gi - go * gi;
-    return den > T(0) ? go * gi / den : T(0);
-  }
-
   // G1(w) / |cos θ_w| = 2 / (|z| + sqrt(z² + αx²x² + αy²y²)): finite at grazing, where both factors vanish.
   T G1_over_cos(const Vec3<T>& w) const {
-    const T den = std::abs(w.z) + std::sqrt(sqr(w.z) + projected_alpha2_sin2(w));
+    const T den = std::abs(w.z) + std::sqrt(sqr(w.z) + this->projected_alpha2_sin2(w));
     return den > T(0) ? T(2) / den : T(0);
   }
-
-  // Distribution of visible normals D_w(m) = G1(w) max(0, w·m) D(m) / |w·n| (Heitz 2014, eq. 16).
-  // Normalized over m for every w: ∫ D_w(m) dm = 1. Defined for w.z ≥ 0 (w.z < 0 uses −w, as in Sample_wm).
-  T D(const Vec3<T>& w, const Vec3<T>& wm) const {
-    const Vec3<T> wu = w.z < T(0) ? -w : w;
-    return G1_over_cos(wu) * std::max(T(0), dot(wu, wm)) * D(wm);
-  }
-  // pdf (solid angle, over m) of Sample_wm and of both VNDF samplers below.
-  T PDF(const Vec3<T>& w, const Vec3<T>& wm) const { return D(w, wm); }
 
   // Default visible-normal sampler: Dupuy & Benyoub 2023.
   Vec3<T> Sample_wm(const Vec3<T>& w, Vec2<T> u) const { return sample_vndf_spherical_caps(w, u); }
@@ -134,21 +111,15 @@ class GGX {
   // Plain NDF sampling: m with pdf D(m) (n·m) (solid angle). Anisotropic azimuth from
   // tan φ = (αy/αx) tan(2π u.y), then tan²θ = α(φ)² u.x / (1 − u.x) with 1/α(φ)² = cos²φ/αx² + sin²φ/αy².
   Vec3<T> sample_ndf(Vec2<T> u) const {
-    const T a = T(2) * kPi<T> * u.y;
-    const T phi = std::atan2(ay_ * std::sin(a), ax_ * std::cos(a));
-    const T c = std::cos(phi), s = std::sin(phi);
-    const T inv_a2 = sqr(c / ax_) + sqr(s / ay_);
+    T c, s, inv_a2;
+    this->ndf_sample_azimuth(u.y, c, s, inv_a2);
     const T tan2 = u.x / ((T(1) - u.x) * inv_a2);
     const T cos_t = T(1) / std::sqrt(T(1) + tan2);
     const T sin_t = safe_sqrt(T(1) - cos_t * cos_t);
     return {sin_t * c, sin_t * s, cos_t};
   }
-  T pdf_ndf(const Vec3<T>& wm) const { return D(wm) * std::max(T(0), wm.z); }
-
- private:
-  static T clamp_alpha(T a) { return a > kMinAlpha ? a : kMinAlpha; }  // also maps NaN to kMinAlpha
-  T ax_ = T(0.5), ay_ = T(0.5);
 };
+static_assert(VisibleNormalSampler<GGX<float>> && VisibleNormalSampler<GGX<double>>);
 
 // User-facing perceptual roughness r ∈ [0,1] to GGX/Beckmann α = r² (Burley 2012; docs/theory.md §1).
 template <class T>
