@@ -1,9 +1,9 @@
 // `eval brdf`, `bake ggx-albedo`, `bake dfg`: values equal the library's, bad input exits 2 with one line and
 // no file, baked files read back with the documented axes and channels.
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/multiscatter.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/io/texture.h>
 #include <sys/wait.h>
 

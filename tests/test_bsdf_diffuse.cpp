@@ -3,10 +3,10 @@
 // albedos (9.60 for 9.62, 1 − F_Schlick for 9.64), the limits each paper states, the QMC albedo integrator
 // against adaptive quadrature, and chi-square of the default (cosine) sampler.
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/diffuse.h>
 #include <microshadow/bsdf/fresnel.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 
 #include "support/chi2.h"
 

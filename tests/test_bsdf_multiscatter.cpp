@@ -2,10 +2,10 @@
 // texels vs the shipped ones, the α → 0 DFG limit, the white furnace (= 1 within 1% with F = 1), the
 // Fresnel factor against its geometric series, the KSK-coupled pair (= 1 at ρ = 1).
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/multiscatter.h>
-#include <microshadow/bsdf/tables.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
+#include <microshadow/bsdf/runtime/tables.h>
 #include <microshadow/math/quadrature.h>
 #include <microshadow/microfacet/albedo.h>
 

@@ -3,9 +3,9 @@
 // normalization of the mixture (9.21, 9.23) by adaptive quadrature, QMC albedo vs quadrature albedo, the
 // mirror limit, chi-square of every specular sampler against its pdf.
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/fresnel.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/masking.h>

@@ -1,10 +1,10 @@
 // Runtime wrappers (double precision) of the specular, Fresnel, multiple-bounce and diffuse models of
 // include/microshadow/bsdf/{fresnel,specular,multiscatter,diffuse}.h, for `eval brdf`, the tests and the
 // renderer. Every model lists its source equation (RTR4 numbering) and its parameters with ranges.
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/diffuse.h>
 #include <microshadow/bsdf/fresnel.h>
 #include <microshadow/bsdf/multiscatter.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/beckmann.h>

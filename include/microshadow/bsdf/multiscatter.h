@@ -9,8 +9,8 @@
 // Shipped 32×32 tables (tables_data.h, baked by `microshadow bake brdf-shipped`) make the runtime file-free.
 #pragma once
 
-#include <microshadow/bsdf/albedo.h>
 #include <microshadow/bsdf/fresnel.h>
+#include <microshadow/bsdf/qmc.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/bsdf/tables_data.h>
 #include <microshadow/math/color.h>
