@@ -15,10 +15,6 @@ using namespace msh::bsdf;
 
 namespace {
 
-std::unique_ptr<BrdfModel> make(const std::string& name,
-                                const std::map<std::string, std::vector<double>>& v) {
-  return make_brdf(name, v);
-}
 Vec3d dir(double mu, double phi = 0) { return spherical_direction(mu, phi); }
 
 // Parameter sets for a model: defaults, every parameter at lo / hi in turn, and random draws. Colour-like
@@ -170,14 +166,14 @@ TEST(AllCoreModels, ReciprocityNonNegativityFiniteness) {
 TEST(Diffuse, ClosedFormAlbedos) {
   const double f0 = 0.04, rho = 0.8;
   for (double mu : {0.1, 0.5, 0.9}) {
-    EXPECT_NEAR(directional_albedo(*make("lambert", {{"rho", {rho}}}), mu, 1u << 14).g, rho, 1e-6);
+    EXPECT_NEAR(directional_albedo(*make_brdf("lambert", {{"rho", {rho}}}), mu, 1u << 14).g, rho, 1e-6);
     // 9.62: ρ ∫ (1 − F(n·l)) cos/π = ρ (1 − F̄), F̄ = 20/21 F0 + 1/21 (9.60).
     EXPECT_NEAR(
-        directional_albedo(*make("lambert-fresnel-n", {{"rho", {rho}}, {"f0", {f0}}}), mu, 1u << 16).g,
+        directional_albedo(*make_brdf("lambert-fresnel-n", {{"rho", {rho}}, {"f0", {f0}}}), mu, 1u << 16).g,
         rho * (1 - (20.0 / 21 * f0 + 1.0 / 21)), 2e-5);
     // 9.64: diffuse albedo = ρ (1 − F_Schlick(n·v)) — the Shirley pair conserves energy with a Schlick
     // mirror.
-    EXPECT_NEAR(directional_albedo(*make("shirley", {{"rho", {rho}}, {"f0", {f0}}}), mu, 1u << 16).g,
+    EXPECT_NEAR(directional_albedo(*make_brdf("shirley", {{"rho", {rho}}, {"f0", {f0}}}), mu, 1u << 16).g,
                 rho * (1 - fresnel_schlick(f0, mu)), 2e-5);
   }
 }
@@ -192,7 +188,7 @@ TEST(Diffuse, QmcIntegratorMatchesQuadrature) {
       {"ksk", {{"roughness", {0.5}}, {"multiscatter", {1}}}}};
   for (const auto& [name, params] : cases)
     for (double mu : {0.15, 0.8}) {
-      const auto m = make(name, params);
+      const auto m = make_brdf(name, params);
       EXPECT_NEAR(directional_albedo(*m, mu, 1u << 16).g, quadrature_albedo(*m, dir(mu)), 1e-4)
           << name << " " << mu;
     }
@@ -230,7 +226,7 @@ TEST(Diffuse, PaperLimits) {
 }
 
 TEST(Diffuse, CosineSamplerMatchesPdf) {
-  const auto m = make("oren-nayar", {{"sigma", {0.4}}});
+  const auto m = make_brdf("oren-nayar", {{"sigma", {0.4}}});
   Pcg32 rng(21);
   const Vec3d wo = dir(0.5, 0.0);
   const auto r = msh::test::chi2_test_directions(

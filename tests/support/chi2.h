@@ -9,6 +9,7 @@
 // expected mass is an immediate failure; the p-value is Q(dof/2, χ²/2) (regularized upper incomplete gamma).
 #pragma once
 
+#include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 
 #include <cstdint>
@@ -17,6 +18,17 @@
 #include <string>
 
 namespace msh::test {
+
+// Independent uniform pairs from a fixed PCG32 stream, the sample source of the chi-square tests (a
+// low-discrepancy sequence would make χ² too small).
+struct Uniforms {
+  Pcg32 rng;
+  explicit Uniforms(uint64_t seed) : rng(seed) {}
+  Vec2d next() {
+    const double a = rng.next_double();
+    return {a, rng.next_double()};
+  }
+};
 
 struct Chi2Result {
   bool pass = false;
