@@ -306,6 +306,19 @@ ParamSpec f0_param() {
   return {"f0", "Specular normal-incidence reflectance F0 (Schlick)", {0.04}, 0, 1, 3, {}};
 }
 
+// An energy-conserving diffuse term of (rho, f0) coupled to a Schlick specular: 9.62, 9.63, 9.64.
+using RhoF0Diffuse = Rgbd (*)(const Rgbd&, const Rgbd&, const Vec3d&, const Vec3d&);
+ModelInfo rho_f0_diffuse_info(std::string name, std::string summary, std::string source, RhoF0Diffuse fn,
+                              bool reciprocal) {
+  return diffuse_info(
+      std::move(name), std::move(summary), std::move(source), {albedo_param(), f0_param()},
+      [fn](const BrdfParams& P) -> DiffuseModel::Fn {
+        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
+        return [a, f0, fn](const Vec3d& l, const Vec3d& v) { return fn(a, f0, l, v); };
+      },
+      reciprocal, true);
+}
+
 }  // namespace
 
 std::vector<ModelInfo> core_brdf_models() {
@@ -363,30 +376,14 @@ std::vector<ModelInfo> core_brdf_models() {
         return [a](const Vec3d& l, const Vec3d& v) { return diffuse_lambert(a, l, v); };
       },
       true, true));
-  v.push_back(diffuse_info(
+  v.push_back(rho_f0_diffuse_info(
       "lambert-fresnel-n", "(1 - F(n,l)) rho/pi: diffuse coupled to a flat Schlick mirror (not reciprocal)",
-      "RTR4 9.62", {albedo_param(), f0_param()},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
-        return [a, f0](const Vec3d& l, const Vec3d& v) { return diffuse_fresnel_n(a, f0, l, v); };
-      },
-      false, true));
-  v.push_back(diffuse_info(
-      "lambert-fresnel-h", "(1 - F(h,l)) rho/pi: diffuse coupled to a microfacet specular term", "RTR4 9.63",
-      {albedo_param(), f0_param()},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
-        return [a, f0](const Vec3d& l, const Vec3d& v) { return diffuse_fresnel_h(a, f0, l, v); };
-      },
-      true, true));
-  v.push_back(diffuse_info(
-      "shirley", "Shirley et al. 1997 coupled diffuse for a flat Schlick mirror", "RTR4 9.64",
-      {albedo_param(), f0_param()},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
-        return [a, f0](const Vec3d& l, const Vec3d& v) { return diffuse_shirley(a, f0, l, v); };
-      },
-      true, true));
+      "RTR4 9.62", &diffuse_fresnel_n<double, Rgbd>, false));
+  v.push_back(rho_f0_diffuse_info("lambert-fresnel-h",
+                                  "(1 - F(h,l)) rho/pi: diffuse coupled to a microfacet specular term",
+                                  "RTR4 9.63", &diffuse_fresnel_h<double, Rgbd>, true));
+  v.push_back(rho_f0_diffuse_info("shirley", "Shirley et al. 1997 coupled diffuse for a flat Schlick mirror",
+                                  "RTR4 9.64", &diffuse_shirley<double, Rgbd>, true));
   v.push_back(diffuse_info(
       "ksk", "Kelemen/Szirmay-Kalos coupled diffuse for a GGX Schlick specular (diffuse term only)",
       "RTR4 9.65; Ashikhmin & Shirley 2000, Kelemen & Szirmay-Kalos 2001; R_spec from the shipped DFG table",

@@ -63,27 +63,20 @@ T erf_inv(T y) {
 
 template <class T>
 class Beckmann : public SmithMicrofacet<Beckmann<T>, T>, public AnisotropicAlpha<T> {
-  using Smith = SmithMicrofacet<Beckmann<T>, T>;
-  using Alpha = AnisotropicAlpha<T>;
-  using Alpha::ax_;
-  using Alpha::ay_;
-
  public:
-  using Alpha::kMinAlpha;
-  using Smith::D;
-
-  Beckmann() = default;
-  explicit Beckmann(T alpha) : Beckmann(alpha, alpha) {}
-  Beckmann(T alpha_x, T alpha_y) : Alpha(alpha_x, alpha_y) {}
+  // Beckmann(), Beckmann(α), Beckmann(αx, αy); α below kMinAlpha is clamped, a NaN α propagates
+  // (AnisotropicAlpha).
+  using AnisotropicAlpha<T>::AnisotropicAlpha;
+  using SmithMicrofacet<Beckmann<T>, T>::D;
 
   // D(m), 9.52: exp(−(x²/αx² + y²/αy²)/z²) / (π αx αy z⁴). Zero for m.z ≤ 0; underflows to 0 near the
   // horizon.
   T D(const Vec3<T>& wm) const {
     if (!(wm.z > T(0))) return T(0);
     const T z2 = sqr(wm.z);
-    const T e = (sqr(wm.x / ax_) + sqr(wm.y / ay_)) / z2;  // tan²θ/α(φ)²
+    const T e = (sqr(wm.x / this->ax_) + sqr(wm.y / this->ay_)) / z2;  // tan²θ/α(φ)²
     if (!(e < T(700))) return T(0);
-    return std::exp(-e) / (kPi<T> * ax_ * ay_ * z2 * z2);
+    return std::exp(-e) / (kPi<T> * this->ax_ * this->ay_ * z2 * z2);
   }
 
   // a = |n·s| / sqrt(αx²(t·s)² + αy²(b·s)²) (9.37, 9.51); +∞ at the pole.
@@ -142,12 +135,12 @@ class Beckmann : public SmithMicrofacet<Beckmann<T>, T>, public AnisotropicAlpha
   // of the standard Beckmann surface (x by numerically inverting its CDF, y ~ N(0, 1/2)), rotate, unstretch.
   // pdf = D(w, m). w.z < 0 is mirrored to −w.
   Vec3<T> Sample_wm(const Vec3<T>& w, Vec2<T> u) const {
-    Vec3<T> ws = normalize(Vec3<T>(ax_ * w.x, ay_ * w.y, w.z));
+    Vec3<T> ws = normalize(Vec3<T>(this->ax_ * w.x, this->ay_ * w.y, w.z));
     if (ws.z < T(0)) ws = -ws;
     T sx, sy;
     sample_slopes_11(ws.z, u, sx, sy);
     const T cp = cos_phi(ws), sp = sin_phi(ws);
-    const T x = (cp * sx - sp * sy) * ax_, y = (sp * sx + cp * sy) * ay_;
+    const T x = (cp * sx - sp * sy) * this->ax_, y = (sp * sx + cp * sy) * this->ay_;
     return normalize(Vec3<T>(-x, -y, T(1)));
   }
 
@@ -157,9 +150,7 @@ class Beckmann : public SmithMicrofacet<Beckmann<T>, T>, public AnisotropicAlpha
     T c, s, inv_a2;
     this->ndf_sample_azimuth(u.y, c, s, inv_a2);
     const T tan2 = -std::log1p(-std::min(u.x, kOneMinusEpsilon<T>)) / inv_a2;
-    const T cos_t = T(1) / std::sqrt(T(1) + tan2);
-    const T sin_t = safe_sqrt(T(1) - cos_t * cos_t);
-    return {sin_t * c, sin_t * s, cos_t};
+    return this->ndf_sample_direction(tan2, c, s);
   }
 
  private:

@@ -19,33 +19,25 @@ namespace msh {
 
 template <class T>
 class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
-  using Smith = SmithMicrofacet<GGX<T>, T>;
-  using Alpha = AnisotropicAlpha<T>;
-  using Alpha::ax_;
-  using Alpha::ay_;
-
  public:
-  using Alpha::kMinAlpha;
-  using Smith::D;
-  using Smith::G1;
-
-  GGX() = default;
-  explicit GGX(T alpha) : GGX(alpha, alpha) {}
-  GGX(T alpha_x, T alpha_y) : Alpha(alpha_x, alpha_y) {}
+  // GGX(), GGX(α), GGX(αx, αy); α below kMinAlpha is clamped, a NaN α propagates (AnisotropicAlpha).
+  using AnisotropicAlpha<T>::AnisotropicAlpha;
+  using SmithMicrofacet<GGX<T>, T>::D;
+  using SmithMicrofacet<GGX<T>, T>::G1;
 
   // NDF D(m), 9.53, written as 1 / (π αx αy (x²/αx² + y²/αy² + z²)²): no tan, exact at the pole.
   // Normalized so that ∫ D(m) (n·m) dm = 1. Zero for m.z ≤ 0.
   T D(const Vec3<T>& wm) const {
     if (!(wm.z > T(0))) return T(0);
-    const T k = sqr(wm.x / ax_) + sqr(wm.y / ay_) + sqr(wm.z);
-    return T(1) / (kPi<T> * ax_ * ay_ * k * k);
+    const T k = sqr(wm.x / this->ax_) + sqr(wm.y / this->ay_) + sqr(wm.z);
+    return T(1) / (kPi<T> * this->ax_ * this->ay_ * k * k);
   }
 
   // Projected roughness along the azimuth of w (Zurita 2026b, "Improving Direct Lighting Material Occlusion –
   // Part 2": ProjectRoughnessGGX; RTR4 (9.51)). α at the pole.
   T projected_alpha(const Vec3<T>& w) const {
     const T s2 = sqr(w.x) + sqr(w.y);
-    if (!(s2 > T(0))) return std::sqrt(T(0.5) * (ax_ * ax_ + ay_ * ay_));
+    if (!(s2 > T(0))) return std::sqrt(T(0.5) * (this->ax_ * this->ax_ + this->ay_ * this->ay_));
     return std::sqrt(this->projected_alpha2_sin2(w) / s2);
   }
 
@@ -78,7 +70,7 @@ class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
   // (α = 1) configuration the visible normals are the half vectors between w and a uniform point on the
   // spherical cap z ≥ −w.z. Samples m with pdf D(w, m). w.z < 0 is mirrored to −w.
   Vec3<T> sample_vndf_spherical_caps(const Vec3<T>& w, Vec2<T> u) const {
-    Vec3<T> wi = normalize(Vec3<T>(ax_ * w.x, ay_ * w.y, w.z));
+    Vec3<T> wi = normalize(Vec3<T>(this->ax_ * w.x, this->ay_ * w.y, w.z));
     if (wi.z < T(0)) wi = -wi;
     const T phi = T(2) * kPi<T> * u.x;
     // z = (1 − u.y)(1 + wi.z) − wi.z. sin² = 1 − z² = (1 − z)(1 + z) with 1 − z = u.y(1 + wi.z) and
@@ -88,13 +80,13 @@ class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
     const T z = (T(1) - u.y) * (T(1) + wi.z) - wi.z;
     const T s = safe_sqrt(one_minus_z * one_plus_z);
     const Vec3<T> h = Vec3<T>(s * std::cos(phi), s * std::sin(phi), z) + wi;
-    return normalize(Vec3<T>(ax_ * h.x, ay_ * h.y, std::max(T(0), h.z)));
+    return normalize(Vec3<T>(this->ax_ * h.x, this->ay_ * h.y, std::max(T(0), h.z)));
   }
 
   // Heitz 2018, "Sampling the GGX Distribution of Visible Normals" (JCGT 7(4)): stretch, sample the projected
   // hemisphere as a disk warped by s = (1 + z)/2, unstretch. Same distribution as the spherical-caps sampler.
   Vec3<T> sample_vndf_heitz2018(const Vec3<T>& w, Vec2<T> u) const {
-    Vec3<T> vh = normalize(Vec3<T>(ax_ * w.x, ay_ * w.y, w.z));
+    Vec3<T> vh = normalize(Vec3<T>(this->ax_ * w.x, this->ay_ * w.y, w.z));
     if (vh.z < T(0)) vh = -vh;
     const T lensq = vh.x * vh.x + vh.y * vh.y;
     const Vec3<T> t1 = lensq > T(0) ? Vec3<T>(-vh.y, vh.x, T(0)) / std::sqrt(lensq) : Vec3<T>(1, 0, 0);
@@ -105,7 +97,7 @@ class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
     const T sblend = T(0.5) * (T(1) + vh.z);
     const T p2 = (T(1) - sblend) * safe_sqrt(T(1) - p1 * p1) + sblend * r * std::sin(phi);
     const Vec3<T> nh = p1 * t1 + p2 * t2 + safe_sqrt(T(1) - p1 * p1 - p2 * p2) * vh;
-    return normalize(Vec3<T>(ax_ * nh.x, ay_ * nh.y, std::max(T(0), nh.z)));
+    return normalize(Vec3<T>(this->ax_ * nh.x, this->ay_ * nh.y, std::max(T(0), nh.z)));
   }
 
   // Plain NDF sampling: m with pdf D(m) (n·m) (solid angle). Anisotropic azimuth from
@@ -114,9 +106,7 @@ class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
     T c, s, inv_a2;
     this->ndf_sample_azimuth(u.y, c, s, inv_a2);
     const T tan2 = u.x / ((T(1) - u.x) * inv_a2);
-    const T cos_t = T(1) / std::sqrt(T(1) + tan2);
-    const T sin_t = safe_sqrt(T(1) - cos_t * cos_t);
-    return {sin_t * c, sin_t * s, cos_t};
+    return this->ndf_sample_direction(tan2, c, s);
   }
 };
 static_assert(VisibleNormalSampler<GGX<float>> && VisibleNormalSampler<GGX<double>>);

@@ -118,10 +118,12 @@ class AnisotropicAlpha {
   // (RTR4 9.51).
   T projected_alpha2_sin2(const Vec3<T>& w) const { return sqr(ax_ * w.x) + sqr(ay_ * w.y); }
 
- protected:
+  // Inherited as the constructors of GGX and Beckmann: D(), D(α), D(αx, αy).
   AnisotropicAlpha() = default;
+  explicit AnisotropicAlpha(T alpha) : AnisotropicAlpha(alpha, alpha) {}
   AnisotropicAlpha(T alpha_x, T alpha_y) : ax_(clamp_alpha(alpha_x)), ay_(clamp_alpha(alpha_y)) {}
 
+ protected:
   static T clamp_alpha(T a) { return a > kMinAlpha || std::isnan(a) ? a : kMinAlpha; }
 
   // Azimuth of a plain NDF sample of an anisotropic shape-invariant NDF, tan φ = (αy/αx) tan(2π u), and
@@ -131,6 +133,13 @@ class AnisotropicAlpha {
     const T phi = std::atan2(ay_ * std::sin(a), ax_ * std::cos(a));
     cos_phi = std::cos(phi), sin_phi = std::sin(phi);
     inv_alpha2 = sqr(cos_phi / ax_) + sqr(sin_phi / ay_);
+  }
+
+  // The direction of a plain NDF sample with tan²θ = tan2 at azimuth (cos φ, sin φ).
+  static Vec3<T> ndf_sample_direction(T tan2, T cos_phi, T sin_phi) {
+    const T cos_t = T(1) / std::sqrt(T(1) + tan2);
+    const T sin_t = safe_sqrt(T(1) - cos_t * cos_t);
+    return {sin_t * cos_phi, sin_t * sin_phi, cos_t};
   }
 
   T ax_ = T(0.5), ay_ = T(0.5);
