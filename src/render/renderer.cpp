@@ -1,6 +1,9 @@
 // The reference renderer (see render/renderer.h).
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
+#include <microshadow/bsdf/diffuse.h>
+#include <microshadow/bsdf/fresnel.h>
+#include <microshadow/bsdf/specular.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
@@ -56,28 +59,29 @@ uint32_t pixel_seed(uint32_t seed, int x, int y) {
 
 }  // namespace
 
+// Shading goes through the library's BRDF code: bsdf::microfacet_specular (RTR4 9.34 with the GGX NDF and the
+// height-correlated Smith G2, 9.41 + 9.31), bsdf::fresnel_schlick (9.16) and bsdf::diffuse_lambert (9.61).
 Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec_scale, bool diffuse,
               bool specular) {
   const Vec3f& n = sp.n_shading;
   const float nl = dot(n, wi);
   if (!(nl > 0)) return Rgbf(0.0f);
-  const float nv = std::max(dot(n, wo), 1e-4f);
+  const Framef fr = Framef::from_z(n);
+  const Vec3f li = fr.to_local(wi), lo_raw = fr.to_local(wo);
+  // A normal-mapped normal can face away from the viewer: clamp N·V (the view stays just above the horizon).
+  const Vec3f lo(lo_raw.x, lo_raw.y, std::max(lo_raw.z, 1e-4f));
   const Vec3f h = normalize(wi + wo, n);
-  const float vh = saturate(dot(wo, h));
   const Rgbf f0 = lerp(sp.metallic, Rgbf(0.04f * sp.specular), sp.base_color);
-  const float fw = std::pow(1.0f - vh, 5.0f);
-  const Rgbf F =
-      f0 + (Rgbf(1.0f) - f0) * (fw * std::min(1.0f, sp.specular));  // specular 0: no Fresnel at all
+  // specular < 1 also fades the Fresnel rise (specular 0: no Fresnel at all, for closed-form Lambert tests).
+  const Rgbf F = lerp(std::min(1.0f, sp.specular), f0, bsdf::fresnel_schlick(f0, saturate(dot(wo, h))));
   Rgbf out(0.0f);
   if (specular) {
-    const Framef fr = Framef::from_z(n);
     const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
-    const Vec3f lo = fr.to_local(wo), li = fr.to_local(wi), lh = fr.to_local(h);
-    const Vec3f lov(lo.x, lo.y, std::max(lo.z, 1e-4f));
-    const float spec = ggx.D(lh) * ggx.G2(lov, li) / (4.0f * nv);  // × nl / nl: the cosine cancels
-    out += F * (spec * spec_scale);
+    const bsdf::SpecularEval<float> e = bsdf::microfacet_specular(ggx, lo, li);
+    out += F * (e.f1 * nl * spec_scale);
   }
-  if (diffuse) out += (Rgbf(1.0f) - F) * sp.base_color * ((1.0f - sp.metallic) * kInvPi<float> * nl);
+  if (diffuse)
+    out += (Rgbf(1.0f) - F) * bsdf::diffuse_lambert(sp.base_color * (1.0f - sp.metallic), li, lo) * nl;
   return out;
 }
 
