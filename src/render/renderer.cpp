@@ -19,6 +19,7 @@
 #include <cmath>
 #include <limits>
 
+#include "displaced.h"
 #include "shading_terms.h"
 
 namespace msh::render {
@@ -34,8 +35,9 @@ struct Hit {
   float tangent_sign = 1;
   Vec2f uv;
   int prim = -1;
-  Vec3f bary;  // mesh barycentrics (w0, w1, w2)
-  bool heightfield = false;
+  Vec3f bary;                // mesh barycentrics (w0, w1, w2)
+  bool heightfield = false;  // the height-field DDA of a ground-truth plane
+  bool gt = false;           // ground-truth micro-geometry (DDA or displaced Embree mesh)
 };
 
 // A plane rendered as its height map (ground truth), in the grid space of render/heightfield.h.
@@ -91,13 +93,17 @@ struct Renderer::Impl {
   RTCScene rtc = nullptr;
   std::vector<int> geom_to_obj;
   std::vector<PlaneHF> hfs;
-  std::vector<int> obj_hf;  // object → index in hfs or −1
+  std::vector<int> obj_hf;                       // object → index in hfs or −1
+  std::vector<std::shared_ptr<Mesh>> gt_meshes;  // displaced ground-truth meshes (Embree, front faces only)
+  std::vector<int> obj_gt_mesh;                  // object → index in gt_meshes or −1
   MicroShadowingTerm ms;
   BumpTerminatorTerm bt;
 
   explicit Impl(const Scene& s) : scene(s), ms(s.settings), bt(s.settings.bump_terminator) {
     obj_hf.assign(s.objects.size(), -1);
-    bool any_mesh = false;
+    obj_gt_mesh.assign(s.objects.size(), -1);
+    if (s.settings.micro_shadowing == MicroShadowing::GroundTruth) setup_ground_truth(s);
+    bool any_mesh = !gt_meshes.empty();
     for (const auto& o : s.objects) any_mesh |= o.type == ShapeType::Mesh;
     if (any_mesh) {
       device = rtcNewDevice(nullptr);
@@ -106,16 +112,25 @@ struct Renderer::Impl {
       rtcSetSceneBuildQuality(rtc, RTC_BUILD_QUALITY_HIGH);
       for (std::size_t i = 0; i < s.objects.size(); ++i) {
         const Object& o = s.objects[i];
-        if (o.type != ShapeType::Mesh) continue;
+        const bool gt = obj_gt_mesh[i] >= 0;
+        if (o.type != ShapeType::Mesh && !gt) continue;
+        const Mesh& mesh = gt ? *gt_meshes[obj_gt_mesh[i]] : *o.mesh;
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), o.mesh->p.size()));
-        for (std::size_t k = 0; k < o.mesh->p.size(); ++k)
-          vb[3 * k] = o.mesh->p[k].x, vb[3 * k + 1] = o.mesh->p[k].y, vb[3 * k + 2] = o.mesh->p[k].z;
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.p.size()));
+        for (std::size_t k = 0; k < mesh.p.size(); ++k)
+          vb[3 * k] = mesh.p[k].x, vb[3 * k + 1] = mesh.p[k].y, vb[3 * k + 2] = mesh.p[k].z;
         auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), o.mesh->tri.size()));
-        for (std::size_t k = 0; k < o.mesh->tri.size(); ++k)
-          for (int c = 0; c < 3; ++c) ib[3 * k + c] = o.mesh->tri[k][c];
+            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.tri.size()));
+        for (std::size_t k = 0; k < mesh.tri.size(); ++k)
+          for (int c = 0; c < 3; ++c) ib[3 * k + c] = mesh.tri[k][c];
+        if (gt) {
+          // Ground-truth micro-geometry counts front faces only, like the height-field DDA (shadow-ray
+          // policy).
+          rtcSetGeometryUserData(g, const_cast<Mesh*>(&mesh));
+          rtcSetGeometryIntersectFilterFunction(g, front_face_filter);
+          rtcSetGeometryOccludedFilterFunction(g, front_face_filter);
+        }
         rtcCommitGeometry(g);
         const unsigned id = rtcAttachGeometry(rtc, g);
         rtcReleaseGeometry(g);
@@ -124,36 +139,60 @@ struct Renderer::Impl {
       }
       rtcCommitScene(rtc);
     }
-    if (s.settings.micro_shadowing == MicroShadowing::GroundTruth) {
-      for (std::size_t i = 0; i < s.objects.size(); ++i) {
-        const Object& o = s.objects[i];
-        const Material& m = s.materials[o.material];
-        if (o.type != ShapeType::Plane || m.height.empty()) continue;
-        PlaneHF p;
-        p.obj = int(i);
-        p.T = o.tangent, p.N = o.normal, p.B = cross(o.normal, o.tangent), p.c = o.center,
-        p.half = o.half_size;
-        const float tu = 2 * o.half_size.x / (m.uv_scale * float(m.height.width()));
-        const float tv = 2 * o.half_size.y / (m.uv_scale * float(m.height.height()));
-        if (std::abs(tu - tv) > 0.01f * tu)
-          throw InputError(fmt::format("{}: ground truth needs square texels on the plane (material '{}')",
-                                       s.source.string(), m.name));
-        p.texel = tu;
-        if (!(m.height_texels > 0))
-          throw InputError(
-              fmt::format("{}: ground truth: material '{}' has a height map but no height_texels "
-                          "(set it in the scene or ship material.json beside the height map)",
-                          s.source.string(), m.name));
-        p.hf = HeightField(m.height, m.height_texels);
-        p.lo = {-0.5f, -0.5f};
-        p.hi = {2 * o.half_size.x / tu - 0.5f, 2 * o.half_size.y / tu - 0.5f};
-        obj_hf[i] = int(hfs.size());
-        hfs.push_back(std::move(p));
-      }
-      if (hfs.empty())
-        throw InputError(fmt::format("{}: ground-truth needs a plane whose material has a 'height' map",
-                                     s.source.string()));
+  }
+
+  // Rejects hits on triangles the ray meets from behind (outward winding of the displaced meshes).
+  static void front_face_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* m = static_cast<const Mesh*>(args->geometryUserPtr);
+    for (unsigned k = 0; k < args->N; ++k) {
+      if (args->valid[k] != -1) continue;
+      const auto& t = m->tri[RTCHitN_primID(args->hit, args->N, k)];
+      const Vec3f n = cross(m->p[t[1]] - m->p[t[0]], m->p[t[2]] - m->p[t[0]]);
+      const Vec3f d(RTCRayN_dir_x(args->ray, args->N, k), RTCRayN_dir_y(args->ray, args->N, k),
+                    RTCRayN_dir_z(args->ray, args->N, k));
+      if (!(dot(n, d) < 0)) args->valid[k] = 0;
     }
+  }
+
+  void setup_ground_truth(const Scene& s) {
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      const Object& o = s.objects[i];
+      const Material& m = s.materials[o.material];
+      if (m.height.empty()) continue;
+      if (o.type == ShapeType::Mesh && o.cylinder) {
+        obj_gt_mesh[i] = int(gt_meshes.size());
+        gt_meshes.push_back(std::make_shared<Mesh>(displaced_cylinder_mesh(o, m, s.source.string())));
+        continue;
+      }
+      if (o.type != ShapeType::Plane) continue;
+      if (s.settings.gt_intersector == GtIntersector::Embree) {
+        obj_gt_mesh[i] = int(gt_meshes.size());
+        gt_meshes.push_back(std::make_shared<Mesh>(displaced_plane_mesh(o, m, s.source.string())));
+        continue;
+      }
+      PlaneHF p;
+      p.obj = int(i);
+      p.T = o.tangent, p.N = o.normal, p.B = cross(o.normal, o.tangent), p.c = o.center, p.half = o.half_size;
+      const float tu = 2 * o.half_size.x / (m.uv_scale * float(m.height.width()));
+      const float tv = 2 * o.half_size.y / (m.uv_scale * float(m.height.height()));
+      if (std::abs(tu - tv) > 0.01f * tu)
+        throw InputError(fmt::format("{}: ground truth needs square texels on the plane (material '{}')",
+                                     s.source.string(), m.name));
+      p.texel = tu;
+      if (!(m.height_texels > 0))
+        throw InputError(
+            fmt::format("{}: ground truth: material '{}' has a height map but no height_texels "
+                        "(set it in the scene or ship material.json beside the height map)",
+                        s.source.string(), m.name));
+      p.hf = HeightField(m.height, m.height_texels);
+      p.lo = {-0.5f, -0.5f};
+      p.hi = {2 * o.half_size.x / tu - 0.5f, 2 * o.half_size.y / tu - 0.5f};
+      obj_hf[i] = int(hfs.size());
+      hfs.push_back(std::move(p));
+    }
+    if (hfs.empty() && gt_meshes.empty())
+      throw InputError(fmt::format(
+          "{}: ground-truth needs a plane or cylinder whose material has a 'height' map", s.source.string()));
   }
   ~Impl() {
     if (rtc) rtcReleaseScene(rtc);
@@ -166,13 +205,14 @@ struct Renderer::Impl {
     bool found = false;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       const Object& ob = scene.objects[i];
+      if (obj_gt_mesh[i] >= 0) continue;  // traced by Embree
       if (ob.type == ShapeType::Plane) {
         if (obj_hf[i] >= 0) {
           const PlaneHF& p = hfs[obj_hf[i]];
           float t;
           Vec3f ng;
           if (p.hf.intersect(p.to_grid_p(o), p.to_grid_d(d), tmin, h.t, p.lo, p.hi, &t, &ng)) {
-            h.t = t, h.obj = int(i), h.heightfield = true, found = true;
+            h.t = t, h.obj = int(i), h.heightfield = h.gt = true, found = true;
             h.ng = normalize(p.to_world_d(ng));
           }
           continue;
@@ -185,7 +225,7 @@ struct Renderer::Impl {
         const Vec3f B = cross(ob.normal, ob.tangent);
         const float s = dot(q, ob.tangent), r = dot(q, B);
         if (std::abs(s) > ob.half_size.x || std::abs(r) > ob.half_size.y) continue;
-        h.t = t, h.obj = int(i), h.heightfield = false, found = true;
+        h.t = t, h.obj = int(i), h.heightfield = h.gt = false, found = true;
         h.ng = h.ns = ob.normal;
         h.tangent = ob.tangent, h.tangent_sign = 1;
         h.uv = {(s + ob.half_size.x) / (2 * ob.half_size.x), (r + ob.half_size.y) / (2 * ob.half_size.y)};
@@ -198,7 +238,7 @@ struct Renderer::Impl {
         float t = (-b - sq) / a;
         if (!(t > tmin)) t = (-b + sq) / a;
         if (!(t > tmin && t < h.t)) continue;
-        h.t = t, h.obj = int(i), h.heightfield = false, found = true;
+        h.t = t, h.obj = int(i), h.heightfield = h.gt = false, found = true;
       }
     }
     if (rtc) {
@@ -213,6 +253,7 @@ struct Renderer::Impl {
       if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < h.t) {
         h.t = rh.ray.tfar, h.obj = geom_to_obj[rh.hit.geomID], h.prim = int(rh.hit.primID), found = true;
         h.heightfield = false;
+        h.gt = obj_gt_mesh[h.obj] >= 0;
         h.bary = {1 - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};
       }
     }
@@ -228,6 +269,15 @@ struct Renderer::Impl {
           normalize(Vec3f(-n.y, n.x, 0.0f), Vec3f(1, 0, 0));  // ∂P/∂u (east); bitangent = ∂P/∂v (south)
       h.tangent_sign =
           dot(cross(n, h.tangent), Vec3f(n.z * n.x, n.z * n.y, -(n.x * n.x + n.y * n.y))) < 0 ? -1 : 1;
+    } else if (h.gt && !h.heightfield) {
+      // Displaced ground-truth mesh: facet normal for everything, like the height field.
+      const Mesh& m = *gt_meshes[obj_gt_mesh[h.obj]];
+      const auto& tr = m.tri[h.prim];
+      const Vec3f& w = h.bary;
+      h.ng = h.ns = normalize(cross(m.p[tr[1]] - m.p[tr[0]], m.p[tr[2]] - m.p[tr[0]]));
+      h.uv = {m.uv[tr[0]].x * w.x + m.uv[tr[1]].x * w.y + m.uv[tr[2]].x * w.z,
+              m.uv[tr[0]].y * w.x + m.uv[tr[1]].y * w.y + m.uv[tr[2]].y * w.z};
+      h.tangent = normalize(m.p[tr[1]] - m.p[tr[0]]), h.tangent_sign = 1;
     } else if (ob.type == ShapeType::Mesh) {
       const Mesh& m = *ob.mesh;
       const auto& tr = m.tri[h.prim];
@@ -262,6 +312,7 @@ struct Renderer::Impl {
   bool occluded(const Vec3f& o, const Vec3f& d, float tmin, float tmax) const {
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       const Object& ob = scene.objects[i];
+      if (obj_gt_mesh[i] >= 0) continue;  // traced by Embree
       if (ob.type == ShapeType::Plane) {
         if (obj_hf[i] >= 0) {
           const PlaneHF& p = hfs[obj_hf[i]];
@@ -314,7 +365,7 @@ struct Renderer::Impl {
     sp.n_smooth = h.ns;
     sp.n_shading = h.ns;
     sp.visibility = 1.0f;
-    if (!h.heightfield) {
+    if (!h.gt) {
       sp.visibility = saturate(m.visibility.sample(u, v));
       if (!m.normal.empty()) {
         const Framef fr = Framef::from_zx(h.ns, h.tangent);
@@ -333,11 +384,10 @@ struct Renderer::Impl {
     // starts at the hit point itself, no offset: it counts front faces only and a light must be above the
     // hit facet, so the ray cannot re-hit its own facet.
     Vec3f po = h.p;
-    if (set.hanika_offset && ob.type == ShapeType::Mesh) po = hanika_offset(*ob.mesh, h);
+    if (set.hanika_offset && ob.type == ShapeType::Mesh && !h.gt) po = hanika_offset(*ob.mesh, h);
     const float eps =
-        h.heightfield
-            ? 0.0f
-            : 2e-4f * std::max(1.0f, std::max(std::abs(h.p.x), std::max(std::abs(h.p.y), std::abs(h.p.z))));
+        h.gt ? 0.0f
+             : 2e-4f * std::max(1.0f, std::max(std::abs(h.p.x), std::max(std::abs(h.p.y), std::abs(h.p.z))));
     auto shadow = [&](const Vec3f& wi, float dist) {
       ++st.shadow_rays;
       return occluded(po + h.ng * eps, wi, 0.0f, dist);
@@ -349,7 +399,7 @@ struct Renderer::Impl {
     };
     // Meshes leave the geometric-hemisphere test to the shadow ray (so that the Hanika offset can light faces
     // whose flat normal already turned away, as a smooth surface would); other shapes test N_g·L.
-    const bool is_mesh = ob.type == ShapeType::Mesh;
+    const bool is_mesh = ob.type == ShapeType::Mesh && !h.gt;
     auto above = [&](const Vec3f& wi) { return is_mesh || dot(h.ng, wi) > 0; };
     for (std::size_t li = 0; li < scene.lights.size(); ++li) {
       const Light& light = scene.lights[li];

@@ -88,6 +88,9 @@ struct Object {
   float radius = 1.0f;
   // Mesh (world space after the object's transform).
   std::shared_ptr<Mesh> mesh;
+  // A `cylinder` mesh keeps its parameters, so that the ground truth can displace it by its height map.
+  bool cylinder = false;
+  float cyl_radius = 1.0f, cyl_height = 2.0f, cyl_rotate_z = 0.0f;  // rotation about z in radians
 };
 
 enum class LightType { Directional, Point, Sphere };
@@ -137,6 +140,10 @@ enum class BumpTerminator { Off, Conty2019, Chiang2019 };
 const char* to_string(BumpTerminator b);
 BumpTerminator bump_terminator_from_string(const std::string& s);
 
+// Intersector of the ground truth's displaced planes: the height-field DDA (render/heightfield.h) or Embree
+// on the same triangles (displaced cylinders always use Embree).
+enum class GtIntersector { HeightField, Embree };
+
 struct Settings {
   int width = 512, height = 512, spp = 4;
   Component component = Component::Total;
@@ -152,6 +159,7 @@ struct Settings {
   bool ms_smooth_normal = false;
   BumpTerminator bump_terminator = BumpTerminator::Off;
   bool hanika_offset = false;
+  GtIntersector gt_intersector = GtIntersector::HeightField;
   bool area_lights = false;  // sphere lights: true = area sampling (reference), false = representative point
   int area_samples = 16;
   float exposure = 0.0f;
