@@ -75,7 +75,7 @@ TEST(RenderGolden, LambertSphereMatchesClosedForm) {
   EXPECT_GT(checked_miss, 300);
 }
 
-// Plane with constant visibility V: every method's term is a closed form of (V, N·L) (REFERENCE.md §2),
+// Plane with constant visibility V: every method's term is a closed form of (V, N·L) (docs/micro-shadowing.md),
 // written here independently of the micro-shadowing module.
 TEST(RenderGolden, PlaneMicroShadowingTermsMatchClosedForms) {
   const double V = 0.6, el = 30, nl = std::sin(el * kPi<double> / 180);

@@ -49,7 +49,7 @@ struct Material {
   Texture normal;  // tangent space, encoded n·0.5 + 0.5; x = +u (tangent), y = +v (bitangent); empty = flat
   Texture roughness;   // perceptual roughness r (α = r²)
   Texture metallic;    // 0 = dielectric (F0 = 0.04), 1 = metal (F0 = base colour)
-  Texture visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, REFERENCE.md §1)
+  Texture visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, docs/micro-shadowing.md)
   Texture height;      // [0,1]; empty = no displacement
   float height_texels = 0.0f;    // depth of the full height range in texel units (ground truth only)
   float uv_scale = 1.0f;         // texture repeats per unit of the object's uv
@@ -112,7 +112,7 @@ struct Camera {
   float ortho_height = 2.0f;
 };
 
-// Micro-shadowing term multiplying the direct light per light (REFERENCE.md §2), or the ground truth.
+// Micro-shadowing term multiplying the direct light per light (docs/micro-shadowing.md), or the ground truth.
 enum class MicroShadowing {
   None,           // no micro-occlusion at all
   AO,             // V multiplies the direct light (what micro-shadowing replaces)
@@ -120,9 +120,9 @@ enum class MicroShadowing {
   BrinckMaximov,  // Brinck & Maximov 2016
   Chan,           // Chan 2018
   Part1,          // Part 1 analytic
-  GenericVndf,    // seed 002, Monte Carlo over visible normals (vndf_samples per light)
-  Lut3d,          // seed 002 3D LUT
-  Lut2d,          // seed 002 2D LUT (N·V = 1 slice)
+  GenericVndf,    // Zurita 2026, Monte Carlo over visible normals (vndf_samples per light)
+  Lut3d,          // Zurita 2026 3D LUT
+  Lut2d,          // Zurita 2026 2D LUT (N·V = 1 slice)
   GroundTruth     // height map rendered as real ray-traced micro-geometry, no normal or visibility map
 };
 const char* to_string(MicroShadowing m);
@@ -154,7 +154,7 @@ struct Settings {
   MicroShadowing micro_shadowing = MicroShadowing::None;
   int vndf_samples = 32;
   // Normal for the micro-shadowing term's N·L and N·V: false = the shading (normal-mapped) normal, as the
-  // seed's shaders do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion bake's
+  // shaders of Zurita 2026 do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion bake's
   // cone uses.
   bool ms_smooth_normal = false;
   BumpTerminator bump_terminator = BumpTerminator::Off;
