@@ -97,6 +97,17 @@ TEST_F(RenderCli, BadInputExitsTwoWithOneLineAndNoOutput) {
   EXPECT_EQ(std::count(gt.err.begin(), gt.err.end(), '\n'), 1) << gt.err;
   EXPECT_FALSE(fs::exists(out + ".exr"));
   EXPECT_EQ(run("render " + ok.string() + " --out " + out + " --component both").code, 2);
+  // --std-error needs spp to be a multiple of the error batches (8).
+  const Result se = run("render " + ok.string() + " --out " + out + " --std-error --spp 12");
+  EXPECT_EQ(se.code, 2) << se.err;
+  EXPECT_NE(se.err.find("error batches"), std::string::npos) << se.err;
+  EXPECT_FALSE(fs::exists(out + ".exr"));
+  ASSERT_EQ(
+      run("render " + ok.string() + " --quiet --out " + out + " --std-error --spp 8 --component diffuse")
+          .code,
+      0);
+  EXPECT_TRUE(fs::exists(out + "_stderr.exr"));
+  fs::remove(out + ".exr"), fs::remove(out + ".png"), fs::remove(out + "_stderr.exr");
   EXPECT_EQ(run("render --help").code, 0);
   EXPECT_EQ(run("gen-material --help").code, 0);
 }
