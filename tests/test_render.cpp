@@ -75,8 +75,8 @@ TEST(RenderGolden, LambertSphereMatchesClosedForm) {
   EXPECT_GT(checked_miss, 300);
 }
 
-// Plane with constant visibility V: every method's term is a closed form of (V, N·L) (docs/micro-shadowing.md),
-// written here independently of the micro-shadowing module.
+// Plane with constant visibility V: every method's term is a closed form of (V, N·L)
+// (docs/micro-shadowing.md), written here independently of the micro-shadowing module.
 TEST(RenderGolden, PlaneMicroShadowingTermsMatchClosedForms) {
   const double V = 0.6, el = 30, nl = std::sin(el * kPi<double> / 180);
   const double base = 0.5 / kPi<double> * 2.0 * nl;
@@ -626,4 +626,36 @@ TEST(RenderGroundTruth, SameImageWhateverTheThreadCount) {
     sum += one.px[i].r;
   }
   EXPECT_GT(sum, 1.0);
+}
+
+// render_to_error doubles spp until the RMS standard error is at most the target: the result meets it, the
+// previous spp would not have (its render, repeated through render_with_error, is above it), and the returned
+// image is the render_with_error image at that spp bit for bit.
+TEST(RenderError, RenderToErrorStopsAtTheTarget) {
+  const char* json = R"({
+    "camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+    "materials": {"m": {"base_color": 0.5, "roughness": 0.4}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+    "lights": [{"type": "sphere", "position": [0.5, 0, 1.5], "radius": 1.0, "intensity": 10}],
+    "settings": {"width": 8, "height": 8, "spp": 8, "area_lights": true, "area_samples": 1}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  const double target = 2e-3;
+  const RenderResult res = Renderer(s).render_to_error(target, 4096);
+  EXPECT_LE(rms_std_error(res.std_error), target);
+  ASSERT_GT(res.spp, 8);
+  EXPECT_EQ(res.batches, 8);
+  Scene half = s;
+  half.settings.spp = res.spp / 2;
+  EXPECT_GT(rms_std_error(Renderer(half).render_with_error().std_error), target);
+  Scene same = s;
+  same.settings.spp = res.spp;
+  const RenderResult direct = Renderer(same).render_with_error();
+  for (std::size_t i = 0; i < res.mean.px.size(); ++i) {
+    ASSERT_TRUE(res.mean.px[i] == direct.mean.px[i]) << i;
+    ASSERT_TRUE(res.std_error.px[i] == direct.std_error.px[i]) << i;
+  }
+  EXPECT_THROW(Renderer(s).render_to_error(0.0, 4096), InputError);
+  EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4), InputError);
+  s.settings.error_batches = 1;
+  EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4096), InputError);
 }

@@ -24,7 +24,7 @@ uint32_t pixel_seed(uint32_t seed, int x, int y) {
 // Mean of the pixel's spp samples, taken as `batches` independently scrambled Sobol batches of spp/batches
 // samples (batch 0 uses the pixel's own scramble, so batches = 1 is the plain render). With se, stores the
 // standard error of the mean from the spread of the batch means.
-Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se) const {
+Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se, int spp) const {
   const Settings& s = scene.settings;
   const Camera& cam = scene.camera;
   const Vec3f f = normalize(cam.target - cam.eye);
@@ -34,7 +34,8 @@ Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se)
                                     : std::tan(0.5f * cam.fov_deg * kPi<float> / 180.0f),
               aspect = float(s.width) / float(s.height);
   const uint32_t ps = pixel_seed(s.seed, x, y);
-  const int per = s.spp / batches;
+  if (spp == 0) spp = s.spp;
+  const int per = spp / batches;
   Rgbf sum(0.0f);
   double bm[3] = {0, 0, 0}, bm2[3] = {0, 0, 0};
   for (int b = 0; b < batches; ++b) {
@@ -42,7 +43,7 @@ Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se)
     Rgbf bsum(0.0f);
     for (int k = 0; k < per; ++k) {
       const int i = b * per + k;
-      const Vec2f u = s.spp == 1 ? Vec2f(0.5f, 0.5f) : sobol_2d<float>(uint32_t(k), bs);
+      const Vec2f u = spp == 1 ? Vec2f(0.5f, 0.5f) : sobol_2d<float>(uint32_t(k), bs);
       const float px = (2 * (float(x) + u.x) / float(s.width) - 1) * th * aspect;
       const float py = (1 - 2 * (float(y) + u.y) / float(s.height)) * th;
       const Vec3f d = cam.orthographic ? f : normalize(f + r * px + up * py);
@@ -70,7 +71,7 @@ Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se)
     }
     *se = Rgbf(e[0], e[1], e[2]);
   }
-  return sum / float(s.spp);
+  return sum / float(spp);
 }
 
 Renderer::Renderer(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
@@ -115,19 +116,59 @@ Image Renderer::render(const std::function<void(double)>& progress, RenderStats*
   return img;
 }
 
-RenderResult Renderer::render_with_error(const std::function<void(double)>& progress) const {
+RenderResult Renderer::render_batches(int spp, int batches,
+                                      const std::function<void(double)>& progress) const {
   const Settings& s = impl_->scene.settings;
+  const Impl& impl = *impl_;
   RenderResult res;
-  res.batches = std::max(1, std::min(s.error_batches, s.spp));
-  if (s.spp % res.batches != 0)
-    throw InputError(fmt::format("{}: spp = {} is not a multiple of the {} error batches",
-                                 impl_->scene.source.string(), s.spp, res.batches));
+  res.batches = batches, res.spp = spp;
   res.mean = Image(s.width, s.height);
   res.std_error = Image(s.width, s.height);
   for_each_pixel(s, progress, &res.stats, [&](int x, int y, RenderStats& st) {
-    res.mean.at(x, y) = impl_->pixel(x, y, st, res.batches, &res.std_error.at(x, y));
+    res.mean.at(x, y) = impl.pixel(x, y, st, batches, &res.std_error.at(x, y), spp);
   });
   return res;
+}
+
+RenderResult Renderer::render_with_error(const std::function<void(double)>& progress) const {
+  const Settings& s = impl_->scene.settings;
+  const int batches = std::max(1, std::min(s.error_batches, s.spp));
+  if (s.spp % batches != 0)
+    throw InputError(fmt::format("{}: spp = {} is not a multiple of the {} error batches",
+                                 impl_->scene.source.string(), s.spp, batches));
+  return render_batches(s.spp, batches, progress);
+}
+
+double rms_std_error(const Image& std_error) {
+  double sum = 0;
+  for (const Rgbf& e : std_error.px) sum += sqr(double(e.r)) + sqr(double(e.g)) + sqr(double(e.b));
+  return std_error.px.empty() ? 0.0 : std::sqrt(sum / (3.0 * double(std_error.px.size())));
+}
+
+RenderResult Renderer::render_to_error(double target_rms_std_error, int max_spp,
+                                       const std::function<void(double)>& progress) const {
+  const Settings& s = impl_->scene.settings;
+  const std::string& src = impl_->scene.source.string();
+  if (!(target_rms_std_error > 0) || !std::isfinite(target_rms_std_error))
+    throw InputError(fmt::format("{}: target standard error must be a positive number", src));
+  if (s.error_batches < 2)
+    throw InputError(fmt::format("{}: a target standard error needs error_batches >= 2", src));
+  const int batches = s.error_batches;
+  int spp = (std::max(s.spp, batches) + batches - 1) / batches * batches;
+  if (max_spp < spp || max_spp > (1 << 20))
+    throw InputError(fmt::format("{}: max spp {} must be in [{}, 2^20]", src, max_spp, spp));
+  RenderStats total;
+  double seconds = 0;
+  for (;;) {
+    RenderResult res = render_batches(spp, batches, progress);
+    total.camera_rays += res.stats.camera_rays, total.shadow_rays += res.stats.shadow_rays;
+    total.shaded_samples += res.stats.shaded_samples, seconds += res.stats.seconds;
+    if (rms_std_error(res.std_error) <= target_rms_std_error || 2 * spp > max_spp) {
+      res.stats = total, res.stats.seconds = seconds;
+      return res;
+    }
+    spp *= 2;
+  }
 }
 
 }  // namespace msh::render

@@ -77,7 +77,8 @@ struct Renderer::Impl {
   // Mean of the pixel's spp samples, taken as `batches` independently scrambled Sobol batches of spp/batches
   // samples (batch 0 uses the pixel's own scramble, so batches = 1 is the plain render). With se, stores the
   // standard error of the mean from the spread of the batch means.
-  Rgbf pixel(int x, int y, RenderStats& st, int batches = 1, Rgbf* se = nullptr) const;
+  // spp = 0: settings.spp.
+  Rgbf pixel(int x, int y, RenderStats& st, int batches = 1, Rgbf* se = nullptr, int spp = 0) const;
 };
 
 }  // namespace msh::render
