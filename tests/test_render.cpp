@@ -290,6 +290,18 @@ TEST(SceneJson, StrictErrorsNameFileAndKey) {
        "width"},
       {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m", "radius": -1}], "lights": []})",
        "radius"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"component": "both"}})",
+       "component"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"ground_truth_intersector": "optix"}})",
+       "ground_truth_intersector"},
+      {R"({"camera": {"projection": "fisheye"}, "materials": {"m": {}},
+          "objects": [{"type": "sphere", "material": "m"}], "lights": []})",
+       "projection"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"error_batches": 0}})",
+       "error_batches"},
       {R"({"materials": {"m": {}}, "objects": [)", "malformed JSON"}};
   for (const auto& [json, word] : bad) {
     try {
@@ -658,4 +670,31 @@ TEST(RenderError, RenderToErrorStopsAtTheTarget) {
   EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4), InputError);
   s.settings.error_batches = 1;
   EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4096), InputError);
+}
+
+// height_texels travels with the texture set: taken from material.json beside the height map when the scene
+// omits it, accepted when equal, refused (naming material.json) when different.
+TEST(SceneJson, HeightTexelsFromMaterialJson) {
+  const auto dir = std::filesystem::temp_directory_path() / "msh_test_render_depth";
+  std::filesystem::create_directories(dir);
+  TextureSet set;
+  set.height = Texture(8, 8, 1);
+  set.normal = normal_map_from_height(set.height, 3.5f);
+  set.roughness = set.metallic = set.visibility = set.height;
+  set.base_color = Texture::constant({0.5f, 0.5f, 0.5f, 1}, 3);
+  set.depth_texels = 3.5f;
+  write_texture_set(dir, set);
+  auto scene = [](const std::string& depth) {
+    return R"({"materials": {"m": {"height": "height.png")" + depth +
+           R"(}}, "objects": [{"type": "plane", "material": "m"}], "lights": []})";
+  };
+  EXPECT_EQ(parse_scene(scene(""), "s.json", dir).materials[0].height_texels, 3.5f);
+  EXPECT_EQ(parse_scene(scene(R"(, "height_texels": 3.5)"), "s.json", dir).materials[0].height_texels, 3.5f);
+  try {
+    parse_scene(scene(R"(, "height_texels": 4)"), "s.json", dir);
+    ADD_FAILURE() << "accepted a depth that contradicts material.json";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("material.json"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
