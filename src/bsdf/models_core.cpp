@@ -163,11 +163,12 @@ class GgxSpecular final : public BrdfModel {
   bool ms_;
 };
 
-// Beckmann microfacet specular (9.34 with 9.35/9.52 and the exact Smith Λ 9.38), VNDF-sampled.
-class BeckmannSpecular final : public BrdfModel {
+// One VNDF-sampled microfacet specular lobe (9.34) over any Smith NDF: Beckmann (9.35/9.52 with the exact Λ
+// 9.38) and the two-GGX mixture (Imageworks).
+template <class Ndf>
+class MicrofacetLobe final : public BrdfModel {
  public:
-  BeckmannSpecular(double r, double aniso, FresnelSpec fr, G2Form g2)
-      : ndf_(r * r * (1 + aniso), r * r * (1 - aniso)), fr_(std::move(fr)), g2_(g2) {}
+  MicrofacetLobe(Ndf ndf, FresnelSpec fr, G2Form g2) : ndf_(std::move(ndf)), fr_(std::move(fr)), g2_(g2) {}
   Rgbd f(const Vec3d& wo, const Vec3d& wi) const override {
     const auto e = microfacet_specular(ndf_, wo, wi, g2_);
     return fr_(e.cos_hl) * e.f1;
@@ -182,33 +183,9 @@ class BeckmannSpecular final : public BrdfModel {
   }
 
  private:
-  Beckmann<double> ndf_;
+  Ndf ndf_;
   FresnelSpec fr_;
   G2Form g2_;
-};
-
-// Two GGX NDFs mixed into one extended NDF (Imageworks).
-class GgxDual final : public BrdfModel {
- public:
-  GgxDual(double r1, double r2, double w, FresnelSpec fr)
-      : mix_(GGX<double>(roughness_to_alpha(r1)), GGX<double>(roughness_to_alpha(r2)), w),
-        fr_(std::move(fr)) {}
-  Rgbd f(const Vec3d& wo, const Vec3d& wi) const override {
-    const auto e = microfacet_specular(mix_, wo, wi);
-    return fr_(e.cos_hl) * e.f1;
-  }
-  std::optional<BsdfSample> sample(const Vec3d& wo, Vec2d u) const override {
-    const auto s = sample_microfacet_specular(mix_, wo, u);
-    if (!s) return std::nullopt;
-    return BsdfSample{s->wi, f(wo, s->wi), s->pdf};
-  }
-  double pdf(const Vec3d& wo, const Vec3d& wi) const override {
-    return microfacet_specular_pdf(mix_, wo, wi);
-  }
-
- private:
-  GGXMixture<double> mix_;
-  FresnelSpec fr_;
 };
 
 // A diffuse model given as a lambda, sampled with the default cosine sampler.
@@ -353,8 +330,10 @@ std::vector<ModelInfo> core_brdf_models() {
                {"g2", "Smith masking-shadowing form", {0}, 0, 1, 1, g2_names}},
               fresnel_params()),
        [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
-         return std::make_unique<BeckmannSpecular>(P.get("roughness"), P.get("anisotropy"),
-                                                   FresnelSpec::from(P), G2Form(int(P.get("g2"))));
+         const double r = P.get("roughness"), aniso = P.get("anisotropy");
+         return std::make_unique<MicrofacetLobe<Beckmann<double>>>(
+             Beckmann<double>(r * r * (1 + aniso), r * r * (1 - aniso)), FresnelSpec::from(P),
+             G2Form(int(P.get("g2"))));
        }});
 
   v.push_back(
@@ -365,8 +344,10 @@ std::vector<ModelInfo> core_brdf_models() {
                {"mix", "Weight w of the second NDF: D = (1-w) D1 + w D2", {0.3}, 0, 1, 1, {}}},
               fresnel_params()),
        [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
-         return std::make_unique<GgxDual>(P.get("roughness"), P.get("roughness2"), P.get("mix"),
-                                          FresnelSpec::from(P));
+         return std::make_unique<MicrofacetLobe<GGXMixture<double>>>(
+             GGXMixture<double>(GGX<double>(roughness_to_alpha(P.get("roughness"))),
+                                GGX<double>(roughness_to_alpha(P.get("roughness2"))), P.get("mix")),
+             FresnelSpec::from(P), G2Form::HeightCorrelated);
        }});
 
   v.push_back(diffuse_info(
