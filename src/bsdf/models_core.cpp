@@ -283,6 +283,22 @@ ParamSpec f0_param() {
   return {"f0", "Specular normal-incidence reflectance F0 (Schlick)", {0.04}, 0, 1, 3, {}};
 }
 
+// Oren & Nayar 1994 (RTR4 §9.9.4), full or qualitative: rho and the slope-angle deviation sigma.
+using OrenNayarDiffuse = Rgbd (*)(const Rgbd&, double, const Vec3d&, const Vec3d&);
+ModelInfo oren_nayar_info(std::string name, std::string summary, OrenNayarDiffuse fn) {
+  const ParamSpec sigma{
+      "sigma", "Oren-Nayar slope-angle standard deviation sigma (radians)", {0.5}, 0, 1.5707963267948966, 1,
+      {}};
+  return diffuse_info(
+      std::move(name), std::move(summary), "Oren & Nayar 1994 (RTR4 §9.9.4)", {albedo_param(), sigma},
+      [fn](const BrdfParams& P) -> DiffuseModel::Fn {
+        const Rgbd a = P.rgb("rho");
+        const double s = P.get("sigma");
+        return [a, s, fn](const Vec3d& l, const Vec3d& v) { return fn(a, s, l, v); };
+      },
+      true, false);
+}
+
 // An energy-conserving diffuse term of (rho, f0) coupled to a Schlick specular: 9.62, 9.63, 9.64.
 using RhoF0Diffuse = Rgbd (*)(const Rgbd&, const Rgbd&, const Vec3d&, const Vec3d&);
 ModelInfo rho_f0_diffuse_info(std::string name, std::string summary, std::string source, RhoF0Diffuse fn,
@@ -401,27 +417,10 @@ std::vector<ModelInfo> core_brdf_models() {
         return [a, f0, alpha](const Vec3d& l, const Vec3d& v) { return diffuse_hammon(a, alpha, f0, l, v); };
       },
       true, false));
-  const ParamSpec sigma{
-      "sigma", "Oren-Nayar slope-angle standard deviation sigma (radians)", {0.5}, 0, 1.5707963267948966, 1,
-      {}};
-  v.push_back(diffuse_info(
-      "oren-nayar", "Oren-Nayar 1994, full model with interreflection", "Oren & Nayar 1994 (RTR4 §9.9.4)",
-      {albedo_param(), sigma},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho");
-        const double s = P.get("sigma");
-        return [a, s](const Vec3d& l, const Vec3d& v) { return diffuse_oren_nayar(a, s, l, v); };
-      },
-      true, false));
-  v.push_back(diffuse_info(
-      "oren-nayar-qualitative", "Oren-Nayar 1994 qualitative model", "Oren & Nayar 1994 (RTR4 §9.9.4)",
-      {albedo_param(), sigma},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho");
-        const double s = P.get("sigma");
-        return [a, s](const Vec3d& l, const Vec3d& v) { return diffuse_oren_nayar_qualitative(a, s, l, v); };
-      },
-      true, false));
+  v.push_back(oren_nayar_info("oren-nayar", "Oren-Nayar 1994, full model with interreflection",
+                              &diffuse_oren_nayar<double, Rgbd>));
+  v.push_back(oren_nayar_info("oren-nayar-qualitative", "Oren-Nayar 1994 qualitative model",
+                              &diffuse_oren_nayar_qualitative<double, Rgbd>));
 
   for (const bool ksk : {false, true}) {
     v.push_back({ksk ? "ggx-ksk" : "ggx-lambert",
