@@ -3,12 +3,14 @@
 //
 //   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
 //       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
-//   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, lut3d, lut2d [--lut
+//   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, generic-vndf-alu,
+//   lut3d, lut2d [--lut
 //   FILE]) microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -26,8 +28,9 @@ namespace {
 
 using ms::G2Form;
 
-const std::vector<std::string> kMethods = {
-    "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic", "generic-vndf", "lut3d", "lut2d"};
+const std::vector<std::string> kMethods = {"reference",      "brinck-maximov-2016", "chan-2018",
+                                           "part1-analytic", "generic-vndf",        "lut3d",
+                                           "lut2d",          "generic-vndf-alu"};
 
 struct EvalArgs {
   std::string method = "generic-vndf", g2 = "height-correlated", lut;
@@ -140,6 +143,13 @@ void run_eval(const EvalArgs& a) {
     out["lut_roughness"] = table->roughness;
     out["harmonics"] = view.harmonics;
     out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
+  } else if (m == "generic-vndf-alu") {
+    // ALU-only approximation of the azimuth mean (micro_shadowing_fit.h), in float as a shader runs it.
+    if (has_phi || has_ry || a.samples > 0)
+      throw UsageError(
+          "--phi, --roughness-y and --samples do not apply to generic-vndf-alu (isotropic mean)");
+    value = ms::generic_vndf_alu(float(a.visibility), float(a.ndotl), float(a.ndotv), float(a.roughness));
+    out["azimuth"] = "mean over [0, pi]";
   } else if (m == "generic-vndf") {
     value = eval_generic(a.visibility, ax, ay, a.ndotl, a.ndotv, has_phi ? &a.phi : nullptr, a.samples, form,
                          a.seed);
@@ -394,8 +404,10 @@ void add_micro_shadowing(Groups& g) {
                                        "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
                                        "exact term at that azimuth. Without "
                                        "--samples the generic term is the exact quadrature (error < 1e-6).");
-  e->add_option("--method", ea->method,
-                "reference | brinck-maximov-2016 | chan-2018 | part1-analytic | generic-vndf | lut3d | lut2d")
+  e->add_option(
+       "--method", ea->method,
+       "reference | brinck-maximov-2016 | chan-2018 | part1-analytic | generic-vndf | lut3d | lut2d | "
+       "generic-vndf-alu")
       ->capture_default_str();
   e->add_option("--visibility", ea->visibility,
                 "Micro-occlusion visibility V in [0, 1] (projected solid angle)")
