@@ -4,8 +4,8 @@
 //   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
 //       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
 //   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, generic-vndf-alu,
-//   lut3d, lut2d [--lut
-//   FILE]) microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
+//   lut3d, lut2d [--lut FILE])
+//   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
@@ -144,11 +144,14 @@ void run_eval(const EvalArgs& a) {
     out["harmonics"] = view.harmonics;
     out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
   } else if (m == "generic-vndf-alu") {
-    // ALU-only approximation of the azimuth mean (micro_shadowing_fit.h), in float as a shader runs it.
+    // ALU-only approximations of the azimuth mean (micro_shadowing_fit.h), in float as a shader runs them:
+    // value = the one-call form, two_stage = the per-pixel + per-light form.
     if (has_phi || has_ry || a.samples > 0)
       throw UsageError(
           "--phi, --roughness-y and --samples do not apply to generic-vndf-alu (isotropic mean)");
-    value = ms::generic_vndf_alu(float(a.visibility), float(a.ndotl), float(a.ndotv), float(a.roughness));
+    const float vf = float(a.visibility), lf = float(a.ndotl), nf = float(a.ndotv), rf = float(a.roughness);
+    value = ms::generic_vndf_alu(vf, lf, nf, rf);
+    out["two_stage"] = ms::generic_vndf_alu_two_stage(vf, lf, nf, rf);
     out["azimuth"] = "mean over [0, pi]";
   } else if (m == "generic-vndf") {
     value = eval_generic(a.visibility, ax, ay, a.ndotl, a.ndotv, has_phi ? &a.phi : nullptr, a.samples, form,

@@ -87,9 +87,10 @@ void run_fit_data(const FitDataArgs& a) {
     exact[i] = ms::generic_vndf_exact_azimuth_mean(p.vis, p.r * p.r, p.nl, p.nv);
   });
 
-  // Errors of the ALU term (float, the shader precision) and the older terms, overall and per roughness band.
-  const std::vector<std::string> names = {"alu", "reference", "brinck_maximov_2016", "chan_2018",
-                                          "part1_analytic"};
+  // Errors of the ALU terms (float, the shader precision) and the older terms, overall and per roughness
+  // band.
+  const std::vector<std::string> names = {"alu",       "alu_two_stage", "reference", "brinck_maximov_2016",
+                                          "chan_2018", "part1_analytic"};
   const std::array<double, 4> bands = {0.1, 0.25, 0.55, 1.0 + 1e-12};
   std::vector<std::array<std::vector<double>, 4>> err(names.size());  // [method][band 0..2, all]
   std::ostringstream csv;
@@ -100,8 +101,11 @@ void run_fit_data(const FitDataArgs& a) {
     const Input& p = pts[i];
     const float vf = float(p.vis), lf = float(p.nl);
     const double vals[] = {double(ms::generic_vndf_alu(vf, lf, float(p.nv), float(p.r))),
-                           ms::reference_step(p.vis, p.nl), ms::brinck_maximov_2016(p.vis, p.nl),
-                           ms::chan_2018(p.vis, p.nl), ms::part1_analytic(p.vis, p.nl)};
+                           double(ms::generic_vndf_alu_two_stage(vf, lf, float(p.nv), float(p.r))),
+                           ms::reference_step(p.vis, p.nl),
+                           ms::brinck_maximov_2016(p.vis, p.nl),
+                           ms::chan_2018(p.vis, p.nl),
+                           ms::part1_analytic(p.vis, p.nl)};
     csv << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g}", p.vis, p.nl, p.nv, p.r,
                        ms::exact_zero(p.vis, p.nl) ? 1 : 0, exact[i]);
     int band = 0;
