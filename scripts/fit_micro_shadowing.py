@@ -11,7 +11,7 @@ exact azimuth-mean term, and checks them on an independent validation set.
 Two models, both f = Pcap * P1 * L / P2 (see the header for the formulas):
   fast       generic_vndf_alu: linear forms in (r, V, k = N.V/(N.V + alpha)), 9 coefficients, 40 operations;
   two-stage  generic_vndf_alu_pixel / generic_vndf_alu_light: quadratic forms in (r, cos_t, w_z) through exp2,
-             the cone "pinned" to 0 at the early-out boundary, 30 coefficients; per-light cost 24 operations.
+             the cone "pinned" to 0 at the early-out boundary, 30 coefficients; per-light cost 23 operations.
 Least squares (scipy.optimize.least_squares, trust region) on the training points. Prints each model's
 coefficients as the C++ array and its RMS / p99 / max error (in 1/255) in float64 on the training and
 validation sets; `plot micro-shadowing-fit` measures the C++ float functions themselves.

@@ -10,7 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev
   python3 python3-numpy python3-scipy python3-matplotlib
-  glslang-tools mesa-vulkan-drivers libvulkan-dev
+  glslang-tools spirv-tools mesa-vulkan-drivers libvulkan-dev
 )
 
 missing=()

@@ -20,7 +20,7 @@
 // * generic_vndf_alu (one call, 40 operations): a = α (p0 + p1 r + p2 V + p3 k), q = a² (p4 + p5 V + p6 k),
 //   g = p7 + p8 r, k = N·V / (N·V + α).
 // * generic_vndf_alu_pixel + generic_vndf_alu_light (more accurate, two stages): everything that does not
-//   depend on N·L is computed once per pixel; each light then costs 24 operations. a = α 2^{Q_a}, q = a²
+//   depend on N·L is computed once per pixel; each light then costs 23 operations. a = α 2^{Q_a}, q = a²
 //   2^{Q_q}, g = Q_g, with Q quadratic forms in (r, cos θc, w_z), w_z = N·V / sqrt(N·V² + α²(1 − N·V²)) (the
 //   z of the stretched view direction, Heitz 2018, "Sampling the GGX Distribution of Visible Normals"), and
 //   the light's cone term pinned to 0 at θl = 2θc: P1 = 1 + S(tan(θc − θl)/a) / S(tan θc / a).
