@@ -57,7 +57,8 @@ Vec3d light_dir(double ndotl, double phi) {
 // Number of azimuths (midpoints of equal strata of [0, π]) of the sampled azimuth mean.
 constexpr int kEstimateAzimuths = 32;
 
-// Generic term: exact (no samples) or the seed's Sobol estimator; at one azimuth or the mean over [0, π].
+// Generic term: exact (no samples) or the Sobol estimator of Zurita 2026b; at one azimuth or the mean over
+// [0, π].
 double eval_generic(double V, double ax, double ay, double nl, double nv, const double* phi, int64_t samples,
                     G2Form form, uint32_t seed) {
   const Vec3d v = view_dir(nv);
@@ -427,8 +428,9 @@ void add_micro_shadowing(Groups& g) {
   e->add_option("--ndotv", ea->ndotv, "N.V in [0, 1]")->check(Finite)->capture_default_str();
   ea->phi_opt =
       e->add_option("--phi", ea->phi, "Relative azimuth of l and v in [0, pi] (radians)")->check(Finite);
-  ea->samples_opt = e->add_option("--samples", ea->samples,
-                                  "Estimate with N Owen-scrambled Sobol VNDF samples (the seed's loop)");
+  ea->samples_opt =
+      e->add_option("--samples", ea->samples,
+                    "Estimate with N Owen-scrambled Sobol VNDF samples (the loop of Zurita 2026b)");
   e->add_option("--seed", ea->seed, "Scrambling seed of --samples")->capture_default_str();
   e->add_option("--g2", ea->g2, "height-correlated | uncorrelated (Smith G2/G1 weight)")
       ->capture_default_str();
