@@ -41,19 +41,28 @@ struct MshMsAluPixel {
   float vis, c, s, a2, oma2, inv_st, g, den;
 };
 
-float msh_ms_alu_quad_a(float x, float y, float z) {
-  return 1.26083 + x * (-2.30117 + 0.260731 * x + 0.108275 * y + 1.73798 * z) + y * (0.949957 - 0.251089 * y - 0.881026 * z) +
-         z * (-1.5246 + 0.381768 * z);
+float msh_ms_alu_cubic_a(float x, float y, float z) {
+  float px = -2.9439 + x * (0.471315 + 0.396493 * x - 0.427877 * y - 0.437596 * z) + y * (1.08175 + 0.634181 * y - 1.61536 * z) +
+             z * (1.66018 + 1.05468 * z);
+  float py = 2.9061 + y * (-3.2708 + 0.342605 * y + 2.39379 * z) + z * (-2.8354 + 0.407305 * z);
+  float pz = -0.670065 + z * (-0.396618 + 0.0423424 * z);
+  return 1.0217 + x * px + y * py + z * pz;
 }
 
-float msh_ms_alu_quad_q(float x, float y, float z) {
-  return 7.05684 + x * (-1.96525 + 0.844748 * x + 3.31171 * y - 2.41379 * z) + y * (-11.4716 + 3.97505 * y + 2.59036 * z) +
-         z * (-0.277242 - 1.00192 * z);
+float msh_ms_alu_cubic_q(float x, float y, float z) {
+  float px = -9.6416 + x * (7.56448 - 2.27743 * x - 0.05405 * y - 2.87783 * z) + y * (6.01259 - 1.88619 * y - 1.3212 * z) +
+             z * (0.966796 + 2.61554 * z);
+  float py = -26.1472 + y * (26.5267 - 9.77157 * y - 6.78087 * z) + z * (8.15792 + 3.37417 * z);
+  float pz = -0.739559 + z * (-4.27069 - 1.07619 * z);
+  return 11.644 + x * px + y * py + z * pz;
 }
 
-float msh_ms_alu_quad_g(float x, float y, float z) {
-  return 0.573811 + x * (0.891258 - 0.347745 * x - 0.239399 * y + 0.130381 * z) + y * (-0.778977 + 0.182337 * y + 0.762701 * z) +
-         z * (-0.310037 - 0.461357 * z);
+float msh_ms_alu_cubic_g(float x, float y, float z) {
+  float px = 3.81808 + x * (1.04404 - 0.682536 * x - 0.962631 * y + 0.460372 * z) + y * (-5.48228 + 2.19737 * y + 2.98356 * z) +
+             z * (-3.36957 + 0.488589 * z);
+  float py = 2.24386 + y * (-2.27448 + 1.15732 * y - 0.0851906 * z) + z * (-0.812951 + 0.139112 * z);
+  float pz = 0.55774 + z * (0.640291 - 0.665058 * z);
+  return -0.9204 + x * px + y * py + z * pz;
 }
 
 MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roughness) {
@@ -66,11 +75,11 @@ MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roug
   px.s = sqrt(v);
   float alpha = r * r, nv2 = nv * nv;
   float wz = nv * inversesqrt(nv2 + alpha * alpha * (1.0 - nv2));  // z of the stretched view direction
-  float a = alpha * exp2(msh_ms_alu_quad_a(r, px.c, wz));
+  float a = alpha * exp2(msh_ms_alu_cubic_a(r, px.c, wz));
   px.a2 = a * a;
   px.oma2 = 1.0 - px.a2;
-  float q = px.a2 * exp2(msh_ms_alu_quad_q(r, px.c, wz));
-  px.g = msh_ms_alu_quad_g(r, px.c, wz) * omv;
+  float q = px.a2 * exp2(msh_ms_alu_cubic_q(r, px.c, wz));
+  px.g = msh_ms_alu_cubic_g(r, px.c, wz) * omv;
   px.inv_st = sqrt(fma(px.oma2, v, px.a2)) / max(px.s, 1e-6);
   px.den = v + omv * q;
   return px;

@@ -21,7 +21,7 @@
 //   g = p7 + p8 r, k = N·V / (N·V + α).
 // * generic_vndf_alu_pixel + generic_vndf_alu_light (more accurate, two stages): everything that does not
 //   depend on N·L is computed once per pixel; each light then costs 23 operations. a = α 2^{Q_a}, q = a²
-//   2^{Q_q}, g = Q_g, with Q quadratic forms in (r, cos θc, w_z), w_z = N·V / sqrt(N·V² + α²(1 − N·V²)) (the
+//   2^{Q_q}, g = Q_g, with Q cubic forms in (r, cos θc, w_z), w_z = N·V / sqrt(N·V² + α²(1 − N·V²)) (the
 //   z of the stretched view direction, Heitz 2018, "Sampling the GGX Distribution of Visible Normals"), and
 //   the light's cone term pinned to 0 at θl = 2θc: P1 = 1 + S(tan(θc − θl)/a) / S(tan θc / a).
 // Coefficients: scripts/fit_micro_shadowing.py on the exact term (data: `microshadow plot
@@ -39,12 +39,15 @@ namespace msh::ms {
 // Fitted over V ∈ [0,1], N·L ∈ (0,1], N·V ∈ (0,1], r ∈ [0.1, 1] (scripts/fit_micro_shadowing.py).
 inline constexpr std::array<double, 9> kGenericVndfAluFast = {
     1.39397, -0.796604, 0.332797, -0.467188, 6.28222, 0.384725, -6.03135, -0.00902245, 0.555965};
-// Three quadratic forms (a, q, g), each p0 + p1 x + p2 y + p3 z + p4 x² + p5 y² + p6 z² + p7 xy + p8 xz + p9
-// yz with (x, y, z) = (r, cos θc, w_z).
-inline constexpr std::array<double, 30> kGenericVndfAluTwoStage = {
-    1.26083,  -2.30117, 0.949957,  -1.5246,   0.260731,  -0.251089, 0.381768,  0.108275,  1.73798,  -0.881026,
-    7.05684,  -1.96525, -11.4716,  -0.277242, 0.844748,  3.97505,   -1.00192,  3.31171,   -2.41379, 2.59036,
-    0.573811, 0.891258, -0.778977, -0.310037, -0.347745, 0.182337,  -0.461357, -0.239399, 0.130381, 0.762701};
+// Three cubic forms (a, q, g) in (x, y, z) = (r, cos θc, w_z), 20 coefficients each, in the order
+// 1, x, y, z, x², y², z², xy, xz, yz, x³, y³, z³, x²y, x²z, y²x, y²z, z²x, z²y, xyz.
+inline constexpr std::array<double, 60> kGenericVndfAluTwoStage = {
+    1.0217,    -2.9439,  2.9061,    -0.670065, 0.471315,  -3.2708,  -0.396618,  1.08175,  1.66018,  -2.8354,
+    0.396493,  0.342605, 0.0423424, -0.427877, -0.437596, 0.634181, 2.39379,    1.05468,  0.407305, -1.61536,
+    11.644,    -9.6416,  -26.1472,  -0.739559, 7.56448,   26.5267,  -4.27069,   6.01259,  0.966796, 8.15792,
+    -2.27743,  -9.77157, -1.07619,  -0.05405,  -2.87783,  -1.88619, -6.78087,   2.61554,  3.37417,  -1.3212,
+    -0.9204,   3.81808,  2.24386,   0.55774,   1.04404,   -2.27448, 0.640291,   -5.48228, -3.36957, -0.812951,
+    -0.682536, 1.15732,  -0.665058, -0.962631, 0.460372,  2.19737,  -0.0851906, 0.488589, 0.139112, 2.98356};
 
 namespace detail {
 // Roughness clamped to [0.01, 1], so α = r² ≥ 1e-4 (GGX<T>::kMinAlpha); NaN → 0.01.
@@ -52,11 +55,14 @@ template <class T>
 T fit_roughness(T r) {
   return std::isnan(r) ? T(0.01) : std::clamp(r, T(0.01), T(1));
 }
-// p0 + p1 x + p2 y + p3 z + p4 x² + p5 y² + p6 z² + p7 xy + p8 xz + p9 yz, grouped as the shaders do (9 fma).
+// The cubic above, grouped as the shaders evaluate it (19 fma).
 template <class T>
-T fit_quadratic(const double* p, T x, T y, T z) {
-  return T(p[0]) + x * (T(p[1]) + T(p[4]) * x + T(p[7]) * y + T(p[8]) * z) +
-         y * (T(p[2]) + T(p[5]) * y + T(p[9]) * z) + z * (T(p[3]) + T(p[6]) * z);
+T fit_cubic(const double* p, T x, T y, T z) {
+  const T px = T(p[1]) + x * (T(p[4]) + T(p[10]) * x + T(p[13]) * y + T(p[14]) * z) +
+               y * (T(p[7]) + T(p[15]) * y + T(p[19]) * z) + z * (T(p[8]) + T(p[17]) * z);
+  const T py = T(p[2]) + y * (T(p[5]) + T(p[11]) * y + T(p[16]) * z) + z * (T(p[9]) + T(p[18]) * z);
+  const T pz = T(p[3]) + z * (T(p[6]) + T(p[12]) * z);
+  return T(p[0]) + x * px + y * py + z * pz;
 }
 }  // namespace detail
 
@@ -107,10 +113,10 @@ GenericVndfAluPixel<T> generic_vndf_alu_pixel(T V, T n_dot_v, T roughness) {
   const T c = std::sqrt(one_minus_v), s = std::sqrt(vis);
   const T alpha = r * r, nv2 = nv * nv;
   const T wz = nv / std::sqrt(nv2 + alpha * alpha * (T(1) - nv2));  // > 0 denominator: α ≥ 1e-4
-  const T a = alpha * std::exp2(detail::fit_quadratic(p, r, c, wz));
+  const T a = alpha * std::exp2(detail::fit_cubic(p, r, c, wz));
   const T a2 = a * a, one_minus_a2 = T(1) - a2;
-  const T q = a2 * std::exp2(detail::fit_quadratic(p + 10, r, c, wz));
-  const T g = detail::fit_quadratic(p + 20, r, c, wz) * one_minus_v;
+  const T q = a2 * std::exp2(detail::fit_cubic(p + 20, r, c, wz));
+  const T g = detail::fit_cubic(p + 40, r, c, wz) * one_minus_v;
   const T inv_st = std::sqrt(a2 + one_minus_a2 * vis) / std::max(s, T(1e-6));  // V = 0: finite (d = 0 there)
   return {vis, c, s, a2, one_minus_a2, inv_st, g, vis + one_minus_v * q};
 }
