@@ -39,11 +39,12 @@ Errors measure(F term, int n, uint64_t seed) {
 
 // Bounds. The targets are RMS <= 2/255 and max <= 8/255 over the domain. The two-stage form is
 // asserted at the RMS target (its validation in docs/micro-shadowing.md, 20000 points of another seed,
-// measured RMS 1.4/255: a 400-point sample stays below 2/255 with margin); its max target is not met
-// (validation max 16/255): asserted at 20/255, the documented max plus margin for points the validation did
-// not visit. The one-call 40-operation form is asserted at its documented accuracy (validation RMS 4.2/255,
-// max 36/255) with the same margins. Both must be several times better than the best older closed-form term
-// on the same points (Brinck-Maximov 2016 and the reference step, RMS 50-60/255 on this measure).
+// measured RMS 0.95/255: a 400-point sample stays below 2/255 with margin); its measured max is 9.0/255 (2 of
+// 20000 points above 8/255, all at N.V < 0.01), so the max is asserted at 12/255, the documented max plus
+// margin for points the validation did not visit. The one-call 40-operation form is asserted at its
+// documented accuracy (validation RMS 4.2/255, max 37/255) with the same kind of margins. Both must be
+// several times better than the best older closed-form term on the same points (Brinck-Maximov 2016 and the
+// reference step, RMS 50-60/255 on this measure).
 TEST(MicroShadowingFit, AccuracyAgainstExactAzimuthMean) {
   const int n = 400;
   const Errors fast =
@@ -66,7 +67,7 @@ TEST(MicroShadowingFit, AccuracyAgainstExactAzimuthMean) {
       n, 255 * fast.rms, 255 * fast.max, 255 * two.rms, 255 * two.max, 255 * bm.rms, 255 * bm.max,
       255 * ref.rms, 255 * ref.max);
   EXPECT_LE(two.rms, 2.0 / 255);
-  EXPECT_LE(two.max, 20.0 / 255);
+  EXPECT_LE(two.max, 12.0 / 255);
   EXPECT_LE(fast.rms, 5.5 / 255);
   EXPECT_LE(fast.max, 40.0 / 255);
   EXPECT_LT(fast.rms, std::min(bm.rms, ref.rms) / 5);
@@ -108,7 +109,7 @@ TEST(MicroShadowingFit, ExactEarlyOutAndLimits) {
     const float b = std::max(0.0f, 1.0f - 2.0f * V);
     if (b > 0) {
       EXPECT_LE(ms::generic_vndf_alu(V, b, nv, r), 40.0f / 255) << V << " " << nv << " " << r;
-      EXPECT_LE(ms::generic_vndf_alu_two_stage(V, b, nv, r), 20.0f / 255) << V << " " << nv << " " << r;
+      EXPECT_LE(ms::generic_vndf_alu_two_stage(V, b, nv, r), 12.0f / 255) << V << " " << nv << " " << r;
     }
   }
 }

@@ -34,9 +34,9 @@ float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float rou
   return clamp(p1 * (v + g * (nl - 1.0)) / ((v + omv * q) * p2), 0.0, 1.0);
 }
 
-// Two stages: ports of msh::ms::generic_vndf_alu_pixel (once per pixel, 50 operations) and
+// Two stages: ports of msh::ms::generic_vndf_alu_pixel (once per pixel, 80 operations) and
 // msh::ms::generic_vndf_alu_light (per light, 23 operations). More accurate than the one-call form: see
-// docs/micro-shadowing.md: RMS 1.4/255, p99 5.2/255, max 16.5/255 (9.7/255 for N.V >= 0.1).
+// docs/micro-shadowing.md: RMS 0.95/255, p99 3.2/255, max 9.0/255 (5.2/255 for N.V >= 0.1).
 struct MshMsAluPixel {
   float vis, c, s, a2, oma2, inv_st, g, den;
 };
