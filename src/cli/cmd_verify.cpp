@@ -140,11 +140,11 @@ void print_result(const lut::VerifyResult& r) {
         fmt::format("N.V [{:.2f}, {:.2f}{}", b.lo, b.hi, i + 1 == r.by_n_dot_v.size() ? "]" : ")"), b.stats);
   }
   if (r.worst.empty()) return;
-  std::cout << fmt::format("  worst inputs:\n  {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9}\n", "V",
+  std::cout << fmt::format("  worst inputs:\n  {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}\n", "V",
                            "N.L", "N.V", "roughness", "cos_phi", "exact", "approx", "err/255");
   for (const lut::VerifyWorst& w : r.worst) {
     const lut::VerifyInput& p = w.input;
-    std::cout << fmt::format("  {:>9.6f} {:>9.6f} {:>9.6f} {:>9.6f} {:>9.6f} {:>10.6f} {:>10.6f} {:>+9.3f}\n",
+    std::cout << fmt::format("  {:>10.8f} {:>10.8f} {:>10.8f} {:>10.8f} {:>+10.7f} {:>10.7f} {:>10.7f} {:>+9.3f}\n",
                              p.visibility, p.n_dot_l, p.n_dot_v, p.roughness, p.cos_phi, p.exact, w.approx,
                              w.error * 255);
   }
