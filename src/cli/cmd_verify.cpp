@@ -144,9 +144,9 @@ void print_result(const lut::VerifyResult& r) {
                            "N.L", "N.V", "roughness", "cos_phi", "exact", "approx", "err/255");
   for (const lut::VerifyWorst& w : r.worst) {
     const lut::VerifyInput& p = w.input;
-    std::cout << fmt::format("  {:>10.8f} {:>10.8f} {:>10.8f} {:>10.8f} {:>+10.7f} {:>10.7f} {:>10.7f} {:>+9.3f}\n",
-                             p.visibility, p.n_dot_l, p.n_dot_v, p.roughness, p.cos_phi, p.exact, w.approx,
-                             w.error * 255);
+    std::cout << fmt::format(
+        "  {:>10.8f} {:>10.8f} {:>10.8f} {:>10.8f} {:>+10.7f} {:>10.7f} {:>10.7f} {:>+9.3f}\n", p.visibility,
+        p.n_dot_l, p.n_dot_v, p.roughness, p.cos_phi, p.exact, w.approx, w.error * 255);
   }
 }
 
