@@ -183,6 +183,8 @@ T cone_roughness_coord(const ConeLayoutParams& p, T r) {
   const T lo = T(p.roughness_min), hi = T(p.roughness_max);
   if (!(hi > lo)) return T(0);
   if (p.roughness_power == 0.0f) return saturate(std::log(r / lo) / std::log(hi / lo));
+  if (p.roughness_power == 0.5f)  // the default: sqrt, as the shaders do
+    return saturate((std::sqrt(r) - std::sqrt(lo)) / (std::sqrt(hi) - std::sqrt(lo)));
   const T e = T(p.roughness_power);
   return saturate((std::pow(r, e) - std::pow(lo, e)) / (std::pow(hi, e) - std::pow(lo, e)));
 }
