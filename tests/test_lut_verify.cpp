@@ -213,9 +213,9 @@ TEST(Verify, BadOptionsThrow) {
   EXPECT_THROW(verify_reference_from_name("median"), InputError);
 }
 
-// quantise_filter_coordinate, fed to the real sampler, yields weights on the 1/256 grid: on a table whose
-// single channel holds the V texel index, the sampled value is the filter weight itself.
-TEST(Verify, QuantisedCoordinatesGiveHardwareWeightsThroughTheSampler) {
+// What --gpu-weights relies on: the sampler's filter_weight_bits puts the weights on the 1/256 grid, rounded
+// down. On a table whose single channel holds the V texel coordinate, the sampled value is the weight itself.
+TEST(Verify, SamplerWeightBitsGiveHardwareWeights) {
   const int n = 5;
   std::vector<float> data(n * 2 * 2);
   for (int z = 0; z < 2; ++z)
@@ -224,18 +224,13 @@ TEST(Verify, QuantisedCoordinatesGiveHardwareWeightsThroughTheSampler) {
   MicroShadowingLutView v;
   v.data = data.data();
   v.n_vis = n, v.n_nl = 2, v.n_nv = 2, v.channels = 1;
-  int changed = 0;
+  v.filter_weight_bits = 8;
   for (int i = 0; i < 2000; ++i) {
     const double u = 0.5 + 0.5 * (i + 0.37) / 2000.0;  // V ≥ 0.5 with N·L = 1: never the early-out
-    const double q = quantise_filter_coordinate(u, n, 8);
-    EXPECT_LE(std::abs(q - u), 0.5 / 256.0 / (n - 1) + 1e-15);
-    const double value = sample_micro_shadowing<double>(v, q, 1.0, 0.3, 0.5);
-    const double w = value * (n - 1) - std::floor(value * (n - 1) + 1e-9);  // the fractional weight
-    EXPECT_NEAR(w * 256.0, std::round(w * 256.0), 1e-6) << u;
-    changed += q != u;
+    const double x = u * (n - 1), f = x - std::floor(x);
+    const double value = sample_micro_shadowing<double>(v, u, 1.0, 0.3, 0.5) * (n - 1);
+    EXPECT_NEAR(value, std::floor(x) + std::floor(f * 256.0) / 256.0, 1e-6) << u;
   }
-  EXPECT_GT(changed, 1900);
-  EXPECT_EQ(quantise_filter_coordinate(0.3, n, 0), 0.3);
 }
 
 // ----------------------------------------------------------------------------------------------------------
@@ -284,60 +279,78 @@ void expect_finite_stats(const nlohmann::json& s, std::size_t count) {
   EXPECT_LE(s["p99"].get<double>(), s["max"].get<double>());
 }
 
+// Small tables of both layouts (the seed's and the cone layout), through the CLI.
+const char* const kSmallBakes[][2] = {
+    {"seed", "--layout seed --size 16 --samples 1024 --phi-nodes 4"},
+    {"cone",
+     "--layout cone --size-t 16 --size-nl 8 --size-nv 4 --roughness-slabs 4 --samples 1024 --phi-nodes 4"},
+};
+
 TEST(VerifyCli, SmallTableFiniteReproducibleThreadIndependent) {
   const fs::path d = scratch();
-  const std::string t = (d / "t.npy").string();
-  ASSERT_EQ(run("bake micro-shadowing --size 16 --samples 1024 --phi-nodes 4 --quiet --out " + t, d).code, 0);
-  const std::string cmd = "verify micro-shadowing-lut " + t + " --samples 300 --json";
-  const CliResult a = run(cmd + " --threads 1", d);
-  ASSERT_EQ(a.code, 0) << a.err;
-  const CliResult b = run(cmd + " --threads 2", d);
-  ASSERT_EQ(b.code, 0) << b.err;
-  EXPECT_EQ(without_seconds(a.out), without_seconds(b.out));
-  const nlohmann::json j = nlohmann::json::parse(a.out);
-  expect_finite_stats(j["all"], 300);
-  std::size_t sum = 0;
-  for (const auto& band : j["by_roughness"]) sum += band["count"].get<std::size_t>();
-  EXPECT_EQ(sum, 300u);
-  EXPECT_EQ(j["sampler"], "plain");
-  EXPECT_EQ(j["early_out"]["max"].get<double>(), 0.0);  // the sampler's early-out is exact
-  EXPECT_GT(j["all"]["max"].get<double>(), 0.0);
-  EXPECT_LT(j["all"]["rms"].get<double>(), 0.1);  // a 16³ table is coarse, not wrong
-  EXPECT_EQ(j["worst"].size(), 10u);
-  // Another seed: other inputs.
-  const CliResult c = run(cmd + " --seed 5", d);
-  ASSERT_EQ(c.code, 0);
-  EXPECT_NE(nlohmann::json::parse(c.out)["all"]["rms"], j["all"]["rms"]);
-  // 8-bit filter weights move each weight by ≤ 1/512: the RMS moves by less than 3/512 (three filtered axes).
-  const CliResult g = run(cmd + " --gpu-weights 8", d);
-  ASSERT_EQ(g.code, 0) << g.err;
-  const nlohmann::json jg = nlohmann::json::parse(g.out);
-  expect_finite_stats(jg["all"], 300);
-  EXPECT_NE(jg["all"]["rms"], j["all"]["rms"]);
-  EXPECT_LT(std::abs(jg["all"]["rms"].get<double>() - j["all"]["rms"].get<double>()), 3.0 / 512.0);
-  // The human table.
-  const CliResult h = run("verify micro-shadowing-lut " + t + " --samples 64", d);
-  ASSERT_EQ(h.code, 0);
-  EXPECT_NE(h.out.find("RMS/255"), std::string::npos);
-  EXPECT_NE(h.out.find("worst inputs"), std::string::npos);
+  for (const auto& [layout, bake] : kSmallBakes) {
+    SCOPED_TRACE(layout);
+    const std::string t = (d / (std::string(layout) + ".npy")).string();
+    ASSERT_EQ(run(std::string("bake micro-shadowing --quiet ") + bake + " --out " + t, d).code, 0);
+    const std::string cmd = "verify micro-shadowing-lut " + t + " --samples 300 --json";
+    const CliResult a = run(cmd + " --threads 1", d);
+    ASSERT_EQ(a.code, 0) << a.err;
+    const CliResult b = run(cmd + " --threads 2", d);
+    ASSERT_EQ(b.code, 0) << b.err;
+    EXPECT_EQ(without_seconds(a.out), without_seconds(b.out));
+    const nlohmann::json j = nlohmann::json::parse(a.out);
+    EXPECT_EQ(j["layout"], layout);
+    expect_finite_stats(j["all"], 300);
+    std::size_t sum = 0;
+    for (const auto& band : j["by_roughness"]) sum += band["count"].get<std::size_t>();
+    EXPECT_EQ(sum, 300u);
+    EXPECT_EQ(j["roughness_range"][0].get<double>(), 0.1);
+    EXPECT_EQ(j["roughness_range"][1].get<double>(), 1.0);
+    EXPECT_EQ(j["sampler"], "plain");
+    EXPECT_EQ(j["early_out"]["max"].get<double>(), 0.0);  // the sampler's early-out is exact
+    EXPECT_GT(j["all"]["max"].get<double>(), 0.0);
+    EXPECT_LT(j["all"]["rms"].get<double>(), 0.1);  // a small table is coarse, not wrong
+    EXPECT_EQ(j["worst"].size(), 10u);
+    // Another seed: other inputs.
+    const CliResult c = run(cmd + " --seed 5", d);
+    ASSERT_EQ(c.code, 0);
+    EXPECT_NE(nlohmann::json::parse(c.out)["all"]["rms"], j["all"]["rms"]);
+    // 8-bit filter weights move each weight by < 1/256: the RMS moves by less than 3/256 (three filtered
+    // axes).
+    const CliResult g = run(cmd + " --gpu-weights 8", d);
+    ASSERT_EQ(g.code, 0) << g.err;
+    const nlohmann::json jg = nlohmann::json::parse(g.out);
+    expect_finite_stats(jg["all"], 300);
+    EXPECT_EQ(jg["gpu_weights"], 8);
+    EXPECT_NE(jg["all"]["rms"], j["all"]["rms"]);
+    EXPECT_LT(std::abs(jg["all"]["rms"].get<double>() - j["all"]["rms"].get<double>()), 3.0 / 256.0);
+    // The human table.
+    const CliResult h = run("verify micro-shadowing-lut " + t + " --samples 64", d);
+    ASSERT_EQ(h.code, 0);
+    EXPECT_NE(h.out.find("RMS/255"), std::string::npos);
+    EXPECT_NE(h.out.find("worst inputs"), std::string::npos);
+  }
 }
 
 TEST(VerifyCli, AzimuthAwareTableUsesTheAzimuthSampler) {
   const fs::path d = scratch();
-  const std::string t = (d / "a.npy").string();
-  ASSERT_EQ(
-      run("bake micro-shadowing --azimuth --size 8 --samples 512 --phi-nodes 4 --quiet --out " + t, d).code,
-      0);
-  const CliResult az = run("verify micro-shadowing-lut " + t + " --samples 200 --against azimuth --json", d);
-  ASSERT_EQ(az.code, 0) << az.err;
-  const CliResult plain =
-      run("verify micro-shadowing-lut " + t + " --samples 200 --against azimuth --sampler plain --json", d);
-  ASSERT_EQ(plain.code, 0) << plain.err;
-  const nlohmann::json ja = nlohmann::json::parse(az.out), jp = nlohmann::json::parse(plain.out);
-  EXPECT_EQ(ja["sampler"], "azimuth");
-  EXPECT_EQ(jp["sampler"], "plain");
-  expect_finite_stats(ja["all"], 200);
-  EXPECT_NE(ja["all"]["rms"], jp["all"]["rms"]);
+  for (const auto& [layout, bake] : kSmallBakes) {
+    SCOPED_TRACE(layout);
+    const std::string t = (d / (std::string(layout) + ".npy")).string();
+    ASSERT_EQ(run(std::string("bake micro-shadowing --quiet --azimuth ") + bake + " --out " + t, d).code, 0);
+    const CliResult az =
+        run("verify micro-shadowing-lut " + t + " --samples 200 --against azimuth --json", d);
+    ASSERT_EQ(az.code, 0) << az.err;
+    const CliResult plain =
+        run("verify micro-shadowing-lut " + t + " --samples 200 --against azimuth --sampler plain --json", d);
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    const nlohmann::json ja = nlohmann::json::parse(az.out), jp = nlohmann::json::parse(plain.out);
+    EXPECT_EQ(ja["sampler"], "azimuth");
+    EXPECT_EQ(jp["sampler"], "plain");
+    EXPECT_GT(ja["harmonics"].get<int>(), 0);
+    expect_finite_stats(ja["all"], 200);
+    EXPECT_LT(ja["all"]["rms"].get<double>(), jp["all"]["rms"].get<double>());  // the harmonics help
+  }
 }
 
 TEST(VerifyCli, ClosedFormTerms) {
@@ -362,7 +375,17 @@ TEST(VerifyCli, ClosedFormTerms) {
 TEST(VerifyCli, BadInputIsOneLineExitTwo) {
   const fs::path d = scratch();
   const std::string t = (d / "t.npy").string();
-  ASSERT_EQ(run("bake micro-shadowing --size 6 --samples 256 --phi-nodes 2 --quiet --out " + t, d).code, 0);
+  ASSERT_EQ(
+      run("bake micro-shadowing --layout seed --size 6 --samples 256 --phi-nodes 2 --quiet --out " + t, d)
+          .code,
+      0);
+  const std::string tc = (d / "c.npy").string();
+  ASSERT_EQ(run("bake micro-shadowing --size-t 6 --size-nl 4 --size-nv 3 --roughness-slabs 2 --samples 256 "
+                "--phi-nodes 2 --quiet --out " +
+                    tc,
+                d)
+                .code,
+            0);
   const std::string bytes = slurp(t), side = slurp(t + ".json");
   auto write = [](const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; };
   write(d / "trunc.npy", bytes.substr(0, bytes.size() / 2));
@@ -381,6 +404,14 @@ TEST(VerifyCli, BadInputIsOneLineExitTwo) {
     j["roughness"] = {0.2, 0.8};
     write(d / "rough.npy", bytes);
     write(d / "rough.npy.json", j.dump());
+    j = nlohmann::json::parse(side);
+    j["layout"] = "hexagonal";
+    write(d / "layout.npy", bytes);
+    write(d / "layout.npy.json", j.dump());
+    nlohmann::json jc = nlohmann::json::parse(slurp(tc + ".json"));
+    jc.erase("roughness_slabs");
+    write(d / "cone.npy", slurp(tc));
+    write(d / "cone.npy.json", jc.dump());
   }
   const std::string p = "verify micro-shadowing-lut ";
   const std::string cases[] = {
@@ -391,6 +422,9 @@ TEST(VerifyCli, BadInputIsOneLineExitTwo) {
       p + (d / "badjson.npy").string(),
       p + (d / "size.npy").string(),
       p + (d / "rough.npy").string(),
+      p + (d / "layout.npy").string(),
+      p + (d / "cone.npy").string(),
+      p + tc + " --roughness 0.1,0.4,0.7,1",
       p + t + " --against median",
       p + t + " --samples 0",
       p + t + " --gpu-weights 20",

@@ -154,16 +154,15 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The table and its sidecar, with the checks the loader leaves to its callers: a sidecar is required unless
-// --roughness is given (without one the roughness per channel would be a guess), and its recorded sizes must
-// match the file.
+// The table and its sidecar. A sidecar is required unless --roughness is given: without one the roughness per
+// channel would be a guess, and the measure would measure the guess. The loader checks the rest (layout,
+// sizes recorded in the sidecar against the file, channel and slab counts).
 lut::MicroShadowingLut load_checked(const LutArgs& a) {
   namespace fs = std::filesystem;
   const fs::path path(a.file);
   if (!fs::is_regular_file(path)) throw UsageError(fmt::format("'{}': no such file", a.file));
   const fs::path side = lut::sidecar_path(path);
-  const bool have_side = fs::exists(side);
-  if (!have_side && a.roughness.empty())
+  if (!fs::exists(side) && a.roughness.empty())
     throw UsageError(
         fmt::format("'{}': no sidecar '{}' (give --roughness, and --harmonics for an azimuth-aware "
                     "table, to measure it without one)",
@@ -172,24 +171,7 @@ lut::MicroShadowingLut load_checked(const LutArgs& a) {
   if (!a.roughness.empty()) rough = parse_list(a.roughness, "--roughness");
   std::optional<int> harm;
   if (a.harmonics >= 0) harm = a.harmonics;
-  lut::MicroShadowingLut t = lut::load_micro_shadowing_lut(path, rough, harm);
-  if (have_side) {
-    nlohmann::json j;
-    try {
-      std::ifstream in(side);
-      j = nlohmann::json::parse(in);
-    } catch (const std::exception& e) {
-      throw UsageError(fmt::format("'{}': not a valid LUT sidecar ({})", side.string(), e.what()));
-    }
-    const lut::MicroShadowingLutView v = t.view();
-    const std::pair<const char*, int> sizes[] = {
-        {"size_visibility", v.n_vis}, {"size_n_dot_l", v.n_nl}, {"size_n_dot_v", v.n_nv}};
-    for (const auto& [key, n] : sizes)
-      if (j.contains(key) && !(j[key].is_number_integer() && j[key].get<int>() == n))
-        throw UsageError(fmt::format("'{}' does not match '{}': {} is {}, the file has {}", side.string(),
-                                     a.file, key, j[key].dump(), n));
-  }
-  return t;
+  return lut::load_micro_shadowing_lut(path, rough, harm);
 }
 
 void run_lut(const LutArgs& a) {
@@ -199,43 +181,45 @@ void run_lut(const LutArgs& a) {
   if (a.sampler != "auto" && a.sampler != "plain" && a.sampler != "azimuth")
     throw UsageError(fmt::format("--sampler must be auto, plain or azimuth, got '{}'", a.sampler));
   const lut::MicroShadowingLut table = load_checked(a);
-  const lut::MicroShadowingLutView view = table.view();
-  const lut::VerifyOptions o = make_options(a, table.roughness.front(), table.roughness.back());
+  lut::MicroShadowingLutView view = table.view();
+  // --gpu-weights: the sampler's own option, weights rounded down to 1/2^bits on every hardware-filtered
+  // axis.
+  view.filter_weight_bits = a.gpu_weights;
+  const bool cone = table.layout == lut::LutLayout::Cone;
+  const double rmin = cone ? lut::short_float(table.cone.roughness_min) : table.roughness.front();
+  const double rmax = cone ? lut::short_float(table.cone.roughness_max) : table.roughness.back();
+  const lut::VerifyOptions o = make_options(a, rmin, rmax);
   if (a.sampler == "azimuth" && view.harmonics == 0)
     throw UsageError("--sampler azimuth needs an azimuth-aware table (harmonics > 0)");
   const bool azimuth = a.sampler == "azimuth" || (a.sampler == "auto" && view.harmonics > 0 &&
                                                   o.against == lut::VerifyReference::Azimuth);
-  const int bits = a.gpu_weights;
-  // The samplers exactly as an engine calls them. --gpu-weights: the coordinates are moved so that the
-  // sampler's own filter weights land on the hardware's 1/2^bits grid (V, N.L, N.V are the filtered axes of
-  // this layout; the roughness interpolation is shader arithmetic), evaluated in double so that the moved
-  // coordinates reproduce the grid weights exactly.
+  // The samplers exactly as an engine calls them.
   lut::MicroShadowingApprox f;
-  if (bits == 0 && !azimuth)
-    f = [&view](float V, float nl, float nv, float r, float) {
-      return lut::sample_micro_shadowing<float>(view, V, nl, nv, r);
-    };
-  else if (bits == 0)
+  if (azimuth)
     f = [&view](float V, float nl, float nv, float r, float c) {
       return lut::sample_micro_shadowing_azimuth<float>(view, V, nl, nv, r, c);
     };
   else
-    f = [&view, bits, azimuth](float V, float nl, float nv, float r, float c) {
-      const double qv = lut::quantise_filter_coordinate(V, view.n_vis, bits);
-      const double ql = lut::quantise_filter_coordinate(nl, view.n_nl, bits);
-      const double qn = lut::quantise_filter_coordinate(nv, view.n_nv, bits);
-      return float(azimuth ? lut::sample_micro_shadowing_azimuth<double>(view, qv, ql, qn, r, c)
-                           : lut::sample_micro_shadowing<double>(view, qv, ql, qn, r));
+    f = [&view](float V, float nl, float nv, float r, float) {
+      return lut::sample_micro_shadowing<float>(view, V, nl, nv, r);
     };
   const lut::VerifyResult r = lut::verify_micro_shadowing(f, o);
   const double seconds = seconds_since(t0);
   const char* sampler = azimuth ? "azimuth" : "plain";
+  const int bits = a.gpu_weights;
+  const std::string layout = lut::layout_name(table.layout);
+  const std::string roughness_text = cone ? fmt::format("{} slabs over [{}, {}]", view.n_rough, rmin, rmax)
+                                          : fmt::format("channels {}", fmt::join(table.roughness, "/"));
   if (a.json) {
     nlohmann::json j = result_json(r);
     j["file"] = a.file;
+    j["layout"] = layout;
     j["size"] = {view.n_vis, view.n_nl, view.n_nv};
     j["channels"] = view.channels;
-    j["table_roughness"] = table.roughness;
+    if (cone)
+      j["roughness_slabs"] = view.n_rough;
+    else
+      j["table_roughness"] = table.roughness;
     j["harmonics"] = view.harmonics;
     j["sampler"] = sampler;
     j["gpu_weights"] = bits;
@@ -248,11 +232,11 @@ void run_lut(const LutArgs& a) {
     return;
   }
   std::cout << fmt::format(
-      "{}: {}x{}x{} texels, roughness {}, harmonics {}\n"
+      "{}: {} layout, {}x{}x{} texels, roughness {}, harmonics {}\n"
       "sampler {}{}, against the exact {}, N = {} inputs (seed {}), roughness uniform in [{}, {}]; "
       "error = approx - exact; {:.1f} s\n",
-      a.file, view.n_vis, view.n_nl, view.n_nv, fmt::join(table.roughness, "/"), view.harmonics, sampler,
-      bits ? fmt::format(", filter weights quantised to 1/{}", 1 << bits) : std::string(),
+      a.file, layout, view.n_vis, view.n_nl, view.n_nv, roughness_text, view.harmonics, sampler,
+      bits ? fmt::format(", filter weights rounded down to 1/{}", 1 << bits) : std::string(),
       o.against == lut::VerifyReference::AzimuthMean ? "azimuth mean" : "term at the input's azimuth",
       o.samples, o.seed, o.roughness_min, o.roughness_max, seconds);
   print_result(r);
@@ -353,9 +337,10 @@ void add_verify(Groups& g) {
                 "auto (azimuth-aware sampler when --against azimuth and the table has harmonics) | plain | "
                 "azimuth")
       ->capture_default_str();
-  l->add_option("--gpu-weights", la->gpu_weights,
-                "Quantise the linear-filter weights to 1/2^BITS as GPU filtering hardware does (8 on current "
-                "GPUs; 0: exact float weights)")
+  l->add_option(
+       "--gpu-weights", la->gpu_weights,
+       "Quantise the linear-filter weights to 1/2^BITS (rounded down) as GPU filtering hardware does "
+       "(8 on current GPUs; 0: exact float weights)")
       ->capture_default_str();
   l->add_option("--roughness", la->roughness, "Roughness per channel (overrides the sidecar)");
   l->add_option("--harmonics", la->harmonics, "Harmonic count (overrides the sidecar)");

@@ -163,12 +163,4 @@ VerifyResult verify_micro_shadowing(const MicroShadowingApprox& f, const VerifyO
   return measure(make_verify_inputs(o), f, o);
 }
 
-double quantise_filter_coordinate(double u, int n, int bits) {
-  if (bits <= 0 || n < 2) return u;
-  const double x = saturate(u) * double(n - 1);
-  const double i = std::floor(x), scale = std::ldexp(1.0, bits);
-  const double f = std::round((x - i) * scale) / scale;
-  return (i + f) / double(n - 1);
-}
-
 }  // namespace msh::lut

@@ -99,11 +99,4 @@ VerifyResult verify_micro_shadowing(const MicroShadowingApprox& f, const VerifyO
 double verify_reference_value(VerifyReference against, double visibility, double n_dot_l, double n_dot_v,
                               double roughness, double cos_phi);
 
-// Coordinate u ∈ [0, 1] of an axis of n texels (texel i at i/(n − 1), the tables' convention) moved so that
-// the linear-filter weight between its two texels is quantised to 1/2^bits, round to nearest: what hardware
-// filtering does with its fixed-point weights (8 fractional bits on current GPUs, e.g. the CUDA programming
-// guide's texture-fetching appendix). bits = 0: unchanged. Fed to the sampler, it reproduces hardware
-// weights on the axes the hardware filters, without touching the sampler.
-double quantise_filter_coordinate(double u, int n, int bits);
-
 }  // namespace msh::lut
