@@ -203,6 +203,7 @@ TEST(Verify, BadOptionsThrow) {
     EXPECT_THROW(validate(o), InputError);
   };
   bad([](VerifyOptions& o) { o.samples = 0; });
+  bad([](VerifyOptions& o) { o.samples = 20000000; });
   bad([](VerifyOptions& o) { o.roughness_min = -0.1; });
   bad([](VerifyOptions& o) { o.roughness_max = 1.5; });
   bad([](VerifyOptions& o) { o.roughness_min = 0.8, o.roughness_max = 0.2; });

@@ -54,7 +54,8 @@ int band_of(const std::vector<double>& edges, double x) {
 }  // namespace
 
 void validate(const VerifyOptions& o) {
-  if (o.samples < 1) throw InputError(fmt::format("--samples must be ≥ 1, got {}", o.samples));
+  if (o.samples < 1 || o.samples > 10000000)
+    throw InputError(fmt::format("--samples must be in [1, 10^7], got {}", o.samples));
   if (!(o.roughness_min >= 0.0 && o.roughness_max <= 1.0 && o.roughness_min <= o.roughness_max))
     throw InputError(fmt::format("the roughness range must satisfy 0 ≤ min ≤ max ≤ 1, got [{}, {}]",
                                  o.roughness_min, o.roughness_max));

@@ -33,7 +33,7 @@ VerifyReference verify_reference_from_name(const std::string& name);
 const char* verify_reference_name(VerifyReference r);
 
 struct VerifyOptions {
-  int samples = 10000;  // N ≥ 1
+  int samples = 10000;  // N ∈ [1, 10⁷]
   uint32_t seed = 1;    // any value (each gives an independent scrambling)
   VerifyReference against = VerifyReference::AzimuthMean;
   double roughness_min = 0.1, roughness_max = 1.0;  // 0 ≤ min ≤ max ≤ 1
