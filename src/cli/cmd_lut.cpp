@@ -29,9 +29,9 @@ namespace {
 struct BakeLutOptions {
   std::string out, format, pixel_format = "rgba16f", roughness, roughness_range, layout = "cone",
                            symbol = "micro_shadowing_lut";
-  int size = 0, size_vis = 0, size_nl = 0, size_nv = 0, size_t_ = 0, slabs = 0;
+  int size = -1, size_vis = -1, size_nl = -1, size_nv = -1, size_t_ = -1, slabs = -1;  // -1: layout default
   bool two_d = false, azimuth = false, quiet = false;
-  int harmonics = 0, samples = 0, phi_nodes = 16, threads = 0;
+  int harmonics = 0, samples = -1, phi_nodes = 16, threads = 0;
   const CLI::Option* harmonics_opt = nullptr;  // set when --harmonics was given
   uint32_t seed = 1;
 };
@@ -62,13 +62,13 @@ void run_bake(const BakeLutOptions& o) {
   lut::BakeOptions b = lut::default_bake_options(lut::layout_from_name(o.layout));
   const bool cone = b.layout == lut::LutLayout::Cone;
   auto size_ok = [](int n, const char* name) {
-    if (n != 0 && n < 2) throw UsageError(fmt::format("{} must be ≥ 2, got {}", name, n));
-    return n;
+    if (n != -1 && n < 2) throw UsageError(fmt::format("{} must be ≥ 2, got {}", name, n));
+    return n > 0;
   };
   size_ok(o.size, "--size"), size_ok(o.size_vis, "--size-visibility"), size_ok(o.size_nl, "--size-nl");
   size_ok(o.size_nv, "--size-nv"), size_ok(o.size_t_, "--size-t"), size_ok(o.slabs, "--roughness-slabs");
   if (cone) {
-    if (o.size || o.size_vis)
+    if (o.size > 0 || o.size_vis > 0)
       throw UsageError(
           "--size / --size-visibility apply to --layout seed; the cone layout takes --size-t, "
           "--size-nl, --size-nv, --roughness-slabs");
@@ -76,26 +76,26 @@ void run_bake(const BakeLutOptions& o) {
       throw UsageError(
           "--roughness (one value per channel) applies to --layout seed; the cone layout takes "
           "--roughness-range MIN,MAX and --roughness-slabs N");
-    if (o.size_t_) b.n_vis = o.size_t_;
-    if (o.slabs) b.n_rough = o.slabs;
+    if (o.size_t_ > 0) b.n_vis = o.size_t_;
+    if (o.slabs > 0) b.n_rough = o.slabs;
     if (!o.roughness_range.empty()) {
       const auto rr = parse_list(o.roughness_range, "--roughness-range");
       if (rr.size() != 2) throw UsageError("--roughness-range takes two values MIN,MAX");
       b.cone.roughness_min = float(rr[0]), b.cone.roughness_max = float(rr[1]);
     }
   } else {
-    if (o.size_t_ || o.slabs || !o.roughness_range.empty())
+    if (o.size_t_ > 0 || o.slabs > 0 || !o.roughness_range.empty())
       throw UsageError("--size-t, --roughness-slabs and --roughness-range apply to the cone layout");
-    if (o.size) b.n_vis = b.n_nl = b.n_nv = o.size;
-    if (o.size_vis) b.n_vis = o.size_vis;
+    if (o.size > 0) b.n_vis = b.n_nl = b.n_nv = o.size;
+    if (o.size_vis > 0) b.n_vis = o.size_vis;
     if (!o.roughness.empty()) b.roughness = parse_list(o.roughness, "--roughness");
   }
-  if (o.size_nl) b.n_nl = o.size_nl;
-  if (o.size_nv) b.n_nv = o.size_nv;
+  if (o.size_nl > 0) b.n_nl = o.size_nl;
+  if (o.size_nv > 0) b.n_nv = o.size_nv;
   b.two_d = o.two_d;
   b.harmonics =
       o.harmonics_opt && o.harmonics_opt->count() > 0 ? o.harmonics : (o.azimuth ? (cone ? 3 : 2) : 0);
-  if (o.samples) b.samples = o.samples;
+  if (o.samples != -1) b.samples = o.samples;
   b.phi_nodes = o.phi_nodes;
   b.seed = o.seed;
   b.threads = o.threads;
