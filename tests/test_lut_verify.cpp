@@ -325,6 +325,21 @@ TEST(VerifyCli, SmallTableFiniteReproducibleThreadIndependent) {
     EXPECT_EQ(jg["gpu_weights"], 8);
     EXPECT_NE(jg["all"]["rms"], j["all"]["rms"]);
     EXPECT_LT(std::abs(jg["all"]["rms"].get<double>() - j["all"]["rms"].get<double>()), 3.0 / 256.0);
+    // --csv: every input, consistent with the statistics.
+    const std::string csv = (d / (std::string(layout) + ".csv")).string();
+    ASSERT_EQ(run(cmd + " --csv " + csv, d).code, 0);
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "index,visibility,n_dot_l,n_dot_v,roughness,cos_phi,exact,approx,error");
+    int rows = 0;
+    double max_abs = 0;
+    while (std::getline(in, line)) {
+      ++rows;
+      max_abs = std::max(max_abs, std::abs(std::stod(line.substr(line.rfind(',') + 1))));
+    }
+    EXPECT_EQ(rows, 300);
+    EXPECT_NEAR(max_abs, j["all"]["max"].get<double>(), 1e-12);
     // The human table.
     const CliResult h = run("verify micro-shadowing-lut " + t + " --samples 64", d);
     ASSERT_EQ(h.code, 0);
@@ -436,6 +451,8 @@ TEST(VerifyCli, BadInputIsOneLineExitTwo) {
       p + t + " --roughness 0.1,0.5",
       "verify micro-shadowing-term --method unknown",
       "verify micro-shadowing-term --nv-bands 0.5",
+      "verify micro-shadowing-term --csv " + (d / "x.csv").string(),
+      p + t + " --csv " + (d / "missing" / "x.csv").string(),
   };
   for (const std::string& c : cases) {
     const CliResult r = run(c + (c.find("--samples") == std::string::npos ? " --samples 8" : ""), d);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 namespace msh::lut {
 
@@ -157,6 +158,7 @@ VerifyResult measure(const std::vector<VerifyInput>& inputs, const MicroShadowin
   });
   for (std::size_t j = 0; j < k; ++j)
     r.worst.push_back({idx[j], inputs[idx[j]], approx[idx[j]], err[idx[j]]});
+  r.approx = std::move(approx);
   return r;
 }
 

@@ -77,6 +77,7 @@ struct VerifyResult {
   ErrorStats early_out, rest;  // 2V + N·L < 1 (in float, as the samplers test it), and the other inputs
   std::vector<VerifyBand> by_roughness, by_n_dot_v;
   std::vector<VerifyWorst> worst;  // largest |e| first (ties: lower index first)
+  std::vector<double> approx;      // the approximation at every input, in input order
 };
 
 // The approximation under test: float(V, N·L, N·V, roughness, cos φ). Called concurrently from several
