@@ -212,6 +212,18 @@ TEST(Verify, BadOptionsThrow) {
   bad([](VerifyOptions& o) { o.roughness_bands = {0.5}; });
   bad([](VerifyOptions& o) { o.n_dot_v_bands = {0, 0.5, 0.5}; });
   EXPECT_THROW(verify_reference_from_name("median"), InputError);
+  // One roughness value: a zero-width range and its single band.
+  VerifyOptions one = small(16, VerifyReference::Azimuth);
+  one.roughness_min = one.roughness_max = 0.4;
+  one.roughness_bands = {0.4, 0.4};
+  EXPECT_NO_THROW(validate(one));
+  const std::vector<VerifyInput> in = make_verify_inputs(one);
+  for (const VerifyInput& p : in) EXPECT_EQ(p.roughness, 0.4f);
+  EXPECT_EQ(measure(
+                in, [](float, float, float, float, float) { return 0.0f; }, one)
+                .by_roughness[0]
+                .stats.count,
+            16u);
 }
 
 // What --gpu-weights relies on: the sampler's filter_weight_bits puts the weights on the 1/256 grid, rounded

@@ -29,8 +29,10 @@ const char* verify_reference_name(VerifyReference r) {
 namespace {
 void validate_edges(const std::vector<double>& e, const char* what) {
   if (e.size() < 2) throw InputError(fmt::format("{}: at least two band edges are needed", what));
+  // Strictly increasing; one zero-width band [e, e] (a roughness range of one value) is allowed.
+  const bool single = e.size() == 2 && e[0] == e[1];
   for (std::size_t i = 0; i < e.size(); ++i)
-    if (!std::isfinite(e[i]) || (i > 0 && !(e[i] > e[i - 1])))
+    if (!std::isfinite(e[i]) || (i > 0 && !single && !(e[i] > e[i - 1])))
       throw InputError(fmt::format("{}: band edges must be finite and strictly increasing", what));
 }
 

@@ -39,7 +39,8 @@ struct VerifyOptions {
   double roughness_min = 0.1, roughness_max = 1.0;  // 0 ≤ min ≤ max ≤ 1
   int threads = 0;                                  // 0: oneTBB's default
   int worst = 10;                                   // how many worst inputs to keep
-  // Band edges, strictly increasing: band i is [e_i, e_{i+1}), the last one closed.
+  // Band edges, strictly increasing (or two equal edges: one band [e, e]): band i is [e_i, e_{i+1}), the last
+  // one closed.
   std::vector<double> roughness_bands = {0.1, 0.25, 0.55, 1.0};
   std::vector<double> n_dot_v_bands = {0.0, 0.25, 0.5, 0.75, 1.0};
 };
