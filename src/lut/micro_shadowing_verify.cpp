@@ -47,11 +47,14 @@ void run_parallel(int threads, std::size_t n, const F& body) {
   });
 }
 
-// Band i of `edges` holding x: [e_i, e_{i+1}), the last band closed; −1 outside.
-int band_of(const std::vector<double>& edges, double x) {
+// Band i of `edges` holding x: [e_i, e_{i+1}), the last band closed; −1 outside. Compared in float, the
+// precision of the inputs (a range [0.4, 0.4] holds the input 0.4f).
+int band_of(const std::vector<double>& edges, float x) {
   const int nb = int(edges.size()) - 1;
-  for (int i = 0; i < nb; ++i)
-    if (x >= edges[i] && (x < edges[i + 1] || (i == nb - 1 && x <= edges[i + 1]))) return i;
+  for (int i = 0; i < nb; ++i) {
+    const float lo = float(edges[i]), hi = float(edges[i + 1]);
+    if (x >= lo && (x < hi || (i == nb - 1 && x <= hi))) return i;
+  }
   return -1;
 }
 }  // namespace
