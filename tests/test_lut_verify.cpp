@@ -386,7 +386,7 @@ TEST(VerifyCli, ClosedFormTerms) {
   const CliResult r = run("verify micro-shadowing-term --samples 128 --json", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["results"].size(), 5u);
+  ASSERT_EQ(j["results"].size(), 7u);
   for (const auto& x : j["results"]) {
     expect_finite_stats(x["all"], 128);
     if (x["method"] == "azimuth-mean")

@@ -3,13 +3,15 @@
 //       [--sampler auto|plain|azimuth] [--gpu-weights BITS] [--json]
 //   microshadow verify micro-shadowing-term --method NAME|all [--samples N] [--against mean|azimuth] [--json]
 // A table is measured through the public samplers an engine calls (sample_micro_shadowing,
-// sample_micro_shadowing_azimuth); the closed-form terms through occlusion/micro_shadowing.h.
+// sample_micro_shadowing_azimuth); the closed-form terms and the ALU fits through
+// occlusion/micro_shadowing*.h.
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/micro_shadowing_verify.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_fit.h>
 
 #include <algorithm>
 #include <chrono>
@@ -265,10 +267,10 @@ void run_lut(const LutArgs& a) {
   print_result(r);
 }
 
-// The closed-form terms of occlusion/micro_shadowing.h, and the exact azimuth mean itself (against the
-// azimuth: the best any azimuth-blind approximation can do).
-const std::vector<std::string> kTerms = {"reference", "brinck-maximov-2016", "chan-2018", "part1-analytic",
-                                         "azimuth-mean"};
+// The closed-form terms of occlusion/micro_shadowing.h, the ALU fits of micro_shadowing_fit.h, and the exact
+// azimuth mean itself (against the azimuth: the best any azimuth-blind approximation can do).
+const std::vector<std::string> kTerms = {"reference", "brinck-maximov-2016", "chan-2018",   "part1-analytic",
+                                         "alu",       "alu-two-stage",       "azimuth-mean"};
 
 lut::MicroShadowingApprox term(const std::string& m) {
   if (m == "reference")
@@ -278,6 +280,13 @@ lut::MicroShadowingApprox term(const std::string& m) {
   if (m == "chan-2018") return [](float V, float nl, float, float, float) { return ms::chan_2018(V, nl); };
   if (m == "part1-analytic")
     return [](float V, float nl, float, float, float) { return ms::part1_analytic(V, nl); };
+  if (m ==
+      "alu")  // ALU-only fits of the azimuth mean (occlusion/micro_shadowing_fit.h), in float as a shader
+    return [](float V, float nl, float nv, float r, float) { return ms::generic_vndf_alu(V, nl, nv, r); };
+  if (m == "alu-two-stage")
+    return [](float V, float nl, float nv, float r, float) {
+      return ms::generic_vndf_alu_two_stage(V, nl, nv, r);
+    };
   return [](float V, float nl, float nv, float r, float) {
     return float(lut::verify_reference_value(lut::VerifyReference::AzimuthMean, V, nl, nv, r, 1.0));
   };
@@ -381,7 +390,8 @@ void add_verify(Groups& g) {
   CLI::App* t = g.verify->add_subcommand(
       "micro-shadowing-term",
       "The same measure for the closed-form terms (reference step, Brinck-Maximov 2016, Chan 2018, Part 1 "
-      "analytic) and the exact azimuth mean, on one shared set of inputs");
+      "analytic), the ALU-only fits (alu, alu-two-stage) and the exact azimuth mean, on one shared set of "
+      "inputs");
   t->add_option("--method", ta->method, "all | " + fmt::format("{}", fmt::join(kTerms, " | ")))
       ->capture_default_str();
   add_common(t, *ta);
