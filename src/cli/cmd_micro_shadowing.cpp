@@ -121,7 +121,7 @@ void run_eval(const EvalArgs& a) {
     if (!a.lut.empty())
       table = std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(a.lut));
     else if (!early)
-      table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 2 : 0);
+      table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 3 : 0);
     if (!table) {
       out["value"] = 0.0;
       out["lut"] = "default (not needed: early-out)";
@@ -133,15 +133,27 @@ void run_eval(const EvalArgs& a) {
     }
     const lut::MicroShadowingLutView view = table->view();
     if (m == "lut3d" && view.n_nv < 2)
-      throw UsageError("lut3d needs a 3D table (depth > 1); use --method lut2d for an N.V = 1 table");
+      throw UsageError("lut3d needs a 3D table (N.V size > 1); use --method lut2d for an N.V = 1 table");
+    // --phi asks for the term at that azimuth: only an azimuth-aware table has it (never the mean silently).
+    if (has_phi && view.harmonics == 0)
+      throw UsageError(
+          "--phi needs an azimuth-aware table (bake micro-shadowing --azimuth); this table holds the azimuth "
+          "mean only (omit --phi for the mean)");
     // lut2d: the N·V = 1 slice whatever the table (a 2D table has only that slice).
     const double nv = m == "lut2d" ? 1.0 : a.ndotv;
     value = has_phi ? lut::sample_micro_shadowing_azimuth(view, a.visibility, a.ndotl, nv, a.roughness,
                                                           std::cos(a.phi))
                     : lut::sample_micro_shadowing(view, a.visibility, a.ndotl, nv, a.roughness);
     out["lut"] = a.lut.empty() ? nlohmann::json("default (baked on first use)") : nlohmann::json(a.lut);
+    out["lut_layout"] = lut::layout_name(view.layout);
     out["lut_size"] = {view.n_vis, view.n_nl, view.n_nv};
-    out["lut_roughness"] = table->roughness;
+    if (view.layout == lut::LutLayout::Cone) {
+      out["lut_roughness_slabs"] = view.n_rough;
+      out["lut_roughness_range"] = {lut::short_float(view.cone.roughness_min),
+                                    lut::short_float(view.cone.roughness_max)};
+    } else {
+      out["lut_roughness"] = table->roughness;
+    }
     out["harmonics"] = view.harmonics;
     out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
   } else if (m == "generic-vndf-alu") {
