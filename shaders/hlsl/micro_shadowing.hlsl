@@ -315,4 +315,83 @@ float msh_ms_lut_sample_azimuth(Texture3D<float4> lut, SamplerState smp, int har
   return clamp(sum, 0.0, 1.0);
 }
 
+// ---- Cone-layout LUT (the default table; docs/lut.md) ----------------------------------------------------
+// A 3D texture, linear filtering, clamp-to-edge, no mips: x = t (the cone half-angle relative to the light,
+// t = 0 at the early-out boundary 2 vis + N.L = 1, t = 1 at vis = 1), y = N.L coordinate, z = N.V coordinate
+// + n_nv * roughness slab (depth = n_nv * n_rough); channel h = the cos(h phi) coefficient a_h (a plain table
+// has channel r = a_0 only). Two fetches per light: the two roughness slabs around the roughness, blended in
+// the shader. The constants are the baker's defaults (ConeLayoutParams); a table baked with other warps
+// needs the same values here. Same arithmetic as msh::lut::fetch_cone (C++ float); |shader - C++| on
+// lavapipe: docs/shaders.md.
+#define MSH_MS_CONE_ROUGHNESS_MIN 0.1
+#define MSH_MS_CONE_ROUGHNESS_MAX 1.0
+#define MSH_MS_CONE_WARP_SCALE 2.0
+#define MSH_MS_CONE_NV_SCALE 3.0
+
+// u(d) = d / (a + |d|): the warp of d = sin(theta - theta_l).
+float msh_ms_cone_warp_u(float d, float a) { return d / (a + abs(d)); }
+
+// t in [0, 1] for visibility vis, N.L and warp width a (msh::lut::cone_t).
+float msh_ms_cone_t(float vis, float n_dot_l, float a) {
+  float V = clamp(vis, 0.0, 1.0), zl = clamp(n_dot_l, 0.0, 1.0);
+  float sl = sqrt(max(0.0, 1.0 - zl * zl));
+  float d = sqrt(V) * zl - sqrt(1.0 - V) * sl;
+  float ulo = msh_ms_cone_warp_u(-sqrt(0.5 * (1.0 - zl)), a), uhi = msh_ms_cone_warp_u(zl, a);
+  return clamp((msh_ms_cone_warp_u(d, a) - ulo) / (uhi - ulo), 0.0, 1.0);
+}
+
+// The channels a_0..a_3 of a cone-layout table at (vis, N.L, N.V, roughness), no early-out; n_rough = the
+// number of roughness slabs (sidecar "roughness_slabs"). Roughness is clamped to [0.1, 1].
+float4 msh_ms_lut_fetch_cone(Texture3D<float4> lut, SamplerState smp, int n_rough, float vis, float n_dot_l,
+                             float n_dot_v, float roughness) {
+  uint sw, sh, sd;
+  lut.GetDimensions(sw, sh, sd);
+  int3 size = int3(sw, sh, sd);
+  int n_nv = size.z / n_rough;
+  float r = roughness;
+  if (!(r > MSH_MS_CONE_ROUGHNESS_MIN)) r = MSH_MS_CONE_ROUGHNESS_MIN;
+  if (r > MSH_MS_CONE_ROUGHNESS_MAX) r = MSH_MS_CONE_ROUGHNESS_MAX;
+  float alpha = max(r * r, 1e-4);
+  float t = msh_ms_cone_t(vis, n_dot_l, MSH_MS_CONE_WARP_SCALE * alpha);
+  float s = 1.0 - sqrt(max(0.0, 1.0 - clamp(n_dot_l, 0.0, 1.0)));  // N.L warp: dense near N.L = 1
+  float c = clamp(n_dot_v, 0.0, 1.0), b = MSH_MS_CONE_NV_SCALE * alpha;
+  float w = clamp(c / sqrt(b * b + c * c) * sqrt(b * b + 1.0), 0.0, 1.0);  // N.V warp: dense below N.V ~ alpha
+  float q = clamp((sqrt(r) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)) /
+                      (sqrt(MSH_MS_CONE_ROUGHNESS_MAX) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)), 0.0, 1.0) *
+            float(n_rough - 1);  // slabs uniform in sqrt(roughness)
+  int j = min(int(q), max(n_rough - 2, 0));
+  float f = n_rough > 1 ? clamp(q - float(j), 0.0, 1.0) : 0.0;
+  float2 uv = float2(msh_ms_lut_coord(t, float(size.x)), msh_ms_lut_coord(s, float(size.y)));
+  float zt = w * float(n_nv - 1) + 0.5;  // texel coordinate within a slab, + 0.5: slabs never bleed
+  float4 a = lut.SampleLevel(smp, float3(uv, (float(j * n_nv) + zt) / float(size.z)), 0.0);
+  float4 bb = lut.SampleLevel(smp, float3(uv, (float((j + 1) * n_nv) + zt) / float(size.z)), 0.0);
+  return a + f * (bb - a);
+}
+
+// Plain cone-layout table (msh::lut::sample_micro_shadowing): early-out before any fetch, two fetches,
+// the azimuth mean a_0.
+float msh_ms_lut_sample_cone(Texture3D<float4> lut, SamplerState smp, int n_rough, float vis, float n_dot_l,
+                             float n_dot_v, float roughness) {
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  return clamp(msh_ms_lut_fetch_cone(lut, smp, n_rough, vis, n_dot_l, n_dot_v, roughness).x, 0.0, 1.0);
+}
+
+// Azimuth-aware cone-layout table (`bake micro-shadowing --azimuth`, RGBA = a_0..a_3; harmonics <= 3):
+// a_0 + sum_h a_h cos(h phi), cos(h phi) by the Chebyshev recurrence from cos_phi
+// (msh_ms_relative_azimuth_cos). Two fetches.
+float msh_ms_lut_sample_cone_azimuth(Texture3D<float4> lut, SamplerState smp, int n_rough, int harmonics,
+                                     float vis, float n_dot_l, float n_dot_v, float roughness, float cos_phi) {
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  float4 a = msh_ms_lut_fetch_cone(lut, smp, n_rough, vis, n_dot_l, n_dot_v, roughness);
+  float c1 = clamp(cos_phi, -1.0, 1.0);
+  float sum = a.x, t_prev = 1.0, t = c1;
+  for (int h = 1; h <= harmonics && h < 4; ++h) {
+    sum += t * a[h];
+    float next = 2.0 * c1 * t - t_prev;
+    t_prev = t;
+    t = next;
+  }
+  return clamp(sum, 0.0, 1.0);
+}
+
 #endif  // MSH_MICRO_SHADOWING_HLSL

@@ -20,14 +20,31 @@ namespace msh::lut {
 // Roughness of the channels r, g, b, a of the default table (REFERENCE.md §1).
 inline constexpr std::array<float, 4> kDefaultRoughness = {0.1f, 0.4f, 0.7f, 1.0f};
 
+// Table layouts. Seed: the layout above (Zurita 2026). Cone: the default since issue 9, see "Cone layout".
+enum class LutLayout { Seed, Cone };
+
+// Parameters of the cone layout (recorded in the sidecar; the defaults are what `bake` writes).
+struct ConeLayoutParams {
+  float roughness_min = 0.1f, roughness_max = 1.0f;  // roughness range of the slabs (clamped outside)
+  float roughness_power = 0.5f;  // slab q holds roughness r with r^p uniform in q (p = 0: log r uniform)
+  float warp_scale = 2.0f;       // warp width a = warp_scale · α, α = roughness²
+  int nl_warp = 1, nv_warp = 3;  // axis warps (cone_detail::axis_coord; 3: cone_nv_coord)
+  float nv_scale = 3.0f;         // warp 3: width b = nv_scale · α
+};
+
 // Non-owning view of a baked table (see the layout above). 1 ≤ channels ≤ 4, strictly increasing roughness.
 struct MicroShadowingLutView {
   const float* data = nullptr;
-  int n_vis = 0, n_nl = 0, n_nv = 1;  // n_nv = 1: the 2D LUT (N·V = 1)
+  LutLayout layout = LutLayout::Seed;
+  int n_vis = 0, n_nl = 0, n_nv = 1;  // n_nv = 1: the 2D LUT (N·V = 1). Cone layout: n_vis = n_t
   int channels = 4;
   std::array<float, 4> roughness = kDefaultRoughness;
-  int harmonics = 0;  // extra cos(hφ) slabs along z (0: plain LUT)
-  int depth() const { return n_nv * (harmonics + 1); }
+  int harmonics = 0;  // seed: extra cos(hφ) slabs along z; cone: channels 1..H (0: plain LUT)
+  int n_rough = 1;    // cone layout: roughness slabs along z
+  ConeLayoutParams cone;
+  // Quantize the linear-filter weights to this many fractional bits, as GPU texture units do (0: exact).
+  int filter_weight_bits = 0;
+  int depth() const { return layout == LutLayout::Cone ? n_nv * n_rough : n_nv * (harmonics + 1); }
 };
 
 // Continuous texel coordinate of parameter u ∈ [0, 1] on an axis of n texels, computed the way a GPU does it:
@@ -44,11 +61,18 @@ struct Tap {
   int i0, i1;
   float f;
 };
+// weight_bits > 0: the fraction is rounded down to a multiple of 2^-bits (GPU filter precision, see
+// docs/lut.md "GPU filter precision").
 template <class T>
-Tap tap(T u, int n) {
+Tap tap(T u, int n, int weight_bits = 0) {
   const T x = clamp(gpu_texel_coord(u, n), T(0), T(n - 1));
   const int i0 = std::min(int(x), n - 1);
-  return {i0, std::min(i0 + 1, n - 1), float(x - T(i0))};
+  float f = float(x - T(i0));
+  if (weight_bits > 0) {
+    const float scale = float(1 << weight_bits);
+    f = std::floor(f * scale) / scale;
+  }
+  return {i0, std::min(i0 + 1, n - 1), f};
 }
 }  // namespace lut_detail
 
@@ -57,7 +81,9 @@ template <class T>
 std::array<T, 4> fetch_trilinear(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v,
                                  int slab = 0) {
   using lut_detail::tap;
-  const auto tx = tap(visibility, lut.n_vis), ty = tap(n_dot_l, lut.n_nl), tz = tap(n_dot_v, lut.n_nv);
+  const int b = lut.filter_weight_bits;
+  const auto tx = tap(visibility, lut.n_vis, b), ty = tap(n_dot_l, lut.n_nl, b),
+             tz = tap(n_dot_v, lut.n_nv, b);
   std::array<T, 4> out{};
   const int zbase = slab * lut.n_nv;
   for (int k = 0; k < 8; ++k) {
@@ -92,11 +118,150 @@ bool micro_shadowing_early_out(T visibility, T n_dot_l) {
   return T(2) * saturate(visibility) + saturate(n_dot_l) < T(1);
 }
 
+// ---- Cone layout ---------------------------------------------------------------------------------------
+// Axes: x = t, the position of the cone half-angle θ (sin²θ = V) relative to the light's polar angle θ_l,
+// y = N·L coordinate, z = N·V coordinate + n_nv · roughness slab; channel h = a_h (h = 0: the azimuth mean).
+// t ∈ [0, 1] spans exactly the lit range θ ∈ [θ_l/2, π/2] (t = 0 is the early-out boundary 2V + N·L = 1,
+// t = 1 is V = 1) through d = sin(θ − θ_l) = sqrt(V)·N·L − sqrt(1 − V)·sqrt(1 − N·L²) and
+//   u(d) = d / sqrt(a² + d²),   t = (u(d) − u(d_lo)) / (u(d_hi) − u(d_lo)),
+// d_lo = −sqrt((1 − N·L)/2) = sin(−θ_l/2), d_hi = N·L, a = warp_scale · α. For small α the term is close to
+// the CDF of the GGX slope marginal ½(1 + d/sqrt(α² + d²)) (the cone edge at θ = θ_l), i.e. linear in u, so
+// the near-step sits at t ≈ ½ for every V and N·L and is spread over the whole axis (docs/lut.md).
+namespace cone_detail {
+template <class T>
+T warp_u(T d, T a) {
+  return d / (a + std::abs(d));
+}
+// Axis warps of a cosine c ∈ [0, 1]: 0: c; 1: 1 − sqrt(1 − c) (dense near c = 1); 2: sqrt(c) (dense near
+// c = 0). axis_value is the inverse.
+template <class T>
+T axis_coord(T c, int warp) {
+  if (warp == 1) return T(1) - std::sqrt(std::max(T(0), T(1) - c));
+  if (warp == 2) return std::sqrt(std::max(T(0), c));
+  return c;
+}
+template <class T>
+T axis_value(T s, int warp) {
+  if (warp == 1) return T(1) - (T(1) - s) * (T(1) - s);
+  if (warp == 2) return s * s;
+  return s;
+}
+}  // namespace cone_detail
+
+// N·V coordinate of warp 3: u(N·V)/u(1) with u(c) = c/sqrt(b² + c²), b = nv_scale · max(α, 1e-4): dense
+// where N·V ≲ α, where the VNDF of a grazing view changes shape. Other warps: cone_detail::axis_coord.
+template <class T>
+T cone_nv_coord(const ConeLayoutParams& p, T n_dot_v, T roughness) {
+  const T c = saturate(n_dot_v);
+  if (p.nv_warp != 3) return cone_detail::axis_coord(c, p.nv_warp);
+  const T b = T(p.nv_scale) * std::max(roughness * roughness, T(1e-4));
+  return saturate(c / std::sqrt(b * b + c * c) * std::sqrt(b * b + T(1)));
+}
+inline double cone_nv_of_coord(const ConeLayoutParams& p, double w, double roughness) {
+  if (p.nv_warp != 3) return cone_detail::axis_value(w, p.nv_warp);
+  const double b = p.nv_scale * std::max(roughness * roughness, 1e-4);
+  const double u = std::min(w / std::sqrt(b * b + 1.0), 1.0);  // c/sqrt(b² + c²) = u ⇒ c = b u/sqrt(1 − u²)
+  return u >= 1.0 ? 1.0 : std::min(1.0, b * u / std::sqrt(1.0 - u * u));
+}
+
+// Warp width a(r) = warp_scale · max(r², 1e-4).
+template <class T>
+T cone_warp_width(const ConeLayoutParams& p, T roughness) {
+  return T(p.warp_scale) * std::max(roughness * roughness, T(1e-4));
+}
+
+// Roughness clamped to the slabs' range (NaN → lowest) and its slab coordinate q ∈ [0, 1].
+template <class T>
+T cone_clamp_roughness(const ConeLayoutParams& p, T roughness) {
+  T r = roughness;
+  if (!(r > T(p.roughness_min))) r = T(p.roughness_min);
+  if (r > T(p.roughness_max)) r = T(p.roughness_max);
+  return r;
+}
+template <class T>
+T cone_roughness_coord(const ConeLayoutParams& p, T r) {
+  const T lo = T(p.roughness_min), hi = T(p.roughness_max);
+  if (!(hi > lo)) return T(0);
+  if (p.roughness_power == 0.0f) return saturate(std::log(r / lo) / std::log(hi / lo));
+  if (p.roughness_power == 0.5f)  // the default: sqrt, as the shaders do
+    return saturate((std::sqrt(r) - std::sqrt(lo)) / (std::sqrt(hi) - std::sqrt(lo)));
+  const T e = T(p.roughness_power);
+  return saturate((std::pow(r, e) - std::pow(lo, e)) / (std::pow(hi, e) - std::pow(lo, e)));
+}
+// Roughness of slab coordinate q (inverse of cone_roughness_coord).
+inline double cone_roughness_of_coord(const ConeLayoutParams& p, double q) {
+  const double lo = p.roughness_min, hi = p.roughness_max;
+  if (p.roughness_power == 0.0f) return lo * std::pow(hi / lo, q);
+  const double e = p.roughness_power;
+  return std::pow(std::pow(lo, e) + q * (std::pow(hi, e) - std::pow(lo, e)), 1.0 / e);
+}
+
+// The x coordinate t ∈ [0, 1] (see above). V, N·L ∈ [0, 1]; a > 0.
+template <class T>
+T cone_t(T visibility, T n_dot_l, T a) {
+  const T V = saturate(visibility), zl = saturate(n_dot_l);
+  const T sl = std::sqrt(std::max(T(0), T(1) - zl * zl));
+  const T d = std::sqrt(V) * zl - std::sqrt(T(1) - V) * sl;
+  const T ulo = cone_detail::warp_u(-std::sqrt(T(0.5) * (T(1) - zl)), a), uhi = cone_detail::warp_u(zl, a);
+  return saturate((cone_detail::warp_u(d, a) - ulo) / (uhi - ulo));
+}
+// Inverse of cone_t for the baker: the visibility whose cone sits at t.
+inline double cone_visibility_of_t(double t, double n_dot_l, double a) {
+  const double zl = clamp(n_dot_l, 0.0, 1.0);
+  const double ulo = cone_detail::warp_u(-std::sqrt(0.5 * (1.0 - zl)), a), uhi = cone_detail::warp_u(zl, a);
+  const double u = clamp(ulo + t * (uhi - ulo), -1.0, 1.0);
+  const double d = std::abs(u) < 1.0 ? a * u / (1.0 - std::abs(u)) : u;
+  const double theta = std::acos(zl) + std::asin(clamp(d, -1.0, 1.0));
+  return clamp(sqr(std::sin(clamp(theta, 0.0, kPi<double> / 2))), 0.0, 1.0);
+}
+
+// Trilinear fetch (all channels) of roughness slab `slab` of a cone-layout table at texture coordinates
+// (t, s, w) ∈ [0, 1]³ (the hardware filter; the z coordinate stays inside the slab).
+template <class T>
+std::array<T, 4> fetch_cone_slab(const MicroShadowingLutView& lut, T t, T s, T w, int slab) {
+  using lut_detail::tap;
+  const int b = lut.filter_weight_bits;
+  const auto tx = tap(t, lut.n_vis, b), ty = tap(s, lut.n_nl, b), tz = tap(w, lut.n_nv, b);
+  std::array<T, 4> out{};
+  const int zbase = slab * lut.n_nv;
+  for (int k = 0; k < 8; ++k) {
+    const int x = (k & 1) ? tx.i1 : tx.i0, y = (k & 2) ? ty.i1 : ty.i0, z = zbase + ((k & 4) ? tz.i1 : tz.i0);
+    const T wgt =
+        T((k & 1) ? tx.f : 1.0f - tx.f) * T((k & 2) ? ty.f : 1.0f - ty.f) * T((k & 4) ? tz.f : 1.0f - tz.f);
+    const float* p = lut.data + ((std::size_t(z) * lut.n_nl + y) * lut.n_vis + x) * lut.channels;
+    for (int c = 0; c < lut.channels; ++c) out[c] += wgt * T(p[c]);
+  }
+  return out;
+}
+
+// The cone-layout lookup: coordinates from the inputs, two slab fetches blended in roughness (the second
+// fetch is skipped when the weight is 0). Returns the channels a_0 … a_H. No early-out here.
+template <class T>
+std::array<T, 4> fetch_cone(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v,
+                            T roughness) {
+  const ConeLayoutParams& p = lut.cone;
+  const T r = cone_clamp_roughness(p, roughness);
+  const T t = cone_t(visibility, n_dot_l, cone_warp_width(p, r));
+  const T s = cone_detail::axis_coord(saturate(n_dot_l), p.nl_warp);
+  const T w = cone_nv_coord(p, n_dot_v, r);
+  const T q = cone_roughness_coord(p, r) * T(lut.n_rough - 1);
+  const int j = std::min(int(q), std::max(lut.n_rough - 2, 0));
+  const T f = lut.n_rough > 1 ? clamp(q - T(j), T(0), T(1)) : T(0);
+  std::array<T, 4> a = fetch_cone_slab(lut, t, s, w, j);
+  if (f > T(0)) {
+    const std::array<T, 4> b = fetch_cone_slab(lut, t, s, w, j + 1);
+    for (int c = 0; c < lut.channels; ++c) a[c] += f * (b[c] - a[c]);
+  }
+  return a;
+}
+
 // The LUT approximation of the generic VNDF micro-shadowing term (seed 002), azimuth ignored (mean over φ).
 // Domain: V, N·L, N·V clamped to [0, 1] (NaN → 0), roughness clamped to the channel range. Result in [0, 1].
 template <class T>
 T sample_micro_shadowing(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v, T roughness) {
   if (micro_shadowing_early_out(visibility, n_dot_l)) return T(0);
+  if (lut.layout == LutLayout::Cone)
+    return saturate(fetch_cone(lut, visibility, n_dot_l, n_dot_v, roughness)[0]);
   return saturate(
       interpolate_roughness(lut, fetch_trilinear(lut, visibility, n_dot_l, n_dot_v, 0), roughness));
 }
@@ -109,6 +274,16 @@ T sample_micro_shadowing_azimuth(const MicroShadowingLutView& lut, T visibility,
                                  T roughness, T cos_phi) {
   if (micro_shadowing_early_out(visibility, n_dot_l)) return T(0);
   const T c1 = clamp(cos_phi, T(-1), T(1));
+  if (lut.layout == LutLayout::Cone) {
+    const std::array<T, 4> a = fetch_cone(lut, visibility, n_dot_l, n_dot_v, roughness);
+    T sum = a[0], t_prev = T(1), t = c1;
+    for (int h = 1; h <= lut.harmonics && h < lut.channels; ++h) {
+      sum += t * a[h];
+      const T next = T(2) * c1 * t - t_prev;
+      t_prev = t, t = next;
+    }
+    return saturate(sum);
+  }
   T sum = interpolate_roughness(lut, fetch_trilinear(lut, visibility, n_dot_l, n_dot_v, 0), roughness);
   T t_prev = T(1), t = c1;  // T_{h−1}(cos φ), T_h(cos φ) = cos((h−1)φ), cos(hφ)
   for (int h = 1; h <= lut.harmonics; ++h) {
