@@ -263,7 +263,7 @@ TEST(LutCli, BadTablesAndSidecarsExitTwo) {
       {"slabs do not divide the depth", table_a,
        replace(side_a, "\"roughness_slabs\": 3", "\"roughness_slabs\": 2")},
       {"missing field", table_a, replace(side_a, "\"warp_scale\"", "\"warp_scalx\"")},
-      {"bad warp", table_a, replace(side_a, "\"nl_warp\": 1", "\"nl_warp\": 9")},
+      {"bad warp", table_a, replace(side_a, "\"nl_warp\": 4", "\"nl_warp\": 9")},
       {"not JSON", table_a, "{ layout: "},
       {"truncated table", table_a.substr(0, table_a.size() / 2), side_a},
       {"truncated header", table_a.substr(0, 60), side_a},

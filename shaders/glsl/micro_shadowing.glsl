@@ -305,7 +305,7 @@ float msh_ms_lut_sample_azimuth(sampler3D lut, int harmonics, float vis, float n
 
 // ---- Cone-layout LUT (the default table since `bake micro-shadowing` issue 9; docs/lut.md) ---------------
 // A 3D texture, linear filtering, clamp-to-edge, no mips: x = t (the cone half-angle relative to the light,
-// t = 0 at the early-out boundary 2 vis + N.L = 1, t = 1 at vis = 1), y = N.L coordinate, z = N.V coordinate
+// t = 0 at the early-out boundary 2 vis + N.L = 1, t = 1 at vis = 1 or, for grazing light, a little past it), y = N.L coordinate, z = N.V coordinate
 // + n_nv * roughness slab (depth = n_nv * n_rough); channel h = the cos(h phi) coefficient a_h (a plain table
 // has channel r = a_0 only). Two fetches per light: the two roughness slabs around the roughness, blended in
 // the shader. The constants are the baker's defaults (ConeLayoutParams); a table baked with other warps
@@ -315,6 +315,7 @@ float msh_ms_lut_sample_azimuth(sampler3D lut, int harmonics, float vis, float n
 #define MSH_MS_CONE_ROUGHNESS_MAX 1.0
 #define MSH_MS_CONE_WARP_SCALE 2.0
 #define MSH_MS_CONE_NV_SCALE 3.0
+#define MSH_MS_CONE_TOP_SCALE 3.0
 
 // u(d) = d / (a + |d|): the warp of d = sin(theta - theta_l).
 float msh_ms_cone_warp_u(float d, float a) { return d / (a + abs(d)); }
@@ -324,8 +325,10 @@ float msh_ms_cone_t(float vis, float n_dot_l, float a) {
   float V = clamp(vis, 0.0, 1.0), zl = clamp(n_dot_l, 0.0, 1.0);
   float sl = sqrt(max(0.0, 1.0 - zl * zl));
   float d = sqrt(V) * zl - sqrt(1.0 - V) * sl;
-  float ulo = msh_ms_cone_warp_u(-sqrt(0.5 * (1.0 - zl)), a), uhi = msh_ms_cone_warp_u(zl, a);
-  return clamp((msh_ms_cone_warp_u(d, a) - ulo) / (uhi - ulo), 0.0, 1.0);
+  float ulo = msh_ms_cone_warp_u(-sqrt(0.5 * (1.0 - zl)), a);
+  float e = MSH_MS_CONE_TOP_SCALE * a / (1.0 + MSH_MS_CONE_TOP_SCALE * a);
+  float utop = msh_ms_cone_warp_u(sqrt(zl * zl + e * e * (1.0 - zl * zl)), a);  // just past V = 1
+  return clamp((msh_ms_cone_warp_u(d, a) - ulo) / (utop - ulo), 0.0, 1.0);
 }
 
 // The channels a_0..a_3 of a cone-layout table at (vis, N.L, N.V, roughness), no early-out; n_rough = the
@@ -338,7 +341,8 @@ vec4 msh_ms_lut_fetch_cone(sampler3D lut, int n_rough, float vis, float n_dot_l,
   if (r > MSH_MS_CONE_ROUGHNESS_MAX) r = MSH_MS_CONE_ROUGHNESS_MAX;
   float alpha = max(r * r, 1e-4);
   float t = msh_ms_cone_t(vis, n_dot_l, MSH_MS_CONE_WARP_SCALE * alpha);
-  float s = 1.0 - sqrt(max(0.0, 1.0 - clamp(n_dot_l, 0.0, 1.0)));  // N.L warp: dense near N.L = 1
+  float nlc = clamp(n_dot_l, 0.0, 1.0);
+  float s = 0.5 * (sqrt(nlc) + 1.0 - sqrt(1.0 - nlc));  // N.L warp: dense near N.L = 0 and 1
   float c = clamp(n_dot_v, 0.0, 1.0), b = MSH_MS_CONE_NV_SCALE * alpha;
   float w = clamp(c / sqrt(b * b + c * c) * sqrt(b * b + 1.0), 0.0, 1.0);  // N.V warp: dense below N.V ~ alpha
   float q = clamp((sqrt(r) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)) /
