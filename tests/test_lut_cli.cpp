@@ -1,6 +1,7 @@
 // CLI tests for `microshadow bake micro-shadowing`: outputs, determinism across thread counts, both layouts,
 // sidecar round trips for every format, the 2D LUT, and bad input (one-line error, exit code 2, no file left
 // behind), also for tables read back (bad layout names, mismatched sidecars, truncated files).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/lut/micro_shadowing_baker.h>
@@ -174,7 +175,7 @@ TEST(LutCli, SidecarRoundTripBothLayoutsEveryFormat) {
       for (const std::string pf : {"rgba16f", "rgba32f", "rgba8"}) {
         if (fmt == "npy" && pf != "rgba32f") continue;     // NPY is always float32
         if (L.o.harmonics > 0 && pf == "rgba8") continue;  // signed coefficients: rejected (tested below)
-        const fs::path f = d / ("t" + std::to_string(li) + "_" + pf + "." + fmt);
+        const fs::path f = d / fmt::format("t{}_{}.{}", li, pf, fmt);
         const std::string args = "bake micro-shadowing --quiet" + std::string(is_cone ? cone_args : "") +
                                  L.args + " --pixel-format " + pf + " --out " + f.string();
         ASSERT_EQ(run(args, d).code, 0) << args;

@@ -182,7 +182,7 @@ struct NodePoints {
 
 void draw_samples(const NodePoints& pts, std::size_t n, double alpha, double zv, double cos_phi,
                   double sin_phi, NodeSamples& out) {
-  // Dupuy & Benyoub 2023 (REFERENCE.md §4), v = (sv, 0, zv): the same arithmetic as GGX::Sample_wm.
+  // Dupuy & Benyoub 2023 (Dupuy & Benyoub 2023), v = (sv, 0, zv): the same arithmetic as GGX::Sample_wm.
   const double sv = safe_sqrt(1.0 - zv * zv);
   const Vec3d wi = normalize(Vec3d(alpha * sv, 0.0, zv));
   out.mz.resize(n);

@@ -1,4 +1,4 @@
-// Runtime sampler for the micro-shadowing LUT (seed 002 "LUT-Based Approximation"; layout REFERENCE.md §1).
+// Runtime sampler for the micro-shadowing LUT (Zurita 2026, "Improving Direct Lighting Material Occlusion - Part 2", "LUT-Based Approximation"; layout docs/lut.md).
 // Header-only, no allocation, no I/O: an engine points a MicroShadowingLutView at its own copy of the table.
 //
 // Table layout (what bake_micro_shadowing_lut writes, what io::read_volume returns):
@@ -17,7 +17,7 @@
 
 namespace msh::lut {
 
-// Roughness of the channels r, g, b, a of the default table (REFERENCE.md §1).
+// Roughness of the channels r, g, b, a of the default table (docs/lut.md).
 inline constexpr std::array<float, 4> kDefaultRoughness = {0.1f, 0.4f, 0.7f, 1.0f};
 
 // Table layouts. Seed: the layout above (Zurita 2026). Cone: the default since issue 9, see "Cone layout".
@@ -49,7 +49,7 @@ struct MicroShadowingLutView {
 };
 
 // Continuous texel coordinate of parameter u ∈ [0, 1] on an axis of n texels, computed the way a GPU does it:
-// the shader remaps u' = (u·(n − 1) + 0.5)/n (REFERENCE.md §1), the sampler takes x = u'·n − 0.5.
+// the shader remaps u' = (u·(n − 1) + 0.5)/n (docs/lut.md), the sampler takes x = u'·n − 0.5.
 template <class T>
 T gpu_texel_coord(T u, int n) {
   const T un = (saturate(u) * T(n - 1) + T(0.5)) / T(n);
@@ -113,7 +113,7 @@ T interpolate_roughness(const MicroShadowingLutView& lut, const std::array<T, 4>
   return lerp(t, ch[j], ch[j + 1]);
 }
 
-// Exact early-out (REFERENCE.md §2): 2V + N·L < 1 ⇒ the term is 0, no fetch needed.
+// Exact early-out (docs/micro-shadowing.md): 2V + N·L < 1 ⇒ the term is 0, no fetch needed.
 template <class T>
 bool micro_shadowing_early_out(T visibility, T n_dot_l) {
   return T(2) * saturate(visibility) + saturate(n_dot_l) < T(1);
@@ -283,7 +283,7 @@ std::array<T, 4> fetch_cone(const MicroShadowingLutView& lut, T visibility, T n_
   return a;
 }
 
-// The LUT approximation of the generic VNDF micro-shadowing term (seed 002), azimuth ignored (mean over φ).
+// The LUT approximation of the generic VNDF micro-shadowing term (Zurita 2026 Part 2), azimuth ignored (mean over φ).
 // Domain: V, N·L, N·V clamped to [0, 1] (NaN → 0), roughness clamped to the channel range. Result in [0, 1].
 template <class T>
 T sample_micro_shadowing(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v, T roughness) {
