@@ -203,6 +203,7 @@ TEST(Verify, BadOptionsThrow) {
     EXPECT_THROW(validate(o), InputError);
   };
   bad([](VerifyOptions& o) { o.samples = 0; });
+  bad([](VerifyOptions& o) { o.samples = 20000000; });
   bad([](VerifyOptions& o) { o.roughness_min = -0.1; });
   bad([](VerifyOptions& o) { o.roughness_max = 1.5; });
   bad([](VerifyOptions& o) { o.roughness_min = 0.8, o.roughness_max = 0.2; });
@@ -211,6 +212,18 @@ TEST(Verify, BadOptionsThrow) {
   bad([](VerifyOptions& o) { o.roughness_bands = {0.5}; });
   bad([](VerifyOptions& o) { o.n_dot_v_bands = {0, 0.5, 0.5}; });
   EXPECT_THROW(verify_reference_from_name("median"), InputError);
+  // One roughness value: a zero-width range and its single band.
+  VerifyOptions one = small(16, VerifyReference::Azimuth);
+  one.roughness_min = one.roughness_max = 0.4;
+  one.roughness_bands = {0.4, 0.4};
+  EXPECT_NO_THROW(validate(one));
+  const std::vector<VerifyInput> in = make_verify_inputs(one);
+  for (const VerifyInput& p : in) EXPECT_EQ(p.roughness, 0.4f);
+  EXPECT_EQ(measure(
+                in, [](float, float, float, float, float) { return 0.0f; }, one)
+                .by_roughness[0]
+                .stats.count,
+            16u);
 }
 
 // What --gpu-weights relies on: the sampler's filter_weight_bits puts the weights on the 1/256 grid, rounded
@@ -324,6 +337,21 @@ TEST(VerifyCli, SmallTableFiniteReproducibleThreadIndependent) {
     EXPECT_EQ(jg["gpu_weights"], 8);
     EXPECT_NE(jg["all"]["rms"], j["all"]["rms"]);
     EXPECT_LT(std::abs(jg["all"]["rms"].get<double>() - j["all"]["rms"].get<double>()), 3.0 / 256.0);
+    // --csv: every input, consistent with the statistics.
+    const std::string csv = (d / (std::string(layout) + ".csv")).string();
+    ASSERT_EQ(run(cmd + " --csv " + csv, d).code, 0);
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "index,visibility,n_dot_l,n_dot_v,roughness,cos_phi,exact,approx,error");
+    int rows = 0;
+    double max_abs = 0;
+    while (std::getline(in, line)) {
+      ++rows;
+      max_abs = std::max(max_abs, std::abs(std::stod(line.substr(line.rfind(',') + 1))));
+    }
+    EXPECT_EQ(rows, 300);
+    EXPECT_NEAR(max_abs, j["all"]["max"].get<double>(), 1e-12);
     // The human table.
     const CliResult h = run("verify micro-shadowing-lut " + t + " --samples 64", d);
     ASSERT_EQ(h.code, 0);
@@ -358,7 +386,7 @@ TEST(VerifyCli, ClosedFormTerms) {
   const CliResult r = run("verify micro-shadowing-term --samples 128 --json", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["results"].size(), 5u);
+  ASSERT_EQ(j["results"].size(), 7u);
   for (const auto& x : j["results"]) {
     expect_finite_stats(x["all"], 128);
     if (x["method"] == "azimuth-mean")
@@ -435,6 +463,8 @@ TEST(VerifyCli, BadInputIsOneLineExitTwo) {
       p + t + " --roughness 0.1,0.5",
       "verify micro-shadowing-term --method unknown",
       "verify micro-shadowing-term --nv-bands 0.5",
+      "verify micro-shadowing-term --csv " + (d / "x.csv").string(),
+      p + t + " --csv " + (d / "missing" / "x.csv").string(),
   };
   for (const std::string& c : cases) {
     const CliResult r = run(c + (c.find("--samples") == std::string::npos ? " --samples 8" : ""), d);

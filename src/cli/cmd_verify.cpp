@@ -3,12 +3,15 @@
 //       [--sampler auto|plain|azimuth] [--gpu-weights BITS] [--json]
 //   microshadow verify micro-shadowing-term --method NAME|all [--samples N] [--against mean|azimuth] [--json]
 // A table is measured through the public samplers an engine calls (sample_micro_shadowing,
-// sample_micro_shadowing_azimuth); the closed-form terms through occlusion/micro_shadowing.h.
+// sample_micro_shadowing_azimuth); the closed-form terms and the ALU fits through
+// occlusion/micro_shadowing*.h.
 #include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/micro_shadowing_verify.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_fit.h>
 
 #include <algorithm>
 #include <chrono>
@@ -30,6 +33,7 @@ struct CommonArgs {
   uint32_t seed = 1;
   std::string against = "mean", roughness_range, roughness_bands = "0.1,0.25,0.55,1.0",
               nv_bands = "0,0.25,0.5,0.75,1";
+  std::string csv;
   bool json = false;
 };
 
@@ -150,6 +154,24 @@ void print_result(const lut::VerifyResult& r) {
   }
 }
 
+// --csv: every input with its exact and approximate value (one file per method; atomic write).
+void check_csv_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  if (p.has_parent_path() && !fs::is_directory(p.parent_path()))
+    throw UsageError(fmt::format("--csv: directory '{}' does not exist", p.parent_path().string()));
+}
+void write_csv(const std::string& path, const std::vector<lut::VerifyInput>& in, const lut::VerifyResult& r) {
+  const std::filesystem::path p(path);
+  std::string text = "index,visibility,n_dot_l,n_dot_v,roughness,cos_phi,exact,approx,error\n";
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const lut::VerifyInput& x = in[i];
+    text += fmt::format("{},{},{},{},{},{},{},{},{}\n", i, x.visibility, x.n_dot_l, x.n_dot_v, x.roughness,
+                        x.cos_phi, x.exact, r.approx[i], r.approx[i] - x.exact);
+  }
+  io::write_file_atomic(p, text);
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -203,7 +225,10 @@ void run_lut(const LutArgs& a) {
     f = [&view](float V, float nl, float nv, float r, float) {
       return lut::sample_micro_shadowing<float>(view, V, nl, nv, r);
     };
-  const lut::VerifyResult r = lut::verify_micro_shadowing(f, o);
+  if (!a.csv.empty()) check_csv_path(a.csv);
+  const std::vector<lut::VerifyInput> inputs = lut::make_verify_inputs(o);
+  const lut::VerifyResult r = lut::measure(inputs, f, o);
+  if (!a.csv.empty()) write_csv(a.csv, inputs, r);
   const double seconds = seconds_since(t0);
   const char* sampler = azimuth ? "azimuth" : "plain";
   const int bits = a.gpu_weights;
@@ -242,10 +267,10 @@ void run_lut(const LutArgs& a) {
   print_result(r);
 }
 
-// The closed-form terms of occlusion/micro_shadowing.h, and the exact azimuth mean itself (against the
-// azimuth: the best any azimuth-blind approximation can do).
-const std::vector<std::string> kTerms = {"reference", "brinck-maximov-2016", "chan-2018", "part1-analytic",
-                                         "azimuth-mean"};
+// The closed-form terms of occlusion/micro_shadowing.h, the ALU fits of micro_shadowing_fit.h, and the exact
+// azimuth mean itself (against the azimuth: the best any azimuth-blind approximation can do).
+const std::vector<std::string> kTerms = {"reference", "brinck-maximov-2016", "chan-2018",   "part1-analytic",
+                                         "alu",       "alu-two-stage",       "azimuth-mean"};
 
 lut::MicroShadowingApprox term(const std::string& m) {
   if (m == "reference")
@@ -255,6 +280,13 @@ lut::MicroShadowingApprox term(const std::string& m) {
   if (m == "chan-2018") return [](float V, float nl, float, float, float) { return ms::chan_2018(V, nl); };
   if (m == "part1-analytic")
     return [](float V, float nl, float, float, float) { return ms::part1_analytic(V, nl); };
+  if (m ==
+      "alu")  // ALU-only fits of the azimuth mean (occlusion/micro_shadowing_fit.h), in float as a shader
+    return [](float V, float nl, float nv, float r, float) { return ms::generic_vndf_alu(V, nl, nv, r); };
+  if (m == "alu-two-stage")
+    return [](float V, float nl, float nv, float r, float) {
+      return ms::generic_vndf_alu_two_stage(V, nl, nv, r);
+    };
   return [](float V, float nl, float nv, float r, float) {
     return float(lut::verify_reference_value(lut::VerifyReference::AzimuthMean, V, nl, nv, r, 1.0));
   };
@@ -273,9 +305,14 @@ void run_term(const TermArgs& a) {
           fmt::format("--method must be all or one of: {}; got '{}'", fmt::join(kTerms, ", "), a.method));
   }
   const lut::VerifyOptions o = make_options(a, 0.1, 1.0);
+  if (!a.csv.empty()) {
+    if (methods.size() != 1) throw UsageError("--csv needs one --method");
+    check_csv_path(a.csv);
+  }
   const std::vector<lut::VerifyInput> inputs = lut::make_verify_inputs(o);  // shared by every method
   std::vector<lut::VerifyResult> results;
   for (const std::string& m : methods) results.push_back(lut::measure(inputs, term(m), o));
+  if (!a.csv.empty()) write_csv(a.csv, inputs, results[0]);
   const double seconds = seconds_since(t0);
   if (a.json) {
     nlohmann::json j;
@@ -321,6 +358,8 @@ void add_common(CLI::App* c, CommonArgs& a) {
   c->add_option("--worst", a.worst, "How many worst inputs to list")->capture_default_str();
   c->add_option("--threads", a.threads, "Worker threads (0: all cores); results do not depend on it")
       ->capture_default_str();
+  c->add_option("--csv", a.csv,
+                "Also write every input with its exact and approximate value to this CSV file");
   c->add_flag("--json", a.json, "Print one JSON object instead of the table");
 }
 
@@ -351,7 +390,8 @@ void add_verify(Groups& g) {
   CLI::App* t = g.verify->add_subcommand(
       "micro-shadowing-term",
       "The same measure for the closed-form terms (reference step, Brinck-Maximov 2016, Chan 2018, Part 1 "
-      "analytic) and the exact azimuth mean, on one shared set of inputs");
+      "analytic), the ALU-only fits (alu, alu-two-stage) and the exact azimuth mean, on one shared set of "
+      "inputs");
   t->add_option("--method", ta->method, "all | " + fmt::format("{}", fmt::join(kTerms, " | ")))
       ->capture_default_str();
   add_common(t, *ta);

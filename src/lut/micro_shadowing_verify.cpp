@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 namespace msh::lut {
 
@@ -28,8 +29,10 @@ const char* verify_reference_name(VerifyReference r) {
 namespace {
 void validate_edges(const std::vector<double>& e, const char* what) {
   if (e.size() < 2) throw InputError(fmt::format("{}: at least two band edges are needed", what));
+  // Strictly increasing; one zero-width band [e, e] (a roughness range of one value) is allowed.
+  const bool single = e.size() == 2 && e[0] == e[1];
   for (std::size_t i = 0; i < e.size(); ++i)
-    if (!std::isfinite(e[i]) || (i > 0 && !(e[i] > e[i - 1])))
+    if (!std::isfinite(e[i]) || (i > 0 && !single && !(e[i] > e[i - 1])))
       throw InputError(fmt::format("{}: band edges must be finite and strictly increasing", what));
 }
 
@@ -44,17 +47,21 @@ void run_parallel(int threads, std::size_t n, const F& body) {
   });
 }
 
-// Band i of `edges` holding x: [e_i, e_{i+1}), the last band closed; −1 outside.
-int band_of(const std::vector<double>& edges, double x) {
+// Band i of `edges` holding x: [e_i, e_{i+1}), the last band closed; −1 outside. Compared in float, the
+// precision of the inputs (a range [0.4, 0.4] holds the input 0.4f).
+int band_of(const std::vector<double>& edges, float x) {
   const int nb = int(edges.size()) - 1;
-  for (int i = 0; i < nb; ++i)
-    if (x >= edges[i] && (x < edges[i + 1] || (i == nb - 1 && x <= edges[i + 1]))) return i;
+  for (int i = 0; i < nb; ++i) {
+    const float lo = float(edges[i]), hi = float(edges[i + 1]);
+    if (x >= lo && (x < hi || (i == nb - 1 && x <= hi))) return i;
+  }
   return -1;
 }
 }  // namespace
 
 void validate(const VerifyOptions& o) {
-  if (o.samples < 1) throw InputError(fmt::format("--samples must be ≥ 1, got {}", o.samples));
+  if (o.samples < 1 || o.samples > 10000000)
+    throw InputError(fmt::format("--samples must be in [1, 10^7], got {}", o.samples));
   if (!(o.roughness_min >= 0.0 && o.roughness_max <= 1.0 && o.roughness_min <= o.roughness_max))
     throw InputError(fmt::format("the roughness range must satisfy 0 ≤ min ≤ max ≤ 1, got [{}, {}]",
                                  o.roughness_min, o.roughness_max));
@@ -156,6 +163,7 @@ VerifyResult measure(const std::vector<VerifyInput>& inputs, const MicroShadowin
   });
   for (std::size_t j = 0; j < k; ++j)
     r.worst.push_back({idx[j], inputs[idx[j]], approx[idx[j]], err[idx[j]]});
+  r.approx = std::move(approx);
   return r;
 }
 

@@ -33,13 +33,14 @@ VerifyReference verify_reference_from_name(const std::string& name);
 const char* verify_reference_name(VerifyReference r);
 
 struct VerifyOptions {
-  int samples = 10000;  // N ≥ 1
+  int samples = 10000;  // N ∈ [1, 10⁷]
   uint32_t seed = 1;    // any value (each gives an independent scrambling)
   VerifyReference against = VerifyReference::AzimuthMean;
   double roughness_min = 0.1, roughness_max = 1.0;  // 0 ≤ min ≤ max ≤ 1
   int threads = 0;                                  // 0: oneTBB's default
   int worst = 10;                                   // how many worst inputs to keep
-  // Band edges, strictly increasing: band i is [e_i, e_{i+1}), the last one closed.
+  // Band edges, strictly increasing (or two equal edges: one band [e, e]): band i is [e_i, e_{i+1}), the last
+  // one closed.
   std::vector<double> roughness_bands = {0.1, 0.25, 0.55, 1.0};
   std::vector<double> n_dot_v_bands = {0.0, 0.25, 0.5, 0.75, 1.0};
 };
@@ -77,6 +78,7 @@ struct VerifyResult {
   ErrorStats early_out, rest;  // 2V + N·L < 1 (in float, as the samplers test it), and the other inputs
   std::vector<VerifyBand> by_roughness, by_n_dot_v;
   std::vector<VerifyWorst> worst;  // largest |e| first (ties: lower index first)
+  std::vector<double> approx;      // the approximation at every input, in input order
 };
 
 // The approximation under test: float(V, N·L, N·V, roughness, cos φ). Called concurrently from several
