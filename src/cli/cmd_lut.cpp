@@ -173,6 +173,10 @@ void run_plot(const PlotLutOptions& o) {
   namespace fs = std::filesystem;
   const lut::MicroShadowingLut table = lut::load_micro_shadowing_lut(o.lut);
   const lut::MicroShadowingLutView view = table.view();
+  if (view.layout != lut::LutLayout::Seed)
+    throw UsageError(
+        "plot micro-shadowing-lut draws seed-layout tables (bake micro-shadowing --layout seed); measure a "
+        "cone-layout table with verify micro-shadowing-lut");
   std::vector<int> zs;
   for (double z : parse_list(o.slices, "--slices")) {
     if (!(z >= 0 && z < view.n_nv && z == std::floor(z)))
@@ -184,7 +188,8 @@ void run_plot(const PlotLutOptions& o) {
   if (!o.lut2d.empty()) {
     table2d = lut::load_micro_shadowing_lut(o.lut2d);
     const auto v2 = table2d->view();
-    if (v2.n_nv != 1 || v2.n_vis != view.n_vis || v2.n_nl != view.n_nl || v2.channels != view.channels)
+    if (v2.layout != lut::LutLayout::Seed || v2.n_nv != 1 || v2.n_vis != view.n_vis || v2.n_nl != view.n_nl ||
+        v2.channels != view.channels)
       throw UsageError("--lut2d must be the 2D LUT (depth 1) of the same size and channels as --lut");
   }
   const fs::path dir(o.out);
