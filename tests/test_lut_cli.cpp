@@ -176,8 +176,9 @@ TEST(LutCli, SidecarRoundTripBothLayoutsEveryFormat) {
         if (fmt == "npy" && pf != "rgba32f") continue;     // NPY is always float32
         if (L.o.harmonics > 0 && pf == "rgba8") continue;  // signed coefficients: rejected (tested below)
         const fs::path f = d / fmt::format("t{}_{}.{}", li, pf, fmt);
-        const std::string args = "bake micro-shadowing --quiet" + std::string(is_cone ? cone_args : "") +
-                                 L.args + " --pixel-format " + pf + " --out " + f.string();
+        // fmt::format rather than a chain of operator+ (GCC 12 reports a false -Wrestrict on the chain).
+        const std::string args = fmt::format("bake micro-shadowing --quiet{}{} --pixel-format {} --out {}",
+                                             is_cone ? cone_args : "", L.args, pf, f.string());
         ASSERT_EQ(run(args, d).code, 0) << args;
         const lut::MicroShadowingLut t = lut::load_micro_shadowing_lut(f);
         EXPECT_EQ(t.layout, L.o.layout) << f;
