@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -74,8 +75,8 @@ TEST(RenderGolden, LambertSphereMatchesClosedForm) {
   EXPECT_GT(checked_miss, 300);
 }
 
-// Plane with constant visibility V: every method's term is a closed form of (V, N·L) (REFERENCE.md §2),
-// written here independently of the micro-shadowing module.
+// Plane with constant visibility V: every method's term is a closed form of (V, N·L)
+// (docs/micro-shadowing.md), written here independently of the micro-shadowing module.
 TEST(RenderGolden, PlaneMicroShadowingTermsMatchClosedForms) {
   const double V = 0.6, el = 30, nl = std::sin(el * kPi<double> / 180);
   const double base = 0.5 / kPi<double> * 2.0 * nl;
@@ -131,21 +132,39 @@ TEST(RenderLights, SphereLightIrradianceClosedForm) {
   }
 }
 
-// Height-field ray casting against a tilted plane (a ramp) with a known intersection.
+// Height-field ray casting against a tilted plane (a ramp z = a x + b y + c in grid space, vertex (i, j) at
+// height (h_ij − 1)·depth): the hit is the ray–plane intersection in closed form, the normal the plane's.
 TEST(HeightField, RampIntersectionIsExact) {
-  Texture h(16, 16, 1);
-  for (int j = 0; j < 16; ++j)
-    for (int i = 0; i < 16; ++i) h.at(i, j, 0) = 0.5f;  // flat at z = (0.5 − 1)·4 = −2
-  const HeightField hf(h, 4.0f);
+  const float depth = 4.0f;
+  Texture h(32, 32, 1);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i) h.at(i, j, 0) = (float(i) + 0.5f * float(j)) / 46.5f;
+  const HeightField hf(h, depth);
+  const double a = depth / 46.5, b = 0.5 * depth / 46.5, c = -depth;
+  const Vec3d n_expect = normalize(Vec3d(-a, -b, 1));
+  int hits = 0;
+  for (int k = 0; k < 64; ++k) {
+    // Ray origins above the interior, directions spread over the upper hemisphere (away from the wrap seam).
+    const Vec3f o(6.0f + 0.29f * float(k), 20.0f - 0.17f * float(k), 3.0f);
+    const Vec3f d =
+        normalize(Vec3f(0.3f * std::cos(0.7f * float(k)), 0.3f * std::sin(0.7f * float(k)), -1.0f));
+    float t;
+    Vec3f ng;
+    ASSERT_TRUE(hf.intersect(o, d, 0, 1e9f, {0, 0}, {31, 31}, &t, &ng)) << k;
+    const Vec3d od(o), dd(d);
+    const double t_expect = (a * od.x + b * od.y + c - od.z) / (dd.z - a * dd.x - b * dd.y);
+    EXPECT_NEAR(t, t_expect, 1e-5 * t_expect) << k;
+    EXPECT_NEAR(dot(Vec3d(ng), n_expect), 1.0, 1e-6) << k;
+    ++hits;
+  }
+  EXPECT_EQ(hits, 64);
   float t;
   Vec3f ng;
-  const Vec3f o(3.3f, 4.7f, 5.0f), d = normalize(Vec3f(0.3f, -0.2f, -1.0f));
-  ASSERT_TRUE(hf.intersect(o, d, 0, 1e9f, {-100, -100}, {100, 100}, &t, &ng));
-  EXPECT_NEAR(o.z + t * d.z, -2.0f, 1e-4f);
-  EXPECT_NEAR(ng.z, 1.0f, 1e-6f);
-  // Upward rays and rays outside the extent miss.
-  EXPECT_FALSE(hf.intersect(o, Vec3f(0, 0, 1), 0, 1e9f, {-100, -100}, {100, 100}, &t, &ng));
-  EXPECT_FALSE(hf.intersect(o, d, 0, 1e9f, {10, 10}, {20, 20}, &t, &ng));
+  // Upward rays, rays outside the extent and rays that hit only the back of the surface miss.
+  const Vec3f o(10.3f, 12.7f, 3.0f), d = normalize(Vec3f(0.3f, -0.2f, -1.0f));
+  EXPECT_FALSE(hf.intersect(o, Vec3f(0, 0, 1), 0, 1e9f, {0, 0}, {31, 31}, &t, &ng));
+  EXPECT_FALSE(hf.intersect(o, d, 0, 1e9f, {25, 25}, {31, 31}, &t, &ng));
+  EXPECT_FALSE(hf.intersect(Vec3f(10.3f, 12.7f, -10.0f), Vec3f(0, 0, 1), 0, 1e9f, {0, 0}, {31, 31}, &t, &ng));
 }
 
 // Micro-occlusion bake: a flat field is fully visible; at the foot of a (practically) infinite wall, half of
@@ -271,6 +290,18 @@ TEST(SceneJson, StrictErrorsNameFileAndKey) {
        "width"},
       {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m", "radius": -1}], "lights": []})",
        "radius"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"component": "both"}})",
+       "component"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"ground_truth_intersector": "optix"}})",
+       "ground_truth_intersector"},
+      {R"({"camera": {"projection": "fisheye"}, "materials": {"m": {}},
+          "objects": [{"type": "sphere", "material": "m"}], "lights": []})",
+       "projection"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"error_batches": 0}})",
+       "error_batches"},
       {R"({"materials": {"m": {}}, "objects": [)", "malformed JSON"}};
   for (const auto& [json, word] : bad) {
     try {
@@ -348,4 +379,322 @@ TEST(RenderGolden, MicroShadowingNormalChoice) {
     const double expect = 0.5 / kPi<double> * 2.0 * nl_shading * chan(smooth ? nl_flat : nl_shading);
     for (const Rgbf& p : img.px) EXPECT_NEAR(p.r, expect, 2e-4 * expect) << smooth;
   }
+}
+
+// settings.component: on a flat GGX + Lambert plane (F0 = 0.04, roughness 0.5) seen through one pixel, the
+// specular part is Schlick F · D · G2 / (4 N·V) · E and the diffuse part (1 − F) ρ/π N·L · E, written here in
+// double from the textbook formulas (RTR4 9.34, 9.41, 9.31, 9.16, 9.62-style coupling with F(v·h)).
+TEST(RenderComponent, DiffuseAndSpecularMatchClosedForms) {
+  const double el = 40, az = 180, r = 0.5, a = r * r, rho = 0.5, E = 2;
+  for (const char* comp : {"total", "diffuse", "specular"}) {
+    const std::string json = std::string(R"({
+      "camera": {"eye": [1.5, 0, 1.2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 0.01},
+      "materials": {"m": {"base_color": 0.5, "roughness": 0.5}},
+      "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+      "lights": [{"type": "directional", "elevation_deg": 40, "azimuth_deg": 180, "intensity": 2}],
+      "settings": {"width": 1, "height": 1, "spp": 1, "component": ")") +
+                             comp + R"("}})";
+    const Scene s = parse_scene(json, "inline.json", ".");
+    const Rgbf got = Renderer(s).render_pixel(0, 0);
+    const Vec3d v = normalize(Vec3d(1.5, 0, 1.2)), l = Vec3d(direction_from_angles(float(el), float(az)));
+    const Vec3d h = normalize(v + l);
+    const double F = 0.04 + 0.96 * std::pow(1 - dot(v, h), 5);
+    const double D = a * a / (kPi<double> * sqr(h.z * h.z * (a * a - 1) + 1));
+    auto lambda = [&](const Vec3d& w) {
+      const double t2 = (1 - w.z * w.z) / (w.z * w.z);
+      return 0.5 * (-1 + std::sqrt(1 + a * a * t2));
+    };
+    const double G2 = 1 / (1 + lambda(v) + lambda(l));
+    const double spec = F * D * G2 / (4 * v.z) * E, diff = (1 - F) * rho / kPi<double> * l.z * E;
+    const double expect = std::string(comp) == "total"     ? spec + diff
+                          : std::string(comp) == "diffuse" ? diff
+                                                           : spec;
+    EXPECT_NEAR(got.r, expect, 1e-3 * expect) << comp;
+  }
+  EXPECT_THROW(component_from_string("both"), InputError);
+}
+
+// render_with_error: with one batch the mean is render() bit for bit; with 8 batches the stated standard
+// error matches the scatter of the pixel means over 24 independent seeds (a noisy sphere light with one area
+// sample per camera sample).
+TEST(RenderError, StandardErrorMatchesScatterOverSeeds) {
+  const char* json = R"({
+    "camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+    "materials": {"m": {"base_color": 0.5, "roughness": 0.4}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+    "lights": [{"type": "sphere", "position": [0.5, 0, 1.5], "radius": 1.0, "intensity": 10}],
+    "settings": {"width": 6, "height": 6, "spp": 16, "area_lights": true, "area_samples": 1}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  s.settings.error_batches = 1;
+  {
+    const Renderer r(s);
+    const RenderResult one = r.render_with_error();
+    const Image plain = r.render();
+    ASSERT_EQ(one.batches, 1);
+    for (std::size_t i = 0; i < plain.px.size(); ++i) {
+      EXPECT_TRUE(one.mean.px[i] == plain.px[i]) << i;
+      EXPECT_EQ(one.std_error.px[i].r, 0.0f);
+    }
+  }
+  s.settings.error_batches = 8;
+  const int seeds = 24, n = 36;
+  std::vector<double> sum(n, 0), sum2(n, 0), se2(n, 0);
+  for (int k = 0; k < seeds; ++k) {
+    s.settings.seed = uint32_t(100 + k);
+    const RenderResult res = Renderer(s).render_with_error();
+    ASSERT_EQ(res.batches, 8);
+    for (int i = 0; i < n; ++i) {
+      const double m = res.mean.px[i].r;
+      sum[i] += m, sum2[i] += m * m, se2[i] += sqr(double(res.std_error.px[i].r));
+    }
+  }
+  double emp = 0, pred = 0;
+  for (int i = 0; i < n; ++i) {
+    emp += (sum2[i] - sum[i] * sum[i] / seeds) / (seeds - 1);
+    pred += se2[i] / seeds;
+  }
+  ASSERT_GT(pred, 0);
+  // Pooled over 36 pixels × 24 seeds, the variance ratio is within ±25% with overwhelming probability.
+  EXPECT_NEAR(emp / pred, 1.0, 0.25) << emp << " " << pred;
+  s.settings.spp = 12;
+  EXPECT_THROW(Renderer(s).render_with_error(), InputError);
+}
+
+// Ground truth against a closed form: a V-groove height field (period 8 texels, walls at slope angle β, kinks
+// on vertices so the walls are planar), pure Lambert (specular 0), one directional light from +x at
+// elevation e, seen straight down by an orthographic camera over two whole periods. Per period (x ∈ [0, 8],
+// peak at 0 and 8, bottom at 4): the wall facing the light (N·L = sin(e + β)) is lit for
+// x ≤ min(4, 8 tan e / (tan β + tan e)) — above that the next peak blocks the light — and the wall facing
+// away (N·L = sin(e − β)) is lit, unshadowed, when e > β. Mean radiance = ρE/(8π) [x_lit sin(e+β) + 4 max(0,
+// sin(e−β))]. Checked to 4 standard errors of the image mean (render_with_error) + 2e-4 relative.
+TEST(RenderGroundTruth, VGrooveMeanRadianceMatchesClosedForm) {
+  const char* json = R"({
+    "camera": {"eye": [0, 0, 50], "target": [0, 0, 0], "up": [0, 1, 0], "projection": "orthographic",
+               "ortho_height": 16},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5}},
+    "objects": [{"type": "plane", "material": "m", "size": [64, 64]}],
+    "lights": [{"type": "directional", "elevation_deg": 20, "azimuth_deg": 0, "intensity": 2}],
+    "settings": {"width": 32, "height": 32, "spp": 64, "micro_shadowing": "ground-truth"}})";
+  struct Case {
+    double beta, el;
+  };
+  for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree})
+    for (const Case cs : {Case{45, 20}, Case{45, 60}, Case{26.565, 10}, Case{26.565, 35}, Case{60, 75}}) {
+      Scene s = parse_scene(json, "inline.json", ".");
+      s.settings.gt_intersector = gi;
+      const double tb = std::tan(cs.beta * kPi<double> / 180), te = std::tan(cs.el * kPi<double> / 180);
+      Texture h(64, 64, 1);
+      for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
+      s.materials[0].height = h;
+      s.materials[0].height_texels = float(4 * tb);
+      s.lights[0].direction = direction_from_angles(float(cs.el), 0);
+      const RenderResult res = Renderer(s).render_with_error();
+      double mean = 0, var = 0;
+      for (std::size_t i = 0; i < res.mean.px.size(); ++i)
+        mean += res.mean.px[i].r, var += sqr(double(res.std_error.px[i].r));
+      const double n = double(res.mean.px.size());
+      mean /= n;
+      const double se = std::sqrt(var) / n;
+      const double b = cs.beta * kPi<double> / 180, e = cs.el * kPi<double> / 180;
+      const double x_lit = std::min(4.0, 8 * te / (tb + te));
+      const double expect =
+          0.5 * 2 / (8 * kPi<double>)*(x_lit * std::sin(e + b) + 4 * std::max(0.0, std::sin(e - b)));
+      EXPECT_NEAR(mean, expect, 4 * se + 2e-4 * expect)
+          << "beta " << cs.beta << " el " << cs.el << " se " << se;
+    }
+}
+
+// The same closed form on a 2048 × 64-texel V-groove field with each pixel covering 16 × 16 texels
+// (orthographic, the whole field in view): the multiscale ground truth's setting, grid coordinates up to
+// 2048.
+TEST(RenderGroundTruth, FineVGroove2048SixteenTexelsPerPixel) {
+  const char* json = R"({
+    "camera": {"eye": [0, 0, 50], "target": [0, 0, 0], "up": [0, 1, 0], "projection": "orthographic",
+               "ortho_height": 64},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5}},
+    "objects": [{"type": "plane", "material": "m", "size": [2048, 64]}],
+    "lights": [{"type": "directional", "elevation_deg": 20, "azimuth_deg": 0, "intensity": 2}],
+    "settings": {"width": 128, "height": 4, "spp": 64, "micro_shadowing": "ground-truth"}})";
+  const double tb = 1, te = std::tan(20 * kPi<double> / 180);
+  Texture h(2048, 64, 1);
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 2048; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
+  for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree}) {
+    Scene s = parse_scene(json, "inline.json", ".");
+    s.settings.gt_intersector = gi;
+    s.materials[0].height = h;
+    s.materials[0].height_texels = 4;
+    const RenderResult res = Renderer(s).render_with_error();
+    // Skip the first and last pixel columns: the shadow of the plane's far edge (no geometry beyond it).
+    double mean = 0, var = 0, n = 0;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 1; x < 127; ++x)
+        mean += res.mean.at(x, y).r, var += sqr(double(res.std_error.at(x, y).r)), ++n;
+    mean /= n;
+    const double se = std::sqrt(var) / n;
+    const double b = kPi<double> / 4, e = 20 * kPi<double> / 180;
+    const double expect = 0.5 * 2 / (8 * kPi<double>)*std::min(4.0, 8 * te / (tb + te)) * std::sin(e + b);
+    EXPECT_NEAR(mean, expect, 4 * se + 5e-4 * expect) << int(gi) << " se " << se;
+  }
+}
+
+// A displaced cylinder (flat height map: a 512-sided prism with facet shading) seen side-on by an
+// orthographic camera, lit by a directional light at angle a from the view in the plane normal to the axis:
+// mean radiance over the projected width = ρE/(4π) [sin a + (π − a) cos a] (Lambert; polygon error
+// O(1/512²)).
+TEST(RenderGroundTruth, DisplacedCylinderMatchesClosedForm) {
+  const char* json = R"({
+    "camera": {"eye": [0, -10, 0], "target": [0, 0, 0], "up": [0, 0, 1], "projection": "orthographic",
+               "ortho_height": 2},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5, "height_texels": 3}},
+    "objects": [{"type": "cylinder", "material": "m", "radius": 1, "height": 3.14159, "segments": 16}],
+    "lights": [{"type": "directional", "direction": [0, -1, 0], "intensity": 2}],
+    "settings": {"width": 64, "height": 16, "spp": 16, "micro_shadowing": "ground-truth"}})";
+  for (const double a_deg : {0.0, 30.0, 70.0}) {
+    Scene s = parse_scene(json, "inline.json", ".");
+    // 512 × 256 texels: texel = 2π/512 around, 3.14159/256 along (square); taller than the view.
+    Texture h(512, 256, 1);
+    for (int j = 0; j < 256; ++j)
+      for (int i = 0; i < 512; ++i) h.at(i, j, 0) = 1.0f;
+    s.materials[0].height = h;
+    const double a = a_deg * kPi<double> / 180;
+    s.lights[0].direction = Vec3f(Vec3d(std::sin(a), -std::cos(a), 0));
+    const RenderResult res = Renderer(s).render_with_error();
+    double sum = 0, var = 0;
+    int n = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 64; ++x)
+        sum += res.mean.at(x, y).r, var += sqr(double(res.std_error.at(x, y).r)), ++n;
+    // The view spans 8 world units across (aspect 4) and the cylinder covers 2 of them, over the full view
+    // height: mean over the cylinder's projected width = image mean × 4 (background 0).
+    const double mean = sum / n * 4.0, se = std::sqrt(var) / n * 4.0;
+    const double expect = 0.5 * 2 / (4 * kPi<double>)*(std::sin(a) + (kPi<double> - a) * std::cos(a));
+    EXPECT_NEAR(mean, expect, 4 * se + 1e-3 * expect) << a_deg;
+  }
+}
+
+// The ground truth with a sphere light by area sampling: on a flat height field the irradiance is the closed
+// form I cos θ / d² (as for the analytic plane), with both intersectors.
+TEST(RenderGroundTruth, SphereLightAreaSamplingOnFlatField) {
+  const char* json = R"({
+    "camera": {"eye": [0, -3, 0.5], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 1},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "height_texels": 4}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+    "lights": [{"type": "sphere", "position": [0, 0, 2], "radius": 0.8, "intensity": 8}],
+    "settings": {"width": 1, "height": 1, "spp": 1, "area_samples": 256, "area_lights": true,
+                 "micro_shadowing": "ground-truth"}})";
+  for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree}) {
+    Scene s = parse_scene(json, "inline.json", ".");
+    s.settings.gt_intersector = gi;
+    Texture h(64, 64, 1);
+    for (int j = 0; j < 64; ++j)
+      for (int i = 0; i < 64; ++i) h.at(i, j, 0) = 1.0f;
+    s.materials[0].height = h;
+    const Rgbf got = Renderer(s).render_pixel(0, 0);
+    const Vec3d eye(s.camera.eye), d = normalize(Vec3d(s.camera.target) - eye);
+    const Vec3d p = eye + d * (-eye.z / d.z), c(0, 0, 2);
+    const double dist = length(c - p), expect = 0.5 / kPi<double> * 8.0 * (c - p).z / dist / (dist * dist);
+    EXPECT_NEAR(got.r, expect, 0.01 * expect) << int(gi);
+  }
+}
+
+// Ground truth (height-field plane, displaced cylinder through Embree, sphere light by area sampling): the
+// image is bit-identical with 1 and 2 threads.
+TEST(RenderGroundTruth, SameImageWhateverTheThreadCount) {
+  const char* json = R"({
+    "camera": {"eye": [0, -5, 2.5], "target": [0, 0, 0.5], "up": [0, 0, 1], "fov_deg": 40},
+    "materials": {"m": {"base_color": [0.7, 0.5, 0.3], "roughness": 0.4, "height_texels": 3}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]},
+                {"type": "cylinder", "material": "m", "center": [0, 0, 0.8], "radius": 0.5, "height": 1.5708}],
+    "lights": [{"type": "sphere", "position": [2, -2, 3], "radius": 0.5, "intensity": 10},
+               {"type": "directional", "elevation_deg": 25, "intensity": 1}],
+    "settings": {"width": 32, "height": 24, "spp": 4, "area_lights": true, "area_samples": 4,
+                 "micro_shadowing": "ground-truth"}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  // Square texels on each surface: the plane 64 × 64, the cylinder 128 × 64 (2π·0.5/128 = 1.5708/64).
+  Texture hp(64, 64, 1), hc(128, 64, 1);
+  for (int j = 0; j < 64; ++j) {
+    for (int i = 0; i < 64; ++i)
+      hp.at(i, j, 0) = 0.5f + 0.5f * std::sin(0.4f * float(i)) * std::cos(0.3f * float(j));
+    for (int i = 0; i < 128; ++i) hc.at(i, j, 0) = 0.5f + 0.5f * std::sin(0.5f * float(i + j));
+  }
+  s.materials.push_back(s.materials[0]);
+  s.materials[0].height = hp;
+  s.materials[1].height = hc;
+  s.objects[1].material = 1;
+  Image one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = Renderer(s).render();
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = Renderer(s).render();
+  }
+  double sum = 0;
+  for (std::size_t i = 0; i < one.px.size(); ++i) {
+    ASSERT_TRUE(one.px[i] == two.px[i]) << i;
+    sum += one.px[i].r;
+  }
+  EXPECT_GT(sum, 1.0);
+}
+
+// render_to_error doubles spp until the RMS standard error is at most the target: the result meets it, the
+// previous spp would not have (its render, repeated through render_with_error, is above it), and the returned
+// image is the render_with_error image at that spp bit for bit.
+TEST(RenderError, RenderToErrorStopsAtTheTarget) {
+  const char* json = R"({
+    "camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+    "materials": {"m": {"base_color": 0.5, "roughness": 0.4}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+    "lights": [{"type": "sphere", "position": [0.5, 0, 1.5], "radius": 1.0, "intensity": 10}],
+    "settings": {"width": 8, "height": 8, "spp": 8, "area_lights": true, "area_samples": 1}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  const double target = 2e-3;
+  const RenderResult res = Renderer(s).render_to_error(target, 4096);
+  EXPECT_LE(rms_std_error(res.std_error), target);
+  ASSERT_GT(res.spp, 8);
+  EXPECT_EQ(res.batches, 8);
+  Scene half = s;
+  half.settings.spp = res.spp / 2;
+  EXPECT_GT(rms_std_error(Renderer(half).render_with_error().std_error), target);
+  Scene same = s;
+  same.settings.spp = res.spp;
+  const RenderResult direct = Renderer(same).render_with_error();
+  for (std::size_t i = 0; i < res.mean.px.size(); ++i) {
+    ASSERT_TRUE(res.mean.px[i] == direct.mean.px[i]) << i;
+    ASSERT_TRUE(res.std_error.px[i] == direct.std_error.px[i]) << i;
+  }
+  EXPECT_THROW(Renderer(s).render_to_error(0.0, 4096), InputError);
+  EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4), InputError);
+  s.settings.error_batches = 1;
+  EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4096), InputError);
+}
+
+// height_texels travels with the texture set: taken from material.json beside the height map when the scene
+// omits it, accepted when equal, refused (naming material.json) when different.
+TEST(SceneJson, HeightTexelsFromMaterialJson) {
+  const auto dir = std::filesystem::temp_directory_path() / "msh_test_render_depth";
+  std::filesystem::create_directories(dir);
+  TextureSet set;
+  set.height = Texture(8, 8, 1);
+  set.normal = normal_map_from_height(set.height, 3.5f);
+  set.roughness = set.metallic = set.visibility = set.height;
+  set.base_color = Texture::constant({0.5f, 0.5f, 0.5f, 1}, 3);
+  set.depth_texels = 3.5f;
+  write_texture_set(dir, set);
+  auto scene = [](const std::string& depth) {
+    return R"({"materials": {"m": {"height": "height.png")" + depth +
+           R"(}}, "objects": [{"type": "plane", "material": "m"}], "lights": []})";
+  };
+  EXPECT_EQ(parse_scene(scene(""), "s.json", dir).materials[0].height_texels, 3.5f);
+  EXPECT_EQ(parse_scene(scene(R"(, "height_texels": 3.5)"), "s.json", dir).materials[0].height_texels, 3.5f);
+  try {
+    parse_scene(scene(R"(, "height_texels": 4)"), "s.json", dir);
+    ADD_FAILURE() << "accepted a depth that contradicts material.json";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("material.json"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }

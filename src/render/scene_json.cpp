@@ -25,6 +25,8 @@ const std::vector<std::pair<MicroShadowing, const char*>> kMsNames = {
     {MicroShadowing::Lut3d, "lut3d"},
     {MicroShadowing::Lut2d, "lut2d"},
     {MicroShadowing::GroundTruth, "ground-truth"}};
+const std::vector<std::pair<Component, const char*>> kComponentNames = {
+    {Component::Total, "total"}, {Component::Diffuse, "diffuse"}, {Component::Specular, "specular"}};
 const std::vector<std::pair<BumpTerminator, const char*>> kBtNames = {
     {BumpTerminator::Off, "off"},
     {BumpTerminator::Conty2019, "conty-2019"},
@@ -122,6 +124,33 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
                      : Texture::constant({1, 0, 0, 0}, 1);
   if (j.contains("height")) m.height = texture_slot(c, j["height"], w + ".height", 1, false);
   if (j.contains("height_texels")) m.height_texels = c.num(j["height_texels"], w + ".height_texels", 0, 1e4);
+  // The depth a texture set was generated and baked with travels in material.json beside its height map:
+  // taken from there when the scene omits it, and a scene value that disagrees is an error.
+  if (j.contains("height") && j["height"].is_string()) {
+    const auto mj = c.path(j["height"], w + ".height").parent_path() / "material.json";
+    std::ifstream in(mj);
+    if (in) {
+      json set;
+      try {
+        set = json::parse(in);
+      } catch (const json::parse_error& e) {
+        c.fail(w + ".height", fmt::format("{}: malformed JSON: {}", mj.string(), e.what()));
+      }
+      if (set.is_object() && set.contains("height_texels")) {
+        if (!set["height_texels"].is_number())
+          c.fail(w + ".height", fmt::format("{}: height_texels is not a number", mj.string()));
+        const double d = set["height_texels"].get<double>();
+        if (!j.contains("height_texels")) {
+          m.height_texels = c.num(set["height_texels"], mj.string() + ": height_texels", 0, 1e4);
+        } else if (std::abs(d - m.height_texels) > 1e-4 * std::max(1.0, d)) {
+          c.fail(
+              w + ".height_texels",
+              fmt::format("{} disagrees with {} (height_texels {}, the depth the texture set was baked with)",
+                          m.height_texels, mj.string(), d));
+        }
+      }
+    }
+  }
   if (j.contains("uv_scale")) m.uv_scale = c.num(j["uv_scale"], w + ".uv_scale", 1e-3, 1e4);
   if (j.contains("specular")) m.specular = c.num(j["specular"], w + ".specular", 0, 25);
   if (j.contains("normal_strength"))
@@ -180,6 +209,7 @@ Object parse_object(const Ctx& c, const json& j, const std::string& w,
       const float h = j.contains("height") ? c.num(j["height"], w + ".height", 1e-6, 1e6) : 2.0f;
       const int seg = j.contains("segments") ? c.integer(j["segments"], w + ".segments", 3, 65536) : 32;
       m = make_cylinder(r, h, seg);
+      o.cylinder = true, o.cyl_radius = r, o.cyl_height = h;
     } else {
       allow_only({"file", "scale", "rotate_z_deg"});
       if (!j.contains("file")) c.fail(w, "missing 'file'");
@@ -192,6 +222,7 @@ Object parse_object(const Ctx& c, const json& j, const std::string& w,
     }
     if (j.contains("rotate_z_deg"))
       rot = c.num(j["rotate_z_deg"], w + ".rotate_z_deg", -360, 360) * kPi<float> / 180;
+    o.cyl_rotate_z = rot;
     const float cr = std::cos(rot), sr = std::sin(rot);
     auto rz = [&](Vec3f v) { return Vec3f(cr * v.x - sr * v.y, sr * v.x + cr * v.y, v.z); };
     for (std::size_t i = 0; i < m.p.size(); ++i) {
@@ -254,7 +285,7 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   c.keys(j, w,
          {"width", "height", "spp", "micro_shadowing", "vndf_samples", "bump_terminator", "hanika_offset",
           "area_lights", "area_samples", "exposure", "background", "ambient", "lut", "seed",
-          "micro_shadowing_normal"});
+          "micro_shadowing_normal", "component", "error_batches", "ground_truth_intersector"});
   if (j.contains("width")) s.width = c.integer(j["width"], w + ".width", 1, 16384);
   if (j.contains("height")) s.height = c.integer(j["height"], w + ".height", 1, 16384);
   if (j.contains("spp")) s.spp = c.integer(j["spp"], w + ".spp", 1, 65536);
@@ -265,6 +296,15 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
       c.fail(w + ".micro_shadowing", e.what());
     }
   }
+  if (j.contains("component")) {
+    try {
+      s.component = component_from_string(c.str(j["component"], w + ".component"));
+    } catch (const InputError& e) {
+      c.fail(w + ".component", e.what());
+    }
+  }
+  if (j.contains("error_batches"))
+    s.error_batches = c.integer(j["error_batches"], w + ".error_batches", 1, 1 << 16);
   if (j.contains("vndf_samples"))
     s.vndf_samples = c.integer(j["vndf_samples"], w + ".vndf_samples", 1, 1 << 20);
   if (j.contains("bump_terminator")) {
@@ -279,6 +319,12 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
     if (n != "shading" && n != "smooth")
       c.fail(w + ".micro_shadowing_normal", "expected 'shading' or 'smooth'");
     s.ms_smooth_normal = n == "smooth";
+  }
+  if (j.contains("ground_truth_intersector")) {
+    const std::string n = c.str(j["ground_truth_intersector"], w + ".ground_truth_intersector");
+    if (n != "heightfield" && n != "embree")
+      c.fail(w + ".ground_truth_intersector", "expected 'heightfield' or 'embree'");
+    s.gt_intersector = n == "embree" ? GtIntersector::Embree : GtIntersector::HeightField;
   }
   if (j.contains("hanika_offset")) s.hanika_offset = c.boolean(j["hanika_offset"], w + ".hanika_offset");
   if (j.contains("area_lights")) s.area_lights = c.boolean(j["area_lights"], w + ".area_lights");
@@ -310,6 +356,16 @@ MicroShadowing micro_shadowing_from_string(const std::string& s) {
   }
   throw InputError(fmt::format("unknown micro-shadowing method '{}' (known: {})", s, list));
 }
+const char* to_string(Component c) {
+  for (const auto& [k, n] : kComponentNames)
+    if (k == c) return n;
+  return "?";
+}
+Component component_from_string(const std::string& s) {
+  for (const auto& [k, n] : kComponentNames)
+    if (s == n) return k;
+  throw InputError(fmt::format("unknown component '{}' (known: total, diffuse, specular)", s));
+}
 const char* to_string(BumpTerminator b) {
   for (const auto& [k, n] : kBtNames)
     if (k == b) return n;
@@ -340,7 +396,15 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& source,
   s.source = source;
   if (j.contains("camera")) {
     const json& cj = j["camera"];
-    c.keys(cj, "camera", {"eye", "target", "up", "fov_deg"});
+    c.keys(cj, "camera", {"eye", "target", "up", "fov_deg", "projection", "ortho_height"});
+    if (cj.contains("projection")) {
+      const std::string pr = c.str(cj["projection"], "camera.projection");
+      if (pr != "perspective" && pr != "orthographic")
+        c.fail("camera.projection", "expected 'perspective' or 'orthographic'");
+      s.camera.orthographic = pr == "orthographic";
+    }
+    if (cj.contains("ortho_height"))
+      s.camera.ortho_height = c.num(cj["ortho_height"], "camera.ortho_height", 1e-6, 1e6);
     if (cj.contains("eye")) s.camera.eye = c.vec3(cj["eye"], "camera.eye");
     if (cj.contains("target")) s.camera.target = c.vec3(cj["target"], "camera.target");
     if (cj.contains("up")) s.camera.up = c.unit(cj["up"], "camera.up");

@@ -27,11 +27,28 @@ struct ShadePoint {
   float roughness = 0.5f, metallic = 0.0f, visibility = 1.0f, specular = 1.0f;
 };
 
-// GGX (height-correlated Smith G2, 9.31 + 9.41) + Lambert BRDF times cosine, with Schlick Fresnel
-// F0 = lerp(metallic, 0.04·specular, base colour); diffuse weighted by (1 − F)(1 − metallic). wo, wi, n unit
-// vectors.
+// GGX (height-correlated Smith G2, RTR4 9.31 + 9.41) + Lambert BRDF times cosine, with Schlick Fresnel
+// F0 = lerp(metallic, 0.04·specular, base colour); diffuse weighted by (1 − F)(1 − metallic). Evaluated
+// through the library's BRDF code (bsdf::microfacet_specular, bsdf::fresnel_schlick, bsdf::diffuse_lambert).
+// N·V is clamped to 1e-4 (normal-mapped normals can face away from the viewer). wo, wi, n unit vectors.
 Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec_scale = 1.0f,
               bool diffuse = true, bool specular = true);
+
+// A render with its noise: the per-pixel mean and the standard error of that mean, per channel.
+struct RenderResult {
+  Image mean;
+  // Standard error of each pixel's mean: sample standard deviation of the `batches` independent batch means
+  // divided by sqrt(batches) (randomised quasi-Monte Carlo with independent scrambles, so the batch means are
+  // i.i.d. unbiased estimates of the pixel integral). All zero when batches == 1.
+  Image std_error;
+  int batches = 1;
+  int spp = 0;  // samples per pixel used
+  RenderStats stats;
+};
+
+// Root-mean-square over pixels and channels of a standard-error image (the noise floor of a per-pixel RMSE:
+// a measured RMSE² is the true RMSE² plus this squared, on average).
+double rms_std_error(const Image& std_error);
 
 class Renderer {
  public:
@@ -44,10 +61,21 @@ class Renderer {
 
   // progress(fraction) is called from worker threads as tiles finish (may be empty).
   Image render(const std::function<void(double)>& progress = {}, RenderStats* stats = nullptr) const;
+  // Mean and standard error (Settings::error_batches batches; the mean equals render() when it is 1).
+  // InputError when spp is not a multiple of min(error_batches, spp).
+  RenderResult render_with_error(const std::function<void(double)>& progress = {}) const;
+  // Supersampling to a stated noise floor: render_with_error at spp = settings.spp (rounded up to a multiple
+  // of error_batches), doubling spp until rms_std_error(std_error) <= target or the next step would exceed
+  // max_spp; returns the last render (its spp in RenderResult::spp, stats summed over every pass).
+  // Deterministic: the stopping test is a serial reduction over the finished image. InputError when
+  // error_batches < 2, target is not positive, or max_spp < the starting spp or > 2^20.
+  RenderResult render_to_error(double target_rms_std_error, int max_spp,
+                               const std::function<void(double)>& progress = {}) const;
   // One pixel (all its samples), for tests and benchmarks.
   Rgbf render_pixel(int x, int y, RenderStats* stats = nullptr) const;
 
  private:
+  RenderResult render_batches(int spp, int batches, const std::function<void(double)>& progress) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
