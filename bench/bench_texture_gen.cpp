@@ -1,5 +1,5 @@
-// Texture-set benchmarks: procedural generation + normal map + micro-occlusion bake per kind (the study's fine
-// sets: 2048², 8 azimuths, default ray length 8 % of the size), the bake alone, and the multiscale
+// Texture-set benchmarks: procedural generation + normal map + micro-occlusion bake per kind (the study's
+// fine sets: 2048², 8 azimuths, default ray length 8 % of the size), the bake alone, and the multiscale
 // downsample. Counters: texels/s and horizon walks/s (one walk = one azimuth of one texel, every elevation
 // resolved). Wall time (UseRealTime): the work runs on oneTBB's threads.
 #include <benchmark/benchmark.h>
