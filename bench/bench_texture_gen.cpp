@@ -42,7 +42,7 @@ const TextureSet& fine_set(int kind, int size) {
     o.kind = kKinds[kind];
     o.size = size;
     o.ao_rays = 1;
-    o.ao_max_distance = 0.5f;  // (bake replaced below)
+    o.ao_max_distance = 0.5f;  // a negligible bake: BM_BakeVisibility times it alone
     it = cache.emplace(std::make_pair(kind, size), generate_texture_set(o)).first;
   }
   return it->second;
