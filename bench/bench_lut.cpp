@@ -124,7 +124,10 @@ std::vector<TexelInputs> random_texels(const BakeOptions& o, int count, uint64_t
       const double r = cone_roughness_of_coord(o.cone, double(l) / (o.n_rough - 1));
       const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
       const double nv = cone_nv_of_coord(o.cone, double(z) / (o.n_nv - 1), r);
-      const double V = cone_visibility_of_t(double(x) / (o.n_vis - 1), nl, cone_warp_width(o.cone, float(r)));
+      const float a = cone_warp_width(o.cone, float(r));
+      if (cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale) > kPi<double> / 2)
+        continue;  // past V = 1 (grazing light): never sampled
+      const double V = cone_visibility_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);
       t.push_back({V, nl, nv, r, x, y, l * o.n_nv + z, 0});
     } else {
       const int c = int(rng.next_u32() % o.roughness.size());
@@ -176,7 +179,7 @@ void BM_LutStraightforwardMC(benchmark::State& state) {
   // Non-trivial texels of the default table (the rest are exact for any baker).
   double nontrivial = 0;
   if (o.layout == LutLayout::Cone) {
-    nontrivial = double(o.n_vis - 2) * o.n_nl * o.n_nv * o.n_rough;
+    nontrivial = double(o.n_vis - 2) * o.n_nl * o.n_nv * o.n_rough;  // (a few past V = 1 included)
   } else {
     for (int y = 0; y < o.n_nl; ++y)
       for (int x = 1; x + 1 < o.n_vis; ++x)

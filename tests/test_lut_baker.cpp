@@ -245,13 +245,16 @@ TEST(LutLoader, RoundTripWithSidecarAndDefaults) {
 // The physical inputs of a cone-layout texel (the inverse maps of the sampler's coordinates).
 struct ConeTexel {
   double V, nl, nv, r;
+  bool past_one;  // past V = 1 (grazing light): the continuation, never sampled
 };
 ConeTexel cone_texel(const BakeOptions& o, int x, int y, int z, int slab) {
   const double r = cone_roughness_of_coord(o.cone, double(slab) / (o.n_rough - 1));
   const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
   const double nv = cone_nv_of_coord(o.cone, double(z) / (o.n_nv - 1), r);
-  const double a = cone_warp_width(o.cone, float(r));
-  return {cone_visibility_of_t(double(x) / (o.n_vis - 1), nl, a), nl, nv, r};
+  const float a = cone_warp_width(o.cone, float(r));
+  const double theta = cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);
+  return {cone_visibility_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale), nl, nv, r,
+          theta > kPi<double> / 2};
 }
 
 const io::Volume& default_cone_bake() {
@@ -272,7 +275,7 @@ TEST(LutBakerCone, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
     const int x = 1 + int(rng.next_u32() % (o.n_vis - 2)), y = int(rng.next_u32() % o.n_nl);
     const int z = int(rng.next_u32() % o.n_nv), l = int(rng.next_u32() % o.n_rough);
     const ConeTexel t = cone_texel(o, x, y, z, l);
-    if (!(t.nv > 0.0)) continue;  // N·V = 0 exactly: outside the sampled domain (0, 1]
+    if (!(t.nv > 0.0) || t.past_one) continue;  // outside the sampled domain
     const double exact = ms::generic_vndf_exact_azimuth_mean(t.V, t.r * t.r, t.nl, t.nv);
     const double err = std::abs(double(vol.at(x, y, l * o.n_nv + z, 0)) - exact);
     worst = std::max(worst, err);
@@ -284,23 +287,29 @@ TEST(LutBakerCone, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
 }
 
 TEST(LutBakerCone, EndColumnsAreExactAndTexelsSitInTheLitRange) {
+  // (The sampler at V = 1 gives 1 within the bake noise: LutSamplerCone tests.)
   const BakeOptions o = default_bake_options();
   const io::Volume& vol = default_cone_bake();
   for (int z = 0; z < vol.depth; ++z)
     for (int y = 0; y < vol.height; ++y) {
-      EXPECT_EQ(vol.at(0, y, z, 0), 0.0f);              // t = 0: the early-out boundary 2V + N·L = 1
-      EXPECT_EQ(vol.at(vol.width - 1, y, z, 0), 1.0f);  // t = 1: V = 1
+      EXPECT_EQ(vol.at(0, y, z, 0), 0.0f);  // t = 0: the early-out boundary 2V + N·L = 1
+      EXPECT_EQ(vol.at(vol.width - 1, y, z, 0), 1.0f);  // t = 1: just past V = 1, where the term is 1
     }
-  // Every texel's V lies in the lit range [(1 − N·L)/2, 1], increasing along x.
-  for (int y = 0; y < o.n_nl; y += 7) {
+  // Every texel's cone half-angle lies in [θ_l/2, θ_l + π/2], increasing along x from the early-out
+  // boundary; the axis reaches V = 1.
+  for (int y = 0; y < o.n_nl; y += 3) {
     double prev = -1;
+    const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
+    const float a = cone_warp_width(o.cone, 0.3f);
     for (int x = 0; x < o.n_vis; ++x) {
-      const ConeTexel t = cone_texel(o, x, y, 0, 3);
-      EXPECT_GE(t.V, 0.5 * (1 - t.nl) - 1e-12);
-      EXPECT_GT(t.V, prev);
-      prev = t.V;
+      const double th = cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);
+      EXPECT_GE(th, 0.5 * std::acos(float(nl)) - 1e-6);
+      EXPECT_LE(th, std::acos(float(nl)) + kPi<double> / 2 + 1e-6);
+      EXPECT_GT(th, prev);
+      prev = th;
     }
-    EXPECT_NEAR(prev, 1.0, 1e-12);
+    EXPECT_GE(prev, kPi<double> / 2 - 1e-6);
+    EXPECT_NEAR(cone_theta_of_t(0.0, float(nl), a, o.cone.top_scale), 0.5 * std::acos(float(nl)), 1e-6);
   }
 }
 

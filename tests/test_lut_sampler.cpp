@@ -173,10 +173,12 @@ ConeCoords cone_coords_ref(double V, double nl, double nv, double r) {
   const double alpha = r * r, a = 2.0 * alpha, b = 3.0 * alpha;
   const double th = std::asin(std::sqrt(V)), thl = std::acos(nl);
   auto u = [a](double d) { return d / (a + std::abs(d)); };
-  const double t = (u(std::sin(th - thl)) - u(std::sin(-thl / 2))) /
-                   (u(std::sin(kPi<double> / 2 - thl)) - u(std::sin(-thl / 2)));
+  // The axis ends just past V = 1: sin(θ_top − θ_l)² = cos²θ_l + e² sin²θ_l, e = 3a/(1 + 3a).
+  const double e = 3 * a / (1 + 3 * a);
+  const double d_top = std::sqrt(sqr(std::cos(thl)) + e * e * sqr(std::sin(thl)));
+  const double t = (u(std::sin(th - thl)) - u(std::sin(-thl / 2))) / (u(d_top) - u(std::sin(-thl / 2)));
   const double w = nv / std::sqrt(b * b + nv * nv) * std::sqrt(b * b + 1);
-  return {std::clamp(t, 0.0, 1.0), 1 - std::sqrt(1 - nl), w,
+  return {std::clamp(t, 0.0, 1.0), 0.5 * (std::sqrt(nl) + 1 - std::sqrt(1 - nl)), w,
           (std::sqrt(r) - std::sqrt(0.1)) / (1 - std::sqrt(0.1))};
 }
 
@@ -190,15 +192,15 @@ TEST(LutSamplerCone, CoordinatesMatchTheirDefinitionAndSpanTheLitRange) {
   for (int i = 0; i < 5000; ++i) {
     const double nl = rng.next_double(), r = 0.1 + 0.9 * rng.next_double();
     const double V = 0.5 * (1 - nl) + (1 - 0.5 * (1 - nl)) * rng.next_double();  // the lit range
-    const double a = cone_warp_width(p, r);
-    ASSERT_NEAR(cone_t(V, nl, a), cone_coords_ref(V, nl, 0.5, r).t, 1e-9) << V << " " << nl << " " << r;
-    ASSERT_NEAR(cone_visibility_of_t(cone_t(V, nl, a), nl, a), V, 1e-9);
+    const double a = cone_warp_width(p, r), top = p.top_scale;
+    ASSERT_NEAR(cone_t(V, nl, a, top), cone_coords_ref(V, nl, 0.5, r).t, 1e-9) << V << " " << nl << " " << r;
+    ASSERT_NEAR(cone_visibility_of_t(cone_t(V, nl, a, top), nl, a, top), V, 1e-9);
     ASSERT_NEAR(cone_nv_coord(p, 0.37, r), cone_coords_ref(V, nl, 0.37, r).w, 1e-12);
     ASSERT_NEAR(cone_roughness_coord(p, r), cone_coords_ref(V, nl, 0.5, r).q, 1e-7);  // float range ends
   }
-  EXPECT_EQ(cone_t(0.25, 0.5, 0.1), 0.0);  // 2V + N·L = 1
-  EXPECT_NEAR(cone_t(1.0, 0.3, 0.1), 1.0, 1e-15);
-  EXPECT_NEAR(cone_t(1.0f, 0.0f, 0.02f), 1.0f, 1e-6f);
+  EXPECT_EQ(cone_t(0.25, 0.5, 0.1, 3.0), 0.0);        // 2V + N·L = 1
+  EXPECT_GT(cone_t(1.0, 0.6, 0.01, 3.0), 0.999);      // V = 1 at (nearly) the end of the axis
+  EXPECT_LT(cone_t(1.0f, 0.01f, 0.02f, 3.0f), 0.9f);  // grazing light: V = 1 well inside the axis
 }
 
 // A table holding a function multilinear in the four coordinates is reproduced exactly at any input (the

@@ -257,7 +257,7 @@ bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, cons
   return true;
 }
 
-// ---- Double references, written from the closed forms (REFERENCE.md §2–3), not from the C++ code. ----
+// ---- Double references, written from the closed forms (docs/micro-shadowing.md, RTR4), not from the C++ code. ----
 double sat(double x) { return std::clamp(x, 0.0, 1.0); }
 double ref_chan(double vis, double nl) {
   const double c = std::sqrt(1 - sat(vis));

@@ -59,8 +59,11 @@ io::PixelFormat pixel_format_for(const std::string& name, int channels) {
 
 void run_bake(const BakeLutOptions& o) {
   namespace fs = std::filesystem;
-  lut::BakeOptions b = lut::default_bake_options(lut::layout_from_name(o.layout));
-  const bool cone = b.layout == lut::LutLayout::Cone;
+  const lut::LutLayout layout = lut::layout_from_name(o.layout);
+  const bool cone = layout == lut::LutLayout::Cone;
+  const int harmonics =
+      o.harmonics_opt && o.harmonics_opt->count() > 0 ? o.harmonics : (o.azimuth ? (cone ? 3 : 2) : 0);
+  lut::BakeOptions b = lut::default_bake_options(layout, std::max(harmonics, 0));
   auto size_ok = [](int n, const char* name) {
     if (n != -1 && n < 2) throw UsageError(fmt::format("{} must be ≥ 2, got {}", name, n));
     return n > 0;
@@ -93,8 +96,7 @@ void run_bake(const BakeLutOptions& o) {
   if (o.size_nl > 0) b.n_nl = o.size_nl;
   if (o.size_nv > 0) b.n_nv = o.size_nv;
   b.two_d = o.two_d;
-  b.harmonics =
-      o.harmonics_opt && o.harmonics_opt->count() > 0 ? o.harmonics : (o.azimuth ? (cone ? 3 : 2) : 0);
+  b.harmonics = harmonics;
   if (o.samples != -1) b.samples = o.samples;
   b.phi_nodes = o.phi_nodes;
   b.seed = o.seed;
@@ -171,6 +173,10 @@ void run_plot(const PlotLutOptions& o) {
   namespace fs = std::filesystem;
   const lut::MicroShadowingLut table = lut::load_micro_shadowing_lut(o.lut);
   const lut::MicroShadowingLutView view = table.view();
+  if (view.layout != lut::LutLayout::Seed)
+    throw UsageError(
+        "plot micro-shadowing-lut draws seed-layout tables (bake micro-shadowing --layout seed); measure a "
+        "cone-layout table with verify micro-shadowing-lut");
   std::vector<int> zs;
   for (double z : parse_list(o.slices, "--slices")) {
     if (!(z >= 0 && z < view.n_nv && z == std::floor(z)))
@@ -182,7 +188,8 @@ void run_plot(const PlotLutOptions& o) {
   if (!o.lut2d.empty()) {
     table2d = lut::load_micro_shadowing_lut(o.lut2d);
     const auto v2 = table2d->view();
-    if (v2.n_nv != 1 || v2.n_vis != view.n_vis || v2.n_nl != view.n_nl || v2.channels != view.channels)
+    if (v2.layout != lut::LutLayout::Seed || v2.n_nv != 1 || v2.n_vis != view.n_vis || v2.n_nl != view.n_nl ||
+        v2.channels != view.channels)
       throw UsageError("--lut2d must be the 2D LUT (depth 1) of the same size and channels as --lut");
   }
   const fs::path dir(o.out);
@@ -239,7 +246,8 @@ void add_lut(Groups& g) {
       "micro-shadowing",
       "Bake the micro-shadowing LUT (Zurita 2026, generic VNDF-based term, isotropic Smith-GGX): each texel "
       "is the mean over the relative azimuth of the exact term. Default cone layout (t relative to the cone "
-      "x N.L x N.V x 16 roughness slabs, 1 MiB, 2 fetches); --layout seed: x = Visibility, y = N.L, z = N.V, "
+      "x N.L x N.V x 16 roughness slabs, 1.5 MiB, 2 fetches); --layout seed: x = Visibility, y = N.L, z = "
+      "N.V, "
       "one channel per roughness. Also writes OUT.json (layout, roughness, harmonics, settings). See "
       "docs/lut.md.");
   c->add_option("--out", o->out, "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
@@ -254,8 +262,8 @@ void add_lut(Groups& g) {
       ->capture_default_str();
   c->add_option("--size", o->size, "Seed layout: texels per axis (default 64)");
   c->add_option("--size-visibility", o->size_vis, "Seed layout: texels along Visibility (default: --size)");
-  c->add_option("--size-t", o->size_t_, "Cone layout: texels along t (default 64)");
-  c->add_option("--size-nl", o->size_nl, "Texels along N.L (seed: --size; cone: 32)");
+  c->add_option("--size-t", o->size_t_, "Cone layout: texels along t (default 64; azimuth-aware 48)");
+  c->add_option("--size-nl", o->size_nl, "Texels along N.L (seed: --size; cone: 48; azimuth-aware 40)");
   c->add_option("--size-nv", o->size_nv, "Texels along N.V (seed: --size; cone: 16)");
   c->add_option("--roughness-slabs", o->slabs, "Cone layout: roughness slabs (default 16)");
   c->add_option("--roughness-range", o->roughness_range, "Cone layout: MIN,MAX roughness (default 0.1,1)");

@@ -17,8 +17,8 @@ namespace msh::lut {
 // micro_shadowing_bins.cpp (Highway): bins[j] for the row pass below.
 void compute_bins(const float* mz, const float* p, std::size_t n, float zl, float sl, int32_t n_vis,
                   int32_t* bins);
-void compute_bins_cone(const float* mz, const float* p, std::size_t n, float zl, float sl, float a, float ulo,
-                       float inv_range, int32_t n_vis, int32_t* bins);
+int64_t compute_bins_cone(const float* mz, const float* p, std::size_t n, float zl, float sl, float a,
+                          float ulo, float inv_range, int32_t n_vis, int32_t* bins);
 
 void validate_cone(const ConeLayoutParams& p) {
   if (!(p.roughness_min > 0.0f && p.roughness_max > p.roughness_min && p.roughness_max <= 1.0f))
@@ -28,8 +28,10 @@ void validate_cone(const ConeLayoutParams& p) {
     throw InputError(fmt::format("cone layout roughness power must be in [0, 4], got {}", p.roughness_power));
   if (!(p.warp_scale > 0.0f && p.warp_scale <= 100.0f))
     throw InputError(fmt::format("cone layout warp scale must be in (0, 100], got {}", p.warp_scale));
-  if (p.nl_warp < 0 || p.nl_warp > 2 || p.nv_warp < 0 || p.nv_warp > 3)
-    throw InputError("cone layout axis warps must be 0, 1 or 2 (N·V also 3)");
+  if (p.nl_warp < 0 || p.nl_warp > 4 || p.nl_warp == 3 || p.nv_warp < 0 || p.nv_warp > 4)
+    throw InputError("cone layout axis warps must be 0, 1, 2 or 4 (N·V also 3)");
+  if (!(p.top_scale >= 0.0f && p.top_scale <= 100.0f))
+    throw InputError(fmt::format("cone layout top scale must be in [0, 100], got {}", p.top_scale));
   if (!(p.nv_scale > 0.0f && p.nv_scale <= 100.0f))
     throw InputError(fmt::format("cone layout N·V scale must be in (0, 100], got {}", p.nv_scale));
 }
@@ -69,11 +71,13 @@ void validate(const BakeOptions& o) {
     throw InputError(fmt::format("table too large: {} values (at most 2^28)", values));
 }
 
-BakeOptions default_bake_options(LutLayout layout) {
+BakeOptions default_bake_options(LutLayout layout, int harmonics) {
   BakeOptions o;
+  o.harmonics = harmonics;
   if (layout == LutLayout::Cone) {
     o.layout = LutLayout::Cone;
-    o.n_vis = 64, o.n_nl = 32, o.n_nv = 16, o.n_rough = 16;
+    o.n_vis = 64, o.n_nl = 48, o.n_nv = 16, o.n_rough = 16;
+    if (harmonics > 0) o.n_vis = 48, o.n_nl = 40;  // RGBA16F within 4 MiB; the Fourier truncation dominates
     o.samples = 4096;
   }
   return o;
@@ -178,7 +182,7 @@ struct NodePoints {
 
 void draw_samples(const NodePoints& pts, std::size_t n, double alpha, double zv, double cos_phi,
                   double sin_phi, NodeSamples& out) {
-  // Dupuy & Benyoub 2023 (REFERENCE.md §4), v = (sv, 0, zv): the same arithmetic as GGX::Sample_wm.
+  // Dupuy & Benyoub 2023 (Dupuy & Benyoub 2023), v = (sv, 0, zv): the same arithmetic as GGX::Sample_wm.
   const double sv = safe_sqrt(1.0 - zv * zv);
   const Vec3d wi = normalize(Vec3d(alpha * sv, 0.0, zv));
   out.mz.resize(n);
@@ -221,13 +225,16 @@ void row_pass(const NodeSamples& smp, float zl, float sl, int n_vis, std::vector
   histogram(bins, n_vis, hist);
 }
 
-// Cone layout row: bins by the t coordinate of the key's cone (compute_bins_cone).
-void row_pass_cone(const NodeSamples& smp, float zl, float sl, float a, float ulo, float inv_range, int n_t,
-                   std::vector<int32_t>& bins, std::vector<uint32_t>& hist) {
+// Cone layout row: bins by the t coordinate of the key's cone (compute_bins_cone); returns the hemisphere
+// count.
+int64_t row_pass_cone(const NodeSamples& smp, float zl, float sl, float a, float ulo, float inv_range,
+                      int n_t, std::vector<int32_t>& bins, std::vector<uint32_t>& hist) {
   const std::size_t n = smp.mz.size();
   bins.resize(n);
-  compute_bins_cone(smp.mz.data(), smp.p.data(), n, zl, sl, a, ulo, inv_range, n_t, bins.data());
+  const int64_t lit =
+      compute_bins_cone(smp.mz.data(), smp.p.data(), n, zl, sl, a, ulo, inv_range, n_t, bins.data());
   histogram(bins, n_t, hist);
+  return lit;
 }
 
 // Runs fn(task) for task ∈ [0, tasks) on oneTBB (local arena with o.threads), reporting progress.
@@ -303,17 +310,17 @@ io::Volume bake_cone(const BakeOptions& o) {
       const float zl = float(cone_detail::axis_value(double(y) / (n_nl - 1), o.cone.nl_warp));
       const float sl = std::sqrt(std::max(0.0f, 1.0f - zl * zl));
       const float ulo = cone_detail::warp_u(-std::sqrt(0.5f * (1.0f - zl)), a);
-      const float uhi = cone_detail::warp_u(zl, a);
-      const float inv = 1.0f / (uhi - ulo);
+      const float dtop = cone_d_top(zl, a, o.cone.top_scale);
+      const float inv = 1.0f / (cone_detail::warp_u(dtop, a) - ulo);
+
       std::fill(acc.begin(), acc.end(), 0.0);
       for (int k = 0; k < K; ++k) {
-        row_pass_cone(smp[k], zl, sl, a, ulo, inv, n_t, bins, hist);
+        const double den = double(row_pass_cone(smp[k], zl, sl, a, ulo, inv, n_t, bins, hist));
         uint64_t cum = 0;
         for (int i = 0; i < n_t; ++i) {
           cum += hist[i];
           ratio[i] = double(cum);
         }
-        const double den = ratio[n_t - 1];
         if (!(den > 0.0)) continue;
         for (int h = 0; h <= H; ++h) {
           const double w = h == 0 ? wphi[k] : 2.0 * wphi[k] * std::cos(h * phi[k]);
@@ -324,11 +331,13 @@ io::Volume bake_cone(const BakeOptions& o) {
         for (int i = 0; i < n_t; ++i) {
           double value = acc[h * n_t + i];
           if (i == n_t - 1)
-            value = h == 0 ? 1.0 : 0.0;  // V = 1: the hemisphere itself
+            value = h == 0 ? 1.0 : 0.0;  // t = 1, at or just past V = 1: the hemisphere, azimuth-free
           else if (i == 0)
             value = 0.0;  // the early-out boundary 2V + N·L = 1
           else if (h == 0)
-            value = clamp(value, 0.0, 1.0);
+            value = clamp(value, 0.0, 1.0);  // also past V = 1 (never sampled): the term's value there, 1
+          else  // |a_h| ≤ (2/π)∫|cos hφ| dφ = 4/π for a term in [0, 1]; bounds the continuation past V = 1
+            value = clamp(value, -4.0 / kPi<double>, 4.0 / kPi<double>);
           vol.at(i, y, l * n_nv + z, h) = float(value);
         }
     }

@@ -49,6 +49,7 @@ std::string sidecar_json(const BakeOptions& o) {
     j["nl_warp"] = o.cone.nl_warp;
     j["nv_warp"] = o.cone.nv_warp;
     j["nv_scale"] = short_float(o.cone.nv_scale);
+    j["top_scale"] = short_float(o.cone.top_scale);
   } else {
     j["layout_description"] =
         "x = Visibility, y = N·L, z = N·V (+ harmonic slab), channel = roughness; texel i of n = i/(n-1)";
@@ -90,6 +91,7 @@ MicroShadowingLut load_micro_shadowing_lut(const std::filesystem::path& path,
         lut.cone.nl_warp = j.at("nl_warp").get<int>();
         lut.cone.nv_warp = j.at("nv_warp").get<int>();
         lut.cone.nv_scale = j.at("nv_scale").get<float>();
+        lut.cone.top_scale = j.at("top_scale").get<float>();
       } else {
         r = j.at("roughness").get<std::vector<double>>();
       }
@@ -140,9 +142,8 @@ std::shared_ptr<const MicroShadowingLut> default_micro_shadowing_lut(bool two_d,
   std::lock_guard<std::mutex> lock(mutex);
   auto& slot = cache[{two_d, harmonics, int(layout)}];
   if (!slot) {
-    BakeOptions o = default_bake_options(layout);
+    BakeOptions o = default_bake_options(layout, harmonics);
     o.two_d = two_d;
-    o.harmonics = harmonics;
     auto lut = std::make_shared<MicroShadowingLut>();
     lut->volume = bake_micro_shadowing_lut(o);
     lut->layout = layout;

@@ -1,5 +1,5 @@
-// Per-light terms of the renderer: micro-shadowing (REFERENCE.md §2) and the bump-terminator fix (§5).
-// Private to src/render/.
+// Per-light terms of the renderer: micro-shadowing (docs/micro-shadowing.md) and the bump-terminator fix
+// (docs/bump-terminator.md). Private to src/render/.
 #pragma once
 
 #include <fmt/format.h>
@@ -75,7 +75,7 @@ class MicroShadowingTerm {
   std::shared_ptr<const LutSampler> lut_;
 };
 
-// Bump-terminator shadowing of the light (seed 003 / REFERENCE §5): ng = the unperturbed (interpolated)
+// Bump-terminator shadowing of the light (docs/bump-terminator.md): ng = the unperturbed (interpolated)
 // normal, ns = the bumped normal.
 class BumpTerminatorTerm {
  public:

@@ -39,10 +39,11 @@ struct BakeOptions {
   std::function<void(double fraction_done)> progress;  // called from worker threads, serialized
 };
 
-// The default table (what `bake micro-shadowing` writes without --layout): cone layout, 64 t × 32 N·L ×
-// 16 N·V × 16 roughness slabs, 4096 samples per φ node (docs/lut.md). A default-constructed BakeOptions is
-// the seed layout (64³ × 4 channels, 16384 samples), bit-identical to the bake before the cone layout.
-BakeOptions default_bake_options(LutLayout layout = LutLayout::Cone);
+// The default table (what `bake micro-shadowing` writes without --layout): cone layout, 64 t × 48 N·L ×
+// 16 N·V × 16 roughness slabs (1.5 MiB as R16F), 4096 samples per φ node; with harmonics > 0 (a_0..a_H in
+// RGBA) 48 t × 40 N·L × 16 × 16 (3.75 MiB as RGBA16F). docs/lut.md. A default-constructed BakeOptions is the
+// seed layout (64³ × 4 channels, 16384 samples), bit-identical to the bake before the cone layout.
+BakeOptions default_bake_options(LutLayout layout = LutLayout::Cone, int harmonics = 0);
 
 // Throws msh::InputError naming the first bad field.
 void validate(const BakeOptions& o);

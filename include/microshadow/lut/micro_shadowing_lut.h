@@ -1,4 +1,4 @@
-// Runtime sampler for the micro-shadowing LUT (seed 002 "LUT-Based Approximation"; layout REFERENCE.md §1).
+// Runtime sampler for the micro-shadowing LUT (Zurita 2026, "Improving Direct Lighting Material Occlusion - Part 2", "LUT-Based Approximation"; layout docs/lut.md).
 // Header-only, no allocation, no I/O: an engine points a MicroShadowingLutView at its own copy of the table.
 //
 // Table layout (what bake_micro_shadowing_lut writes, what io::read_volume returns):
@@ -17,7 +17,7 @@
 
 namespace msh::lut {
 
-// Roughness of the channels r, g, b, a of the default table (REFERENCE.md §1).
+// Roughness of the channels r, g, b, a of the default table (docs/lut.md).
 inline constexpr std::array<float, 4> kDefaultRoughness = {0.1f, 0.4f, 0.7f, 1.0f};
 
 // Table layouts. Seed: the layout above (Zurita 2026). Cone: the default since issue 9, see "Cone layout".
@@ -28,8 +28,9 @@ struct ConeLayoutParams {
   float roughness_min = 0.1f, roughness_max = 1.0f;  // roughness range of the slabs (clamped outside)
   float roughness_power = 0.5f;  // slab q holds roughness r with r^p uniform in q (p = 0: log r uniform)
   float warp_scale = 2.0f;       // warp width a = warp_scale · α, α = roughness²
-  int nl_warp = 1, nv_warp = 3;  // axis warps (cone_detail::axis_coord; 3: cone_nv_coord)
+  int nl_warp = 4, nv_warp = 3;  // axis warps (cone_detail::axis_coord; 3: cone_nv_coord)
   float nv_scale = 3.0f;         // warp 3: width b = nv_scale · α
+  float top_scale = 3.0f;        // end of the t axis for grazing light (cone_d_top)
 };
 
 // Non-owning view of a baked table (see the layout above). 1 ≤ channels ≤ 4, strictly increasing roughness.
@@ -48,7 +49,7 @@ struct MicroShadowingLutView {
 };
 
 // Continuous texel coordinate of parameter u ∈ [0, 1] on an axis of n texels, computed the way a GPU does it:
-// the shader remaps u' = (u·(n − 1) + 0.5)/n (REFERENCE.md §1), the sampler takes x = u'·n − 0.5.
+// the shader remaps u' = (u·(n − 1) + 0.5)/n (docs/lut.md), the sampler takes x = u'·n − 0.5.
 template <class T>
 T gpu_texel_coord(T u, int n) {
   const T un = (saturate(u) * T(n - 1) + T(0.5)) / T(n);
@@ -112,7 +113,7 @@ T interpolate_roughness(const MicroShadowingLutView& lut, const std::array<T, 4>
   return lerp(t, ch[j], ch[j + 1]);
 }
 
-// Exact early-out (REFERENCE.md §2): 2V + N·L < 1 ⇒ the term is 0, no fetch needed.
+// Exact early-out (docs/micro-shadowing.md): 2V + N·L < 1 ⇒ the term is 0, no fetch needed.
 template <class T>
 bool micro_shadowing_early_out(T visibility, T n_dot_l) {
   return T(2) * saturate(visibility) + saturate(n_dot_l) < T(1);
@@ -121,29 +122,40 @@ bool micro_shadowing_early_out(T visibility, T n_dot_l) {
 // ---- Cone layout ---------------------------------------------------------------------------------------
 // Axes: x = t, the position of the cone half-angle θ (sin²θ = V) relative to the light's polar angle θ_l,
 // y = N·L coordinate, z = N·V coordinate + n_nv · roughness slab; channel h = a_h (h = 0: the azimuth mean).
-// t ∈ [0, 1] spans exactly the lit range θ ∈ [θ_l/2, π/2] (t = 0 is the early-out boundary 2V + N·L = 1,
-// t = 1 is V = 1) through d = sin(θ − θ_l) = sqrt(V)·N·L − sqrt(1 − V)·sqrt(1 − N·L²) and
-//   u(d) = d / sqrt(a² + d²),   t = (u(d) − u(d_lo)) / (u(d_hi) − u(d_lo)),
-// d_lo = −sqrt((1 − N·L)/2) = sin(−θ_l/2), d_hi = N·L, a = warp_scale · α. For small α the term is close to
-// the CDF of the GGX slope marginal ½(1 + d/sqrt(α² + d²)) (the cone edge at θ = θ_l), i.e. linear in u, so
-// the near-step sits at t ≈ ½ for every V and N·L and is spread over the whole axis (docs/lut.md).
+// t ∈ [0, 1] spans the lit range θ ∈ [θ_l/2, π/2] (t = 0 is the early-out boundary 2V + N·L = 1, t = 1 is
+// V = 1, or a little past it for grazing light: cone_d_top) through d = sin(θ − θ_l) =
+// sqrt(V)·N·L − sqrt(1 − V)·sqrt(1 − N·L²) and
+//   u(d) = d / (a + |d|),   t = (u(d) − u(d_lo)) / (u(d_top) − u(d_lo)),
+// d_lo = −sqrt((1 − N·L)/2) = sin(−θ_l/2), d_top = N·L (V = 1), a = warp_scale · α. For small α the term is
+// a near-step in d at the cone edge θ = θ_l, of width ~α with the heavy tails of the GGX slope distribution
+// (~1/d² and, for grazing views, ~1/d); in u it is close to linear, so the step sits near t = ½ for every V
+// and N·L and spreads over the whole axis instead of falling between two texels (docs/lut.md).
 namespace cone_detail {
 template <class T>
 T warp_u(T d, T a) {
   return d / (a + std::abs(d));
 }
 // Axis warps of a cosine c ∈ [0, 1]: 0: c; 1: 1 − sqrt(1 − c) (dense near c = 1); 2: sqrt(c) (dense near
-// c = 0). axis_value is the inverse.
+// c = 0); 4: the mean of 1 and 2 (dense near both ends). axis_value is the inverse.
 template <class T>
 T axis_coord(T c, int warp) {
   if (warp == 1) return T(1) - std::sqrt(std::max(T(0), T(1) - c));
   if (warp == 2) return std::sqrt(std::max(T(0), c));
+  if (warp == 4) return T(0.5) * (std::sqrt(std::max(T(0), c)) + T(1) - std::sqrt(std::max(T(0), T(1) - c)));
   return c;
 }
 template <class T>
 T axis_value(T s, int warp) {
   if (warp == 1) return T(1) - (T(1) - s) * (T(1) - s);
   if (warp == 2) return s * s;
+  if (warp == 4) {  // invert the monotone map by bisection (baker only)
+    T lo = T(0), hi = T(1);
+    for (int i = 0; i < 60; ++i) {
+      const T mid = T(0.5) * (lo + hi);
+      (axis_coord(mid, 4) < s ? lo : hi) = mid;
+    }
+    return T(0.5) * (lo + hi);
+  }
   return s;
 }
 }  // namespace cone_detail
@@ -196,23 +208,39 @@ inline double cone_roughness_of_coord(const ConeLayoutParams& p, double q) {
   return std::pow(std::pow(lo, e) + q * (std::pow(hi, e) - std::pow(lo, e)), 1.0 / e);
 }
 
+// The end of the t axis: d_top = sqrt(N·L² + e²(1 − N·L²)), e = k a/(1 + k a), k = top_scale: just past
+// V = 1 (d = N·L) by a margin that matters only for grazing light (N·L ≲ e). The table holds the term's
+// smooth continuation past V = 1, P[min(n·m, m·l) > cos θ] / P[m·l > 0] for θ > π/2 (never sampled), so the
+// lit side of the step keeps a fixed share of the axis however small N·L is; d_top is smooth in N·L and ≤ 1.
+template <class T>
+T cone_d_top(T n_dot_l, T a, T top_scale) {
+  const T e = top_scale * a / (T(1) + top_scale * a);
+  return std::sqrt(n_dot_l * n_dot_l + e * e * (T(1) - n_dot_l * n_dot_l));
+}
+
 // The x coordinate t ∈ [0, 1] (see above). V, N·L ∈ [0, 1]; a > 0.
 template <class T>
-T cone_t(T visibility, T n_dot_l, T a) {
+T cone_t(T visibility, T n_dot_l, T a, T top_scale) {
   const T V = saturate(visibility), zl = saturate(n_dot_l);
   const T sl = std::sqrt(std::max(T(0), T(1) - zl * zl));
   const T d = std::sqrt(V) * zl - std::sqrt(T(1) - V) * sl;
-  const T ulo = cone_detail::warp_u(-std::sqrt(T(0.5) * (T(1) - zl)), a), uhi = cone_detail::warp_u(zl, a);
-  return saturate((cone_detail::warp_u(d, a) - ulo) / (uhi - ulo));
+  const T ulo = cone_detail::warp_u(-std::sqrt(T(0.5) * (T(1) - zl)), a);
+  const T utop = cone_detail::warp_u(cone_d_top(zl, a, top_scale), a);
+  return saturate((cone_detail::warp_u(d, a) - ulo) / (utop - ulo));
 }
-// Inverse of cone_t for the baker: the visibility whose cone sits at t.
-inline double cone_visibility_of_t(double t, double n_dot_l, double a) {
+// Inverse of cone_t for the baker: the cone half-angle θ ∈ [θ_l/2, θ_l + π/2] at t (θ > π/2: past V = 1).
+inline double cone_theta_of_t(double t, double n_dot_l, double a, double top_scale) {
   const double zl = clamp(n_dot_l, 0.0, 1.0);
-  const double ulo = cone_detail::warp_u(-std::sqrt(0.5 * (1.0 - zl)), a), uhi = cone_detail::warp_u(zl, a);
-  const double u = clamp(ulo + t * (uhi - ulo), -1.0, 1.0);
+  const double ulo = cone_detail::warp_u(-std::sqrt(0.5 * (1.0 - zl)), a);
+  const double utop = cone_detail::warp_u(cone_d_top(zl, a, top_scale), a);
+  const double u = clamp(ulo + t * (utop - ulo), -1.0, 1.0);
   const double d = std::abs(u) < 1.0 ? a * u / (1.0 - std::abs(u)) : u;
-  const double theta = std::acos(zl) + std::asin(clamp(d, -1.0, 1.0));
-  return clamp(sqr(std::sin(clamp(theta, 0.0, kPi<double> / 2))), 0.0, 1.0);
+  return std::acos(zl) + std::asin(clamp(d, -1.0, 1.0));
+}
+// The visibility sin²θ of cone_theta_of_t (θ ≤ π/2; 1 past V = 1).
+inline double cone_visibility_of_t(double t, double n_dot_l, double a, double top_scale) {
+  const double theta = cone_theta_of_t(t, n_dot_l, a, top_scale);
+  return theta >= kPi<double> / 2 ? 1.0 : clamp(sqr(std::sin(theta)), 0.0, 1.0);
 }
 
 // Trilinear fetch (all channels) of roughness slab `slab` of a cone-layout table at texture coordinates
@@ -241,7 +269,7 @@ std::array<T, 4> fetch_cone(const MicroShadowingLutView& lut, T visibility, T n_
                             T roughness) {
   const ConeLayoutParams& p = lut.cone;
   const T r = cone_clamp_roughness(p, roughness);
-  const T t = cone_t(visibility, n_dot_l, cone_warp_width(p, r));
+  const T t = cone_t(visibility, n_dot_l, cone_warp_width(p, r), T(p.top_scale));
   const T s = cone_detail::axis_coord(saturate(n_dot_l), p.nl_warp);
   const T w = cone_nv_coord(p, n_dot_v, r);
   const T q = cone_roughness_coord(p, r) * T(lut.n_rough - 1);
@@ -255,7 +283,7 @@ std::array<T, 4> fetch_cone(const MicroShadowingLutView& lut, T visibility, T n_
   return a;
 }
 
-// The LUT approximation of the generic VNDF micro-shadowing term (seed 002), azimuth ignored (mean over φ).
+// The LUT approximation of the generic VNDF micro-shadowing term (Zurita 2026 Part 2), azimuth ignored (mean over φ).
 // Domain: V, N·L, N·V clamped to [0, 1] (NaN → 0), roughness clamped to the channel range. Result in [0, 1].
 template <class T>
 T sample_micro_shadowing(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v, T roughness) {

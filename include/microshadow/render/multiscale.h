@@ -1,0 +1,28 @@
+// Multiscale texture sets: the set an engine would use at 1/k resolution of a fine texture set, i.e. what a
+// mip chain of the fine maps gives at level log2 k (box filter over k × k fine texels). The fine height
+// field is the real surface (the ground truth renders it); the coarse set is what the approximations shade.
+#pragma once
+
+#include <microshadow/render/texture_gen.h>
+
+namespace msh::render {
+
+// Coarse roughness: Base = the box mean r̄ of the fine perceptual roughness; Widened = r̄ widened by the slope
+// variance of the fine normals over the coarse texel (CLEAN moments, Baker 2011 / Olano & Baker 2010 "LEAN
+// Mapping"; isotropic variance mapping with the Beckmann-equivalent GGX convention,
+// filter/variance_mapping.h): with α = r̄² and b = −(n_x, n_y)/n_z, α'² = α² + var(b_x) + var(b_y), r' =
+// sqrt(α') clamped to ≤ 1. Widened = Base where the fine normals are all equal.
+enum class CoarseRoughness { Base, Widened };
+
+// The texture set at 1/k resolution of `fine` (k ≥ 1; fine width and height divisible by k), every map the
+// box mean over k × k fine texels:
+//  - normal: the renormalised mean of the fine unit normals (the filtered normal), encoded n·0.5 + 0.5;
+//  - visibility: the mean of the fine projected-solid-angle visibility (what a mip chain of the
+//    micro-occlusion map gives; the coarse mean equals the fine mean up to float rounding of the sums);
+//  - roughness: see CoarseRoughness; base colour (linear), metallic and height: box means;
+//  - depth_texels = fine.depth_texels / k (the same physical depth in coarse texel units).
+// k = 1 returns a copy of `fine` (for either mode). Throws InputError on k < 1, a size not divisible by k,
+// or maps whose sizes differ. Deterministic, bit-identical whatever the thread count.
+TextureSet downsample_texture_set(const TextureSet& fine, int k, CoarseRoughness mode);
+
+}  // namespace msh::render

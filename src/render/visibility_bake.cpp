@@ -1,0 +1,217 @@
+// Micro-occlusion bake by exact horizons (see bake_visibility in render/texture_gen.h).
+//
+// For the piecewise-linear height field (two triangles per cell, vertex (i, j) at height z_ij), a ray from
+// the vertex p = (i, j, z_ij) in the direction of azimuth φ and elevation e is blocked iff the surface
+// profile Δz(s) = z(p + s·(cos φ, sin φ)) − z_ij along the horizontal line rises above the ray, Δz(s) ≥ s·tan
+// e, at a horizontal distance s the ray reaches within its length R (s² + (s tan e)² ≤ R²). The blocked
+// elevations form an interval [0, H(φ)) with tan H = max_s min(Δz(s), √(R² − s²)) / s, so the cosine-weighted
+// (projected-solid-angle) visibility about +z is V = (1/2π) ∫ cos² H₊(φ) dφ: the elevation integral is
+// exact, only the azimuth is sampled. Δz is linear between the profile's breakpoints (cell edges and cell
+// diagonals), where the maximum of min(Δz, √(R² − s²))/s lies at a breakpoint or where the line crosses the
+// circle, so H is exact too. The first segment from s = 0 has tan H = its slope: the local test whether a
+// direction enters the solid at the start point, so convex points are not darkened by the triangles they
+// sit on.
+//
+// Speed: cells are skipped when none of their vertices rises above the current horizon (by more than a
+// tolerance of 1e-4 on tan² H, so on V), and the walk stops where nothing of the field can (s > (z_max −
+// z_ij) / tan H) or the ray length ends. (A maximum mip pyramid, Tevs et al. 2008, was measured slower here:
+// the cells near the horizon line dominate, and its block tests skip nothing more.)
+#include <fmt/format.h>
+#include <microshadow/io/error.h>
+#include <microshadow/math/sampling.h>
+#include <microshadow/render/texture_gen.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace msh::render {
+
+namespace {
+
+// Tolerance on tan² H: cells and the rest of a walk are skipped when they can raise tan² H by at most this,
+// which changes cos² H = 1/(1 + tan² H), i.e. V, by at most kTan2Tolerance (V is never lowered by it). It
+// also bounds unlimited walks: beyond s = (z_max − z_ij)/√kTan2Tolerance nothing can matter.
+constexpr float kTan2Tolerance = 1e-4f;
+// Heights in texel units, stored with one extra column and row (the wrapped first ones) so a cell's four
+// vertices are at p, p + 1, p + w + 1, p + w + 2.
+struct Heights {
+  int w = 0, h = 0;
+  float zmax = 0;
+  std::vector<float> z;  // (w + 1) × (h + 1)
+
+  Heights(const Texture& height, float depth) : w(height.width()), h(height.height()) {
+    z.resize(std::size_t(w + 1) * (h + 1));
+    zmax = -std::numeric_limits<float>::max();
+    for (int j = 0; j <= h; ++j)
+      for (int i = 0; i <= w; ++i) {
+        const float v = (height.at(i % w, j % h, 0) - 1.0f) * depth;
+        z[std::size_t(j) * (w + 1) + i] = v;
+        zmax = std::max(zmax, v);
+      }
+  }
+  const float* vertex(int i, int j) const { return &z[std::size_t(j) * (w + 1) + i]; }  // i, j in range
+};
+
+// One horizon walk along azimuth (cx, sy) from vertex (i0, j0): a 2D DDA over the cells the line crosses
+// (Amanatides & Woo 1987). Local coordinates: the origin vertex at (0, 0), so positions near the start are
+// exact in float.
+class HorizonWalk {
+ public:
+  HorizonWalk(const Heights& f, int i0, int j0, float cx, float sy, float R)
+      : f_(f),
+        i0_(i0),
+        j0_(j0),
+        z0_(*f.vertex(i0, j0)),
+        cx_(cx),
+        sy_(sy),
+        R_(R),
+        limited_(std::isfinite(R)),
+        rise_(f.zmax - z0_) {
+    update();
+  }
+
+  // tan H (≥ 0).
+  float run() {
+    if (!(rise_ > 0)) return 0.0f;  // the highest point of the map: nothing rises above it
+    const int w = f_.w, h = f_.h, W = w + 1;
+    // The cell the line enters from the start vertex (local index di, dj; wrapped index wi, wj).
+    int di = cx_ < 0 ? -1 : 0, dj = sy_ < 0 ? -1 : 0;
+    int wi = i0_ + di, wj = j0_ + dj;
+    if (wi < 0) wi += w;
+    if (wj < 0) wj += h;
+    const int si = cx_ > 0 ? 1 : -1, sj = sy_ > 0 ? 1 : -1;
+    const float inf = std::numeric_limits<float>::infinity();
+    // Exit distances through the next x and y grid lines, recomputed from the integer line (no drift).
+    const float inv_cx = cx_ != 0 ? 1 / cx_ : 0, inv_sy = sy_ != 0 ? 1 / sy_ : 0;
+    const int ox = cx_ > 0 ? 1 : 0, oy = sy_ > 0 ? 1 : 0;
+    float sx = cx_ != 0 ? float(di + ox) * inv_cx : inf;
+    float sy = sy_ != 0 ? float(dj + oy) * inv_sy : inf;
+    const float inv_diag = cx_ != sy_ ? 1 / (cx_ - sy_) : 0;
+    const float* row = f_.vertex(0, wj);
+    float s = 0, z_in = 0;  // entry of the current cell and Δz there (the start vertex: 0)
+    bool z_in_known = true;
+    for (;;) {
+      const float s_out = std::min(sx, sy);
+      const float* p = row + wi;
+      const float a = p[0] - z0_, b = p[1] - z0_, c = p[W + 1] - z0_, d = p[W] - z0_;
+      if (std::max(std::max(a, b), std::max(c, d)) > s * gate_) {
+        const float fdi = float(di), fdj = float(dj);
+        // Surface Δz at parameter t in this cell: triangle (00, 10, 11) where fx ≥ fy, (00, 11, 01)
+        // otherwise; both agree on the diagonal, and the clamps keep boundary points on the cell.
+        auto eval = [&](float t) {
+          const float fx = std::clamp(cx_ * t - fdi, 0.0f, 1.0f), fy = std::clamp(sy_ * t - fdj, 0.0f, 1.0f);
+          return fx >= fy ? a + fx * (b - a) + fy * (c - b) : a + fy * (d - a) + fx * (c - d);
+        };
+        float s_l = s, z_l = z_in_known ? z_in : eval(s);
+        if (cx_ != sy_) {  // diagonal crossing fx = fy
+          const float t = (fdi - fdj) * inv_diag;
+          if (t > s && t < s_out) {
+            const float z_t = eval(t);
+            segment(s_l, z_l, t, z_t);
+            s_l = t, z_l = z_t;
+          }
+        }
+        z_in = eval(s_out);
+        z_in_known = true;
+        segment(s_l, z_l, s_out, z_in);
+      } else {
+        z_in_known = false;
+      }
+      s = s_out;
+      if (s >= limit_) break;
+      if (sx < sy) {
+        di += si, wi += si, sx = float(di + ox) * inv_cx;
+        wi = wi == w ? 0 : wi < 0 ? w - 1 : wi;
+      } else {
+        dj += sj, wj += sj, sy = float(dj + oy) * inv_sy;
+        wj = wj == h ? 0 : wj < 0 ? h - 1 : wj;
+        row = f_.vertex(0, wj);
+      }
+    }
+    return T_;
+  }
+
+ private:
+  // After T changes: the gate g = √(T² + tolerance) and the distance beyond which nothing can pass it —
+  // the field's highest point (rise/g) and the ray-length disc (a point at s with Δz/s > g needs
+  // s² (1 + g²) < R²).
+  void update() {
+    gate_ = std::sqrt(T_ * T_ + kTan2Tolerance);
+    limit_ = rise_ / gate_;
+    if (limited_) limit_ = std::min(limit_, R_ / std::sqrt(1 + gate_ * gate_));
+  }
+  void raise(float t) {
+    if (t > T_) T_ = t, update();
+  }
+
+  // A linear piece of the profile from (s_l, z_l) to (s_r, z_r). Only the right end can raise T (the left end
+  // was the previous piece's right end, or lies on a skipped block, already below the gate), except at the
+  // start, where Δz/s → the piece's slope.
+  void segment(float s_l, float z_l, float s_r, float z_r) {
+    if (!(s_r > s_l)) return;
+    const bool start = s_l < 1e-6f;
+    if (!(z_r > s_r * T_) && !start) return;
+    if (limited_ && s_r > R_) {  // clip at the ray length
+      if (s_l >= R_) return;
+      z_r = z_l + (z_r - z_l) * ((R_ - s_l) / (s_r - s_l));
+      s_r = R_;
+    }
+    const float slope = (z_r - z_l) / (s_r - s_l);
+    if (start) raise(slope);
+    if (!limited_) {
+      raise(z_r / s_r);
+      return;
+    }
+    const float cr = std::sqrt(std::max(R_ * R_ - s_r * s_r, 0.0f));
+    raise(std::min(z_r, cr) / s_r);
+    if (z_r > cr && (z_l < 0 || z_l * z_l < R_ * R_ - s_l * s_l)) {
+      // The piece leaves the disc of radius R between its ends: max at the crossing a + m s = √(R² − s²).
+      const double m = slope, a0 = double(z_l) - m * s_l, R2 = double(R_) * R_;
+      const double disc = R2 * (1 + m * m) - a0 * a0;
+      if (disc >= 0) {
+        const double r = std::sqrt(disc);
+        for (double s : {(-a0 * m + r) / (1 + m * m), (-a0 * m - r) / (1 + m * m)})
+          if (s >= s_l && s <= s_r && s > 0) raise(float((a0 + m * s) / s));
+      }
+    }
+  }
+
+  const Heights& f_;
+  int i0_, j0_;
+  float z0_, cx_, sy_, R_;
+  bool limited_;
+  float rise_, T_ = 0, gate_ = 0, limit_ = 0;
+};
+
+}  // namespace
+
+Texture bake_visibility(const Texture& height, float depth, int azimuths, float max_distance) {
+  if (azimuths < 1 || azimuths > 65536) throw InputError("bake_visibility: azimuths must be in [1, 65536]");
+  if (!(depth >= 0) || !std::isfinite(depth))
+    throw InputError(fmt::format("bake_visibility: depth must be finite and >= 0, got {}", depth));
+  if (std::isnan(max_distance)) throw InputError("bake_visibility: max distance is NaN");
+  if (height.empty()) throw InputError("bake_visibility: empty height map");
+  const float R = max_distance > 0 ? max_distance : std::numeric_limits<float>::infinity();
+  const Heights f(height, depth);
+  const int w = height.width(), h = height.height();
+  Texture vis(w, h, 1);
+  tbb::parallel_for(0, h, [&](int j) {
+    for (int i = 0; i < w; ++i) {
+      // Stratified azimuths, rotated per texel (Cranley–Patterson) so the quadrature error is not a pattern.
+      const double rot = double(hash_combine(hash_u32(uint32_t(i)), uint32_t(j))) * 0x1p-32;
+      double sum = 0;
+      for (int k = 0; k < azimuths; ++k) {
+        const double phi = 2 * kPi<double> * (double(k) + rot) / double(azimuths);
+        const float T = HorizonWalk(f, i, j, float(std::cos(phi)), float(std::sin(phi)), R).run();
+        sum += 1.0 / (1.0 + double(T) * double(T));  // cos² H
+      }
+      vis.at(i, j, 0) = float(sum / double(azimuths));
+    }
+  });
+  return vis;
+}
+
+}  // namespace msh::render
