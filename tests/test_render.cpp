@@ -349,3 +349,82 @@ TEST(RenderGolden, MicroShadowingNormalChoice) {
     for (const Rgbf& p : img.px) EXPECT_NEAR(p.r, expect, 2e-4 * expect) << smooth;
   }
 }
+
+// settings.component: on a flat GGX + Lambert plane (F0 = 0.04, roughness 0.5) seen through one pixel, the
+// specular part is Schlick F · D · G2 / (4 N·V) · E and the diffuse part (1 − F) ρ/π N·L · E, written here in
+// double from the textbook formulas (RTR4 9.34, 9.41, 9.31, 9.16, 9.62-style coupling with F(v·h)).
+TEST(RenderComponent, DiffuseAndSpecularMatchClosedForms) {
+  const double el = 40, az = 180, r = 0.5, a = r * r, rho = 0.5, E = 2;
+  for (const char* comp : {"total", "diffuse", "specular"}) {
+    const std::string json = std::string(R"({
+      "camera": {"eye": [1.5, 0, 1.2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 0.01},
+      "materials": {"m": {"base_color": 0.5, "roughness": 0.5}},
+      "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+      "lights": [{"type": "directional", "elevation_deg": 40, "azimuth_deg": 180, "intensity": 2}],
+      "settings": {"width": 1, "height": 1, "spp": 1, "component": ")") +
+                             comp + R"("}})";
+    const Scene s = parse_scene(json, "inline.json", ".");
+    const Rgbf got = Renderer(s).render_pixel(0, 0);
+    const Vec3d v = normalize(Vec3d(1.5, 0, 1.2)), l = Vec3d(direction_from_angles(float(el), float(az)));
+    const Vec3d h = normalize(v + l);
+    const double F = 0.04 + 0.96 * std::pow(1 - dot(v, h), 5);
+    const double D = a * a / (kPi<double> * sqr(h.z * h.z * (a * a - 1) + 1));
+    auto lambda = [&](const Vec3d& w) {
+      const double t2 = (1 - w.z * w.z) / (w.z * w.z);
+      return 0.5 * (-1 + std::sqrt(1 + a * a * t2));
+    };
+    const double G2 = 1 / (1 + lambda(v) + lambda(l));
+    const double spec = F * D * G2 / (4 * v.z) * E, diff = (1 - F) * rho / kPi<double> * l.z * E;
+    const double expect = std::string(comp) == "total"     ? spec + diff
+                          : std::string(comp) == "diffuse" ? diff
+                                                           : spec;
+    EXPECT_NEAR(got.r, expect, 1e-3 * expect) << comp;
+  }
+  EXPECT_THROW(component_from_string("both"), InputError);
+}
+
+// render_with_error: with one batch the mean is render() bit for bit; with 8 batches the stated standard
+// error matches the scatter of the pixel means over 24 independent seeds (a noisy sphere light with one area
+// sample per camera sample).
+TEST(RenderError, StandardErrorMatchesScatterOverSeeds) {
+  const char* json = R"({
+    "camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+    "materials": {"m": {"base_color": 0.5, "roughness": 0.4}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+    "lights": [{"type": "sphere", "position": [0.5, 0, 1.5], "radius": 1.0, "intensity": 10}],
+    "settings": {"width": 6, "height": 6, "spp": 16, "area_lights": true, "area_samples": 1}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  s.settings.error_batches = 1;
+  {
+    const Renderer r(s);
+    const RenderResult one = r.render_with_error();
+    const Image plain = r.render();
+    ASSERT_EQ(one.batches, 1);
+    for (std::size_t i = 0; i < plain.px.size(); ++i) {
+      EXPECT_TRUE(one.mean.px[i] == plain.px[i]) << i;
+      EXPECT_EQ(one.std_error.px[i].r, 0.0f);
+    }
+  }
+  s.settings.error_batches = 8;
+  const int seeds = 24, n = 36;
+  std::vector<double> sum(n, 0), sum2(n, 0), se2(n, 0);
+  for (int k = 0; k < seeds; ++k) {
+    s.settings.seed = uint32_t(100 + k);
+    const RenderResult res = Renderer(s).render_with_error();
+    ASSERT_EQ(res.batches, 8);
+    for (int i = 0; i < n; ++i) {
+      const double m = res.mean.px[i].r;
+      sum[i] += m, sum2[i] += m * m, se2[i] += sqr(double(res.std_error.px[i].r));
+    }
+  }
+  double emp = 0, pred = 0;
+  for (int i = 0; i < n; ++i) {
+    emp += (sum2[i] - sum[i] * sum[i] / seeds) / (seeds - 1);
+    pred += se2[i] / seeds;
+  }
+  ASSERT_GT(pred, 0);
+  // Pooled over 36 pixels × 24 seeds, the variance ratio is within ±25% with overwhelming probability.
+  EXPECT_NEAR(emp / pred, 1.0, 0.25) << emp << " " << pred;
+  s.settings.spp = 12;
+  EXPECT_THROW(Renderer(s).render_with_error(), InputError);
+}

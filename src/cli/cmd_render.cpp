@@ -23,7 +23,7 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
 }
 
 struct RenderArgs {
-  std::string scene, out, method, bump, lut, assets, ms_normal;
+  std::string scene, out, method, bump, lut, assets, ms_normal, component;
   int width = 0, height = 0, spp = 0, threads = 0, vndf_samples = 0, area_samples = 0;
   double elevation = -1000, azimuth = -1000, exposure = -1000;
   bool hanika = false, no_hanika = false, area = false, quiet = false;
@@ -42,6 +42,7 @@ void run_render(const RenderArgs& a) {
   if (a.vndf_samples) s.vndf_samples = a.vndf_samples;
   if (a.area_samples) s.area_samples = a.area_samples;
   if (!a.bump.empty()) s.bump_terminator = bump_terminator_from_string(a.bump);
+  if (!a.component.empty()) s.component = component_from_string(a.component);
   if (!a.ms_normal.empty()) s.ms_smooth_normal = a.ms_normal == "smooth";
   if (a.hanika) s.hanika_offset = true;
   if (a.no_hanika) s.hanika_offset = false;
@@ -102,6 +103,7 @@ void render_one(const render::Scene& scene, const std::string& prefix, bool quie
               {"png", prefix + ".png"},
               {"method", to_string(s.micro_shadowing)},
               {"bump_terminator", to_string(s.bump_terminator)},
+              {"component", to_string(s.component)},
               {"width", s.width},
               {"height", s.height},
               {"spp", s.spp},
@@ -135,6 +137,8 @@ void add_render(Groups& g) {
        "--ms-normal", a->ms_normal,
        "Normal for the micro-shadowing N·L, N·V: shading (normal-mapped, default) or smooth (unperturbed)")
       ->check(CLI::IsMember({"shading", "smooth"}));
+  r->add_option("--component", a->component, "BRDF part to render: total (default), diffuse or specular")
+      ->check(CLI::IsMember({"total", "diffuse", "specular"}));
   r->add_flag("--hanika", a->hanika, "Hanika 2021 shadow-ray offset on meshes");
   r->add_flag("--no-hanika", a->no_hanika, "Disable the Hanika offset");
   r->add_flag("--area-lights", a->area,

@@ -316,7 +316,8 @@ struct Renderer::Impl {
       }
     }
     ++st.shaded_samples;
-    Rgbf L = set.ambient * sp.base_color;
+    const bool want_d = set.component != Component::Specular, want_s = set.component != Component::Diffuse;
+    Rgbf L = want_d ? set.ambient * sp.base_color : Rgbf(0.0f);
     // Shadow-ray origin: the hit point, optionally moved by Hanika's offset (meshes), pushed off the surface.
     Vec3f po = h.p;
     if (set.hanika_offset && ob.type == ShapeType::Mesh) po = hanika_offset(*ob.mesh, h);
@@ -355,7 +356,7 @@ struct Renderer::Impl {
         const float k = term(wi, ls);
         if (!(k > 0)) continue;
         if (shadow(wi, dist * (1 - 1e-4f))) continue;
-        L += brdf_cos(sp, wo, wi) * E * k;
+        L += brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * E * k;
       } else if (!set.area_lights) {
         // Representative point (Karis 2013): diffuse toward the centre, specular toward the point of the
         // sphere closest to the reflection ray, with the (α / α')² energy normalization.
@@ -365,13 +366,13 @@ struct Renderer::Impl {
         const Vec3f wc = dl / dist;
         const Rgbf E = light.color / (dist * dist);
         if (shadow(wc, dist - light.radius)) continue;
-        if (above(wc) && dot(sp.n_shading, wc) > 0)
+        if (want_d && above(wc) && dot(sp.n_shading, wc) > 0)
           L += brdf_cos(sp, wo, wc, 1.0f, true, false) * E * term(wc, ls);
         const Vec3f r = reflect(wo, sp.n_shading);
         const Vec3f to_ray = r * dot(dl, r) - dl;
         const Vec3f cp = dl + to_ray * saturate(light.radius / std::max(length(to_ray), 1e-12f));
         const Vec3f ws = normalize(cp);
-        if (above(ws) && dot(sp.n_shading, ws) > 0) {
+        if (want_s && above(ws) && dot(sp.n_shading, ws) > 0) {
           const float a = roughness_to_alpha(std::max(sp.roughness, 0.02f));
           const float a2 = saturate(a + light.radius / (2 * dist));
           L += brdf_cos(sp, wo, ws, sqr(a / a2), false, true) * E * term(ws, ls);
@@ -395,7 +396,7 @@ struct Renderer::Impl {
           const float b = dot(dl, wi), c = dot(dl, dl) - sqr(light.radius);
           const float tl = b - safe_sqrt(b * b - c);
           if (shadow(wi, tl * (1 - 1e-4f))) continue;
-          acc += brdf_cos(sp, wo, wi) * Le * (t * inv_pdf);
+          acc += brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * Le * (t * inv_pdf);
         }
         L += acc / float(set.area_samples);
       }
@@ -411,7 +412,10 @@ struct Renderer::Impl {
                                           std::array<float, 3>{h.bary.x, h.bary.y, h.bary.z});
   }
 
-  Rgbf pixel(int x, int y, RenderStats& st) const {
+  // Mean of the pixel's spp samples, taken as `batches` independently scrambled Sobol batches of spp/batches
+  // samples (batch 0 uses the pixel's own scramble, so batches = 1 is the plain render). With se, stores the
+  // standard error of the mean from the spread of the batch means.
+  Rgbf pixel(int x, int y, RenderStats& st, int batches = 1, Rgbf* se = nullptr) const {
     const Settings& s = scene.settings;
     const Camera& cam = scene.camera;
     const Vec3f f = normalize(cam.target - cam.eye);
@@ -420,19 +424,40 @@ struct Renderer::Impl {
     const float th = std::tan(0.5f * cam.fov_deg * kPi<float> / 180.0f),
                 aspect = float(s.width) / float(s.height);
     const uint32_t ps = pixel_seed(s.seed, x, y);
+    const int per = s.spp / batches;
     Rgbf sum(0.0f);
-    for (int i = 0; i < s.spp; ++i) {
-      const Vec2f u = s.spp == 1 ? Vec2f(0.5f, 0.5f) : sobol_2d<float>(uint32_t(i), ps);
-      const float px = (2 * (float(x) + u.x) / float(s.width) - 1) * th * aspect;
-      const float py = (1 - 2 * (float(y) + u.y) / float(s.height)) * th;
-      const Vec3f d = normalize(f + r * px + up * py);
-      ++st.camera_rays;
-      Hit h;
-      if (!intersect(cam.eye, d, 0.0f, kInf, h)) {
-        sum += s.background;
-        continue;
+    double bm[3] = {0, 0, 0}, bm2[3] = {0, 0, 0};
+    for (int b = 0; b < batches; ++b) {
+      const uint32_t bs = b == 0 ? ps : hash_combine(ps, 0x5bd1e995u + uint32_t(b));
+      Rgbf bsum(0.0f);
+      for (int k = 0; k < per; ++k) {
+        const int i = b * per + k;
+        const Vec2f u = s.spp == 1 ? Vec2f(0.5f, 0.5f) : sobol_2d<float>(uint32_t(k), bs);
+        const float px = (2 * (float(x) + u.x) / float(s.width) - 1) * th * aspect;
+        const float py = (1 - 2 * (float(y) + u.y) / float(s.height)) * th;
+        const Vec3f d = normalize(f + r * px + up * py);
+        ++st.camera_rays;
+        Hit h;
+        if (!intersect(cam.eye, d, 0.0f, kInf, h)) {
+          bsum += s.background;
+          continue;
+        }
+        bsum += shade(h, -d, hash_combine(ps, uint32_t(i)), st);
       }
-      sum += shade(h, -d, hash_combine(ps, uint32_t(i)), st);
+      sum += bsum;
+      for (int c = 0; c < 3; ++c) {
+        const double m = double(bsum[c]) / per;
+        bm[c] += m, bm2[c] += m * m;
+      }
+    }
+    if (se) {
+      float e[3];
+      for (int c = 0; c < 3; ++c) {
+        const double mean = bm[c] / batches;
+        const double var = batches > 1 ? std::max(0.0, bm2[c] - batches * mean * mean) / (batches - 1) : 0.0;
+        e[c] = float(std::sqrt(var / batches));
+      }
+      *se = Rgbf(e[0], e[1], e[2]);
     }
     return sum / float(s.spp);
   }
@@ -448,9 +473,11 @@ Rgbf Renderer::render_pixel(int x, int y, RenderStats* stats) const {
   return c;
 }
 
-Image Renderer::render(const std::function<void(double)>& progress, RenderStats* stats) const {
-  const Settings& s = impl_->scene.settings;
-  Image img(s.width, s.height);
+namespace {
+// Runs fn(x, y, stats) over 16×16 tiles in parallel; fills stats and reports progress.
+template <class Fn>
+void for_each_pixel(const Settings& s, const std::function<void(double)>& progress, RenderStats* stats,
+                    Fn&& fn) {
   const auto t0 = std::chrono::steady_clock::now();
   std::atomic<uint64_t> cam{0}, shadow{0}, shaded{0}, done{0};
   constexpr int kTile = 16;
@@ -458,7 +485,7 @@ Image Renderer::render(const std::function<void(double)>& progress, RenderStats*
   tbb::parallel_for(tbb::blocked_range2d<int>(0, s.height, kTile, 0, s.width, kTile), [&](const auto& r) {
     RenderStats st;
     for (int y = r.rows().begin(); y < r.rows().end(); ++y)
-      for (int x = r.cols().begin(); x < r.cols().end(); ++x) img.at(x, y) = impl_->pixel(x, y, st);
+      for (int x = r.cols().begin(); x < r.cols().end(); ++x) fn(x, y, st);
     cam += st.camera_rays, shadow += st.shadow_rays, shaded += st.shaded_samples;
     const uint64_t n = done += uint64_t(r.rows().size()) * r.cols().size();
     if (progress) progress(double(n) / double(total));
@@ -467,7 +494,30 @@ Image Renderer::render(const std::function<void(double)>& progress, RenderStats*
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stats->camera_rays = cam, stats->shadow_rays = shadow, stats->shaded_samples = shaded;
   }
+}
+}  // namespace
+
+Image Renderer::render(const std::function<void(double)>& progress, RenderStats* stats) const {
+  const Settings& s = impl_->scene.settings;
+  Image img(s.width, s.height);
+  for_each_pixel(s, progress, stats,
+                 [&](int x, int y, RenderStats& st) { img.at(x, y) = impl_->pixel(x, y, st); });
   return img;
+}
+
+RenderResult Renderer::render_with_error(const std::function<void(double)>& progress) const {
+  const Settings& s = impl_->scene.settings;
+  RenderResult res;
+  res.batches = std::max(1, std::min(s.error_batches, s.spp));
+  if (s.spp % res.batches != 0)
+    throw InputError(fmt::format("{}: spp = {} is not a multiple of the {} error batches",
+                                 impl_->scene.source.string(), s.spp, res.batches));
+  res.mean = Image(s.width, s.height);
+  res.std_error = Image(s.width, s.height);
+  for_each_pixel(s, progress, &res.stats, [&](int x, int y, RenderStats& st) {
+    res.mean.at(x, y) = impl_->pixel(x, y, st, res.batches, &res.std_error.at(x, y));
+  });
+  return res;
 }
 
 }  // namespace msh::render

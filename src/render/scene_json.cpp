@@ -25,6 +25,8 @@ const std::vector<std::pair<MicroShadowing, const char*>> kMsNames = {
     {MicroShadowing::Lut3d, "lut3d"},
     {MicroShadowing::Lut2d, "lut2d"},
     {MicroShadowing::GroundTruth, "ground-truth"}};
+const std::vector<std::pair<Component, const char*>> kComponentNames = {
+    {Component::Total, "total"}, {Component::Diffuse, "diffuse"}, {Component::Specular, "specular"}};
 const std::vector<std::pair<BumpTerminator, const char*>> kBtNames = {
     {BumpTerminator::Off, "off"},
     {BumpTerminator::Conty2019, "conty-2019"},
@@ -254,7 +256,7 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   c.keys(j, w,
          {"width", "height", "spp", "micro_shadowing", "vndf_samples", "bump_terminator", "hanika_offset",
           "area_lights", "area_samples", "exposure", "background", "ambient", "lut", "seed",
-          "micro_shadowing_normal"});
+          "micro_shadowing_normal", "component", "error_batches"});
   if (j.contains("width")) s.width = c.integer(j["width"], w + ".width", 1, 16384);
   if (j.contains("height")) s.height = c.integer(j["height"], w + ".height", 1, 16384);
   if (j.contains("spp")) s.spp = c.integer(j["spp"], w + ".spp", 1, 65536);
@@ -265,6 +267,15 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
       c.fail(w + ".micro_shadowing", e.what());
     }
   }
+  if (j.contains("component")) {
+    try {
+      s.component = component_from_string(c.str(j["component"], w + ".component"));
+    } catch (const InputError& e) {
+      c.fail(w + ".component", e.what());
+    }
+  }
+  if (j.contains("error_batches"))
+    s.error_batches = c.integer(j["error_batches"], w + ".error_batches", 1, 1 << 16);
   if (j.contains("vndf_samples"))
     s.vndf_samples = c.integer(j["vndf_samples"], w + ".vndf_samples", 1, 1 << 20);
   if (j.contains("bump_terminator")) {
@@ -309,6 +320,16 @@ MicroShadowing micro_shadowing_from_string(const std::string& s) {
     list += std::string(list.empty() ? "" : ", ") + n;
   }
   throw InputError(fmt::format("unknown micro-shadowing method '{}' (known: {})", s, list));
+}
+const char* to_string(Component c) {
+  for (const auto& [k, n] : kComponentNames)
+    if (k == c) return n;
+  return "?";
+}
+Component component_from_string(const std::string& s) {
+  for (const auto& [k, n] : kComponentNames)
+    if (s == n) return k;
+  throw InputError(fmt::format("unknown component '{}' (known: total, diffuse, specular)", s));
 }
 const char* to_string(BumpTerminator b) {
   for (const auto& [k, n] : kBtNames)

@@ -33,6 +33,17 @@ struct ShadePoint {
 Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec_scale = 1.0f,
               bool diffuse = true, bool specular = true);
 
+// A render with its noise: the per-pixel mean and the standard error of that mean, per channel.
+struct RenderResult {
+  Image mean;
+  // Standard error of each pixel's mean: sample standard deviation of the `batches` independent batch means
+  // divided by sqrt(batches) (randomised quasi-Monte Carlo with independent scrambles, so the batch means are
+  // i.i.d. unbiased estimates of the pixel integral). All zero when batches == 1.
+  Image std_error;
+  int batches = 1;
+  RenderStats stats;
+};
+
 class Renderer {
  public:
   // Builds the acceleration structures and loads what the settings need (LUT). InputError when a mode cannot
@@ -44,6 +55,9 @@ class Renderer {
 
   // progress(fraction) is called from worker threads as tiles finish (may be empty).
   Image render(const std::function<void(double)>& progress = {}, RenderStats* stats = nullptr) const;
+  // Mean and standard error (Settings::error_batches batches; the mean equals render() when it is 1).
+  // InputError when spp is not a multiple of min(error_batches, spp).
+  RenderResult render_with_error(const std::function<void(double)>& progress = {}) const;
   // One pixel (all its samples), for tests and benchmarks.
   Rgbf render_pixel(int x, int y, RenderStats* stats = nullptr) const;
 

@@ -122,12 +122,24 @@ const char* to_string(MicroShadowing m);
 MicroShadowing micro_shadowing_from_string(const std::string& s);  // InputError listing the valid names
 std::vector<std::string> micro_shadowing_names();
 
+// Which part of the BRDF is rendered: the full BRDF, only the (1 − F)-weighted Lambert lobe, or only the
+// GGX specular lobe. Every light, every micro-shadowing term and the ground truth honour it; the constant
+// ambient counts as diffuse.
+enum class Component { Total, Diffuse, Specular };
+const char* to_string(Component c);
+Component component_from_string(const std::string& s);  // InputError listing total, diffuse, specular
+
 enum class BumpTerminator { Off, Conty2019, Chiang2019 };
 const char* to_string(BumpTerminator b);
 BumpTerminator bump_terminator_from_string(const std::string& s);
 
 struct Settings {
   int width = 512, height = 512, spp = 4;
+  Component component = Component::Total;
+  // Renderer::render_with_error: the spp samples of a pixel are split into this many independently scrambled
+  // Sobol batches (spp must be a multiple of min(error_batches, spp)); the spread of the batch means gives
+  // the standard error. 1 reproduces render() bit for bit (and gives no error estimate).
+  int error_batches = 8;
   MicroShadowing micro_shadowing = MicroShadowing::None;
   int vndf_samples = 32;
   // Normal for the micro-shadowing term's N·L and N·V: false = the shading (normal-mapped) normal, as the
