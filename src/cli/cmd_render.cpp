@@ -167,7 +167,9 @@ void add_render(Groups& g) {
   gm->add_option("--out", *mdir, "Output directory (created)")->required();
   gm->add_option("--depth", m->depth_texels, "Height range in texels (0 = kind default)")
       ->check(CLI::Range(0.0, 1e4));
-  gm->add_option("--ao-rays", m->ao_rays, "Micro-occlusion bake rays per texel")->check(CLI::Range(1, 65536));
+  gm->add_option("--ao-rays", m->ao_rays,
+                 "Micro-occlusion bake: azimuths per texel (each exact in elevation)")
+      ->check(CLI::Range(1, 65536));
   gm->add_option("--ao-distance", m->ao_max_distance, "Bake ray length in texels (0 = 8% of the size)")
       ->check(CLI::Range(0.0, 1e6));
   gm->add_option("--seed", m->seed, "Noise seed");

@@ -116,29 +116,6 @@ Texture normal_map_from_height(const Texture& height, float depth) {
   return n;
 }
 
-Texture bake_visibility(const Texture& height, float depth, int rays, float max_distance) {
-  if (rays < 1) throw InputError("bake_visibility: rays must be >= 1");
-  HeightField hf(height, depth);
-  const int w = height.width(), h = height.height();
-  Texture vis(w, h, 1);
-  const float inf = 1e30f;
-  tbb::parallel_for(0, h, [&](int j) {
-    for (int i = 0; i < w; ++i) {
-      const Vec3f o(float(i), float(j), hf.z(i, j));  // on the surface: see HeightField::intersect
-      int free = 0;
-      for (int r = 0; r < rays; ++r) {
-        const Vec3f d = sample_cosine_hemisphere(
-            sobol_2d<float>(uint32_t(r), hash_combine(uint32_t(i), uint32_t(j)) + 1));
-        float t;
-        // The extent is unbounded (the map wraps); max_distance limits the ray as an artist's bake does.
-        if (!hf.intersect(o, d, -1e-4f, max_distance, {-inf, -inf}, {inf, inf}, &t, nullptr)) ++free;
-      }
-      vis.at(i, j, 0) = float(free) / float(rays);
-    }
-  });
-  return vis;
-}
-
 TextureSet generate_texture_set(const GenOptions& opt) {
   if (opt.kind != "plaster" && opt.kind != "bark")
     throw InputError(fmt::format("unknown material kind '{}' (plaster, bark)", opt.kind));

@@ -20,8 +20,8 @@ struct GenOptions {
   std::string kind = "plaster";  // plaster | bark
   int size = 256;                // texels per side (power of two not required)
   float depth_texels = 0;        // 0 = the kind's default (plaster 6, bark 10 texels at size 256, scaled)
-  int ao_rays = 128;             // rays per texel for the micro-occlusion bake
-  float ao_max_distance = 0;     // texels; 0 = the kind's default (8% of the size)
+  int ao_rays = 128;             // azimuths per texel for the micro-occlusion bake (each exact in elevation)
+  float ao_max_distance = 0;     // bake ray length, texels; 0 = the kind's default (8% of the size)
   float rough_left = 0.8f, rough_right = 0.3f;
   uint32_t seed = 7;
 };
@@ -33,10 +33,17 @@ TextureSet generate_texture_set(const GenOptions& opt);
 // x = +u (columns), y = +v (rows, top to bottom). depth_texels as in HeightField.
 Texture normal_map_from_height(const Texture& height, float depth_texels);
 
-// Micro-occlusion as artists bake it: for each texel, the fraction of `rays` cosine-weighted directions about
-// the flat normal (+z) that leave the height field within `max_distance` texels without a hit (rays longer
-// than that count as unoccluded). Projected-solid-angle visibility, REFERENCE.md §1.
-Texture bake_visibility(const Texture& height, float depth_texels, int rays, float max_distance);
+// Micro-occlusion as artists bake it: for each texel (vertex (i, j) of the HeightField surface), the
+// projected-solid-angle visibility about the flat normal +z, V = (1/π) ∫ vis(ω) cos θ dω, where a direction
+// is visible if its ray of length max_distance texels leaves the surface without a hit (rays longer than that
+// count as unoccluded; max_distance ≤ 0 or +inf = unlimited). Computed by exact horizons (elevation integral
+// in closed form, see src/render/visibility_bake.cpp): `azimuths` stratified azimuths per texel, each
+// resolving every elevation, so the only error is the azimuthal quadrature (O(N⁻²) where the horizon varies
+// smoothly). A direction that enters the solid at the start point is blocked, one that leaves it is not: no
+// darkening of convex points, no leak at concave ones. Domain: azimuths ∈ [1, 65536], depth finite ≥ 0;
+// otherwise InputError. Deterministic, bit-identical whatever the thread count. Unlimited rays stop where
+// nothing farther can block more than 1e-6 of the hemisphere (horizontal distance > 1000 (z_max − z_ij)).
+Texture bake_visibility(const Texture& height, float depth_texels, int azimuths, float max_distance);
 
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png
 // (16-bit) and material.json (the scene-material snippet with height_texels) into dir (created if missing).
