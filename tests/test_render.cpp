@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -131,21 +132,39 @@ TEST(RenderLights, SphereLightIrradianceClosedForm) {
   }
 }
 
-// Height-field ray casting against a tilted plane (a ramp) with a known intersection.
+// Height-field ray casting against a tilted plane (a ramp z = a x + b y + c in grid space, vertex (i, j) at
+// height (h_ij − 1)·depth): the hit is the ray–plane intersection in closed form, the normal the plane's.
 TEST(HeightField, RampIntersectionIsExact) {
-  Texture h(16, 16, 1);
-  for (int j = 0; j < 16; ++j)
-    for (int i = 0; i < 16; ++i) h.at(i, j, 0) = 0.5f;  // flat at z = (0.5 − 1)·4 = −2
-  const HeightField hf(h, 4.0f);
+  const float depth = 4.0f;
+  Texture h(32, 32, 1);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i) h.at(i, j, 0) = (float(i) + 0.5f * float(j)) / 46.5f;
+  const HeightField hf(h, depth);
+  const double a = depth / 46.5, b = 0.5 * depth / 46.5, c = -depth;
+  const Vec3d n_expect = normalize(Vec3d(-a, -b, 1));
+  int hits = 0;
+  for (int k = 0; k < 64; ++k) {
+    // Ray origins above the interior, directions spread over the upper hemisphere (away from the wrap seam).
+    const Vec3f o(6.0f + 0.29f * float(k), 20.0f - 0.17f * float(k), 3.0f);
+    const Vec3f d =
+        normalize(Vec3f(0.3f * std::cos(0.7f * float(k)), 0.3f * std::sin(0.7f * float(k)), -1.0f));
+    float t;
+    Vec3f ng;
+    ASSERT_TRUE(hf.intersect(o, d, 0, 1e9f, {0, 0}, {31, 31}, &t, &ng)) << k;
+    const Vec3d od(o), dd(d);
+    const double t_expect = (a * od.x + b * od.y + c - od.z) / (dd.z - a * dd.x - b * dd.y);
+    EXPECT_NEAR(t, t_expect, 1e-5 * t_expect) << k;
+    EXPECT_NEAR(dot(Vec3d(ng), n_expect), 1.0, 1e-6) << k;
+    ++hits;
+  }
+  EXPECT_EQ(hits, 64);
   float t;
   Vec3f ng;
-  const Vec3f o(3.3f, 4.7f, 5.0f), d = normalize(Vec3f(0.3f, -0.2f, -1.0f));
-  ASSERT_TRUE(hf.intersect(o, d, 0, 1e9f, {-100, -100}, {100, 100}, &t, &ng));
-  EXPECT_NEAR(o.z + t * d.z, -2.0f, 1e-4f);
-  EXPECT_NEAR(ng.z, 1.0f, 1e-6f);
-  // Upward rays and rays outside the extent miss.
-  EXPECT_FALSE(hf.intersect(o, Vec3f(0, 0, 1), 0, 1e9f, {-100, -100}, {100, 100}, &t, &ng));
-  EXPECT_FALSE(hf.intersect(o, d, 0, 1e9f, {10, 10}, {20, 20}, &t, &ng));
+  // Upward rays, rays outside the extent and rays that hit only the back of the surface miss.
+  const Vec3f o(10.3f, 12.7f, 3.0f), d = normalize(Vec3f(0.3f, -0.2f, -1.0f));
+  EXPECT_FALSE(hf.intersect(o, Vec3f(0, 0, 1), 0, 1e9f, {0, 0}, {31, 31}, &t, &ng));
+  EXPECT_FALSE(hf.intersect(o, d, 0, 1e9f, {25, 25}, {31, 31}, &t, &ng));
+  EXPECT_FALSE(hf.intersect(Vec3f(10.3f, 12.7f, -10.0f), Vec3f(0, 0, 1), 0, 1e9f, {0, 0}, {31, 31}, &t, &ng));
 }
 
 // Micro-occlusion bake: a flat field is fully visible; at the foot of a (practically) infinite wall, half of
@@ -427,4 +446,49 @@ TEST(RenderError, StandardErrorMatchesScatterOverSeeds) {
   EXPECT_NEAR(emp / pred, 1.0, 0.25) << emp << " " << pred;
   s.settings.spp = 12;
   EXPECT_THROW(Renderer(s).render_with_error(), InputError);
+}
+
+// Ground truth against a closed form: a V-groove height field (period 8 texels, walls at slope angle β, kinks
+// on vertices so the walls are planar), pure Lambert (specular 0), one directional light from +x at
+// elevation e, seen straight down by an orthographic camera over two whole periods. Per period (x ∈ [0, 8],
+// peak at 0 and 8, bottom at 4): the wall facing the light (N·L = sin(e + β)) is lit for
+// x ≤ min(4, 8 tan e / (tan β + tan e)) — above that the next peak blocks the light — and the wall facing
+// away (N·L = sin(e − β)) is lit, unshadowed, when e > β. Mean radiance = ρE/(8π) [x_lit sin(e+β) + 4 max(0,
+// sin(e−β))]. Checked to 4 standard errors of the image mean (render_with_error) + 2e-4 relative.
+TEST(RenderGroundTruth, VGrooveMeanRadianceMatchesClosedForm) {
+  const char* json = R"({
+    "camera": {"eye": [0, 0, 50], "target": [0, 0, 0], "up": [0, 1, 0], "projection": "orthographic",
+               "ortho_height": 16},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5}},
+    "objects": [{"type": "plane", "material": "m", "size": [64, 64]}],
+    "lights": [{"type": "directional", "elevation_deg": 20, "azimuth_deg": 0, "intensity": 2}],
+    "settings": {"width": 32, "height": 32, "spp": 64, "micro_shadowing": "ground-truth"}})";
+  struct Case {
+    double beta, el;
+  };
+  for (const Case cs : {Case{45, 20}, Case{45, 60}, Case{26.565, 10}, Case{26.565, 35}, Case{60, 75}}) {
+    Scene s = parse_scene(json, "inline.json", ".");
+    const double tb = std::tan(cs.beta * kPi<double> / 180), te = std::tan(cs.el * kPi<double> / 180);
+    Texture h(64, 64, 1);
+    for (int j = 0; j < 64; ++j)
+      for (int i = 0; i < 64; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
+    s.materials[0].height = h;
+    s.materials[0].height_texels = float(4 * tb);
+    s.lights[0].direction = direction_from_angles(float(cs.el), 0);
+    const RenderResult res = Renderer(s).render_with_error();
+    double mean = 0, var = 0;
+    for (std::size_t i = 0; i < res.mean.px.size(); ++i)
+      mean += res.mean.px[i].r, var += sqr(double(res.std_error.px[i].r));
+    const double n = double(res.mean.px.size());
+    mean /= n;
+    const double se = std::sqrt(var) / n;
+    const double b = cs.beta * kPi<double> / 180, e = cs.el * kPi<double> / 180;
+    const double x_lit = std::min(4.0, 8 * te / (tb + te));
+    const double expect =
+        0.5 * 2 / (8 * kPi<double>)*(x_lit * std::sin(e + b) + 4 * std::max(0.0, std::sin(e - b)));
+    std::printf("vgroove beta %.3f el %.0f: mean %.6f expect %.6f se %.2e\n", cs.beta, cs.el, mean, expect,
+                se);
+    EXPECT_NEAR(mean, expect, 4 * se + 2e-4 * expect)
+        << "beta " << cs.beta << " el " << cs.el << " se " << se;
+  }
 }

@@ -1,6 +1,9 @@
 // The reference renderer (see render/renderer.h).
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
+#include <microshadow/bsdf/diffuse.h>
+#include <microshadow/bsdf/fresnel.h>
+#include <microshadow/bsdf/specular.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
@@ -56,28 +59,29 @@ uint32_t pixel_seed(uint32_t seed, int x, int y) {
 
 }  // namespace
 
+// Shading goes through the library's BRDF code: bsdf::microfacet_specular (RTR4 9.34 with the GGX NDF and the
+// height-correlated Smith G2, 9.41 + 9.31), bsdf::fresnel_schlick (9.16) and bsdf::diffuse_lambert (9.61).
 Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec_scale, bool diffuse,
               bool specular) {
   const Vec3f& n = sp.n_shading;
   const float nl = dot(n, wi);
   if (!(nl > 0)) return Rgbf(0.0f);
-  const float nv = std::max(dot(n, wo), 1e-4f);
+  const Framef fr = Framef::from_z(n);
+  const Vec3f li = fr.to_local(wi), lo_raw = fr.to_local(wo);
+  // A normal-mapped normal can face away from the viewer: clamp N·V (the view stays just above the horizon).
+  const Vec3f lo(lo_raw.x, lo_raw.y, std::max(lo_raw.z, 1e-4f));
   const Vec3f h = normalize(wi + wo, n);
-  const float vh = saturate(dot(wo, h));
   const Rgbf f0 = lerp(sp.metallic, Rgbf(0.04f * sp.specular), sp.base_color);
-  const float fw = std::pow(1.0f - vh, 5.0f);
-  const Rgbf F =
-      f0 + (Rgbf(1.0f) - f0) * (fw * std::min(1.0f, sp.specular));  // specular 0: no Fresnel at all
+  // specular < 1 also fades the Fresnel rise (specular 0: no Fresnel at all, for closed-form Lambert tests).
+  const Rgbf F = lerp(std::min(1.0f, sp.specular), f0, bsdf::fresnel_schlick(f0, saturate(dot(wo, h))));
   Rgbf out(0.0f);
   if (specular) {
-    const Framef fr = Framef::from_z(n);
     const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
-    const Vec3f lo = fr.to_local(wo), li = fr.to_local(wi), lh = fr.to_local(h);
-    const Vec3f lov(lo.x, lo.y, std::max(lo.z, 1e-4f));
-    const float spec = ggx.D(lh) * ggx.G2(lov, li) / (4.0f * nv);  // × nl / nl: the cosine cancels
-    out += F * (spec * spec_scale);
+    const bsdf::SpecularEval<float> e = bsdf::microfacet_specular(ggx, lo, li);
+    out += F * (e.f1 * nl * spec_scale);
   }
-  if (diffuse) out += (Rgbf(1.0f) - F) * sp.base_color * ((1.0f - sp.metallic) * kInvPi<float> * nl);
+  if (diffuse)
+    out += (Rgbf(1.0f) - F) * bsdf::diffuse_lambert(sp.base_color * (1.0f - sp.metallic), li, lo) * nl;
   return out;
 }
 
@@ -135,6 +139,11 @@ struct Renderer::Impl {
           throw InputError(fmt::format("{}: ground truth needs square texels on the plane (material '{}')",
                                        s.source.string(), m.name));
         p.texel = tu;
+        if (!(m.height_texels > 0))
+          throw InputError(
+              fmt::format("{}: ground truth: material '{}' has a height map but no height_texels "
+                          "(set it in the scene or ship material.json beside the height map)",
+                          s.source.string(), m.name));
         p.hf = HeightField(m.height, m.height_texels);
         p.lo = {-0.5f, -0.5f};
         p.hi = {2 * o.half_size.x / tu - 0.5f, 2 * o.half_size.y / tu - 0.5f};
@@ -234,10 +243,11 @@ struct Renderer::Impl {
       h.tangent = t;
       h.tangent_sign = m.tangent[tr[0]][3];
     } else if (h.heightfield) {
+      // The ground truth shades the piecewise-linear surface it traces: the facet normal is the shading
+      // normal, the normal of the light test and the normal of the shadow-ray policy (docs/renderer.md).
       const PlaneHF& p = hfs[obj_hf[h.obj]];
       const Vec3f g = p.to_grid_p(h.p);
-      const Vec3f nm = p.hf.smooth_normal(g.x, g.y);
-      h.ns = normalize(p.to_world_d(nm));
+      h.ns = h.ng;
       h.tangent = p.T, h.tangent_sign = 1;
       const Material& mat = scene.materials[ob.material];
       h.uv = {(g.x + 0.5f) / (float(p.hf.width()) * mat.uv_scale),
@@ -318,16 +328,19 @@ struct Renderer::Impl {
     ++st.shaded_samples;
     const bool want_d = set.component != Component::Specular, want_s = set.component != Component::Diffuse;
     Rgbf L = want_d ? set.ambient * sp.base_color : Rgbf(0.0f);
-    // Shadow-ray origin: the hit point, optionally moved by Hanika's offset (meshes), pushed off the surface.
+    // Shadow-ray origin (policy in docs/renderer.md): analytic shapes and meshes push the hit point (or
+    // Hanika's offset point) off the surface along the facet normal by 2e-4 · max(1, |p|∞); the height field
+    // starts at the hit point itself, no offset: it counts front faces only and a light must be above the
+    // hit facet, so the ray cannot re-hit its own facet.
     Vec3f po = h.p;
     if (set.hanika_offset && ob.type == ShapeType::Mesh) po = hanika_offset(*ob.mesh, h);
     const float eps =
-        2e-4f * std::max(1.0f, std::max(std::abs(h.p.x), std::max(std::abs(h.p.y), std::abs(h.p.z))));
-    const float hf_eps = h.heightfield ? 1e-2f * hfs[obj_hf[h.obj]].texel : 0.0f;
+        h.heightfield
+            ? 0.0f
+            : 2e-4f * std::max(1.0f, std::max(std::abs(h.p.x), std::max(std::abs(h.p.y), std::abs(h.p.z))));
     auto shadow = [&](const Vec3f& wi, float dist) {
       ++st.shadow_rays;
-      const Vec3f org = po + h.ng * (eps + hf_eps);
-      return occluded(org, wi, 0.0f, dist);
+      return occluded(po + h.ng * eps, wi, 0.0f, dist);
     };
     auto term = [&](const Vec3f& wi, uint32_t s) {
       // Light reaching the micro-surface: micro-shadowing (V from the map, N·L and N·V with the shading
@@ -421,7 +434,8 @@ struct Renderer::Impl {
     const Vec3f f = normalize(cam.target - cam.eye);
     const Vec3f r = normalize(cross(f, cam.up));
     const Vec3f up = cross(r, f);
-    const float th = std::tan(0.5f * cam.fov_deg * kPi<float> / 180.0f),
+    const float th = cam.orthographic ? 0.5f * cam.ortho_height
+                                      : std::tan(0.5f * cam.fov_deg * kPi<float> / 180.0f),
                 aspect = float(s.width) / float(s.height);
     const uint32_t ps = pixel_seed(s.seed, x, y);
     const int per = s.spp / batches;
@@ -435,10 +449,11 @@ struct Renderer::Impl {
         const Vec2f u = s.spp == 1 ? Vec2f(0.5f, 0.5f) : sobol_2d<float>(uint32_t(k), bs);
         const float px = (2 * (float(x) + u.x) / float(s.width) - 1) * th * aspect;
         const float py = (1 - 2 * (float(y) + u.y) / float(s.height)) * th;
-        const Vec3f d = normalize(f + r * px + up * py);
+        const Vec3f d = cam.orthographic ? f : normalize(f + r * px + up * py);
+        const Vec3f o = cam.orthographic ? cam.eye + r * px + up * py : cam.eye;
         ++st.camera_rays;
         Hit h;
-        if (!intersect(cam.eye, d, 0.0f, kInf, h)) {
+        if (!intersect(o, d, 0.0f, kInf, h)) {
           bsum += s.background;
           continue;
         }

@@ -124,6 +124,33 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
                      : Texture::constant({1, 0, 0, 0}, 1);
   if (j.contains("height")) m.height = texture_slot(c, j["height"], w + ".height", 1, false);
   if (j.contains("height_texels")) m.height_texels = c.num(j["height_texels"], w + ".height_texels", 0, 1e4);
+  // The depth a texture set was generated and baked with travels in material.json beside its height map:
+  // taken from there when the scene omits it, and a scene value that disagrees is an error.
+  if (j.contains("height") && j["height"].is_string()) {
+    const auto mj = c.path(j["height"], w + ".height").parent_path() / "material.json";
+    std::ifstream in(mj);
+    if (in) {
+      json set;
+      try {
+        set = json::parse(in);
+      } catch (const json::parse_error& e) {
+        c.fail(w + ".height", fmt::format("{}: malformed JSON: {}", mj.string(), e.what()));
+      }
+      if (set.is_object() && set.contains("height_texels")) {
+        if (!set["height_texels"].is_number())
+          c.fail(w + ".height", fmt::format("{}: height_texels is not a number", mj.string()));
+        const double d = set["height_texels"].get<double>();
+        if (!j.contains("height_texels")) {
+          m.height_texels = c.num(set["height_texels"], mj.string() + ": height_texels", 0, 1e4);
+        } else if (std::abs(d - m.height_texels) > 1e-4 * std::max(1.0, d)) {
+          c.fail(
+              w + ".height_texels",
+              fmt::format("{} disagrees with {} (height_texels {}, the depth the texture set was baked with)",
+                          m.height_texels, mj.string(), d));
+        }
+      }
+    }
+  }
   if (j.contains("uv_scale")) m.uv_scale = c.num(j["uv_scale"], w + ".uv_scale", 1e-3, 1e4);
   if (j.contains("specular")) m.specular = c.num(j["specular"], w + ".specular", 0, 25);
   if (j.contains("normal_strength"))
@@ -361,7 +388,15 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& source,
   s.source = source;
   if (j.contains("camera")) {
     const json& cj = j["camera"];
-    c.keys(cj, "camera", {"eye", "target", "up", "fov_deg"});
+    c.keys(cj, "camera", {"eye", "target", "up", "fov_deg", "projection", "ortho_height"});
+    if (cj.contains("projection")) {
+      const std::string pr = c.str(cj["projection"], "camera.projection");
+      if (pr != "perspective" && pr != "orthographic")
+        c.fail("camera.projection", "expected 'perspective' or 'orthographic'");
+      s.camera.orthographic = pr == "orthographic";
+    }
+    if (cj.contains("ortho_height"))
+      s.camera.ortho_height = c.num(cj["ortho_height"], "camera.ortho_height", 1e-6, 1e6);
     if (cj.contains("eye")) s.camera.eye = c.vec3(cj["eye"], "camera.eye");
     if (cj.contains("target")) s.camera.target = c.vec3(cj["target"], "camera.target");
     if (cj.contains("up")) s.camera.up = c.unit(cj["up"], "camera.up");

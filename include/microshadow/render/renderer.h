@@ -27,9 +27,10 @@ struct ShadePoint {
   float roughness = 0.5f, metallic = 0.0f, visibility = 1.0f, specular = 1.0f;
 };
 
-// GGX (height-correlated Smith G2, 9.31 + 9.41) + Lambert BRDF times cosine, with Schlick Fresnel
-// F0 = lerp(metallic, 0.04·specular, base colour); diffuse weighted by (1 − F)(1 − metallic). wo, wi, n unit
-// vectors.
+// GGX (height-correlated Smith G2, RTR4 9.31 + 9.41) + Lambert BRDF times cosine, with Schlick Fresnel
+// F0 = lerp(metallic, 0.04·specular, base colour); diffuse weighted by (1 − F)(1 − metallic). Evaluated
+// through the library's BRDF code (bsdf::microfacet_specular, bsdf::fresnel_schlick, bsdf::diffuse_lambert).
+// N·V is clamped to 1e-4 (normal-mapped normals can face away from the viewer). wo, wi, n unit vectors.
 Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec_scale = 1.0f,
               bool diffuse = true, bool specular = true);
 

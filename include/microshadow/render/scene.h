@@ -102,7 +102,11 @@ struct Light {
 
 struct Camera {
   Vec3f eye{0, -4, 2}, target{0, 0, 0}, up{0, 0, 1};
-  float fov_deg = 40.0f;  // vertical field of view
+  float fov_deg = 40.0f;  // vertical field of view (perspective)
+  // Orthographic: parallel rays along target − eye from a view rectangle ortho_height high (world units)
+  // centred on the eye, so every pixel covers the same footprint on a plane facing the camera.
+  bool orthographic = false;
+  float ortho_height = 2.0f;
 };
 
 // Micro-shadowing term multiplying the direct light per light (REFERENCE.md §2), or the ground truth.
