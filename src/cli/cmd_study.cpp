@@ -13,7 +13,7 @@ namespace msh::cli {
 namespace {
 
 struct StudyArgs {
-  std::string out, materials;
+  std::string out, materials, cache;
   bool quick = false, quiet = false;
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
 };
@@ -34,6 +34,8 @@ void add_study(Groups& g) {
       ->check(CLI::Range(8, 4096));
   s->add_option("--gt-max-spp", a->gt_max_spp, "Cap on ground-truth samples per pixel")
       ->check(CLI::Range(8, 1 << 20));
+  s->add_option("--material-cache", a->cache,
+                "Cache the fine texture sets in DIR (float NPY) and reuse them on later runs");
   s->add_option("--threads", a->threads, "Worker threads (0 = all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024));
   s->add_flag("--quiet", a->quiet, "No progress on stderr");
@@ -55,6 +57,7 @@ void add_study(Groups& g) {
     if (a->fine_size) c.fine_size = a->fine_size;
     if (a->image_size) c.image_size = a->image_size;
     if (a->gt_max_spp) c.gt_max_spp = a->gt_max_spp;
+    c.material_cache = a->cache;
     const bool quiet = a->quiet;
     const auto res = study::run_study(c, a->out, [quiet](const std::string& line) {
       if (!quiet) std::cerr << line << std::endl;

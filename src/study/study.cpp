@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/texture_gen.h>
@@ -11,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <fstream>
 #include <map>
 
 namespace msh::study {
@@ -25,7 +27,6 @@ StudyConfig quick_config() {
   c.name = "quick";
   c.materials = {"plaster"};
   c.fine_size = 1024;
-  c.ao_rays = 32;
   c.elevations = {10, 25, 45};
   c.azimuths = {0};
   c.point_light = false;
@@ -40,13 +41,70 @@ namespace {
 
 constexpr float kTileWorld = 2.0f;  // world size of one texture tile
 constexpr int kTiles = 3;           // the plane spans kTiles × kTiles tiles: the view never reaches its edge
-constexpr float kDistance = 20.0f;  // camera distance / width of the view at the target (near-orthographic)
 
 double secs_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 // Process CPU time (all threads), to report cost on a loaded machine.
 double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+// Texture sets cached as float32 NPY (exact), keyed by the generation options.
+io::Volume to_volume(const Texture& t) {
+  const int c = t.channels() == 3 ? 4 : t.channels();
+  io::Volume v(t.width(), t.height(), 1, c);
+  for (int y = 0; y < t.height(); ++y)
+    for (int x = 0; x < t.width(); ++x)
+      for (int k = 0; k < t.channels(); ++k) v.at(x, y, 0, k) = t.at(x, y, k);
+  return v;
+}
+Texture from_volume(const io::Volume& v, int channels) {
+  Texture t(v.width, v.height, channels);
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x)
+      for (int k = 0; k < channels; ++k) t.at(x, y, k) = v.at(x, y, 0, k);
+  return t;
+}
+io::PixelFormat npy_format(int channels) {
+  return channels == 1   ? io::PixelFormat::R32Float
+         : channels == 2 ? io::PixelFormat::RG32Float
+                         : io::PixelFormat::RGBA32Float;
+}
+
+TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& cache, const Log& log) {
+  const auto dir =
+      cache.empty() ? cache : cache / fmt::format("{}_{}_a{}_s{}", go.kind, go.size, go.ao_rays, go.seed);
+  struct Slot {
+    const char* name;
+    Texture TextureSet::*map;
+    int channels;
+  };
+  const Slot slots[] = {
+      {"height", &TextureSet::height, 1},         {"normal", &TextureSet::normal, 3},
+      {"roughness", &TextureSet::roughness, 1},   {"metallic", &TextureSet::metallic, 1},
+      {"base_color", &TextureSet::base_color, 3}, {"visibility", &TextureSet::visibility, 1}};
+  if (!dir.empty() && std::filesystem::exists(dir / "depth.txt")) {
+    TextureSet s;
+    for (const Slot& sl : slots)
+      s.*sl.map = from_volume(io::read_volume(dir / (std::string(sl.name) + ".npy")), sl.channels);
+    std::ifstream in(dir / "depth.txt");
+    in >> s.depth_texels;
+    if (log) log("study: texture set from the cache " + dir.string());
+    return s;
+  }
+  TextureSet s = generate_texture_set(go);
+  if (!dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", dir.string(), ec.message()));
+    for (const Slot& sl : slots) {
+      const Texture& t = s.*sl.map;
+      io::write_volume(dir / (std::string(sl.name) + ".npy"), to_volume(t), io::FileFormat::Npy,
+                       npy_format(t.channels() == 3 ? 4 : t.channels()));
+    }
+    io::write_file_atomic(dir / "depth.txt", fmt::format("{:.9g}\n", s.depth_texels));
+  }
+  return s;
+}
 
 struct LightSpec {
   std::string name, type;
@@ -109,14 +167,17 @@ std::vector<Variant> make_variants(const StudyConfig& c, int k) {
   return v;
 }
 
+// Orthographic camera at view_elevation, looking along +y at the plane's centre: the view is W = image_size ·
+// k fine texels wide, so a pixel covers k texels across and k / sin(view elevation) along v.
 Camera camera_for(const StudyConfig& c, int k) {
   const float W = float(c.image_size) * float(k) * kTileWorld / float(c.fine_size);
-  const float D = kDistance * W, el = float(c.view_elevation) * kPi<float> / 180;
+  const float D = 4.0f * kTileWorld, el = float(c.view_elevation) * kPi<float> / 180;
   Camera cam;
   cam.eye = {0.0f, -D * std::cos(el), D * std::sin(el)};
   cam.target = {0, 0, 0};
   cam.up = {0, 0, 1};
-  cam.fov_deg = 2 * std::atan(0.5f / kDistance) * 180 / kPi<float>;
+  cam.orthographic = true;
+  cam.ortho_height = W;
   return cam;
 }
 
@@ -124,22 +185,16 @@ struct Regions {
   Mask rough, smooth, whole;
 };
 
-// The texture's rough half (u mod 1 < 0.5) and smooth half, from where each pixel centre's ray (the
-// renderer's pinhole camera) meets the mean plane z = 0; pixels within 1.5 footprints + 2 fine texels of a
-// boundary belong to neither half (they stay in the whole).
+// The texture's rough half (u mod 1 < 0.5) and smooth half, from where each pixel centre's ray meets the mean
+// plane z = 0 (the orthographic camera looks along +y, so column x sits at world X = pixel offset along +x);
+// pixels within 1.5 footprints + 2 fine texels of a boundary belong to neither half (they stay in the whole).
 Regions make_regions(const StudyConfig& c, const Camera& cam, int k) {
   const int n = c.image_size;
   Regions r{Mask(n, n, 0), Mask(n, n, 0), Mask(n, n, 1)};
-  const Vec3f f = normalize(cam.target - cam.eye), rt = normalize(cross(f, cam.up)), up = cross(rt, f);
-  const float th = std::tan(0.5f * cam.fov_deg * kPi<float> / 180.0f);
   const double margin = (1.5 * k + 2.0) / double(c.fine_size);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
-      const float px = (2 * (float(x) + 0.5f) / float(n) - 1) * th,
-                  py = (1 - 2 * (float(y) + 0.5f) / float(n)) * th;
-      const Vec3f d = normalize(f + rt * px + up * py);
-      const double t = -double(cam.eye.z) / double(d.z);
-      const double X = double(cam.eye.x) + t * double(d.x);
+      const double X = double(cam.eye.x) + (2 * (x + 0.5) / n - 1) * 0.5 * double(cam.ortho_height);
       const double u = (X + 0.5 * kTiles * kTileWorld) / kTileWorld;  // in tiles
       const double fu = u - std::floor(u);
       const double dist = std::min({fu, std::abs(fu - 0.5), 1.0 - fu});
@@ -381,7 +436,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
     go.ao_rays = cfg.ao_rays;
     log(fmt::format("study: generating the fine {} texture set ({}^2 texels, {} bake rays)", kind,
                     cfg.fine_size, cfg.ao_rays));
-    const TextureSet fine = generate_texture_set(go);
+    const TextureSet fine = load_or_generate(go, cfg.material_cache, log_fn);
     const double tg = secs_since(t0);
     t_gen += tg;
     timing["materials"][kind] = {{"generate_seconds", tg}};

@@ -19,8 +19,8 @@ struct StudyConfig {
   std::string name = "full";
   std::vector<std::string> materials{"plaster", "bark"};  // generate_texture_set kinds
   int fine_size = 2048;                                   // fine height field, texels per side
-  int ao_rays = 64;                                       // micro-occlusion bake rays per fine texel
-  std::vector<int> scales{1, 4, 16};                      // k: coarse set = fine / k
+  int ao_rays = 16;  // micro-occlusion bake: azimuths per fine texel (each exact in elevation)
+  std::vector<int> scales{1, 4, 16};  // k: coarse set = fine / k
   std::vector<std::string> shapes{"plane"};
   std::vector<double> elevations{5, 10, 25, 45, 70};  // directional lights (degrees above the plane)
   std::vector<double> azimuths{0, 90};                // degrees from +u (the texture's x axis)
@@ -39,6 +39,9 @@ struct StudyConfig {
   bool normal_ablation = true;  // also render the N·L terms with the unperturbed normal
   std::vector<std::string> featured_lights{"dir-el10-az0", "dir-el45-az0"};  // lights shown as images
   std::string lut_path;  // lut3d / lut2d table (empty: the LUT module's default)
+  // When set, fine texture sets are cached there (float32 NPY, keyed by kind, size, bake azimuths, seed) and
+  // reused by later runs; results are identical either way.
+  std::filesystem::path material_cache;
   uint32_t seed = 1;
 };
 
