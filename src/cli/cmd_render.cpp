@@ -157,29 +157,52 @@ void add_render(Groups& g) {
 
   auto m = std::make_shared<render::GenOptions>();
   auto mdir = std::make_shared<std::string>();
+  auto mheight = std::make_shared<std::string>();
   auto mthreads = std::make_shared<int>(0);
   CLI::App* gm = g.root->add_subcommand("gen-material",
-                                        "Generate a procedural texture set (height, normal, "
-                                        "roughness, metallic, base colour, baked micro-occlusion)");
-  gm->add_option("--kind", m->kind, "plaster (damaged plaster: noise, cracks, pits) or bark")
-      ->check(CLI::IsMember({"plaster", "bark"}));
-  gm->add_option("--size", m->size, "Texels per side")->check(CLI::Range(8, 8192));
+                                        "Generate a texture set (height, normal, roughness, metallic, base "
+                                        "colour, baked micro-occlusion), procedural or from a height map");
+  CLI::Option* kind_opt =
+      gm->add_option("--kind", m->kind,
+                     "plaster (damaged plaster: noise, cracks, pits), bark (furrowed ridges) or gravel "
+                     "(packed stones on sand)")
+          ->check(CLI::IsMember(render::material_kinds()));
+  CLI::Option* size_opt = gm->add_option("--size", m->size, "Texels per side")->check(CLI::Range(8, 8192));
+  gm->add_option("--height", *mheight,
+                 "Bake this height map instead (16-bit PNG or EXR, grey, values in [0,1]; needs --depth)");
   gm->add_option("--out", *mdir, "Output directory (created)")->required();
-  gm->add_option("--depth", m->depth_texels, "Height range in texels (0 = kind default)")
+  gm->add_option("--depth", m->depth_texels,
+                 "Depth of the full height range in texels (0 = kind default; required with --height)")
+      ->check(Finite)
       ->check(CLI::Range(0.0, 1e4));
   gm->add_option("--ao-rays", m->ao_rays,
                  "Micro-occlusion bake: azimuths per texel (each exact in elevation)")
       ->check(CLI::Range(1, 65536));
   gm->add_option("--ao-distance", m->ao_max_distance, "Bake ray length in texels (0 = 8% of the size)")
+      ->check(Finite)
       ->check(CLI::Range(0.0, 1e6));
   gm->add_option("--seed", m->seed, "Noise seed");
   gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
       ->check(CLI::Range(0, 1024));
-  gm->callback([m, mdir, mthreads] {
+  gm->callback([m, mdir, mheight, mthreads, kind_opt, size_opt] {
     auto limit = thread_limit(*mthreads);
-    const auto set = render::generate_texture_set(*m);
+    if (mheight->empty()) {
+      const auto set = render::generate_texture_set(*m);
+      render::write_texture_set(*mdir, set);
+      print_json({{"dir", *mdir}, {"kind", m->kind}, {"size", m->size}, {"height_texels", set.depth_texels}});
+      return;
+    }
+    if (kind_opt->count() > 0) throw UsageError("--kind and --height are exclusive");
+    if (size_opt->count() > 0) throw UsageError("--size and --height are exclusive (the size is the map's)");
+    if (!(m->depth_texels > 0))
+      throw UsageError("--height needs --depth D > 0 (the depth of the full [0,1] range in texels)");
+    const render::Texture h = render::load_height_map(*mheight);
+    const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
     render::write_texture_set(*mdir, set);
-    print_json({{"dir", *mdir}, {"kind", m->kind}, {"size", m->size}, {"height_texels", set.depth_texels}});
+    print_json({{"dir", *mdir},
+                {"height", *mheight},
+                {"size", {h.width(), h.height()}},
+                {"height_texels", set.depth_texels}});
   });
 
   struct CmpArgs {

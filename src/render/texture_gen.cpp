@@ -10,8 +10,11 @@
 #include <microshadow/render/texture_gen.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 namespace msh::render {
 
@@ -103,6 +106,44 @@ float bark_height(float u, float v, uint32_t seed) {
   return saturate(h);
 }
 
+// Gravel: packed stones on a sandy bed. One stone per cell of a 20 × 20 jittered grid (a random half of the
+// cells get a second, smaller stone), each an elliptical dome (random radii 0.35–0.75 cell, orientation,
+// height 0.55–1) with a flattened-sphere profile √(1 − q²)^0.8; the surface is the highest dome, or the
+// bed (fine fBm around 0.12) where no stone is. Stone radii stay below one cell, so the 3 × 3 neighbour
+// cells hold every stone that can reach a point. Returns the height and the id hash of the top stone (for
+// its colour; 0 = bed).
+struct GravelSample {
+  float h;
+  uint32_t stone;
+};
+GravelSample gravel_height(float u, float v, uint32_t seed) {
+  const int P = 20;
+  const float x = u * P, y = v * P;
+  const int i = int(std::floor(x)), j = int(std::floor(y));
+  GravelSample out{0.08f + 0.08f * fbm(u, v, 64, 3, seed + 1), 0u};
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      const int ci = wrap(i + di, P), cj = wrap(j + dj, P);
+      for (int k = 0; k < 2; ++k) {
+        const uint32_t sd = seed + 10 + 16 * uint32_t(k);
+        if (k == 1 && hash01(ci, cj, sd + 15) < 0.5f) continue;
+        const float cx = float(i + di) + hash01(ci, cj, sd), cy = float(j + dj) + hash01(ci, cj, sd + 1);
+        const float size = k == 0 ? 1.0f : 0.6f;
+        const float ra = size * (0.45f + 0.3f * hash01(ci, cj, sd + 2)),
+                    rb = ra * (0.6f + 0.4f * hash01(ci, cj, sd + 3));
+        const float th = kPi<float> * hash01(ci, cj, sd + 4), c = std::cos(th), sn = std::sin(th);
+        const float px = x - cx, py = y - cy, a = (c * px + sn * py) / ra, b = (-sn * px + c * py) / rb;
+        const float q2 = a * a + b * b;
+        if (q2 >= 1) continue;
+        const float top = size * (0.55f + 0.45f * hash01(ci, cj, sd + 5));
+        const float hv = top * std::pow(1 - q2, 0.4f);
+        if (hv > out.h) out = {hv, hash_combine(hash_combine(uint32_t(ci), uint32_t(cj)), uint32_t(k) + 1)};
+      }
+    }
+  out.h = saturate(out.h);
+  return out;
+}
+
 }  // namespace
 
 Texture normal_map_from_height(const Texture& height, float depth) {
@@ -116,17 +157,45 @@ Texture normal_map_from_height(const Texture& height, float depth) {
   return n;
 }
 
+namespace {
+
+void check_bake_options(const GenOptions& opt) {
+  if (opt.ao_rays < 1 || opt.ao_rays > 65536) throw InputError("ao rays must be in [1, 65536]");
+  if (!(opt.ao_max_distance >= 0) || !std::isfinite(opt.ao_max_distance))
+    throw InputError("ao distance must be finite and >= 0");
+}
+
+// Normal map and micro-occlusion bake of a set whose height, colour, roughness and metallic are filled.
+void finish_set(TextureSet& s, const GenOptions& opt) {
+  const float maxd = opt.ao_max_distance > 0 ? opt.ao_max_distance
+                                             : 0.08f * float(std::max(s.height.width(), s.height.height()));
+  s.normal = normal_map_from_height(s.height, s.depth_texels);
+  s.visibility = bake_visibility(s.height, s.depth_texels, opt.ao_rays, maxd);
+}
+
+// The seed's test roughness: rough on the left half, smooth on the right half (noise breaks banding).
+float split_roughness(const GenOptions& opt, float u, float noise) {
+  return saturate((u < 0.5f ? opt.rough_left : opt.rough_right) + noise);
+}
+
+}  // namespace
+
+std::vector<std::string> material_kinds() { return {"plaster", "bark", "gravel"}; }
+
 TextureSet generate_texture_set(const GenOptions& opt) {
-  if (opt.kind != "plaster" && opt.kind != "bark")
-    throw InputError(fmt::format("unknown material kind '{}' (plaster, bark)", opt.kind));
+  const auto kinds = material_kinds();
+  if (std::find(kinds.begin(), kinds.end(), opt.kind) == kinds.end())
+    throw InputError(fmt::format("unknown material kind '{}' (plaster, bark, gravel)", opt.kind));
   if (opt.size < 8 || opt.size > 8192)
     throw InputError(fmt::format("size must be in [8, 8192], got {}", opt.size));
-  if (opt.ao_rays < 1 || opt.ao_rays > 65536) throw InputError("ao rays must be in [1, 65536]");
+  check_bake_options(opt);
+  if (!(opt.depth_texels >= 0) || !std::isfinite(opt.depth_texels))
+    throw InputError("depth must be finite and >= 0");
   const int n = opt.size;
   const float scale = float(n) / 256.0f;
+  const float default_depth = opt.kind == "plaster" ? 6.0f : opt.kind == "bark" ? 12.0f : 8.0f;
   TextureSet s;
-  s.depth_texels = opt.depth_texels > 0 ? opt.depth_texels : (opt.kind == "plaster" ? 6.0f : 12.0f) * scale;
-  const float maxd = opt.ao_max_distance > 0 ? opt.ao_max_distance : 0.08f * float(n);
+  s.depth_texels = opt.depth_texels > 0 ? opt.depth_texels : default_depth * scale;
   s.height = Texture(n, n, 1);
   s.base_color = Texture(n, n, 3);
   s.roughness = Texture(n, n, 1);
@@ -134,20 +203,97 @@ TextureSet generate_texture_set(const GenOptions& opt) {
   tbb::parallel_for(0, n, [&](int j) {
     for (int i = 0; i < n; ++i) {
       const float u = (float(i) + 0.5f) / float(n), v = (float(j) + 0.5f) / float(n);
-      const float hv = opt.kind == "plaster" ? plaster_height(u, v, opt.seed) : bark_height(u, v, opt.seed);
-      s.height.at(i, j, 0) = hv;
       const float tint = fbm(u, v, 8, 3, opt.seed + 50);
-      const Rgbf c = opt.kind == "plaster" ? Rgbf(0.80f, 0.77f, 0.72f) * (0.80f + 0.12f * hv + 0.08f * tint)
-                                           : Rgbf(0.36f, 0.25f, 0.17f) * (0.55f + 0.3f * hv + 0.15f * tint);
+      float hv;
+      Rgbf c;
+      if (opt.kind == "plaster") {
+        hv = plaster_height(u, v, opt.seed);
+        c = Rgbf(0.80f, 0.77f, 0.72f) * (0.80f + 0.12f * hv + 0.08f * tint);
+      } else if (opt.kind == "bark") {
+        hv = bark_height(u, v, opt.seed);
+        c = Rgbf(0.36f, 0.25f, 0.17f) * (0.55f + 0.3f * hv + 0.15f * tint);
+      } else {
+        const GravelSample g = gravel_height(u, v, opt.seed);
+        hv = g.h;
+        if (g.stone == 0) {
+          c = Rgbf(0.42f, 0.36f, 0.28f) * (0.8f + 0.2f * tint);  // sand
+        } else {
+          // Per-stone grey to warm-brown tint and brightness.
+          const float a = float(hash_u32(g.stone) >> 8) * 0x1p-24f,
+                      b = float(hash_u32(g.stone ^ 0x5bd1e995u) >> 8) * 0x1p-24f;
+          c = lerp(a, Rgbf(0.50f, 0.50f, 0.49f), Rgbf(0.55f, 0.45f, 0.35f)) * (0.6f + 0.5f * b) *
+              (0.9f + 0.1f * tint);
+        }
+      }
+      s.height.at(i, j, 0) = hv;
       s.base_color.at(i, j, 0) = c.r, s.base_color.at(i, j, 1) = c.g, s.base_color.at(i, j, 2) = c.b;
-      // The seed's test: rough on the left half, smooth on the right half (a small noise breaks banding).
-      s.roughness.at(i, j, 0) =
-          saturate((u < 0.5f ? opt.rough_left : opt.rough_right) + 0.04f * (tint - 0.5f));
+      s.roughness.at(i, j, 0) = split_roughness(opt, u, 0.04f * (tint - 0.5f));
       s.metallic.at(i, j, 0) = 0.0f;
     }
   });
-  s.normal = normal_map_from_height(s.height, s.depth_texels);
-  s.visibility = bake_visibility(s.height, s.depth_texels, opt.ao_rays, maxd);
+  finish_set(s, opt);
+  return s;
+}
+
+Texture load_height_map(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: height map not found", name));
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext != ".png" && ext != ".exr")
+    throw InputError(fmt::format("{}: height map must be a 16-bit PNG or an EXR", name));
+  if (ext == ".png") {
+    // IHDR: bit depth at byte 24, colour type at byte 25 (PNG spec §11.2.2). 8-bit heights make terraces.
+    std::ifstream f(path, std::ios::binary);
+    unsigned char hdr[26] = {};
+    if (!f.read(reinterpret_cast<char*>(hdr), 26))
+      throw InputError(fmt::format("{}: not a PNG file (too short)", name));
+    const int bits = hdr[24], type = hdr[25];
+    if (type == 3) throw InputError(fmt::format("{}: palette PNG; a height map must be grey", name));
+    if (bits != 16)
+      throw InputError(
+          fmt::format("{}: {}-bit PNG; a height map needs 16 bits (or EXR): {} levels make visible terraces",
+                      name, bits, 1 << bits));
+  }
+  const Texture t = load_texture(path, false);
+  if (t.width() < 8 || t.height() < 8 || t.width() > 16384 || t.height() > 16384)
+    throw InputError(
+        fmt::format("{}: height map is {}x{}; each side must be in [8, 16384]", name, t.width(), t.height()));
+  // Grey: one channel (grey + alpha: the first), or RGB(A) with R = G = B everywhere.
+  const int colour = t.channels() >= 3 ? 3 : 1;
+  Texture h(t.width(), t.height(), 1);
+  for (int j = 0; j < t.height(); ++j)
+    for (int i = 0; i < t.width(); ++i) {
+      const float g = t.at(i, j, 0);
+      for (int c = 1; c < colour; ++c)
+        if (t.at(i, j, c) != g)
+          throw InputError(fmt::format("{}: not a grey image (texel ({}, {}) has R, G, B = {}, {}, {})", name,
+                                       i, j, g, t.at(i, j, 1), t.at(i, j, 2)));
+      if (!(g >= 0.0f && g <= 1.0f))
+        throw InputError(fmt::format("{}: height {} at texel ({}, {}) is outside [0, 1]", name, g, i, j));
+      h.at(i, j, 0) = g;
+    }
+  return h;
+}
+
+TextureSet texture_set_from_height(const Texture& height, float depth_texels, const GenOptions& opt) {
+  if (!(depth_texels > 0) || !std::isfinite(depth_texels) || depth_texels > 1e4f)
+    throw InputError(fmt::format("depth must be in (0, 10000] texels, got {}", depth_texels));
+  if (height.empty() || height.channels() != 1) throw InputError("height map must have one channel");
+  check_bake_options(opt);
+  const int w = height.width(), h = height.height();
+  TextureSet s;
+  s.depth_texels = depth_texels;
+  s.height = height;
+  s.base_color = Texture(w, h, 3);
+  s.roughness = Texture(w, h, 1);
+  s.metallic = Texture(w, h, 1);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      for (int c = 0; c < 3; ++c) s.base_color.at(i, j, c) = 0.5f;
+      s.roughness.at(i, j, 0) = split_roughness(opt, (float(i) + 0.5f) / float(w), 0.0f);
+    }
+  finish_set(s, opt);
   return s;
 }
 

@@ -1,13 +1,15 @@
-// Procedural texture sets that look like the seed's test cases: a height field (damaged plaster: noise,
-// cracks, pits; or bark: furrowed ridges) turned into a normal map, a roughness map (left half rough, right
-// half smooth, as in the seed's test), a base colour, and a micro-occlusion map baked the way artists bake
-// it.
+// Procedural texture sets like the test cases of Zurita 2026 ("Improving Direct Lighting Material
+// Occlusion - Part 2"): a height field (damaged plaster: noise, cracks, pits; bark: furrowed ridges; gravel:
+// packed stones on sand) turned into a normal map, a roughness map (left half rough, right half smooth, as in
+// that test), a base colour, and a micro-occlusion map baked the way artists bake it. A user's own height map
+// goes through the same normal map and bake (texture_set_from_height).
 #pragma once
 
 #include <microshadow/render/scene.h>
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace msh::render {
 
@@ -17,17 +19,31 @@ struct TextureSet {
 };
 
 struct GenOptions {
-  std::string kind = "plaster";  // plaster | bark
+  std::string kind = "plaster";  // plaster | bark | gravel (material_kinds())
   int size = 256;                // texels per side (power of two not required)
-  float depth_texels = 0;        // 0 = the kind's default (plaster 6, bark 10 texels at size 256, scaled)
-  int ao_rays = 128;             // azimuths per texel for the micro-occlusion bake (each exact in elevation)
-  float ao_max_distance = 0;     // bake ray length, texels; 0 = the kind's default (8% of the size)
+  float depth_texels = 0;  // 0 = the kind's default (plaster 6, bark 12, gravel 8 texels at size 256, scaled)
+  int ao_rays = 128;       // azimuths per texel for the micro-occlusion bake (each exact in elevation)
+  float ao_max_distance = 0;  // bake ray length, texels; 0 = the kind's default (8% of the size)
   float rough_left = 0.8f, rough_right = 0.3f;
   uint32_t seed = 7;
 };
 
-// Deterministic (pure function of the options; bit-identical whatever the thread count).
+std::vector<std::string> material_kinds();  // the procedural kinds, for messages and the CLI
+
+// Deterministic (pure function of the options; bit-identical whatever the thread count). InputError on an
+// unknown kind, size outside [8, 8192], ao_rays outside [1, 65536], negative or non-finite depth/distance.
 TextureSet generate_texture_set(const GenOptions& opt);
+
+// A user's height map: a 16-bit PNG or an EXR, grey (one channel, grey + alpha, or RGB(A) with R = G = B),
+// values in [0, 1], each side in [8, 16384]. InputError with one line naming the file otherwise (missing,
+// other format, 8-bit or palette PNG, colour, out-of-range or non-finite heights).
+Texture load_height_map(const std::filesystem::path& path);
+
+// The texture set of a given height map (one channel in [0, 1]; depth_texels ∈ (0, 1e4] = depth of the
+// full [0, 1] range in texels): the same normal map and micro-occlusion bake as the procedural kinds
+// (opt.ao_rays, opt.ao_max_distance; default distance 8 % of the larger side), roughness split as
+// opt.rough_left / opt.rough_right, base colour 0.5 grey, metallic 0. opt.kind, size, depth, seed unused.
+TextureSet texture_set_from_height(const Texture& height, float depth_texels, const GenOptions& opt);
 
 // Tangent-space normal map of a height map by central differences (wrap), encoded n·0.5 + 0.5;
 // x = +u (columns), y = +v (rows, top to bottom). depth_texels as in HeightField.
@@ -41,8 +57,8 @@ Texture normal_map_from_height(const Texture& height, float depth_texels);
 // resolving every elevation, so the only error is the azimuthal quadrature (O(N⁻²) where the horizon varies
 // smoothly). A direction that enters the solid at the start point is blocked, one that leaves it is not: no
 // darkening of convex points, no leak at concave ones. Domain: azimuths ∈ [1, 65536], depth finite ≥ 0;
-// otherwise InputError. Deterministic, bit-identical whatever the thread count. Unlimited rays stop where
-// nothing farther can block more than 1e-6 of the hemisphere (horizontal distance > 1000 (z_max − z_ij)).
+// otherwise InputError. Deterministic, bit-identical whatever the thread count. Parts of the field that could
+// change a texel's V by at most 1e-4 are skipped (V is never lowered by that); this also ends unlimited rays.
 Texture bake_visibility(const Texture& height, float depth_texels, int azimuths, float max_distance);
 
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png

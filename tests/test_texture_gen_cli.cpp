@@ -1,0 +1,139 @@
+// CLI tests of `gen-material --height FILE --depth D` (a user's height map baked into the procedural kinds'
+// texture set) and `--kind gravel`: the outputs against closed forms (V-groove: bottom cos β, rim 1; the
+// material.json depth), thread-count independence, and bad input (one error line, exit 2, no output).
+#include <gtest/gtest.h>
+#include <microshadow/io/texture.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using namespace msh;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string err;
+};
+
+Result run(const std::string& args) {
+  const fs::path err = fs::temp_directory_path() / "msh_texture_gen_cli_stderr.txt";
+  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " > /dev/null 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(err);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const char* kFiles[] = {"basecolor.png",       "normal.png", "roughness.png", "metallic.png",
+                        "micro_occlusion.png", "height.png", "material.json"};
+
+class GenMaterialCli : public ::testing::Test {
+ protected:
+  fs::path dir = fs::temp_directory_path() / "msh_test_texture_gen_cli";
+  void SetUp() override {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+};
+
+}  // namespace
+
+// A 45° V-groove along y, 12 texels half-width, in a flat plane: 64 × 16 texels, depth D = 16 texels, so the
+// groove (12 texels deep) spans h ∈ [0.25, 1].
+TEST_F(GenMaterialCli, HeightMapGrooveMatchesClosedForm) {
+  const double D = 16;
+  io::Volume h(64, 16, 1, 1);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 64; ++i) h.at(i, j, 0, 0) = float(1 - std::max(0, 12 - std::abs(i - 32)) / D);
+  io::write_png(dir / "groove.png", h, 16);
+  const fs::path out = dir / "set";
+  const Result r = run("gen-material --height " + (dir / "groove.png").string() +
+                       " --depth 16 --ao-rays 64 --ao-distance 0 --threads 2 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : kFiles) EXPECT_TRUE(fs::exists(out / f)) << f;
+  const auto j = nlohmann::json::parse(slurp(out / "material.json"));
+  EXPECT_EQ(j["height_texels"].get<double>(), D);
+  EXPECT_EQ(j["micro_occlusion"], "micro_occlusion.png");
+  const io::Volume v = io::read_image(out / "micro_occlusion.png");
+  ASSERT_EQ(v.width, 64);
+  // 8-bit file: ± half a step (1/510) plus the bake's quadrature error (< 1e-4 at 64 azimuths here).
+  EXPECT_NEAR(v.at(32, 5, 0, 0), std::cos(M_PI / 4), 0.5 / 255 + 1e-4);
+  EXPECT_EQ(v.at(20, 5, 0, 0), 1.0f);  // convex rim
+  EXPECT_EQ(v.at(5, 5, 0, 0), 1.0f);   // far plane (the rim is at the plane's height)
+  // The normal map on the wall: (−dz/dx, 0, 1)/√2 for the wall descending towards +x, i.e. n_x = +1/√2.
+  const io::Volume n = io::read_image(out / "normal.png");
+  EXPECT_NEAR(n.at(26, 5, 0, 0), 0.5 + 0.5 / std::sqrt(2.0), 1.0 / 65535 + 1e-6);
+  EXPECT_NEAR(n.at(26, 5, 0, 2), 0.5 + 0.5 / std::sqrt(2.0), 1.0 / 65535 + 1e-6);
+  // The height round-trips bit for bit (16-bit in, 16-bit out).
+  const io::Volume hh = io::read_image(out / "height.png");
+  for (int i = 0; i < 64; ++i)
+    ASSERT_EQ(hh.at(i, 3, 0, 0), io::read_image(dir / "groove.png").at(i, 3, 0, 0));
+  // Same bytes with one thread.
+  const fs::path out1 = dir / "set1";
+  ASSERT_EQ(run("gen-material --height " + (dir / "groove.png").string() +
+                " --depth 16 --ao-rays 64 --ao-distance 0 --threads 1 --out " + out1.string())
+                .code,
+            0);
+  for (const char* f : kFiles) EXPECT_EQ(slurp(out / f), slurp(out1 / f)) << f;
+}
+
+TEST_F(GenMaterialCli, BadHeightInputExitsTwoWithOneLine) {
+  io::Volume g(16, 16, 1, 1), c(16, 16, 1, 3);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) {
+      g.at(i, j, 0, 0) = float(i) / 15;
+      for (int k = 0; k < 3; ++k) c.at(i, j, 0, k) = float(k) / 3;
+    }
+  io::write_png(dir / "g16.png", g, 16);
+  io::write_png(dir / "g8.png", g, 8);
+  io::write_png(dir / "rgb.png", c, 16);
+  std::ofstream(dir / "notes.txt") << "x";
+  const std::string g16 = (dir / "g16.png").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"--height " + (dir / "missing.png").string() + " --depth 4", "not found"},
+      {"--height " + g16, "--depth"},
+      {"--height " + g16 + " --depth 0", "--depth"},
+      {"--height " + g16 + " --depth -3", "--depth"},
+      {"--height " + g16 + " --depth nan", "--depth"},
+      {"--height " + g16 + " --depth 4 --kind bark", "exclusive"},
+      {"--height " + g16 + " --depth 4 --size 64", "exclusive"},
+      {"--height " + (dir / "g8.png").string() + " --depth 4", "16 bits"},
+      {"--height " + (dir / "rgb.png").string() + " --depth 4", "not a grey image"},
+      {"--height " + (dir / "notes.txt").string() + " --depth 4", "16-bit PNG or an EXR"},
+  };
+  for (const auto& [args, expect] : cases) {
+    const fs::path out = dir / "out";
+    const Result r = run("gen-material " + args + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out / "material.json")) << args;
+  }
+}
+
+TEST_F(GenMaterialCli, GravelKind) {
+  const fs::path out = dir / "gravel";
+  const Result r = run("gen-material --kind gravel --size 32 --ao-rays 4 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : kFiles) EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_EQ(nlohmann::json::parse(slurp(out / "material.json"))["height_texels"].get<double>(), 1.0);
+  EXPECT_EQ(run("gen-material --kind wood --out " + out.string()).code, 2);
+}
