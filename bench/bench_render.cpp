@@ -4,7 +4,9 @@
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/scene.h>
 #include <microshadow/render/texture_gen.h>
+#include <tbb/global_control.h>
 
+#include <chrono>
 #include <memory>
 
 using namespace msh::render;
@@ -65,5 +67,43 @@ BENCHMARK(BM_ComparisonFrame1024)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(2);
+
+// Ground-truth intersector: the height-field DDA against Embree on the same fine triangles (a 2048² plaster
+// height field, 8.4 M triangles, displacing a 2 × 2 plane), one thread, 256² pixels, 1 spp, one directional
+// light at 25°: camera rays + shadow rays per second. range(0): 0 = height field, 1 = Embree.
+void BM_GroundTruthIntersector2048(benchmark::State& state) {
+  static const Scene base = [] {
+    GenOptions o;
+    o.size = 2048;
+    o.ao_rays = 1;  // only the height map is used
+    o.ao_max_distance = 1;
+    const TextureSet t = generate_texture_set(o);
+    Scene s = comparison_scene();
+    s.materials[0].height = t.height;
+    s.materials[0].height_texels = t.depth_texels;
+    s.materials[0].base_color = t.base_color;
+    s.materials[0].roughness = t.roughness;
+    s.settings.width = s.settings.height = 256;
+    s.settings.micro_shadowing = MicroShadowing::GroundTruth;
+    return s;
+  }();
+  Scene s = base;
+  s.settings.gt_intersector = state.range(0) ? GtIntersector::Embree : GtIntersector::HeightField;
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Renderer r(s);
+  const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  RenderStats total;
+  for (auto _ : state) {
+    RenderStats st;
+    benchmark::DoNotOptimize(r.render({}, &st));
+    total.camera_rays += st.camera_rays, total.shadow_rays += st.shadow_rays;
+  }
+  state.SetLabel(state.range(0) ? "embree" : "heightfield-dda");
+  state.counters["rays/s"] =
+      benchmark::Counter(double(total.camera_rays + total.shadow_rays), benchmark::Counter::kIsRate);
+  state.counters["build_s"] = build;
+}
+BENCHMARK(BM_GroundTruthIntersector2048)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace

@@ -75,8 +75,8 @@ TEST(RenderGolden, LambertSphereMatchesClosedForm) {
   EXPECT_GT(checked_miss, 300);
 }
 
-// Plane with constant visibility V: every method's term is a closed form of (V, N·L) (REFERENCE.md §2),
-// written here independently of the micro-shadowing module.
+// Plane with constant visibility V: every method's term is a closed form of (V, N·L)
+// (docs/micro-shadowing.md), written here independently of the micro-shadowing module.
 TEST(RenderGolden, PlaneMicroShadowingTermsMatchClosedForms) {
   const double V = 0.6, el = 30, nl = std::sin(el * kPi<double> / 180);
   const double base = 0.5 / kPi<double> * 2.0 * nl;
@@ -466,29 +466,196 @@ TEST(RenderGroundTruth, VGrooveMeanRadianceMatchesClosedForm) {
   struct Case {
     double beta, el;
   };
-  for (const Case cs : {Case{45, 20}, Case{45, 60}, Case{26.565, 10}, Case{26.565, 35}, Case{60, 75}}) {
+  for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree})
+    for (const Case cs : {Case{45, 20}, Case{45, 60}, Case{26.565, 10}, Case{26.565, 35}, Case{60, 75}}) {
+      Scene s = parse_scene(json, "inline.json", ".");
+      s.settings.gt_intersector = gi;
+      const double tb = std::tan(cs.beta * kPi<double> / 180), te = std::tan(cs.el * kPi<double> / 180);
+      Texture h(64, 64, 1);
+      for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
+      s.materials[0].height = h;
+      s.materials[0].height_texels = float(4 * tb);
+      s.lights[0].direction = direction_from_angles(float(cs.el), 0);
+      const RenderResult res = Renderer(s).render_with_error();
+      double mean = 0, var = 0;
+      for (std::size_t i = 0; i < res.mean.px.size(); ++i)
+        mean += res.mean.px[i].r, var += sqr(double(res.std_error.px[i].r));
+      const double n = double(res.mean.px.size());
+      mean /= n;
+      const double se = std::sqrt(var) / n;
+      const double b = cs.beta * kPi<double> / 180, e = cs.el * kPi<double> / 180;
+      const double x_lit = std::min(4.0, 8 * te / (tb + te));
+      const double expect =
+          0.5 * 2 / (8 * kPi<double>)*(x_lit * std::sin(e + b) + 4 * std::max(0.0, std::sin(e - b)));
+      EXPECT_NEAR(mean, expect, 4 * se + 2e-4 * expect)
+          << "beta " << cs.beta << " el " << cs.el << " se " << se;
+    }
+}
+
+// The same closed form on a 2048 × 64-texel V-groove field with each pixel covering 16 × 16 texels
+// (orthographic, the whole field in view): the multiscale ground truth's setting, grid coordinates up to
+// 2048.
+TEST(RenderGroundTruth, FineVGroove2048SixteenTexelsPerPixel) {
+  const char* json = R"({
+    "camera": {"eye": [0, 0, 50], "target": [0, 0, 0], "up": [0, 1, 0], "projection": "orthographic",
+               "ortho_height": 64},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5}},
+    "objects": [{"type": "plane", "material": "m", "size": [2048, 64]}],
+    "lights": [{"type": "directional", "elevation_deg": 20, "azimuth_deg": 0, "intensity": 2}],
+    "settings": {"width": 128, "height": 4, "spp": 64, "micro_shadowing": "ground-truth"}})";
+  const double tb = 1, te = std::tan(20 * kPi<double> / 180);
+  Texture h(2048, 64, 1);
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 2048; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
+  for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree}) {
     Scene s = parse_scene(json, "inline.json", ".");
-    const double tb = std::tan(cs.beta * kPi<double> / 180), te = std::tan(cs.el * kPi<double> / 180);
-    Texture h(64, 64, 1);
-    for (int j = 0; j < 64; ++j)
-      for (int i = 0; i < 64; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
+    s.settings.gt_intersector = gi;
     s.materials[0].height = h;
-    s.materials[0].height_texels = float(4 * tb);
-    s.lights[0].direction = direction_from_angles(float(cs.el), 0);
+    s.materials[0].height_texels = 4;
     const RenderResult res = Renderer(s).render_with_error();
-    double mean = 0, var = 0;
-    for (std::size_t i = 0; i < res.mean.px.size(); ++i)
-      mean += res.mean.px[i].r, var += sqr(double(res.std_error.px[i].r));
-    const double n = double(res.mean.px.size());
+    // Skip the first and last pixel columns: the shadow of the plane's far edge (no geometry beyond it).
+    double mean = 0, var = 0, n = 0;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 1; x < 127; ++x)
+        mean += res.mean.at(x, y).r, var += sqr(double(res.std_error.at(x, y).r)), ++n;
     mean /= n;
     const double se = std::sqrt(var) / n;
-    const double b = cs.beta * kPi<double> / 180, e = cs.el * kPi<double> / 180;
-    const double x_lit = std::min(4.0, 8 * te / (tb + te));
-    const double expect =
-        0.5 * 2 / (8 * kPi<double>)*(x_lit * std::sin(e + b) + 4 * std::max(0.0, std::sin(e - b)));
-    std::printf("vgroove beta %.3f el %.0f: mean %.6f expect %.6f se %.2e\n", cs.beta, cs.el, mean, expect,
-                se);
-    EXPECT_NEAR(mean, expect, 4 * se + 2e-4 * expect)
-        << "beta " << cs.beta << " el " << cs.el << " se " << se;
+    const double b = kPi<double> / 4, e = 20 * kPi<double> / 180;
+    const double expect = 0.5 * 2 / (8 * kPi<double>)*std::min(4.0, 8 * te / (tb + te)) * std::sin(e + b);
+    EXPECT_NEAR(mean, expect, 4 * se + 5e-4 * expect) << int(gi) << " se " << se;
   }
+}
+
+// A displaced cylinder (flat height map: a 512-sided prism with facet shading) seen side-on by an
+// orthographic camera, lit by a directional light at angle a from the view in the plane normal to the axis:
+// mean radiance over the projected width = ρE/(4π) [sin a + (π − a) cos a] (Lambert; polygon error
+// O(1/512²)).
+TEST(RenderGroundTruth, DisplacedCylinderMatchesClosedForm) {
+  const char* json = R"({
+    "camera": {"eye": [0, -10, 0], "target": [0, 0, 0], "up": [0, 0, 1], "projection": "orthographic",
+               "ortho_height": 2},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5, "height_texels": 3}},
+    "objects": [{"type": "cylinder", "material": "m", "radius": 1, "height": 3.14159, "segments": 16}],
+    "lights": [{"type": "directional", "direction": [0, -1, 0], "intensity": 2}],
+    "settings": {"width": 64, "height": 16, "spp": 16, "micro_shadowing": "ground-truth"}})";
+  for (const double a_deg : {0.0, 30.0, 70.0}) {
+    Scene s = parse_scene(json, "inline.json", ".");
+    // 512 × 256 texels: texel = 2π/512 around, 3.14159/256 along (square); taller than the view.
+    Texture h(512, 256, 1);
+    for (int j = 0; j < 256; ++j)
+      for (int i = 0; i < 512; ++i) h.at(i, j, 0) = 1.0f;
+    s.materials[0].height = h;
+    const double a = a_deg * kPi<double> / 180;
+    s.lights[0].direction = Vec3f(Vec3d(std::sin(a), -std::cos(a), 0));
+    const RenderResult res = Renderer(s).render_with_error();
+    double sum = 0, var = 0;
+    int n = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 64; ++x)
+        sum += res.mean.at(x, y).r, var += sqr(double(res.std_error.at(x, y).r)), ++n;
+    // The view spans 8 world units across (aspect 4) and the cylinder covers 2 of them, over the full view
+    // height: mean over the cylinder's projected width = image mean × 4 (background 0).
+    const double mean = sum / n * 4.0, se = std::sqrt(var) / n * 4.0;
+    const double expect = 0.5 * 2 / (4 * kPi<double>)*(std::sin(a) + (kPi<double> - a) * std::cos(a));
+    EXPECT_NEAR(mean, expect, 4 * se + 1e-3 * expect) << a_deg;
+  }
+}
+
+// The ground truth with a sphere light by area sampling: on a flat height field the irradiance is the closed
+// form I cos θ / d² (as for the analytic plane), with both intersectors.
+TEST(RenderGroundTruth, SphereLightAreaSamplingOnFlatField) {
+  const char* json = R"({
+    "camera": {"eye": [0, -3, 0.5], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 1},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "height_texels": 4}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+    "lights": [{"type": "sphere", "position": [0, 0, 2], "radius": 0.8, "intensity": 8}],
+    "settings": {"width": 1, "height": 1, "spp": 1, "area_samples": 256, "area_lights": true,
+                 "micro_shadowing": "ground-truth"}})";
+  for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree}) {
+    Scene s = parse_scene(json, "inline.json", ".");
+    s.settings.gt_intersector = gi;
+    Texture h(64, 64, 1);
+    for (int j = 0; j < 64; ++j)
+      for (int i = 0; i < 64; ++i) h.at(i, j, 0) = 1.0f;
+    s.materials[0].height = h;
+    const Rgbf got = Renderer(s).render_pixel(0, 0);
+    const Vec3d eye(s.camera.eye), d = normalize(Vec3d(s.camera.target) - eye);
+    const Vec3d p = eye + d * (-eye.z / d.z), c(0, 0, 2);
+    const double dist = length(c - p), expect = 0.5 / kPi<double> * 8.0 * (c - p).z / dist / (dist * dist);
+    EXPECT_NEAR(got.r, expect, 0.01 * expect) << int(gi);
+  }
+}
+
+// Ground truth (height-field plane, displaced cylinder through Embree, sphere light by area sampling): the
+// image is bit-identical with 1 and 2 threads.
+TEST(RenderGroundTruth, SameImageWhateverTheThreadCount) {
+  const char* json = R"({
+    "camera": {"eye": [0, -5, 2.5], "target": [0, 0, 0.5], "up": [0, 0, 1], "fov_deg": 40},
+    "materials": {"m": {"base_color": [0.7, 0.5, 0.3], "roughness": 0.4, "height_texels": 3}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]},
+                {"type": "cylinder", "material": "m", "center": [0, 0, 0.8], "radius": 0.5, "height": 1.5708}],
+    "lights": [{"type": "sphere", "position": [2, -2, 3], "radius": 0.5, "intensity": 10},
+               {"type": "directional", "elevation_deg": 25, "intensity": 1}],
+    "settings": {"width": 32, "height": 24, "spp": 4, "area_lights": true, "area_samples": 4,
+                 "micro_shadowing": "ground-truth"}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  // Square texels on each surface: the plane 64 × 64, the cylinder 128 × 64 (2π·0.5/128 = 1.5708/64).
+  Texture hp(64, 64, 1), hc(128, 64, 1);
+  for (int j = 0; j < 64; ++j) {
+    for (int i = 0; i < 64; ++i)
+      hp.at(i, j, 0) = 0.5f + 0.5f * std::sin(0.4f * float(i)) * std::cos(0.3f * float(j));
+    for (int i = 0; i < 128; ++i) hc.at(i, j, 0) = 0.5f + 0.5f * std::sin(0.5f * float(i + j));
+  }
+  s.materials.push_back(s.materials[0]);
+  s.materials[0].height = hp;
+  s.materials[1].height = hc;
+  s.objects[1].material = 1;
+  Image one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = Renderer(s).render();
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = Renderer(s).render();
+  }
+  double sum = 0;
+  for (std::size_t i = 0; i < one.px.size(); ++i) {
+    ASSERT_TRUE(one.px[i] == two.px[i]) << i;
+    sum += one.px[i].r;
+  }
+  EXPECT_GT(sum, 1.0);
+}
+
+// render_to_error doubles spp until the RMS standard error is at most the target: the result meets it, the
+// previous spp would not have (its render, repeated through render_with_error, is above it), and the returned
+// image is the render_with_error image at that spp bit for bit.
+TEST(RenderError, RenderToErrorStopsAtTheTarget) {
+  const char* json = R"({
+    "camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+    "materials": {"m": {"base_color": 0.5, "roughness": 0.4}},
+    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
+    "lights": [{"type": "sphere", "position": [0.5, 0, 1.5], "radius": 1.0, "intensity": 10}],
+    "settings": {"width": 8, "height": 8, "spp": 8, "area_lights": true, "area_samples": 1}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  const double target = 2e-3;
+  const RenderResult res = Renderer(s).render_to_error(target, 4096);
+  EXPECT_LE(rms_std_error(res.std_error), target);
+  ASSERT_GT(res.spp, 8);
+  EXPECT_EQ(res.batches, 8);
+  Scene half = s;
+  half.settings.spp = res.spp / 2;
+  EXPECT_GT(rms_std_error(Renderer(half).render_with_error().std_error), target);
+  Scene same = s;
+  same.settings.spp = res.spp;
+  const RenderResult direct = Renderer(same).render_with_error();
+  for (std::size_t i = 0; i < res.mean.px.size(); ++i) {
+    ASSERT_TRUE(res.mean.px[i] == direct.mean.px[i]) << i;
+    ASSERT_TRUE(res.std_error.px[i] == direct.std_error.px[i]) << i;
+  }
+  EXPECT_THROW(Renderer(s).render_to_error(0.0, 4096), InputError);
+  EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4), InputError);
+  s.settings.error_batches = 1;
+  EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4096), InputError);
 }

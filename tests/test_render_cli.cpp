@@ -87,6 +87,27 @@ TEST_F(RenderCli, BadInputExitsTwoWithOneLineAndNoOutput) {
   EXPECT_EQ(run("gen-material --kind wood --out " + (dir / "mat").string()).code, 2);
   EXPECT_EQ(run("gen-material --size 100000 --out " + (dir / "mat").string()).code, 2);
   EXPECT_EQ(run("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string()).code, 2);
+  // The ground truth's depth comes from the texture set: a scene that contradicts material.json is refused.
+  ASSERT_EQ(run("gen-material --size 16 --ao-rays 4 --out " + (dir / "mat").string()).code, 0);
+  const std::string gt_mat = R"({"height": "mat/height.png", "height_texels": 99})";
+  const Result gt = run("render " + write("gt_depth.json", scene(gt_mat)).string() + " --out " + out +
+                        " --method ground-truth");
+  EXPECT_EQ(gt.code, 2) << gt.err;
+  EXPECT_NE(gt.err.find("material.json"), std::string::npos) << gt.err;
+  EXPECT_EQ(std::count(gt.err.begin(), gt.err.end(), '\n'), 1) << gt.err;
+  EXPECT_FALSE(fs::exists(out + ".exr"));
+  EXPECT_EQ(run("render " + ok.string() + " --out " + out + " --component both").code, 2);
+  // --std-error needs spp to be a multiple of the error batches (8).
+  const Result se = run("render " + ok.string() + " --out " + out + " --std-error --spp 12");
+  EXPECT_EQ(se.code, 2) << se.err;
+  EXPECT_NE(se.err.find("error batches"), std::string::npos) << se.err;
+  EXPECT_FALSE(fs::exists(out + ".exr"));
+  ASSERT_EQ(
+      run("render " + ok.string() + " --quiet --out " + out + " --std-error --spp 8 --component diffuse")
+          .code,
+      0);
+  EXPECT_TRUE(fs::exists(out + "_stderr.exr"));
+  fs::remove(out + ".exr"), fs::remove(out + ".png"), fs::remove(out + "_stderr.exr");
   EXPECT_EQ(run("render --help").code, 0);
   EXPECT_EQ(run("gen-material --help").code, 0);
 }

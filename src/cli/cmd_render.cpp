@@ -23,13 +23,13 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
 }
 
 struct RenderArgs {
-  std::string scene, out, method, bump, lut, assets, ms_normal, component;
+  std::string scene, out, method, bump, lut, assets, ms_normal, component, gt_intersector;
   int width = 0, height = 0, spp = 0, threads = 0, vndf_samples = 0, area_samples = 0;
   double elevation = -1000, azimuth = -1000, exposure = -1000;
-  bool hanika = false, no_hanika = false, area = false, quiet = false;
+  bool hanika = false, no_hanika = false, area = false, quiet = false, std_error = false;
 };
 
-void render_one(const render::Scene& scene, const std::string& prefix, bool quiet);
+void render_one(const render::Scene& scene, const std::string& prefix, bool quiet, bool std_error);
 
 void run_render(const RenderArgs& a) {
   using namespace msh::render;
@@ -43,6 +43,8 @@ void run_render(const RenderArgs& a) {
   if (a.area_samples) s.area_samples = a.area_samples;
   if (!a.bump.empty()) s.bump_terminator = bump_terminator_from_string(a.bump);
   if (!a.component.empty()) s.component = component_from_string(a.component);
+  if (!a.gt_intersector.empty())
+    s.gt_intersector = a.gt_intersector == "embree" ? GtIntersector::Embree : GtIntersector::HeightField;
   if (!a.ms_normal.empty()) s.ms_smooth_normal = a.ms_normal == "smooth";
   if (a.hanika) s.hanika_offset = true;
   if (a.no_hanika) s.hanika_offset = false;
@@ -74,11 +76,11 @@ void run_render(const RenderArgs& a) {
   for (const MicroShadowing method : methods) {
     s.micro_shadowing = method;
     const std::string prefix = methods.size() > 1 ? a.out + "_" + to_string(method) : a.out;
-    render_one(scene, prefix, a.quiet);
+    render_one(scene, prefix, a.quiet, a.std_error);
   }
 }
 
-void render_one(const render::Scene& scene, const std::string& prefix, bool quiet) {
+void render_one(const render::Scene& scene, const std::string& prefix, bool quiet, bool std_error) {
   using namespace msh::render;
   const Settings& s = scene.settings;
   const Renderer renderer(scene);
@@ -95,24 +97,46 @@ void render_one(const render::Scene& scene, const std::string& prefix, bool quie
     }
   };
   RenderStats st;
-  const Image img = renderer.render(progress, &st);
+  Image img, se;
+  if (std_error) {
+    RenderResult res = renderer.render_with_error(progress);
+    img = std::move(res.mean), se = std::move(res.std_error), st = res.stats;
+  } else {
+    img = renderer.render(progress, &st);
+  }
   write_exr(prefix + ".exr", img);
   write_png(prefix + ".png", img, s.exposure);
+  if (std_error) write_exr(prefix + "_stderr.exr", se);
   const double rays = double(st.camera_rays + st.shadow_rays);
-  print_json({{"exr", prefix + ".exr"},
-              {"png", prefix + ".png"},
-              {"method", to_string(s.micro_shadowing)},
-              {"bump_terminator", to_string(s.bump_terminator)},
-              {"component", to_string(s.component)},
-              {"width", s.width},
-              {"height", s.height},
-              {"spp", s.spp},
-              {"seconds", st.seconds},
-              {"camera_rays", st.camera_rays},
-              {"shadow_rays", st.shadow_rays},
-              {"shaded_samples", st.shaded_samples},
-              {"rays_per_second", st.seconds > 0 ? rays / st.seconds : 0.0},
-              {"shaded_samples_per_second", st.seconds > 0 ? double(st.shaded_samples) / st.seconds : 0.0}});
+  nlohmann::json j = {
+      {"exr", prefix + ".exr"},
+      {"png", prefix + ".png"},
+      {"method", to_string(s.micro_shadowing)},
+      {"bump_terminator", to_string(s.bump_terminator)},
+      {"component", to_string(s.component)},
+      {"width", s.width},
+      {"height", s.height},
+      {"spp", s.spp},
+      {"seconds", st.seconds},
+      {"camera_rays", st.camera_rays},
+      {"shadow_rays", st.shadow_rays},
+      {"shaded_samples", st.shaded_samples},
+      {"rays_per_second", st.seconds > 0 ? rays / st.seconds : 0.0},
+      {"shaded_samples_per_second", st.seconds > 0 ? double(st.shaded_samples) / st.seconds : 0.0}};
+  if (std_error) {
+    // Image mean (of the RGB average) and its standard error: pixels are independent, and the channel
+    // average's error is bounded by the average of the channels' errors.
+    double sum = 0, var = 0;
+    for (std::size_t i = 0; i < img.px.size(); ++i) {
+      sum += (img.px[i].r + img.px[i].g + img.px[i].b) / 3.0;
+      var += sqr((se.px[i].r + se.px[i].g + se.px[i].b) / 3.0);
+    }
+    const double n = double(img.px.size());
+    j["stderr_exr"] = prefix + "_stderr.exr";
+    j["mean_radiance"] = sum / n;
+    j["mean_radiance_std_error"] = std::sqrt(var) / n;
+  }
+  print_json(j);
 }
 
 void add_render(Groups& g) {
@@ -139,6 +163,11 @@ void add_render(Groups& g) {
       ->check(CLI::IsMember({"shading", "smooth"}));
   r->add_option("--component", a->component, "BRDF part to render: total (default), diffuse or specular")
       ->check(CLI::IsMember({"total", "diffuse", "specular"}));
+  r->add_option("--ground-truth-intersector", a->gt_intersector,
+                "Ground-truth planes: heightfield (DDA, default) or embree (same triangles)")
+      ->check(CLI::IsMember({"heightfield", "embree"}));
+  r->add_flag("--std-error", a->std_error,
+              "Also write PREFIX_stderr.exr: each pixel's standard error (settings.error_batches batches)");
   r->add_flag("--hanika", a->hanika, "Hanika 2021 shadow-ray offset on meshes");
   r->add_flag("--no-hanika", a->no_hanika, "Disable the Hanika offset");
   r->add_flag("--area-lights", a->area,

@@ -209,6 +209,7 @@ Object parse_object(const Ctx& c, const json& j, const std::string& w,
       const float h = j.contains("height") ? c.num(j["height"], w + ".height", 1e-6, 1e6) : 2.0f;
       const int seg = j.contains("segments") ? c.integer(j["segments"], w + ".segments", 3, 65536) : 32;
       m = make_cylinder(r, h, seg);
+      o.cylinder = true, o.cyl_radius = r, o.cyl_height = h;
     } else {
       allow_only({"file", "scale", "rotate_z_deg"});
       if (!j.contains("file")) c.fail(w, "missing 'file'");
@@ -221,6 +222,7 @@ Object parse_object(const Ctx& c, const json& j, const std::string& w,
     }
     if (j.contains("rotate_z_deg"))
       rot = c.num(j["rotate_z_deg"], w + ".rotate_z_deg", -360, 360) * kPi<float> / 180;
+    o.cyl_rotate_z = rot;
     const float cr = std::cos(rot), sr = std::sin(rot);
     auto rz = [&](Vec3f v) { return Vec3f(cr * v.x - sr * v.y, sr * v.x + cr * v.y, v.z); };
     for (std::size_t i = 0; i < m.p.size(); ++i) {
@@ -283,7 +285,7 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   c.keys(j, w,
          {"width", "height", "spp", "micro_shadowing", "vndf_samples", "bump_terminator", "hanika_offset",
           "area_lights", "area_samples", "exposure", "background", "ambient", "lut", "seed",
-          "micro_shadowing_normal", "component", "error_batches"});
+          "micro_shadowing_normal", "component", "error_batches", "ground_truth_intersector"});
   if (j.contains("width")) s.width = c.integer(j["width"], w + ".width", 1, 16384);
   if (j.contains("height")) s.height = c.integer(j["height"], w + ".height", 1, 16384);
   if (j.contains("spp")) s.spp = c.integer(j["spp"], w + ".spp", 1, 65536);
@@ -317,6 +319,12 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
     if (n != "shading" && n != "smooth")
       c.fail(w + ".micro_shadowing_normal", "expected 'shading' or 'smooth'");
     s.ms_smooth_normal = n == "smooth";
+  }
+  if (j.contains("ground_truth_intersector")) {
+    const std::string n = c.str(j["ground_truth_intersector"], w + ".ground_truth_intersector");
+    if (n != "heightfield" && n != "embree")
+      c.fail(w + ".ground_truth_intersector", "expected 'heightfield' or 'embree'");
+    s.gt_intersector = n == "embree" ? GtIntersector::Embree : GtIntersector::HeightField;
   }
   if (j.contains("hanika_offset")) s.hanika_offset = c.boolean(j["hanika_offset"], w + ".hanika_offset");
   if (j.contains("area_lights")) s.area_lights = c.boolean(j["area_lights"], w + ".area_lights");

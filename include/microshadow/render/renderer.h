@@ -42,8 +42,13 @@ struct RenderResult {
   // i.i.d. unbiased estimates of the pixel integral). All zero when batches == 1.
   Image std_error;
   int batches = 1;
+  int spp = 0;  // samples per pixel used
   RenderStats stats;
 };
+
+// Root-mean-square over pixels and channels of a standard-error image (the noise floor of a per-pixel RMSE:
+// a measured RMSE² is the true RMSE² plus this squared, on average).
+double rms_std_error(const Image& std_error);
 
 class Renderer {
  public:
@@ -59,10 +64,18 @@ class Renderer {
   // Mean and standard error (Settings::error_batches batches; the mean equals render() when it is 1).
   // InputError when spp is not a multiple of min(error_batches, spp).
   RenderResult render_with_error(const std::function<void(double)>& progress = {}) const;
+  // Supersampling to a stated noise floor: render_with_error at spp = settings.spp (rounded up to a multiple
+  // of error_batches), doubling spp until rms_std_error(std_error) <= target or the next step would exceed
+  // max_spp; returns the last render (its spp in RenderResult::spp, stats summed over every pass).
+  // Deterministic: the stopping test is a serial reduction over the finished image. InputError when
+  // error_batches < 2, target is not positive, or max_spp < the starting spp or > 2^20.
+  RenderResult render_to_error(double target_rms_std_error, int max_spp,
+                               const std::function<void(double)>& progress = {}) const;
   // One pixel (all its samples), for tests and benchmarks.
   Rgbf render_pixel(int x, int y, RenderStats* stats = nullptr) const;
 
  private:
+  RenderResult render_batches(int spp, int batches, const std::function<void(double)>& progress) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

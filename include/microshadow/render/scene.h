@@ -49,7 +49,7 @@ struct Material {
   Texture normal;  // tangent space, encoded n·0.5 + 0.5; x = +u (tangent), y = +v (bitangent); empty = flat
   Texture roughness;   // perceptual roughness r (α = r²)
   Texture metallic;    // 0 = dielectric (F0 = 0.04), 1 = metal (F0 = base colour)
-  Texture visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, REFERENCE.md §1)
+  Texture visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, docs/micro-shadowing.md)
   Texture height;      // [0,1]; empty = no displacement
   float height_texels = 0.0f;    // depth of the full height range in texel units (ground truth only)
   float uv_scale = 1.0f;         // texture repeats per unit of the object's uv
@@ -88,6 +88,9 @@ struct Object {
   float radius = 1.0f;
   // Mesh (world space after the object's transform).
   std::shared_ptr<Mesh> mesh;
+  // A `cylinder` mesh keeps its parameters, so that the ground truth can displace it by its height map.
+  bool cylinder = false;
+  float cyl_radius = 1.0f, cyl_height = 2.0f, cyl_rotate_z = 0.0f;  // rotation about z in radians
 };
 
 enum class LightType { Directional, Point, Sphere };
@@ -109,7 +112,7 @@ struct Camera {
   float ortho_height = 2.0f;
 };
 
-// Micro-shadowing term multiplying the direct light per light (REFERENCE.md §2), or the ground truth.
+// Micro-shadowing term multiplying the direct light per light (docs/micro-shadowing.md), or the ground truth.
 enum class MicroShadowing {
   None,           // no micro-occlusion at all
   AO,             // V multiplies the direct light (what micro-shadowing replaces)
@@ -117,9 +120,9 @@ enum class MicroShadowing {
   BrinckMaximov,  // Brinck & Maximov 2016
   Chan,           // Chan 2018
   Part1,          // Part 1 analytic
-  GenericVndf,    // seed 002, Monte Carlo over visible normals (vndf_samples per light)
-  Lut3d,          // seed 002 3D LUT
-  Lut2d,          // seed 002 2D LUT (N·V = 1 slice)
+  GenericVndf,    // Zurita 2026, Monte Carlo over visible normals (vndf_samples per light)
+  Lut3d,          // Zurita 2026 3D LUT
+  Lut2d,          // Zurita 2026 2D LUT (N·V = 1 slice)
   GroundTruth     // height map rendered as real ray-traced micro-geometry, no normal or visibility map
 };
 const char* to_string(MicroShadowing m);
@@ -137,6 +140,10 @@ enum class BumpTerminator { Off, Conty2019, Chiang2019 };
 const char* to_string(BumpTerminator b);
 BumpTerminator bump_terminator_from_string(const std::string& s);
 
+// Intersector of the ground truth's displaced planes: the height-field DDA (render/heightfield.h) or Embree
+// on the same triangles (displaced cylinders always use Embree).
+enum class GtIntersector { HeightField, Embree };
+
 struct Settings {
   int width = 512, height = 512, spp = 4;
   Component component = Component::Total;
@@ -147,11 +154,12 @@ struct Settings {
   MicroShadowing micro_shadowing = MicroShadowing::None;
   int vndf_samples = 32;
   // Normal for the micro-shadowing term's N·L and N·V: false = the shading (normal-mapped) normal, as the
-  // seed's shaders do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion bake's
+  // shaders of Zurita 2026 do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion bake's
   // cone uses.
   bool ms_smooth_normal = false;
   BumpTerminator bump_terminator = BumpTerminator::Off;
   bool hanika_offset = false;
+  GtIntersector gt_intersector = GtIntersector::HeightField;
   bool area_lights = false;  // sphere lights: true = area sampling (reference), false = representative point
   int area_samples = 16;
   float exposure = 0.0f;

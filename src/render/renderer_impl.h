@@ -1,0 +1,84 @@
+// Private to src/render/: the renderer's implementation, split by concern — scene and Embree set-up
+// (scene_setup.cpp), ray-shape intersection (shapes.cpp), lights and BRDF (integrator.cpp), camera and the
+// tile loop (renderer.cpp).
+#pragma once
+
+#include <embree3/rtcore.h>
+#include <microshadow/render/heightfield.h>
+#include <microshadow/render/renderer.h>
+
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "shading_terms.h"
+
+namespace msh::render {
+namespace detail {
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct Hit {
+  float t = kInf;
+  int obj = -1;
+  Vec3f p, ng, ns;  // geometric normal (facing the incoming ray), interpolated normal (same side)
+  Vec3f tangent{1, 0, 0};
+  float tangent_sign = 1;
+  Vec2f uv;
+  int prim = -1;
+  Vec3f bary;                // mesh barycentrics (w0, w1, w2)
+  bool heightfield = false;  // the height-field DDA of a ground-truth plane
+  bool gt = false;           // ground-truth micro-geometry (DDA or displaced Embree mesh)
+};
+
+// A plane rendered as its height map (ground truth), in the grid space of render/heightfield.h.
+struct PlaneHF {
+  int obj = -1;
+  HeightField hf;
+  float texel = 1;  // world size of one texel
+  Vec3f T, B, N, c;
+  Vec2f half, lo, hi;
+  Vec3f to_grid_p(const Vec3f& p) const {
+    const Vec3f q = p - c;
+    return {(dot(q, T) + half.x) / texel - 0.5f, (dot(q, B) + half.y) / texel - 0.5f, dot(q, N) / texel};
+  }
+  Vec3f to_grid_d(const Vec3f& d) const { return Vec3f(dot(d, T), dot(d, B), dot(d, N)) / texel; }
+  Vec3f to_world_d(const Vec3f& g) const { return T * g.x + B * g.y + N * g.z; }
+};
+
+}  // namespace detail
+
+struct Renderer::Impl {
+  using Hit = detail::Hit;
+  using PlaneHF = detail::PlaneHF;
+  const Scene& scene;
+  RTCDevice device = nullptr;
+  RTCScene rtc = nullptr;
+  std::vector<int> geom_to_obj;
+  std::vector<PlaneHF> hfs;
+  std::vector<int> obj_hf;                       // object → index in hfs or −1
+  std::vector<std::shared_ptr<Mesh>> gt_meshes;  // displaced ground-truth meshes (Embree, front faces only)
+  std::vector<int> obj_gt_mesh;                  // object → index in gt_meshes or −1
+  MicroShadowingTerm ms;
+  BumpTerminatorTerm bt;
+
+  explicit Impl(const Scene& s);
+  ~Impl();
+  // Rejects hits on triangles the ray meets from behind (outward winding of the displaced meshes).
+  static void front_face_filter(const RTCFilterFunctionNArguments* args);
+  void setup_ground_truth(const Scene& s);
+  // Closest hit along o + t d, t ∈ (tmin, tmax).
+  bool intersect(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Hit& h) const;
+  // Any hit along o + t d, t ∈ (tmin, tmax).
+  bool occluded(const Vec3f& o, const Vec3f& d, float tmin, float tmax) const;
+  // Direct light from every light at a hit, seen from wo.
+  Rgbf shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st) const;
+  // Hanika 2021 (RTG II ch. 4): shadow-ray origin on the smooth surface implied by the vertex normals.
+  static Vec3f hanika_offset(const Mesh& m, const Hit& h);
+  // Mean of the pixel's spp samples, taken as `batches` independently scrambled Sobol batches of spp/batches
+  // samples (batch 0 uses the pixel's own scramble, so batches = 1 is the plain render). With se, stores the
+  // standard error of the mean from the spread of the batch means.
+  // spp = 0: settings.spp.
+  Rgbf pixel(int x, int y, RenderStats& st, int batches = 1, Rgbf* se = nullptr, int spp = 0) const;
+};
+
+}  // namespace msh::render
