@@ -125,6 +125,7 @@ StudyConfig tiny() {
   StudyConfig c;
   c.name = "tiny";
   c.materials = {"plaster"};
+  c.shapes = {"plane", "cylinder"};
   c.fine_size = 64;
   c.ao_rays = 4;
   c.scales = {1, 4};
@@ -160,11 +161,11 @@ TEST(Study, TinyRunSchemaAndDeterminism) {
   for (const char* f : {"results.json", "results.csv", "summary.md", "study.html", "timing.json"})
     EXPECT_TRUE(fs::exists(d1 / f)) << f;
 
-  // Rows: 1 material × 1 shape × 2 lights × (k = 1: 9 terms + 7 smooth-normal; k = 4: + 9 widened) × 3
+  // Rows: 1 material × 2 shapes × 2 lights × (k = 1: 9 terms + 7 smooth-normal; k = 4: + 9 widened) × 3
   // components.
   const auto& rows = r1["rows"];
-  EXPECT_EQ(rows.size(), std::size_t(2 * (16 + 25) * 3));
-  EXPECT_EQ(r1["ground_truth"].size(), 4u);
+  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * (16 + 25) * 3));
+  EXPECT_EQ(r1["ground_truth"].size(), 8u);
   for (const auto& row : rows) {
     for (const char* k :
          {"material", "shape", "scale", "light", "method", "component", "bias", "rmse_footprint", "rmse",

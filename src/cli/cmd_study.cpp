@@ -13,7 +13,7 @@ namespace msh::cli {
 namespace {
 
 struct StudyArgs {
-  std::string out, materials, cache;
+  std::string out, materials, cache, shapes;
   bool quick = false, quiet = false;
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
 };
@@ -28,6 +28,7 @@ void add_study(Groups& g) {
   s->add_flag("--quick", a->quick,
               "Reduced study for make demo (one material, three lights, smaller images)");
   s->add_option("--materials", a->materials, "Comma-separated material kinds (default: the study's list)");
+  s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
   s->add_option("--fine-size", a->fine_size, "Fine height field size in texels (default 2048, quick 1024)")
       ->check(CLI::Range(64, 8192));
   s->add_option("--image-size", a->image_size, "Image pixels per side at every scale")
@@ -45,15 +46,18 @@ void add_study(Groups& g) {
       limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     std::size_t(a->threads));
     study::StudyConfig c = a->quick ? study::quick_config() : study::full_config();
-    if (!a->materials.empty()) {
-      c.materials.clear();
-      std::string rest = a->materials;
+    auto split = [](const std::string& text) {
+      std::vector<std::string> v;
+      std::string rest = text;
       while (!rest.empty()) {
         const auto comma = rest.find(',');
-        c.materials.push_back(rest.substr(0, comma));
+        v.push_back(rest.substr(0, comma));
         rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
       }
-    }
+      return v;
+    };
+    if (!a->materials.empty()) c.materials = split(a->materials);
+    if (!a->shapes.empty()) c.shapes = split(a->shapes);
     if (a->fine_size) c.fine_size = a->fine_size;
     if (a->image_size) c.image_size = a->image_size;
     if (a->gt_max_spp) c.gt_max_spp = a->gt_max_spp;

@@ -26,6 +26,7 @@ StudyConfig quick_config() {
   StudyConfig c;
   c.name = "quick";
   c.materials = {"plaster"};
+  c.shapes = {"plane", "cylinder"};
   c.fine_size = 1024;
   c.elevations = {10, 25, 45};
   c.azimuths = {0};
@@ -114,7 +115,25 @@ struct LightSpec {
 
 std::string num(double x) { return fmt::format("{:g}", x); }
 
-std::vector<LightSpec> make_lights(const StudyConfig& c) {
+// The shape's frame at the view's centre: P0 on the mean surface, T = ∂P/∂u, B = ∂P/∂v, N the normal. Lights
+// and the camera are placed in this frame, so "elevation" is above the tangent plane at the view's centre.
+// plane: z = 0, spanning kTiles × kTiles tiles, centred at u = 1.5 tiles (the rough/smooth boundary).
+// cylinder: axis +z, circumference and length one tile (texels square), rotated so that u = 0.5 (the
+// rough/smooth boundary) faces the camera at -y; B = ∂P/∂v points down the axis.
+struct Frame {
+  Vec3f P0, T, B, N;
+};
+constexpr float kCylRadius = kTileWorld / (2 * kPi<float>), kCylRotate = 0.5f * kPi<float>;
+Frame frame_of(const std::string& shape) {
+  if (shape == "cylinder") return {{0, -kCylRadius, 0}, {1, 0, 0}, {0, 0, -1}, {0, -1, 0}};
+  return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+}
+Vec3f local_dir(const Frame& f, double el_deg, double az_deg) {
+  const Vec3f d = direction_from_angles(float(el_deg), float(az_deg));
+  return f.T * d.x + f.B * d.y + f.N * d.z;
+}
+
+std::vector<LightSpec> make_lights(const StudyConfig& c, const Frame& fr) {
   std::vector<LightSpec> out;
   for (double el : c.elevations)
     for (double az : c.azimuths) {
@@ -122,18 +141,18 @@ std::vector<LightSpec> make_lights(const StudyConfig& c) {
       s.name = "dir-el" + num(el) + "-az" + num(az);
       s.type = "directional";
       s.light.type = LightType::Directional;
-      s.light.direction = direction_from_angles(float(el), float(az));
+      s.light.direction = local_dir(fr, el, az);
       s.light.color = Rgbf(3.0f);
       s.elevation = el, s.azimuth = az;
       out.push_back(s);
     }
-  // Point and sphere lights at fixed world positions (about 2.7 tile widths away), irradiance about 3 at
-  // normal incidence at the centre, like the directional lights.
+  // Point and sphere lights at fixed positions in the frame (about 2.7 tile widths away), irradiance about 3
+  // at normal incidence at the centre, like the directional lights.
   auto positional = [&](const char* name, LightType t, Vec3f p, float radius) {
     LightSpec s;
     s.name = name, s.type = name;
     s.light.type = t;
-    s.light.position = p;
+    s.light.position = fr.P0 + fr.T * p.x + fr.B * p.y + fr.N * p.z;
     s.light.radius = radius;
     s.light.color = Rgbf(3.0f * dot(p, p));
     s.elevation = std::asin(p.z / length(p)) * 180 / kPi<double>;
@@ -167,15 +186,16 @@ std::vector<Variant> make_variants(const StudyConfig& c, int k) {
   return v;
 }
 
-// Orthographic camera at view_elevation, looking along +y at the plane's centre: the view is W = image_size ·
-// k fine texels wide, so a pixel covers k texels across and k / sin(view elevation) along v.
-Camera camera_for(const StudyConfig& c, int k) {
+// Orthographic camera at view_elevation above the tangent plane at the view's centre, looking along +v: the
+// view is W = image_size · k fine texels wide, so a pixel covers k texels across and k / sin(view elevation)
+// along v there (more towards a cylinder's silhouettes).
+Camera camera_for(const StudyConfig& c, const Frame& fr, int k) {
   const float W = float(c.image_size) * float(k) * kTileWorld / float(c.fine_size);
   const float D = 4.0f * kTileWorld, el = float(c.view_elevation) * kPi<float> / 180;
   Camera cam;
-  cam.eye = {0.0f, -D * std::cos(el), D * std::sin(el)};
-  cam.target = {0, 0, 0};
-  cam.up = {0, 0, 1};
+  cam.eye = fr.P0 + (fr.N * std::sin(el) - fr.B * std::cos(el)) * D;
+  cam.target = fr.P0;
+  cam.up = fr.N;
   cam.orthographic = true;
   cam.ortho_height = W;
   return cam;
@@ -185,21 +205,40 @@ struct Regions {
   Mask rough, smooth, whole;
 };
 
-// The texture's rough half (u mod 1 < 0.5) and smooth half, from where each pixel centre's ray meets the mean
-// plane z = 0 (the orthographic camera looks along +y, so column x sits at world X = pixel offset along +x);
-// pixels within 1.5 footprints + 2 fine texels of a boundary belong to neither half (they stay in the whole).
-Regions make_regions(const StudyConfig& c, const Camera& cam, int k) {
+// The texture's rough half (u mod 1 < 0.5) and smooth half, from where each pixel centre's ray (the
+// renderer's orthographic camera) meets the mean surface; pixels within 1.5 footprints + 2 fine texels of a
+// boundary belong to neither half (they stay in the whole); pixels that miss the shape belong to no region.
+Regions make_regions(const StudyConfig& c, const std::string& shape, const Camera& cam, int k) {
   const int n = c.image_size;
-  Regions r{Mask(n, n, 0), Mask(n, n, 0), Mask(n, n, 1)};
+  Regions r{Mask(n, n, 0), Mask(n, n, 0), Mask(n, n, 0)};
   const double margin = (1.5 * k + 2.0) / double(c.fine_size);
+  const Vec3f f = normalize(cam.target - cam.eye), rt = normalize(cross(f, cam.up)), up = cross(rt, f);
+  const float th = 0.5f * cam.ortho_height;
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
-      const double X = double(cam.eye.x) + (2 * (x + 0.5) / n - 1) * 0.5 * double(cam.ortho_height);
-      const double u = (X + 0.5 * kTiles * kTileWorld) / kTileWorld;  // in tiles
+      const float px = (2 * (float(x) + 0.5f) / float(n) - 1) * th,
+                  py = (1 - 2 * (float(y) + 0.5f) / float(n)) * th;
+      const Vec3d o(cam.eye + rt * px + up * py), d(f);
+      double u;
+      if (shape == "cylinder") {
+        // Nearest hit of the infinite cylinder x² + y² = R².
+        const double a = d.x * d.x + d.y * d.y, b = o.x * d.x + o.y * d.y,
+                     cc = o.x * o.x + o.y * o.y - double(kCylRadius) * kCylRadius;
+        const double disc = b * b - a * cc;
+        if (!(a > 0) || disc < 0) continue;
+        const double t = (-b - std::sqrt(disc)) / a;
+        const double phi = std::atan2(o.y + t * d.y, o.x + t * d.x) - kCylRotate;
+        u = phi / (2 * kPi<double>);
+      } else {
+        const double t = -o.z / d.z;
+        u = (o.x + t * d.x + 0.5 * kTiles * kTileWorld) / kTileWorld;  // in tiles
+      }
+      const std::size_t i = std::size_t(y) * n + x;
+      r.whole.in[i] = 1;
       const double fu = u - std::floor(u);
       const double dist = std::min({fu, std::abs(fu - 0.5), 1.0 - fu});
       if (dist <= margin) continue;
-      (fu < 0.5 ? r.rough : r.smooth).in[std::size_t(y) * n + x] = 1;
+      (fu < 0.5 ? r.rough : r.smooth).in[i] = 1;
     }
   return r;
 }
@@ -218,17 +257,34 @@ Material make_material(const std::string& name, const TextureSet& s, bool ground
     m.normal = s.normal;
     m.visibility = s.visibility;
   }
-  m.uv_scale = float(kTiles);
   return m;
 }
 
-Scene make_scene(const StudyConfig& c, Material m, int k) {
+Scene make_scene(const StudyConfig& c, Material m, const std::string& shape) {
   Scene s;
-  s.camera = camera_for(c, k);
-  s.materials.push_back(std::move(m));
+  s.camera = camera_for(c, frame_of(shape), 1);
   Object o;
-  o.type = ShapeType::Plane;
-  o.half_size = {0.5f * kTiles * kTileWorld, 0.5f * kTiles * kTileWorld};
+  if (shape == "cylinder") {
+    // The smooth cylinder (what the approximations shade; the ground truth displaces it by the height map),
+    // built and rotated as the scene loader does.
+    Mesh mesh = make_cylinder(kCylRadius, kTileWorld, 2048);
+    const float cr = std::cos(kCylRotate), sr = std::sin(kCylRotate);
+    auto rz = [&](Vec3f v) { return Vec3f(cr * v.x - sr * v.y, sr * v.x + cr * v.y, v.z); };
+    for (std::size_t i = 0; i < mesh.p.size(); ++i) {
+      mesh.p[i] = rz(mesh.p[i]), mesh.n[i] = rz(mesh.n[i]);
+      const Vec3f t = rz(Vec3f(mesh.tangent[i][0], mesh.tangent[i][1], mesh.tangent[i][2]));
+      mesh.tangent[i] = {t.x, t.y, t.z, mesh.tangent[i][3]};
+    }
+    o.type = ShapeType::Mesh;
+    o.mesh = std::make_shared<Mesh>(std::move(mesh));
+    o.cylinder = true, o.cyl_radius = kCylRadius, o.cyl_height = kTileWorld, o.cyl_rotate_z = kCylRotate;
+    m.uv_scale = 1.0f;
+  } else {
+    o.type = ShapeType::Plane;
+    o.half_size = {0.5f * kTiles * kTileWorld, 0.5f * kTiles * kTileWorld};
+    m.uv_scale = float(kTiles);
+  }
+  s.materials.push_back(std::move(m));
   s.objects.push_back(o);
   s.lights.resize(1);
   Settings& st = s.settings;
@@ -390,7 +446,7 @@ void validate(const StudyConfig& c) {
     if (k < 1 || c.fine_size % k != 0)
       bad(fmt::format("scale {} does not divide the fine size {}", k, c.fine_size));
   for (const auto& s : c.shapes)
-    if (s != "plane") bad(fmt::format("unknown shape '{}' (plane)", s));
+    if (s != "plane" && s != "cylinder") bad(fmt::format("unknown shape '{}' (plane, cylinder)", s));
   if (c.elevations.empty() && !c.point_light && !c.sphere_light) bad("no lights");
   for (double e : c.elevations)
     if (!(e > 0 && e < 90)) bad(fmt::format("light elevation must be in (0, 90), got {}", e));
@@ -418,14 +474,14 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
   std::filesystem::create_directories(out / "images", ec);
   if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", out.string(), ec.message()));
 
-  const auto lights = make_lights(cfg);
   json gt_rows = json::array(), rows = json::array(), images = json::array();
   json timing = {{"materials", json::object()}};
   double t_gen = 0, t_gt = 0, t_methods = 0;
   std::map<std::string, double> variant_cpu;
   uint64_t gt_rays = 0;
   double gt_ray_seconds = 0;
-  const int steps = int(cfg.materials.size() * cfg.shapes.size() * cfg.scales.size() * lights.size());
+  const int steps = int(cfg.materials.size() * cfg.shapes.size() * cfg.scales.size() *
+                        make_lights(cfg, frame_of("plane")).size());
   int step = 0;
 
   for (const std::string& kind : cfg.materials) {
@@ -441,21 +497,33 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
     t_gen += tg;
     timing["materials"][kind] = {{"generate_seconds", tg}};
     for (const std::string& shape : cfg.shapes) {
-      Scene gt_scene = make_scene(cfg, make_material(kind, fine, true), 1);
+      const Frame fr = frame_of(shape);
+      const auto lights = make_lights(cfg, fr);
+      Scene gt_scene = make_scene(cfg, make_material(kind, fine, true), shape);
       gt_scene.settings.micro_shadowing = MicroShadowing::GroundTruth;
+      gt_scene.settings.error_batches = 8;
+      // One ground-truth renderer per material and shape (a displaced cylinder's BVH takes tens of seconds):
+      // the Renderer keeps a reference to the scene and reads the camera, lights, spp, seed and component at
+      // render time, so they are changed in gt_scene between renders.
+      const auto t_build = std::chrono::steady_clock::now();
+      const Renderer gt_renderer(gt_scene);
+      timing["materials"][kind]["gt_build_seconds_" + shape] = secs_since(t_build);
       for (int k : cfg.scales) {
-        const Camera cam = camera_for(cfg, k);
+        const Camera cam = camera_for(cfg, fr, k);
         gt_scene.camera = cam;
-        const Regions reg = make_regions(cfg, cam, k);
+        const Regions reg = make_regions(cfg, shape, cam, k);
         const Mask* masks[3] = {&reg.rough, &reg.smooth, &reg.whole};
         const auto variants = make_variants(cfg, k);
         Scene coarse[2] = {
             make_scene(cfg,
-                       make_material(kind, downsample_texture_set(fine, k, CoarseRoughness::Base), false), k),
+                       make_material(kind, downsample_texture_set(fine, k, CoarseRoughness::Base), false),
+                       shape),
             Scene{}};
         if (cfg.widened && k > 1)
           coarse[1] = make_scene(
-              cfg, make_material(kind, downsample_texture_set(fine, k, CoarseRoughness::Widened), false), k);
+              cfg, make_material(kind, downsample_texture_set(fine, k, CoarseRoughness::Widened), false),
+              shape);
+        coarse[0].camera = coarse[1].camera = cam;
         for (const LightSpec& ls : lights) {
           ++step;
           const auto t_light = std::chrono::steady_clock::now();
@@ -472,10 +540,8 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
             for (int ci = 0; ci < 2; ++ci) {
               gt_scene.settings.component = ci == 0 ? Component::Diffuse : Component::Specular;
               gt_scene.settings.spp = n;
-              gt_scene.settings.error_batches = 8;
               gt_scene.settings.seed = cfg.seed + 7919u * uint32_t(rounds);
-              const Renderer r(gt_scene);
-              RenderResult res = r.render_with_error();
+              RenderResult res = gt_renderer.render_with_error();
               if (spp == 0)
                 acc[ci] = std::move(res);
               else

@@ -17,21 +17,21 @@ namespace msh::study {
 
 struct StudyConfig {
   std::string name = "full";
-  std::vector<std::string> materials{"plaster", "bark"};  // generate_texture_set kinds
-  int fine_size = 2048;                                   // fine height field, texels per side
+  std::vector<std::string> materials{"plaster", "bark", "gravel"};  // generate_texture_set kinds
+  int fine_size = 2048;                                             // fine height field, texels per side
   int ao_rays = 16;  // micro-occlusion bake: azimuths per fine texel (each exact in elevation)
-  std::vector<int> scales{1, 4, 16};  // k: coarse set = fine / k
-  std::vector<std::string> shapes{"plane"};
+  std::vector<int> scales{1, 4, 16};         // k: coarse set = fine / k
+  std::vector<std::string> shapes{"plane"};  // plane, cylinder (displaced; its ground truth uses Embree)
   std::vector<double> elevations{5, 10, 25, 45, 70};  // directional lights (degrees above the plane)
   std::vector<double> azimuths{0, 90};                // degrees from +u (the texture's x axis)
   bool point_light = true, sphere_light = true;
-  int image_size = 128;        // pixels per side at every scale; a pixel covers k × k fine texels (across)
+  int image_size = 64;         // pixels per side at every scale; a pixel covers k × k fine texels (across)
   double view_elevation = 60;  // camera elevation above the plane, degrees (looking along +v)
   int method_spp = 4;          // samples per pixel of the approximations
   int vndf_samples = 64;       // generic-vndf samples per light
   int area_samples = 16;       // sphere light: area samples per shading point (ground truth and terms)
   int gt_spp = 64;           // ground truth: first round's samples per pixel (doubled until the floor is met)
-  int gt_max_spp = 1024;     // ... or until this many
+  int gt_max_spp = 512;      // ... or until this many
   int footprint = 4;         // rmse_footprint block: footprint × footprint pixels
   double delta_bias = 0.01;  // smallest bias difference the ranking resolves
   double delta_rmse = 0.01;  // smallest rmse_footprint difference it resolves, relative to the GT mean
