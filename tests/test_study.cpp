@@ -178,7 +178,9 @@ TEST(Study, TinyRunSchemaAndDeterminism) {
     if (row["component"] != "total") continue;
     // The total always has signal: every metric is a finite number and the floors are non-negative.
     for (const char* k : {"bias", "rmse_footprint", "rmse"}) {
-      ASSERT_TRUE(row[k]["whole"].is_number()) << k;
+      // On the tiny cylinder (5 pixels wide at k = 4) no 4 × 4 footprint may lie entirely on the surface.
+      if (std::string(k) == "rmse_footprint" && row["shape"] == "cylinder" && row["scale"] == 4) continue;
+      ASSERT_TRUE(row[k]["whole"].is_number()) << k << " " << row.dump();
       EXPECT_GE(row[k]["whole"].get<double>(), 0.0);
     }
     EXPECT_GE(row["rmse_stderr"]["whole"].get<double>(), 0.0);
