@@ -1,5 +1,7 @@
 // Benchmarks of the micro-shadowing LUT (docs/lut.md quotes these numbers):
-//   BM_LutBakeDefault         full default bake (64³ × 4 roughness), wall time on all threads
+//   BM_LutBakeDefault         full default bake (arg 0: cone layout, the default; 1: seed 64³ × 4; arg 2:
+//   2D),
+//                             wall time on all threads and process CPU time
 //   BM_LutVerifyAllTexels     the default bake against the semi-analytic exact term on EVERY texel (counters)
 //   BM_LutStraightforwardMC   the seed's per-texel Monte Carlo loop on a texel subset, extrapolated to the
 //   full
@@ -34,25 +36,35 @@ double process_cpu_seconds() {
   return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
+LutLayout layout_arg(int64_t a) { return a == 0 ? LutLayout::Cone : LutLayout::Seed; }
+
 void BM_LutBakeDefault(benchmark::State& state) {
-  BakeOptions o;
-  o.two_d = state.range(0) != 0;
+  BakeOptions o = default_bake_options(layout_arg(state.range(0)));
+  o.two_d = state.range(1) != 0;
   const double cpu0 = process_cpu_seconds();
   for (auto _ : state) {
     io::Volume vol = bake_micro_shadowing_lut(o);
     benchmark::DoNotOptimize(vol.data.data());
   }
   state.counters["cpu_s_all_threads_per_bake"] = (process_cpu_seconds() - cpu0) / double(state.iterations());
-  const double texels = double(o.n_vis) * o.n_nl * (o.two_d ? 1 : o.n_nv) * o.roughness.size();
+  const double texels = double(o.n_vis) * o.n_nl * (o.two_d ? 1 : o.n_nv) *
+                        (o.layout == LutLayout::Cone ? o.n_rough : double(o.roughness.size()));
   state.counters["texels"] = texels;
   state.counters["texels_per_s"] = benchmark::Counter(texels, benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_LutBakeDefault)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_LutBakeDefault)
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 
 // Every texel of the default bake against micro_shadowing_semi_analytic_row (16 Gauss-Legendre azimuth nodes,
 // measured ≤ 1.5e-4 from the converged value, so the reported maximum is good to about that much).
 void BM_LutVerifyAllTexels(benchmark::State& state) {
-  const BakeOptions o;
+  const BakeOptions o;  // the seed layout (texels on the regular grid)
   const io::Volume vol = bake_micro_shadowing_lut(o);
   const int n = o.n_vis;
   std::vector<double> vis(n);
@@ -93,47 +105,62 @@ void BM_LutVerifyAllTexels(benchmark::State& state) {
 }
 BENCHMARK(BM_LutVerifyAllTexels)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
+// A texel of a default table with its physical inputs (V, N·L, N·V, roughness) and its storage index.
+struct TexelInputs {
+  double V, nl, nv, r;
+  int x, y, z, c;
+};
+
 // Texels where the table is not exact by construction (0 < V < 1, outside the early-out region).
-std::vector<std::array<int, 4>> random_texels(int count, uint64_t seed) {
-  const BakeOptions o;
+std::vector<TexelInputs> random_texels(const BakeOptions& o, int count, uint64_t seed) {
   Pcg32 rng(seed);
-  std::vector<std::array<int, 4>> t;
+  std::vector<TexelInputs> t;
   while (int(t.size()) < count) {
     const int x = int(rng.next_u32() % o.n_vis), y = int(rng.next_u32() % o.n_nl),
               z = int(rng.next_u32() % o.n_nv);
-    const int c = int(rng.next_u32() % o.roughness.size());
-    if (x == 0 || x == o.n_vis - 1 || 2.0 * x / (o.n_vis - 1) + double(y) / (o.n_nl - 1) < 1.0) continue;
-    t.push_back({x, y, z, c});
+    if (x == 0 || x == o.n_vis - 1) continue;
+    if (o.layout == LutLayout::Cone) {
+      const int l = int(rng.next_u32() % o.n_rough);
+      const double r = cone_roughness_of_coord(o.cone, double(l) / (o.n_rough - 1));
+      const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
+      const double nv = cone_nv_of_coord(o.cone, double(z) / (o.n_nv - 1), r);
+      const float a = cone_warp_width(o.cone, float(r));
+      if (cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale) > kPi<double> / 2)
+        continue;  // past V = 1 (grazing light): never sampled
+      const double V = cone_visibility_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);
+      t.push_back({V, nl, nv, r, x, y, l * o.n_nv + z, 0});
+    } else {
+      const int c = int(rng.next_u32() % o.roughness.size());
+      const double V = double(x) / (o.n_vis - 1), nl = double(y) / (o.n_nl - 1);
+      if (2.0 * V + nl < 1.0) continue;
+      t.push_back({V, nl, double(z) / (o.n_nv - 1), o.roughness[c], x, y, z, c});
+    }
   }
   return t;
 }
 
-// The straightforward baker (seed 002's shader loop per texel: independent random VNDF samples, 16 azimuth
-// strata) at state.range(0) samples per texel, on 96 random texels. Its RMS error is compared with the binned
-// baker's on the same texels; MC error falls as 1/sqrt(N), so the samples (and time) it needs to match the
-// binned baker follow, and the full-table time is extrapolated from the per-texel time.
+// The straightforward baker (Zurita 2026's shader loop per texel: independent random VNDF samples, 16
+// azimuth strata) at state.range(0) samples per texel, on 96 random texels of the default table of layout
+// state.range(1) (0 cone, 1 seed). Its RMS error is compared with the binned baker's on the same texels; MC
+// error falls as 1/sqrt(N), so the samples (and time) it needs to match the binned baker follow, and the
+// full-table time is extrapolated from the per-texel time.
 void BM_LutStraightforwardMC(benchmark::State& state) {
   const int samples = int(state.range(0));
-  const BakeOptions o;
-  const auto texels = random_texels(96, 4242);
+  const BakeOptions o = default_bake_options(layout_arg(state.range(1)));
+  const auto texels = random_texels(o, 96, 4242);
   std::vector<double> exact(texels.size());
   for (std::size_t i = 0; i < texels.size(); ++i) {
     const auto& t = texels[i];
-    const double r = o.roughness[t[3]];
-    exact[i] = ms::generic_vndf_exact_azimuth_mean(double(t[0]) / (o.n_vis - 1), r * r,
-                                                   double(t[1]) / (o.n_nl - 1), double(t[2]) / (o.n_nv - 1));
+    exact[i] = ms::generic_vndf_exact_azimuth_mean(t.V, t.r * t.r, t.nl, t.nv);
   }
-  static double binned_cpu = 0;
-  static const io::Volume binned = [&] {
-    const double c0 = process_cpu_seconds();
-    io::Volume v = bake_micro_shadowing_lut(o);
-    binned_cpu = process_cpu_seconds() - c0;
-    return v;
-  }();
+  double binned_cpu = 0;
+  const double c0 = process_cpu_seconds();
+  const io::Volume binned = bake_micro_shadowing_lut(o);
+  binned_cpu = process_cpu_seconds() - c0;
   double sq_binned = 0, sq_mc = 0, max_mc = 0;
   for (std::size_t i = 0; i < texels.size(); ++i) {
     const auto& t = texels[i];
-    sq_binned += std::pow(binned.at(t[0], t[1], t[2], t[3]) - exact[i], 2);
+    sq_binned += std::pow(binned.at(t.x, t.y, t.z, t.c) - exact[i], 2);
   }
   double seconds = 0;
   for (auto _ : state) {
@@ -141,9 +168,7 @@ void BM_LutStraightforwardMC(benchmark::State& state) {
     const double cpu0 = process_cpu_seconds();
     for (std::size_t i = 0; i < texels.size(); ++i) {
       const auto& t = texels[i];
-      const double r = o.roughness[t[3]];
-      const double v = monte_carlo_texel(r * r, double(t[0]) / (o.n_vis - 1), double(t[1]) / (o.n_nl - 1),
-                                         double(t[2]) / (o.n_nv - 1), samples, 16, 1000 + i);
+      const double v = monte_carlo_texel(t.r * t.r, t.V, t.nl, t.nv, samples, 16, 1000 + i);
       sq_mc += (v - exact[i]) * (v - exact[i]);
       max_mc = std::max(max_mc, std::abs(v - exact[i]));
     }
@@ -153,10 +178,14 @@ void BM_LutStraightforwardMC(benchmark::State& state) {
   const double per_texel = seconds / texels.size();
   // Non-trivial texels of the default table (the rest are exact for any baker).
   double nontrivial = 0;
-  for (int y = 0; y < o.n_nl; ++y)
-    for (int x = 1; x + 1 < o.n_vis; ++x)
-      if (2.0 * x / (o.n_vis - 1) + double(y) / (o.n_nl - 1) >= 1.0) nontrivial += 1;
-  nontrivial *= double(o.n_nv) * o.roughness.size();
+  if (o.layout == LutLayout::Cone) {
+    nontrivial = double(o.n_vis - 2) * o.n_nl * o.n_nv * o.n_rough;  // (a few past V = 1 included)
+  } else {
+    for (int y = 0; y < o.n_nl; ++y)
+      for (int x = 1; x + 1 < o.n_vis; ++x)
+        if (2.0 * x / (o.n_vis - 1) + double(y) / (o.n_nl - 1) >= 1.0) nontrivial += 1;
+    nontrivial *= double(o.n_nv) * o.roughness.size();
+  }
   const double samples_equal = samples * std::pow(rms_mc / rms_binned, 2);
   state.counters["rms_error_mc"] = rms_mc;
   state.counters["max_error_mc"] = max_mc;
@@ -168,13 +197,19 @@ void BM_LutStraightforwardMC(benchmark::State& state) {
   state.counters["binned_bake_cpu_s"] = binned_cpu;
   state.counters["speedup_at_equal_rms"] = per_texel * (samples_equal / samples) * nontrivial / binned_cpu;
 }
-BENCHMARK(BM_LutStraightforwardMC)->Arg(4096)->Arg(65536)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LutStraightforwardMC)
+    ->Args({4096, 0})
+    ->Args({65536, 0})
+    ->Args({65536, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 // Random configurations: roughness at the channel values, V uniform, v and l uniform on the hemisphere.
 // "exact" is the exact term at the actual azimuth. Errors of: the exact azimuth mean (what any LUT stores:
-// the cost of ignoring the azimuth), the plain default LUT, and the azimuth-aware default LUT (H = 2).
+// the cost of ignoring the azimuth), the plain seed-layout LUT, and the azimuth-aware seed-layout LUT (H =
+// 2). (The cone layout's azimuth figures: tests/test_lut_sampler.cpp and docs/lut.md.)
 void BM_LutAzimuthError(benchmark::State& state) {
-  const auto azim = default_micro_shadowing_lut(false, 2);
+  const auto azim = default_micro_shadowing_lut(false, 2, LutLayout::Seed);
   const MicroShadowingLutView view = azim->view();
   struct Acc {
     double sa = 0, sq = 0, mx = 0;
@@ -209,8 +244,9 @@ void BM_LutAzimuthError(benchmark::State& state) {
 }
 BENCHMARK(BM_LutAzimuthError)->Iterations(1)->Unit(benchmark::kMillisecond);
 
+// Sampler throughput, arg 0: the cone layout (default), 1: the seed layout.
 void BM_LutSamplePlain(benchmark::State& state) {
-  const auto lut = default_micro_shadowing_lut(false, 0);
+  const auto lut = default_micro_shadowing_lut(false, 0, layout_arg(state.range(0)));
   const MicroShadowingLutView view = lut->view();
   Pcg32 rng(3);
   std::vector<float> in(4096 * 4);
@@ -221,10 +257,11 @@ void BM_LutSamplePlain(benchmark::State& state) {
     benchmark::DoNotOptimize(sample_micro_shadowing<float>(view, p[0], p[1], p[2], p[3]));
   }
 }
-BENCHMARK(BM_LutSamplePlain);
+BENCHMARK(BM_LutSamplePlain)->Arg(0)->Arg(1);
 
 void BM_LutSampleAzimuth(benchmark::State& state) {
-  const auto lut = default_micro_shadowing_lut(false, 2);
+  const LutLayout layout = layout_arg(state.range(0));
+  const auto lut = default_micro_shadowing_lut(false, layout == LutLayout::Cone ? 3 : 2, layout);
   const MicroShadowingLutView view = lut->view();
   Pcg32 rng(3);
   std::vector<float> in(4096 * 5);
@@ -236,6 +273,6 @@ void BM_LutSampleAzimuth(benchmark::State& state) {
         sample_micro_shadowing_azimuth<float>(view, p[0], p[1], p[2], p[3], 2.0f * p[4] - 1.0f));
   }
 }
-BENCHMARK(BM_LutSampleAzimuth);
+BENCHMARK(BM_LutSampleAzimuth)->Arg(0)->Arg(1);
 
 }  // namespace

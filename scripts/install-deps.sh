@@ -9,8 +9,8 @@ PACKAGES=(
   libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev
-  python3 python3-numpy python3-matplotlib
-  glslang-tools mesa-vulkan-drivers libvulkan-dev
+  python3 python3-numpy python3-scipy python3-matplotlib
+  glslang-tools spirv-tools mesa-vulkan-drivers libvulkan-dev
 )
 
 missing=()

@@ -240,5 +240,136 @@ TEST(LutLoader, RoundTripWithSidecarAndDefaults) {
   fs::remove_all(dir);
 }
 
+// ---- Cone layout ---------------------------------------------------------------------------------------
+
+// The physical inputs of a cone-layout texel (the inverse maps of the sampler's coordinates).
+struct ConeTexel {
+  double V, nl, nv, r;
+  bool past_one;  // past V = 1 (grazing light): the continuation, never sampled
+};
+ConeTexel cone_texel(const BakeOptions& o, int x, int y, int z, int slab) {
+  const double r = cone_roughness_of_coord(o.cone, double(slab) / (o.n_rough - 1));
+  const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
+  const double nv = cone_nv_of_coord(o.cone, double(z) / (o.n_nv - 1), r);
+  const float a = cone_warp_width(o.cone, float(r));
+  const double theta = cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);
+  return {cone_visibility_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale), nl, nv, r,
+          theta > kPi<double> / 2};
+}
+
+const io::Volume& default_cone_bake() {
+  static const io::Volume vol = bake_micro_shadowing_lut(default_bake_options());
+  return vol;
+}
+
+TEST(LutBakerCone, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
+  const BakeOptions o = default_bake_options();
+  const io::Volume& vol = default_cone_bake();
+  ASSERT_EQ(o.layout, LutLayout::Cone);
+  ASSERT_EQ(vol.width, o.n_vis);
+  ASSERT_EQ(vol.depth, o.n_nv * o.n_rough);
+  ASSERT_EQ(vol.channels, 1);
+  Pcg32 rng(77);
+  double worst = 0.0;
+  for (int checked = 0; checked < 300;) {
+    const int x = 1 + int(rng.next_u32() % (o.n_vis - 2)), y = int(rng.next_u32() % o.n_nl);
+    const int z = int(rng.next_u32() % o.n_nv), l = int(rng.next_u32() % o.n_rough);
+    const ConeTexel t = cone_texel(o, x, y, z, l);
+    if (!(t.nv > 0.0) || t.past_one) continue;  // outside the sampled domain
+    const double exact = ms::generic_vndf_exact_azimuth_mean(t.V, t.r * t.r, t.nl, t.nv);
+    const double err = std::abs(double(vol.at(x, y, l * o.n_nv + z, 0)) - exact);
+    worst = std::max(worst, err);
+    EXPECT_LE(err, kTol) << "texel (" << x << "," << y << "," << z << "," << l << ") V " << t.V << " N·L "
+                         << t.nl << " N·V " << t.nv << " r " << t.r << " exact " << exact;
+    ++checked;
+  }
+  RecordProperty("max_abs_error", std::to_string(worst));
+}
+
+TEST(LutBakerCone, EndColumnsAreExactAndTexelsSitInTheLitRange) {
+  // (The sampler at V = 1 gives 1 within the bake noise: LutSamplerCone tests.)
+  const BakeOptions o = default_bake_options();
+  const io::Volume& vol = default_cone_bake();
+  for (int z = 0; z < vol.depth; ++z)
+    for (int y = 0; y < vol.height; ++y) {
+      EXPECT_EQ(vol.at(0, y, z, 0), 0.0f);  // t = 0: the early-out boundary 2V + N·L = 1
+      EXPECT_EQ(vol.at(vol.width - 1, y, z, 0), 1.0f);  // t = 1: just past V = 1, where the term is 1
+    }
+  // Every texel's cone half-angle lies in [θ_l/2, θ_l + π/2], increasing along x from the early-out
+  // boundary; the axis reaches V = 1.
+  for (int y = 0; y < o.n_nl; y += 3) {
+    double prev = -1;
+    const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
+    const float a = cone_warp_width(o.cone, 0.3f);
+    for (int x = 0; x < o.n_vis; ++x) {
+      const double th = cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);
+      EXPECT_GE(th, 0.5 * std::acos(float(nl)) - 1e-6);
+      EXPECT_LE(th, std::acos(float(nl)) + kPi<double> / 2 + 1e-6);
+      EXPECT_GT(th, prev);
+      prev = th;
+    }
+    EXPECT_GE(prev, kPi<double> / 2 - 1e-6);
+    EXPECT_NEAR(cone_theta_of_t(0.0, float(nl), a, o.cone.top_scale), 0.5 * std::acos(float(nl)), 1e-6);
+  }
+}
+
+TEST(LutBakerCone, BitIdenticalForAnyThreadCountAndAzimuthSlabZeroIsThePlainTable) {
+  BakeOptions o = default_bake_options();
+  o.n_vis = 16, o.n_nl = 8, o.n_nv = 5, o.n_rough = 4, o.samples = 512, o.phi_nodes = 4;
+  o.threads = 1;
+  const io::Volume a = bake_micro_shadowing_lut(o);
+  o.threads = 2;
+  const io::Volume b = bake_micro_shadowing_lut(o);
+  EXPECT_EQ(a.data, b.data);
+  o.harmonics = 3;
+  const io::Volume h = bake_micro_shadowing_lut(o);
+  ASSERT_EQ(h.channels, 4);
+  for (std::size_t i = 0; i < a.texel_count(); ++i) ASSERT_EQ(h.data[4 * i], a.data[i]);
+}
+
+TEST(LutBakerCone, ValidateRejectsBadConeOptions) {
+  auto bad = [](auto edit) {
+    BakeOptions o = default_bake_options();
+    edit(o);
+    EXPECT_THROW(validate(o), InputError);
+  };
+  bad([](BakeOptions& o) { o.n_rough = 1; });
+  bad([](BakeOptions& o) { o.harmonics = 4; });
+  bad([](BakeOptions& o) { o.cone.roughness_min = 0.0f; });
+  bad([](BakeOptions& o) { o.cone.roughness_max = 0.05f; });
+  bad([](BakeOptions& o) { o.cone.warp_scale = std::nanf(""); });
+  bad([](BakeOptions& o) { o.cone.nl_warp = 3; });
+  bad([](BakeOptions& o) { o.cone.nv_scale = 0.0f; });
+  bad([](BakeOptions& o) { o.cone.roughness_power = -1.0f; });
+  EXPECT_NO_THROW(validate(default_bake_options()));
+}
+
+TEST(LutLoader, ConeRoundTripWithSidecar) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(MSH_BINARY_DIR) / "lut_test_tmp" / ("cone" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  BakeOptions o = default_bake_options();
+  o.n_vis = 8, o.n_nl = 6, o.n_nv = 4, o.n_rough = 3, o.samples = 128, o.phi_nodes = 2, o.harmonics = 1;
+  o.cone.warp_scale = 1.5f, o.cone.roughness_min = 0.2f;
+  const io::Volume vol = bake_micro_shadowing_lut(o);
+  const fs::path p = dir / "t.npy";
+  io::write_volume(p, vol, io::FileFormat::Npy, io::PixelFormat::RGBA32Float);
+  EXPECT_THROW(load_micro_shadowing_lut(p), InputError);  // 2 channels, no sidecar
+  io::write_file_atomic(sidecar_path(p), sidecar_json(o));
+  const MicroShadowingLut lut = load_micro_shadowing_lut(p);
+  EXPECT_EQ(lut.layout, LutLayout::Cone);
+  EXPECT_EQ(lut.n_rough, 3);
+  EXPECT_EQ(lut.harmonics, 1);
+  EXPECT_EQ(lut.cone.warp_scale, 1.5f);
+  EXPECT_EQ(lut.cone.roughness_min, 0.2f);
+  const MicroShadowingLutView view = lut.view();
+  EXPECT_EQ(view.layout, LutLayout::Cone);
+  EXPECT_EQ(view.n_nv, 4);
+  EXPECT_EQ(lut.volume.data, vol.data);
+  EXPECT_THROW(load_micro_shadowing_lut(p, std::vector<double>{0.1, 0.5}), InputError);  // no channels
+  EXPECT_THROW(load_micro_shadowing_lut(p, std::nullopt, 2), InputError);  // 2 channels hold H ≤ 1
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace msh::lut

@@ -135,7 +135,7 @@ struct Errors {
 TEST(LutSampler, AzimuthAwareTableCutsAzimuthErrorFourfold) {
   // One bake: slab 0 of the azimuth-aware table is the plain LUT (same bake, same values), and the plain
   // sampler reads slab 0 only.
-  const auto azim = default_micro_shadowing_lut(false, 2);
+  const auto azim = default_micro_shadowing_lut(false, 2, LutLayout::Seed);
   const MicroShadowingLutView va = azim->view();
   Pcg32 rng(31);
   Errors ep, ea, ep_rough, ea_rough;
@@ -158,6 +158,174 @@ TEST(LutSampler, AzimuthAwareTableCutsAzimuthErrorFourfold) {
       << "plain " << ep_rough.rms() << " azimuth " << ea_rough.rms();
   // And the plain table is a good approximation of the azimuth mean it stores.
   EXPECT_LT(ep.mean(), 0.05);
+}
+
+// ---- Cone layout ---------------------------------------------------------------------------------------
+
+// The cone-layout coordinates written from their definitions (docs/lut.md), with trigonometry, not from the
+// sampler's algebraic form: θ = asin(sqrt V), θ_l = acos(N·L), d = sin(θ − θ_l), u = d/(a + |d|), t between
+// the early-out boundary θ = θ_l/2 and V = 1 (θ = π/2).
+struct ConeCoords {
+  double t, s, w, q;
+};
+ConeCoords cone_coords_ref(double V, double nl, double nv, double r) {
+  r = std::clamp(r, 0.1, 1.0);
+  const double alpha = r * r, a = 2.0 * alpha, b = 3.0 * alpha;
+  const double th = std::asin(std::sqrt(V)), thl = std::acos(nl);
+  auto u = [a](double d) { return d / (a + std::abs(d)); };
+  // The axis ends just past V = 1: sin(θ_top − θ_l)² = cos²θ_l + e² sin²θ_l, e = 3a/(1 + 3a).
+  const double e = 3 * a / (1 + 3 * a);
+  const double d_top = std::sqrt(sqr(std::cos(thl)) + e * e * sqr(std::sin(thl)));
+  const double t = (u(std::sin(th - thl)) - u(std::sin(-thl / 2))) / (u(d_top) - u(std::sin(-thl / 2)));
+  const double w = nv / std::sqrt(b * b + nv * nv) * std::sqrt(b * b + 1);
+  return {std::clamp(t, 0.0, 1.0), 0.5 * (std::sqrt(nl) + 1 - std::sqrt(1 - nl)), w,
+          (std::sqrt(r) - std::sqrt(0.1)) / (1 - std::sqrt(0.1))};
+}
+
+double cone_synthetic(double t, double s, double w, double q) {
+  return 0.2 + 0.25 * t - 0.15 * s + 0.2 * w - 0.05 * q + 0.3 * t * s * w * q;  // in [0, 0.95]
+}
+
+TEST(LutSamplerCone, CoordinatesMatchTheirDefinitionAndSpanTheLitRange) {
+  const ConeLayoutParams p;
+  Pcg32 rng(3);
+  for (int i = 0; i < 5000; ++i) {
+    const double nl = rng.next_double(), r = 0.1 + 0.9 * rng.next_double();
+    const double V = 0.5 * (1 - nl) + (1 - 0.5 * (1 - nl)) * rng.next_double();  // the lit range
+    const double a = cone_warp_width(p, r), top = p.top_scale;
+    ASSERT_NEAR(cone_t(V, nl, a, top), cone_coords_ref(V, nl, 0.5, r).t, 1e-9) << V << " " << nl << " " << r;
+    ASSERT_NEAR(cone_visibility_of_t(cone_t(V, nl, a, top), nl, a, top), V, 1e-9);
+    ASSERT_NEAR(cone_nv_coord(p, 0.37, r), cone_coords_ref(V, nl, 0.37, r).w, 1e-12);
+    ASSERT_NEAR(cone_roughness_coord(p, r), cone_coords_ref(V, nl, 0.5, r).q, 1e-7);  // float range ends
+  }
+  EXPECT_EQ(cone_t(0.25, 0.5, 0.1, 3.0), 0.0);        // 2V + N·L = 1
+  EXPECT_GT(cone_t(1.0, 0.6, 0.01, 3.0), 0.999);      // V = 1 at (nearly) the end of the axis
+  EXPECT_LT(cone_t(1.0f, 0.01f, 0.02f, 3.0f), 0.9f);  // grazing light: V = 1 well inside the axis
+}
+
+// A table holding a function multilinear in the four coordinates is reproduced exactly at any input (the
+// trilinear filter per slab and the linear blend across slabs are exact for it), with the coordinates from
+// their definitions above.
+TEST(LutSamplerCone, ReproducesMultilinearFunctionsOfTheCoordinates) {
+  const int nt = 9, nl = 7, nv = 5, nr = 6;
+  io::Volume vol(nt, nl, nv * nr, 1);
+  for (int l = 0; l < nr; ++l)
+    for (int z = 0; z < nv; ++z)
+      for (int y = 0; y < nl; ++y)
+        for (int x = 0; x < nt; ++x)
+          vol.at(x, y, l * nv + z, 0) = float(cone_synthetic(double(x) / (nt - 1), double(y) / (nl - 1),
+                                                             double(z) / (nv - 1), double(l) / (nr - 1)));
+  const MicroShadowingLutView view = make_cone_view(vol, nr, 0, ConeLayoutParams{});
+  Pcg32 rng(4);
+  for (int i = 0; i < 5000; ++i) {
+    const double V = rng.next_double(), n_l = rng.next_double(), n_v = rng.next_double();
+    const double r = 1.2 * rng.next_double() - 0.1;  // also outside [0.1, 1]: clamped
+    if (micro_shadowing_early_out(V, n_l)) continue;
+    const ConeCoords c = cone_coords_ref(V, n_l, n_v, r);
+    ASSERT_NEAR(sample_micro_shadowing<double>(view, V, n_l, n_v, r), cone_synthetic(c.t, c.s, c.w, c.q),
+                2e-6)
+        << V << " " << n_l << " " << n_v << " " << r;
+  }
+}
+
+TEST(LutSamplerCone, EarlyOutAndDegenerateInputs) {
+  io::Volume vol(4, 4, 4 * 3, 4);
+  for (auto& x : vol.data) x = 0.6f;
+  MicroShadowingLutView view = make_cone_view(vol, 3, 3, ConeLayoutParams{});
+  EXPECT_EQ(sample_micro_shadowing<float>(view, 0.2f, 0.5f, 0.5f, 0.5f), 0.0f);  // 2V + N·L < 1
+  EXPECT_NEAR(sample_micro_shadowing<float>(view, 0.3f, 0.5f, 0.5f, 0.5f), 0.6f, 1e-6f);
+  view.data = nullptr;  // a fetch would crash
+  EXPECT_EQ(sample_micro_shadowing<float>(view, 0.1f, 0.7f, 0.5f, 0.5f), 0.0f);
+  EXPECT_EQ(sample_micro_shadowing_azimuth<float>(view, 0.1f, 0.7f, 0.5f, 0.5f, -1.0f), 0.0f);
+  view.data = vol.data.data();
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (float a : {nan, inf, -inf, -1.0f, 0.0f, 1.0f, 2.0f})
+    for (float b : {nan, inf, -inf, 0.0f, 1.0f}) {
+      const float r1 = sample_micro_shadowing<float>(view, a, b, a, b);
+      const float r2 = sample_micro_shadowing_azimuth<float>(view, b, a, a, b, a);
+      EXPECT_TRUE(std::isfinite(r1) && r1 >= 0.0f && r1 <= 1.0f) << a << " " << b;
+      EXPECT_TRUE(std::isfinite(r2) && r2 >= 0.0f && r2 <= 1.0f) << a << " " << b;
+    }
+  // Harmonics: a_0 + a_1 cos φ + a_2 cos 2φ + a_3 cos 3φ.
+  for (std::size_t i = 0; i < vol.texel_count(); ++i)
+    vol.data[4 * i] = 0.5f, vol.data[4 * i + 1] = 0.2f, vol.data[4 * i + 2] = -0.1f,
+                 vol.data[4 * i + 3] = 0.05f;
+  for (double phi = 0; phi <= kPi<double>; phi += 0.1) {
+    const double e = 0.5 + 0.2 * std::cos(phi) - 0.1 * std::cos(2 * phi) + 0.05 * std::cos(3 * phi);
+    EXPECT_NEAR(sample_micro_shadowing_azimuth<double>(view, 0.9, 0.9, 0.5, 0.5, std::cos(phi)), e, 1e-6);
+  }
+  EXPECT_NEAR(sample_micro_shadowing<double>(view, 0.9, 0.9, 0.5, 0.5), 0.5, 1e-6);  // the mean only
+}
+
+// GPU filter precision option: the fraction of the texel coordinate is truncated to 8 bits.
+TEST(LutSamplerCone, EightBitFilterWeightsTruncateTheFraction) {
+  io::Volume vol(2, 2, 2 * 2, 1);
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 2; ++y) vol.at(0, y, z, 0) = 0.0f, vol.at(1, y, z, 0) = 1.0f;  // value = t
+  MicroShadowingLutView view = make_cone_view(vol, 2, 0, ConeLayoutParams{});
+  view.filter_weight_bits = 8;
+  Pcg32 rng(8);
+  for (int i = 0; i < 2000; ++i) {
+    const float t = float(rng.next_double());
+    const float f = fetch_cone_slab<float>(view, t, 0.3f, 0.6f, 0)[0];
+    const float x = gpu_texel_coord(t, 2);
+    EXPECT_EQ(f, std::floor(x * 256.0f) / 256.0f) << t;
+  }
+}
+
+// The default cone table as engines sample it: continuous random inputs over the whole domain (V ∈ [0, 1],
+// N·L, N·V ∈ (0, 1], roughness uniform in [0.1, 1]; off every texel and slab), against the exact azimuth
+// mean of occlusion/micro_shadowing.h. The targets: RMS ≤ 0.5/255, max ≤ 2/255 — also with 8-bit
+// filter weights and with the texels rounded to half floats (the default rgba16f file).
+TEST(LutSamplerCone, DefaultTableMeetsTheTargetsAtContinuousInputs) {
+  const auto lut = default_micro_shadowing_lut(false, 0);
+  ASSERT_EQ(lut->layout, LutLayout::Cone);
+  MicroShadowingLutView view = lut->view();
+  std::vector<float> half(lut->volume.data.size());
+  for (std::size_t i = 0; i < half.size(); ++i) half[i] = float(_Float16(lut->volume.data[i]));
+  MicroShadowingLutView view_half = view;
+  view_half.data = half.data(), view_half.filter_weight_bits = 8;
+  Pcg32 rng(1234);
+  Errors e, e_gpu;
+  for (int i = 0; i < 600; ++i) {
+    const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
+    const double r = 0.1 + 0.9 * rng.next_double();
+    const double exact = ms::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv);
+    e.add(sample_micro_shadowing<float>(view, float(V), float(nl), float(nv), float(r)) - exact);
+    e_gpu.add(sample_micro_shadowing<float>(view_half, float(V), float(nl), float(nv), float(r)) - exact);
+  }
+  RecordProperty("rms_255", std::to_string(255 * e.rms()));
+  RecordProperty("max_255", std::to_string(255 * e.max_abs));
+  EXPECT_LE(e.rms(), 0.5 / 255) << 255 * e.rms();
+  EXPECT_LE(e.max_abs, 2.0 / 255) << 255 * e.max_abs;
+  EXPECT_LE(e_gpu.rms(), 0.5 / 255) << 255 * e_gpu.rms();
+  EXPECT_LE(e_gpu.max_abs, 2.0 / 255) << 255 * e_gpu.max_abs;
+}
+
+// The azimuth-aware default (a_0..a_3) against the exact term at the actual azimuth, continuous inputs:
+// RMS ≤ 1/255 and p99 ≤ 3/255 (here: at most 2% of 500 inputs above 3/255).
+TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
+  const auto lut = default_micro_shadowing_lut(false, 3);
+  const MicroShadowingLutView view = lut->view();
+  ASSERT_EQ(view.harmonics, 3);
+  Pcg32 rng(4321);
+  Errors e;
+  int above = 0;
+  for (int i = 0; i < 500; ++i) {
+    const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
+    const double r = 0.1 + 0.9 * rng.next_double(), phi = kPi<double> * rng.next_double();
+    const double sv = std::sqrt(1 - nv * nv), sl = std::sqrt(1 - nl * nl);
+    const double exact = ms::generic_vndf_exact(V, r * r, r * r, Vec3d(sv, 0, nv),
+                                                Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl));
+    const double err = sample_micro_shadowing_azimuth<float>(view, float(V), float(nl), float(nv), float(r),
+                                                             float(std::cos(phi))) -
+                       exact;
+    e.add(err);
+    above += std::abs(err) > 3.0 / 255;
+  }
+  RecordProperty("rms_255", std::to_string(255 * e.rms()));
+  EXPECT_LE(e.rms(), 1.0 / 255) << 255 * e.rms();
+  EXPECT_LE(above, 10);
 }
 
 }  // namespace

@@ -72,6 +72,41 @@ TEST(Sobol, DifferentSeedsDiffer) {
   EXPECT_EQ(sobol_2d<double>(5, 3).x, sobol_2d<double>(5, 3).x);
 }
 
+// Sobol in 5 dimensions: the first points of Joe & Kuo's reference generator (Gray-code order, point g is
+// natural point g ^ (g >> 1)), dims 0 and 1 equal the 2D sequence, and every dimension of every 2^k prefix
+// (scrambled or not) is stratified into 2^k intervals.
+TEST(Sobol, FiveDimensionsJoeKuo) {
+  const double expected[6][5] = {{0, 0, 0, 0, 0},
+                                 {0.5, 0.5, 0.5, 0.5, 0.5},
+                                 {0.75, 0.25, 0.25, 0.25, 0.75},
+                                 {0.25, 0.75, 0.75, 0.75, 0.25},
+                                 {0.375, 0.375, 0.625, 0.875, 0.375},
+                                 {0.875, 0.875, 0.125, 0.375, 0.875}};
+  for (uint32_t g = 0; g < 6; ++g)
+    for (int d = 0; d < kSobolMaxDims; ++d)
+      EXPECT_EQ(u32_to_unit<double>(sobol_u32(g ^ (g >> 1), d)), expected[g][d]) << g << " " << d;
+  for (uint32_t i = 0; i < 5000; ++i) {
+    ASSERT_EQ(sobol_u32(i, 0), sobol_dim0(i));
+    ASSERT_EQ(sobol_u32(i, 1), sobol_dim1(i));
+  }
+  for (uint32_t seed : {0u, 7u}) {
+    for (int k = 1; k <= 12; ++k) {
+      const uint32_t n = 1u << k;
+      for (int d = 0; d < kSobolMaxDims; ++d) {
+        std::set<uint32_t> cells;
+        for (uint32_t i = 0; i < n; ++i) {
+          const double x = seed ? sobol_scrambled<double>(i, d, seed) : u32_to_unit<double>(sobol_u32(i, d));
+          ASSERT_GE(x, 0.0);
+          ASSERT_LT(x, 1.0);
+          cells.insert(uint32_t(x * n));
+        }
+        ASSERT_EQ(cells.size(), n) << "seed " << seed << " k " << k << " dim " << d;
+      }
+    }
+  }
+  EXPECT_NE(sobol_scrambled<double>(3, 2, 1), sobol_scrambled<double>(3, 2, 2));
+}
+
 TEST(Pcg32, UniformMeanAndRange) {
   Pcg32 rng(42);
   double sum = 0;

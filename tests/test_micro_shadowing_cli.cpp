@@ -97,7 +97,9 @@ TEST(MicroShadowingCli, EvalJson) {
 // exact azimuth mean (the table's own accuracy is tested in test_lut*).
 TEST(MicroShadowingCli, LutMethods) {
   const auto a = eval_json("--method lut3d --visibility 0.7 --roughness 0.4 --ndotl 0.6 --ndotv 0.3");
-  EXPECT_EQ(a["lut_size"][2], 64);
+  EXPECT_EQ(a["lut_layout"], "cone");  // the default table
+  EXPECT_EQ(a["lut_size"][2], 16);
+  EXPECT_EQ(a["lut_roughness_slabs"], 16);
   EXPECT_NEAR(a["value"].get<double>(), ms::generic_vndf_exact_azimuth_mean(0.7, 0.16, 0.6, 0.3), 0.01);
   const auto b = eval_json("--method lut2d --visibility 0.7 --roughness 0.4 --ndotl 0.6 --ndotv 0.3");
   EXPECT_EQ(b["lut_size"][2], 1);

@@ -180,8 +180,10 @@ TEST(TextureGen, BakeMatchesKnownVisibility) {
   Texture wall(64, 8, 1);
   for (int j = 0; j < 8; ++j)
     for (int i = 0; i < 64; ++i) wall.at(i, j, 0) = i >= 32 ? 1.0f : 0.0f;
-  const Texture v = bake_visibility(wall, 1000.0f, 4096, 8.0f);
-  // Near-vertical rays with sin θ < 1/8 can clear the 1-texel ramp: at most sin²θ = 1/64 more visibility.
+  // 256 azimuths: the bake integrates each azimuth's elevation exactly, so the azimuth rule's error on this
+  // piecewise-smooth horizon is far below the tolerance.
+  const Texture v = bake_visibility(wall, 1000.0f, 256, 8.0f);
+  // Near-vertical directions with sin θ < 1/8 can clear the 1-texel ramp: at most sin²θ = 1/64 more visibility.
   EXPECT_NEAR(v.at(31, 3, 0), 0.5f + 0.5f / 64, 0.02f);
 }
 
@@ -290,6 +292,18 @@ TEST(SceneJson, StrictErrorsNameFileAndKey) {
        "width"},
       {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m", "radius": -1}], "lights": []})",
        "radius"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"component": "both"}})",
+       "component"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"ground_truth_intersector": "optix"}})",
+       "ground_truth_intersector"},
+      {R"({"camera": {"projection": "fisheye"}, "materials": {"m": {}},
+          "objects": [{"type": "sphere", "material": "m"}], "lights": []})",
+       "projection"},
+      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+          "settings": {"error_batches": 0}})",
+       "error_batches"},
       {R"({"materials": {"m": {}}, "objects": [)", "malformed JSON"}};
   for (const auto& [json, word] : bad) {
     try {
@@ -658,4 +672,31 @@ TEST(RenderError, RenderToErrorStopsAtTheTarget) {
   EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4), InputError);
   s.settings.error_batches = 1;
   EXPECT_THROW(Renderer(s).render_to_error(1e-3, 4096), InputError);
+}
+
+// height_texels travels with the texture set: taken from material.json beside the height map when the scene
+// omits it, accepted when equal, refused (naming material.json) when different.
+TEST(SceneJson, HeightTexelsFromMaterialJson) {
+  const auto dir = std::filesystem::temp_directory_path() / "msh_test_render_depth";
+  std::filesystem::create_directories(dir);
+  TextureSet set;
+  set.height = Texture(8, 8, 1);
+  set.normal = normal_map_from_height(set.height, 3.5f);
+  set.roughness = set.metallic = set.visibility = set.height;
+  set.base_color = Texture::constant({0.5f, 0.5f, 0.5f, 1}, 3);
+  set.depth_texels = 3.5f;
+  write_texture_set(dir, set);
+  auto scene = [](const std::string& depth) {
+    return R"({"materials": {"m": {"height": "height.png")" + depth +
+           R"(}}, "objects": [{"type": "plane", "material": "m"}], "lights": []})";
+  };
+  EXPECT_EQ(parse_scene(scene(""), "s.json", dir).materials[0].height_texels, 3.5f);
+  EXPECT_EQ(parse_scene(scene(R"(, "height_texels": 3.5)"), "s.json", dir).materials[0].height_texels, 3.5f);
+  try {
+    parse_scene(scene(R"(, "height_texels": 4)"), "s.json", dir);
+    ADD_FAILURE() << "accepted a depth that contradicts material.json";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("material.json"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }

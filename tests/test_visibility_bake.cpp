@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <tuple>
 
 using namespace msh;
 using namespace msh::render;
@@ -80,8 +81,11 @@ TEST(VisibilityBake, ConvexRidgeAndSlope) {
 TEST(VisibilityBake, VGrooveBottomAndRim) {
   for (double beta_deg : {30.0, 45.0, 60.0}) {
     const double t = std::tan(beta_deg * kPiD / 180);
-    const Texture f = field(64, 8, 100, [t](int i, int) { return -t * std::max(0, 10 - std::abs(i - 32)); });
-    for (float R : {0.0f, 6.0f}) {  // unlimited, and short rays (the walls start at the bottom: same answer)
+    // Unlimited and short rays (the walls start at the bottom: same answer); width 65 × 7 (odd: no 2 × 2
+    // block level, the cell-only walk) as well as 64 × 8.
+    for (const auto& [w, h, R] :
+         {std::tuple{64, 8, 0.0f}, std::tuple{64, 8, 6.0f}, std::tuple{65, 7, 0.0f}}) {
+      const Texture f = field(w, h, 100, [t](int i, int) { return -t * std::max(0, 10 - std::abs(i - 32)); });
       const Texture v = bake_visibility(f, 100, 128, R);
       EXPECT_NEAR(v.at(32, 3, 0), std::cos(beta_deg * kPiD / 180), 1e-5) << beta_deg << " R=" << R;
       EXPECT_EQ(v.at(22, 3, 0), 1.0f) << beta_deg;  // rim

@@ -3,7 +3,7 @@
 // sampler of include/microshadow/microfacet/ggx.h, the Sobol sequence of math/sampling.h and the LUT sampler
 // of include/microshadow/lut/micro_shadowing_lut.h; see docs/shaders.md and docs/micro-shadowing.md.
 //
-// Conventions (REFERENCE.md §1–2): vis = micro-occlusion visibility in projected solid angle, in [0,1]; the
+// Conventions (docs/conventions.md, docs/micro-shadowing.md): vis = micro-occlusion visibility in projected solid angle, in [0,1]; the
 // visibility cone has cos_t = sqrt(1 - vis). Vectors v (view) and l (light) are unit vectors in the shading
 // frame (n = +z, tangent = +x, bitangent = +y), pointing away from the surface: use
 // msh_ms_to_shading_frame(). GGX alpha = perceptual roughness^2; alpha_x along the tangent.
@@ -22,10 +22,10 @@
 // (dot(w,t), dot(w,b), dot(w,n)): a world-space direction in the shading frame (t, b, n orthonormal).
 vec3 msh_ms_to_shading_frame(vec3 w, vec3 t, vec3 b, vec3 n) { return vec3(dot(w, t), dot(w, b), dot(w, n)); }
 
-// Cosine of the visibility cone's half-angle, sqrt(1 - vis) (seed 002, Nusselt analog). |err| <= 1.2e-7.
+// Cosine of the visibility cone's half-angle, sqrt(1 - vis) (Zurita 2026 Part 2, Nusselt analog). |err| <= 1.2e-7.
 float msh_ms_cone_cos(float vis) { return sqrt(1.0 - clamp(vis, 0.0, 1.0)); }
 
-// Reference term (seed 002): step(cos_t, N.L), lit iff N.L > cos_t (strict). Exact except within ~1 ulp of
+// Reference term (Zurita 2026 Part 2): step(cos_t, N.L), lit iff N.L > cos_t (strict). Exact except within ~1 ulp of
 // the cone boundary N.L = cos_t (where the GPU's sqrt may round differently).
 float msh_ms_reference_step(float vis, float n_dot_l) {
   return clamp(n_dot_l, 0.0, 1.0) > msh_ms_cone_cos(vis) ? 1.0 : 0.0;
@@ -47,7 +47,7 @@ float msh_ms_chan2018(float vis, float n_dot_l) {
   return x * x;
 }
 
-// Part 1 "analytical alternative" (Zurita 2026, REFERENCE §2): vis in {0,1} returns vis; else
+// Part 1 "analytical alternative" (Zurita 2026, Part 1, as reported by third-party copies): vis in {0,1} returns vis; else
 // pow(saturate(N.L / sqrt(1 - vis^5)), 0.75 / vis). Precision limited by pow (exp2/log2): |err| <= 2e-6 for
 // vis >= 0.05 (1.1e-6 measured); below, the exponent 0.75/vis is large: |err| <= 2e-5 (6.5e-6 measured).
 float msh_ms_part1_analytic(float vis, float n_dot_l) {
@@ -61,7 +61,7 @@ float msh_ms_part1_analytic(float vis, float n_dot_l) {
   return x > 0.0 ? pow(x, 0.75 / v) : 0.0;  // pow(0, y) avoided: exp2(y * log2(0)) is not portable
 }
 
-// Exact early-out (seed 002; proof in REFERENCE §2): 2 vis + N.L < 1 => the generic term is exactly 0 for every
+// Exact early-out (Zurita 2026 Part 2; proof in docs/micro-shadowing.md): 2 vis + N.L < 1 => the generic term is exactly 0 for every
 // roughness and view. Exact (two roundings, as in C++).
 bool msh_ms_exact_zero(float vis, float n_dot_l) {
   return 2.0 * clamp(vis, 0.0, 1.0) + clamp(n_dot_l, 0.0, 1.0) < 1.0;
@@ -95,7 +95,7 @@ vec3 msh_ggx_sample_vndf(vec3 v, vec2 alpha, vec2 u) {
 // Isotropic GGX: msh_ggx_sample_vndf with alpha_x = alpha_y.
 vec3 msh_ggx_sample_vndf_isotropic(vec3 v, float alpha, vec2 u) { return msh_ggx_sample_vndf(v, vec2(alpha), u); }
 
-// Projected roughness alpha(phi_w) = sqrt(ax^2 cos^2 phi + ay^2 sin^2 phi) along the azimuth of w (seed 002
+// Projected roughness alpha(phi_w) = sqrt(ax^2 cos^2 phi + ay^2 sin^2 phi) along the azimuth of w (Zurita 2026 Part 2
 // ProjectRoughnessGGX; RTR4 9.51); sqrt((ax^2 + ay^2)/2) at the pole. |err| <= 2.5e-7 relative.
 float msh_ggx_projected_alpha(vec3 w, vec2 alpha) {
   vec2 a = max(alpha, vec2(MSH_MS_MIN_ALPHA));
@@ -113,7 +113,7 @@ float msh_ggx_g1_projected(vec3 w, float projected_alpha) {
   return den > 0.0 ? 2.0 * z / den : 1.0;
 }
 
-// G2(v,l,m)/G1(v,m) for the Smith profile with m.l > 0, m.v > 0 (seed 002 table), from the G1 of l and v:
+// G2(v,l,m)/G1(v,m) for the Smith profile with m.l > 0, m.v > 0 (Zurita 2026 Part 2 table), from the G1 of l and v:
 // uncorrelated G1(l); height-correlated G1(l) / (G1(l) + G1(v) - G1(l) G1(v)). |err| <= 1e-6.
 float msh_ms_smith_g2_over_g1(float g1_l, float g1_v, bool height_correlated) {
   if (!height_correlated) return g1_l;
@@ -121,7 +121,7 @@ float msh_ms_smith_g2_over_g1(float g1_l, float g1_v, bool height_correlated) {
   return den > 0.0 ? g1_l / den : 0.0;
 }
 
-// The seed's per-microfacet function GenericM_m (seed 002, MicroShadowingTermPZGenericVNDFBased), anisotropic
+// The seed's per-microfacet function GenericM_m (Zurita 2026 Part 2, MicroShadowingTermPZGenericVNDFBased), anisotropic
 // GGX, shading frame: m from the VNDF of v (Dupuy-Benyoub 2023), weight G2/G1 from the projected roughness of
 // v and l. cone/hemisphere are 0 or the weight; exact (bit-identical decisions) except where n.m or m.l lies
 // within ~1e-5 of cos_t (the sampler's precision; 0 mismatches measured away from 1e-4 of the thresholds);
@@ -141,7 +141,7 @@ void msh_ms_generic_vndf_sample(float cos_t, vec2 alpha, vec3 v, vec3 l, vec2 u,
   cone = (n_dot_m - c > 0.0 && m_dot_l - c > 0.0) ? weight : 0.0;
 }
 
-// Isotropic GenericM_m (seed 002, MicroShadowingTermPZGenericVNDFBased_Isotropic): the same with one alpha.
+// Isotropic GenericM_m (Zurita 2026 Part 2, MicroShadowingTermPZGenericVNDFBased_Isotropic): the same with one alpha.
 void msh_ms_generic_vndf_sample_isotropic(float cos_t, float alpha, vec3 v, vec3 l, vec2 u,
                                           bool height_correlated, out float cone, out float hemisphere,
                                           out float weight) {
@@ -199,7 +199,7 @@ vec2 msh_sobol_2d(uint index, uint seed) {
 // Hammersley point i of n: (i/n, radical inverse of i). Bit-identical to msh::hammersley_2d<float>.
 vec2 msh_hammersley_2d(uint i, uint n) { return vec2(float(i) / float(n), msh_u32_to_unit(bitfieldReverse(i))); }
 
-// GenericM_g (seed 002) estimated with n samples of msh_sobol_2d(i, seed) (the C++ estimator
+// GenericM_g (Zurita 2026 Part 2) estimated with n samples of msh_sobol_2d(i, seed) (the C++ estimator
 // msh::ms::generic_vndf_estimate uses seed 1 by default): sum(cone) / sum(hemisphere); 0 when no sample reaches
 // the hemisphere or when the exact early-out holds (no samples taken). The same points as C++, so the result
 // differs from the C++ float estimate only by samples whose decision flips within the sampler's precision
@@ -219,7 +219,7 @@ float msh_ms_generic_vndf_estimate(float vis, vec2 alpha, vec3 v, vec3 l, int n,
   return hemi_sum > 0.0 ? min(1.0, cone_sum / hemi_sum) : 0.0;
 }
 
-// ---- LUT sampling (seed 002 "LUT-Based Approximation"; layout REFERENCE.md §1) ---------------------------------
+// ---- LUT sampling (Zurita 2026, "Improving Direct Lighting Material Occlusion - Part 2", "LUT-Based Approximation"; layout docs/lut.md) ---------------------------------
 // RGBA float texture, linear filtering, clamp-to-edge, no mips: x = vis, y = N.L, z = N.V; channel c holds
 // roughness knots[c] (default 0.1, 0.4, 0.7, 1.0). Texel i of an axis of n texels holds i/(n-1).
 // Precision vs the C++ sampler (msh::lut::sample_micro_shadowing*) on lavapipe: see each function; on other GPUs
@@ -242,7 +242,7 @@ float msh_ms_lut_roughness(vec4 ch, float roughness, vec4 knots, int channels) {
   float t = r1 > r0 ? clamp((r - r0) / (r1 - r0), 0.0, 1.0) : 0.0;
   return ch[j] + t * (ch[j + 1] - ch[j]);
 }
-// The default channels r, g, b, a = roughness 0.1, 0.4, 0.7, 1.0 (seed 002).
+// The default channels r, g, b, a = roughness 0.1, 0.4, 0.7, 1.0 (Zurita 2026 Part 2).
 float msh_ms_lut_roughness_default(vec4 ch, float roughness) {
   return msh_ms_lut_roughness(ch, roughness, vec4(0.1, 0.4, 0.7, 1.0), 4);
 }
@@ -255,14 +255,14 @@ vec4 msh_ms_lut_fetch(sampler3D lut, float vis, float n_dot_l, float n_dot_v) {
   return textureLod(lut, uvw, 0.0);
 }
 
-// 3D LUT (seed 002): early-out before the fetch, trilinear fetch, roughness interpolation. The table holds the
+// 3D LUT (Zurita 2026 Part 2): early-out before the fetch, trilinear fetch, roughness interpolation. The table holds the
 // mean over the relative azimuth. Perceptual roughness. |shader - C++| <= 1e-6 on lavapipe (1.8e-7 measured).
 float msh_ms_lut_sample(sampler3D lut, float vis, float n_dot_l, float n_dot_v, float roughness) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
   return clamp(msh_ms_lut_roughness_default(msh_ms_lut_fetch(lut, vis, n_dot_l, n_dot_v), roughness), 0.0, 1.0);
 }
 
-// 2D LUT (seed 002): the N.V = 1 slice, x = vis, y = N.L. |shader - C++| <= 1e-6 on lavapipe (1.2e-7 meas.).
+// 2D LUT (Zurita 2026 Part 2): the N.V = 1 slice, x = vis, y = N.L. |shader - C++| <= 1e-6 on lavapipe (1.2e-7 meas.).
 float msh_ms_lut_sample_2d(sampler2D lut, float vis, float n_dot_l, float roughness) {
   if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
   vec2 n = vec2(textureSize(lut, 0));
@@ -296,6 +296,85 @@ float msh_ms_lut_sample_azimuth(sampler3D lut, int harmonics, float vis, float n
   for (int h = 1; h <= harmonics; ++h) {
     vec3 uvw = vec3(uv, (float(h * n_nv) + zt) / float(size.z));
     sum += t * msh_ms_lut_roughness_default(textureLod(lut, uvw, 0.0), roughness);
+    float next = 2.0 * c1 * t - t_prev;
+    t_prev = t;
+    t = next;
+  }
+  return clamp(sum, 0.0, 1.0);
+}
+
+// ---- Cone-layout LUT (the default table since `bake micro-shadowing` issue 9; docs/lut.md) ---------------
+// A 3D texture, linear filtering, clamp-to-edge, no mips: x = t (the cone half-angle relative to the light,
+// t = 0 at the early-out boundary 2 vis + N.L = 1, t = 1 at vis = 1 or, for grazing light, a little past it), y = N.L coordinate, z = N.V coordinate
+// + n_nv * roughness slab (depth = n_nv * n_rough); channel h = the cos(h phi) coefficient a_h (a plain table
+// has channel r = a_0 only). Two fetches per light: the two roughness slabs around the roughness, blended in
+// the shader. The constants are the baker's defaults (ConeLayoutParams); a table baked with other warps
+// needs the same values here. Same arithmetic as msh::lut::fetch_cone (C++ float); |shader - C++| on
+// lavapipe: docs/shaders.md.
+#define MSH_MS_CONE_ROUGHNESS_MIN 0.1
+#define MSH_MS_CONE_ROUGHNESS_MAX 1.0
+#define MSH_MS_CONE_WARP_SCALE 2.0
+#define MSH_MS_CONE_NV_SCALE 3.0
+#define MSH_MS_CONE_TOP_SCALE 3.0
+
+// u(d) = d / (a + |d|): the warp of d = sin(theta - theta_l).
+float msh_ms_cone_warp_u(float d, float a) { return d / (a + abs(d)); }
+
+// t in [0, 1] for visibility vis, N.L and warp width a (msh::lut::cone_t).
+float msh_ms_cone_t(float vis, float n_dot_l, float a) {
+  float V = clamp(vis, 0.0, 1.0), zl = clamp(n_dot_l, 0.0, 1.0);
+  float sl = sqrt(max(0.0, 1.0 - zl * zl));
+  float d = sqrt(V) * zl - sqrt(1.0 - V) * sl;
+  float ulo = msh_ms_cone_warp_u(-sqrt(0.5 * (1.0 - zl)), a);
+  float e = MSH_MS_CONE_TOP_SCALE * a / (1.0 + MSH_MS_CONE_TOP_SCALE * a);
+  float utop = msh_ms_cone_warp_u(sqrt(zl * zl + e * e * (1.0 - zl * zl)), a);  // just past V = 1
+  return clamp((msh_ms_cone_warp_u(d, a) - ulo) / (utop - ulo), 0.0, 1.0);
+}
+
+// The channels a_0..a_3 of a cone-layout table at (vis, N.L, N.V, roughness), no early-out; n_rough = the
+// number of roughness slabs (sidecar "roughness_slabs"). Roughness is clamped to [0.1, 1].
+vec4 msh_ms_lut_fetch_cone(sampler3D lut, int n_rough, float vis, float n_dot_l, float n_dot_v, float roughness) {
+  ivec3 size = textureSize(lut, 0);
+  int n_nv = size.z / n_rough;
+  float r = roughness;
+  if (!(r > MSH_MS_CONE_ROUGHNESS_MIN)) r = MSH_MS_CONE_ROUGHNESS_MIN;
+  if (r > MSH_MS_CONE_ROUGHNESS_MAX) r = MSH_MS_CONE_ROUGHNESS_MAX;
+  float alpha = max(r * r, 1e-4);
+  float t = msh_ms_cone_t(vis, n_dot_l, MSH_MS_CONE_WARP_SCALE * alpha);
+  float nlc = clamp(n_dot_l, 0.0, 1.0);
+  float s = 0.5 * (sqrt(nlc) + 1.0 - sqrt(1.0 - nlc));  // N.L warp: dense near N.L = 0 and 1
+  float c = clamp(n_dot_v, 0.0, 1.0), b = MSH_MS_CONE_NV_SCALE * alpha;
+  float w = clamp(c / sqrt(b * b + c * c) * sqrt(b * b + 1.0), 0.0, 1.0);  // N.V warp: dense below N.V ~ alpha
+  float q = clamp((sqrt(r) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)) /
+                      (sqrt(MSH_MS_CONE_ROUGHNESS_MAX) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)), 0.0, 1.0) *
+            float(n_rough - 1);  // slabs uniform in sqrt(roughness)
+  int j = min(int(q), max(n_rough - 2, 0));
+  float f = n_rough > 1 ? clamp(q - float(j), 0.0, 1.0) : 0.0;
+  vec2 uv = vec2(msh_ms_lut_coord(t, float(size.x)), msh_ms_lut_coord(s, float(size.y)));
+  float zt = w * float(n_nv - 1) + 0.5;  // texel coordinate within a slab, + 0.5: slabs never bleed
+  vec4 a = textureLod(lut, vec3(uv, (float(j * n_nv) + zt) / float(size.z)), 0.0);
+  vec4 bb = textureLod(lut, vec3(uv, (float((j + 1) * n_nv) + zt) / float(size.z)), 0.0);
+  return a + f * (bb - a);
+}
+
+// Plain cone-layout table (msh::lut::sample_micro_shadowing): early-out before any fetch, two fetches,
+// the azimuth mean a_0.
+float msh_ms_lut_sample_cone(sampler3D lut, int n_rough, float vis, float n_dot_l, float n_dot_v, float roughness) {
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  return clamp(msh_ms_lut_fetch_cone(lut, n_rough, vis, n_dot_l, n_dot_v, roughness).x, 0.0, 1.0);
+}
+
+// Azimuth-aware cone-layout table (`bake micro-shadowing --azimuth`, RGBA = a_0..a_3; harmonics <= 3):
+// a_0 + sum_h a_h cos(h phi), cos(h phi) by the Chebyshev recurrence from cos_phi
+// (msh_ms_relative_azimuth_cos). Two fetches.
+float msh_ms_lut_sample_cone_azimuth(sampler3D lut, int n_rough, int harmonics, float vis, float n_dot_l,
+                                     float n_dot_v, float roughness, float cos_phi) {
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  vec4 a = msh_ms_lut_fetch_cone(lut, n_rough, vis, n_dot_l, n_dot_v, roughness);
+  float c1 = clamp(cos_phi, -1.0, 1.0);
+  float sum = a.x, t_prev = 1.0, t = c1;
+  for (int h = 1; h <= harmonics && h < 4; ++h) {
+    sum += t * a[h];
     float next = 2.0 * c1 * t - t_prev;
     t_prev = t;
     t = next;

@@ -1,6 +1,7 @@
 // CLI for the micro-shadowing LUT (include/microshadow/lut/):
-//   microshadow bake micro-shadowing [--size 64] [--2d] [--samples N] [--azimuth|--harmonics H]
-//       [--roughness 0.1,0.4,0.7,1.0] [--format dds|ktx2|exr|npy|h] [--pixel-format rgba16f] --out FILE
+//   microshadow bake micro-shadowing [--layout cone|seed] [--size-t 64 --size-nl 32 --size-nv 16
+//       --roughness-slabs 16 | --size 64 --roughness 0.1,0.4,0.7,1.0] [--2d] [--samples N]
+//       [--azimuth|--harmonics H] [--format dds|ktx2|exr|npy|h] [--pixel-format rgba16f] --out FILE
 // Writes FILE (atomically) and its JSON sidecar FILE.json (roughness per channel, harmonics, bake settings).
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
@@ -26,11 +27,11 @@ namespace msh::cli {
 namespace {
 
 struct BakeLutOptions {
-  std::string out, format, pixel_format = "rgba16f", roughness = "0.1,0.4,0.7,1.0",
+  std::string out, format, pixel_format = "rgba16f", roughness, roughness_range, layout = "cone",
                            symbol = "micro_shadowing_lut";
-  int size = 64, size_vis = 0, size_nl = 0, size_nv = 0;
+  int size = -1, size_vis = -1, size_nl = -1, size_nv = -1, size_t_ = -1, slabs = -1;  // -1: layout default
   bool two_d = false, azimuth = false, quiet = false;
-  int harmonics = 0, samples = 16384, phi_nodes = 16, threads = 0;
+  int harmonics = 0, samples = -1, phi_nodes = 16, threads = 0;
   const CLI::Option* harmonics_opt = nullptr;  // set when --harmonics was given
   uint32_t seed = 1;
 };
@@ -58,15 +59,45 @@ io::PixelFormat pixel_format_for(const std::string& name, int channels) {
 
 void run_bake(const BakeLutOptions& o) {
   namespace fs = std::filesystem;
-  lut::BakeOptions b;
-  if (o.size < 2) throw UsageError(fmt::format("--size must be ≥ 2, got {}", o.size));
-  b.n_vis = o.size_vis ? o.size_vis : o.size;
-  b.n_nl = o.size_nl ? o.size_nl : o.size;
-  b.n_nv = o.size_nv ? o.size_nv : o.size;
+  const lut::LutLayout layout = lut::layout_from_name(o.layout);
+  const bool cone = layout == lut::LutLayout::Cone;
+  const int harmonics =
+      o.harmonics_opt && o.harmonics_opt->count() > 0 ? o.harmonics : (o.azimuth ? (cone ? 3 : 2) : 0);
+  lut::BakeOptions b = lut::default_bake_options(layout, std::max(harmonics, 0));
+  auto size_ok = [](int n, const char* name) {
+    if (n != -1 && n < 2) throw UsageError(fmt::format("{} must be ≥ 2, got {}", name, n));
+    return n > 0;
+  };
+  size_ok(o.size, "--size"), size_ok(o.size_vis, "--size-visibility"), size_ok(o.size_nl, "--size-nl");
+  size_ok(o.size_nv, "--size-nv"), size_ok(o.size_t_, "--size-t"), size_ok(o.slabs, "--roughness-slabs");
+  if (cone) {
+    if (o.size > 0 || o.size_vis > 0)
+      throw UsageError(
+          "--size / --size-visibility apply to --layout seed; the cone layout takes --size-t, "
+          "--size-nl, --size-nv, --roughness-slabs");
+    if (!o.roughness.empty())
+      throw UsageError(
+          "--roughness (one value per channel) applies to --layout seed; the cone layout takes "
+          "--roughness-range MIN,MAX and --roughness-slabs N");
+    if (o.size_t_ > 0) b.n_vis = o.size_t_;
+    if (o.slabs > 0) b.n_rough = o.slabs;
+    if (!o.roughness_range.empty()) {
+      const auto rr = parse_list(o.roughness_range, "--roughness-range");
+      if (rr.size() != 2) throw UsageError("--roughness-range takes two values MIN,MAX");
+      b.cone.roughness_min = float(rr[0]), b.cone.roughness_max = float(rr[1]);
+    }
+  } else {
+    if (o.size_t_ > 0 || o.slabs > 0 || !o.roughness_range.empty())
+      throw UsageError("--size-t, --roughness-slabs and --roughness-range apply to the cone layout");
+    if (o.size > 0) b.n_vis = b.n_nl = b.n_nv = o.size;
+    if (o.size_vis > 0) b.n_vis = o.size_vis;
+    if (!o.roughness.empty()) b.roughness = parse_list(o.roughness, "--roughness");
+  }
+  if (o.size_nl > 0) b.n_nl = o.size_nl;
+  if (o.size_nv > 0) b.n_nv = o.size_nv;
   b.two_d = o.two_d;
-  b.roughness = parse_list(o.roughness, "--roughness");
-  b.harmonics = o.harmonics_opt && o.harmonics_opt->count() > 0 ? o.harmonics : (o.azimuth ? 2 : 0);
-  b.samples = o.samples;
+  b.harmonics = harmonics;
+  if (o.samples != -1) b.samples = o.samples;
   b.phi_nodes = o.phi_nodes;
   b.seed = o.seed;
   b.threads = o.threads;
@@ -78,7 +109,7 @@ void run_bake(const BakeLutOptions& o) {
   if (ff == io::FileFormat::Png)
     throw UsageError(
         "a LUT cannot be written as PNG (use dds, ktx2, exr, npy or h; figures: scripts/plot_lut.py)");
-  const int channels = int(b.roughness.size());
+  const int channels = cone ? (b.harmonics == 0 ? 1 : (b.harmonics == 1 ? 2 : 4)) : int(b.roughness.size());
   io::PixelFormat pf = io::PixelFormat::RGBA32Float;
   if (ff == io::FileFormat::Dds || ff == io::FileFormat::Ktx2 || ff == io::FileFormat::Exr) {
     pf = pixel_format_for(o.pixel_format, channels);
@@ -102,7 +133,13 @@ void run_bake(const BakeLutOptions& o) {
       }
     };
   const auto t0 = std::chrono::steady_clock::now();
-  const io::Volume vol = lut::bake_micro_shadowing_lut(b);
+  io::Volume vol = lut::bake_micro_shadowing_lut(b);
+  if (vol.channels != channels) {  // cone layout, H = 2: a_0..a_2 in RGB, A = 0 (textures take 1, 2 or 4)
+    io::Volume padded(vol.width, vol.height, vol.depth, channels);
+    for (std::size_t i = 0; i < vol.texel_count(); ++i)
+      for (int c = 0; c < vol.channels; ++c) padded.data[i * channels + c] = vol.data[i * vol.channels + c];
+    vol = std::move(padded);
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   io::write_volume(out, vol, ff, pf, o.symbol);
   io::write_file_atomic(lut::sidecar_path(out), lut::sidecar_json(b));
@@ -111,7 +148,12 @@ void run_bake(const BakeLutOptions& o) {
   j["sidecar"] = lut::sidecar_path(out).string();
   j["size"] = {vol.width, vol.height, vol.depth};
   j["channels"] = vol.channels;
-  j["roughness"] = b.roughness;
+  j["layout"] = lut::layout_name(b.layout);
+  if (cone)
+    j["roughness_slabs"] = b.n_rough,
+    j["roughness_range"] = {lut::short_float(b.cone.roughness_min), lut::short_float(b.cone.roughness_max)};
+  else
+    j["roughness"] = b.roughness;
   j["harmonics"] = b.harmonics;
   j["samples"] = b.samples;
   j["phi_nodes"] = b.phi_nodes;
@@ -131,6 +173,10 @@ void run_plot(const PlotLutOptions& o) {
   namespace fs = std::filesystem;
   const lut::MicroShadowingLut table = lut::load_micro_shadowing_lut(o.lut);
   const lut::MicroShadowingLutView view = table.view();
+  if (view.layout != lut::LutLayout::Seed)
+    throw UsageError(
+        "plot micro-shadowing-lut draws seed-layout tables (bake micro-shadowing --layout seed); measure a "
+        "cone-layout table with verify micro-shadowing-lut");
   std::vector<int> zs;
   for (double z : parse_list(o.slices, "--slices")) {
     if (!(z >= 0 && z < view.n_nv && z == std::floor(z)))
@@ -142,7 +188,8 @@ void run_plot(const PlotLutOptions& o) {
   if (!o.lut2d.empty()) {
     table2d = lut::load_micro_shadowing_lut(o.lut2d);
     const auto v2 = table2d->view();
-    if (v2.n_nv != 1 || v2.n_vis != view.n_vis || v2.n_nl != view.n_nl || v2.channels != view.channels)
+    if (v2.layout != lut::LutLayout::Seed || v2.n_nv != 1 || v2.n_vis != view.n_vis || v2.n_nl != view.n_nl ||
+        v2.channels != view.channels)
       throw UsageError("--lut2d must be the 2D LUT (depth 1) of the same size and channels as --lut");
   }
   const fs::path dir(o.out);
@@ -197,31 +244,40 @@ void add_lut(Groups& g) {
   auto o = std::make_shared<BakeLutOptions>();
   CLI::App* c = g.bake->add_subcommand(
       "micro-shadowing",
-      "Bake the micro-shadowing LUT (seed 002, generic VNDF-based term, isotropic Smith-GGX): x = "
-      "Visibility, "
-      "y = N.L, z = N.V, one channel per roughness; each texel is the mean over the relative azimuth of the "
-      "exact "
-      "term. Also writes OUT.json (roughness per channel, harmonics, settings). See docs/lut.md.");
+      "Bake the micro-shadowing LUT (Zurita 2026, generic VNDF-based term, isotropic Smith-GGX): each texel "
+      "is the mean over the relative azimuth of the exact term. Default cone layout (t relative to the cone "
+      "x N.L x N.V x 16 roughness slabs, 1.5 MiB, 2 fetches); --layout seed: x = Visibility, y = N.L, z = "
+      "N.V, "
+      "one channel per roughness. Also writes OUT.json (layout, roughness, harmonics, settings). See "
+      "docs/lut.md.");
   c->add_option("--out", o->out, "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
       ->required();
   c->add_option("--format", o->format, "dds, ktx2, exr, npy or h (overrides the extension)");
   c->add_option("--pixel-format", o->pixel_format,
                 "Precision for dds/ktx2/exr: rgba8, rgba16f or rgba32f (NPY and C header are always float32)")
       ->capture_default_str();
-  c->add_option("--size", o->size, "Texels per axis (≥ 2)")->capture_default_str();
-  c->add_option("--size-visibility", o->size_vis, "Texels along Visibility (default: --size)");
-  c->add_option("--size-nl", o->size_nl, "Texels along N.L (default: --size)");
-  c->add_option("--size-nv", o->size_nv, "Texels along N.V (default: --size)");
+  c->add_option("--layout", o->layout,
+                "cone (default: t relative to the cone, 16 roughness slabs, docs/lut.md) or seed (x = V, y = "
+                "N.L, z = N.V, RGBA = roughness 0.1/0.4/0.7/1.0, as in Zurita 2026)")
+      ->capture_default_str();
+  c->add_option("--size", o->size, "Seed layout: texels per axis (default 64)");
+  c->add_option("--size-visibility", o->size_vis, "Seed layout: texels along Visibility (default: --size)");
+  c->add_option("--size-t", o->size_t_, "Cone layout: texels along t (default 64; azimuth-aware 48)");
+  c->add_option("--size-nl", o->size_nl, "Texels along N.L (seed: --size; cone: 48; azimuth-aware 40)");
+  c->add_option("--size-nv", o->size_nv, "Texels along N.V (seed: --size; cone: 16)");
+  c->add_option("--roughness-slabs", o->slabs, "Cone layout: roughness slabs (default 16)");
+  c->add_option("--roughness-range", o->roughness_range, "Cone layout: MIN,MAX roughness (default 0.1,1)");
   c->add_flag("--2d", o->two_d, "The 2D LUT: the N.V = 1 slice only");
-  c->add_option("--roughness", o->roughness, "Perceptual roughness per channel, strictly increasing")
-      ->capture_default_str();
+  c->add_option(
+      "--roughness", o->roughness,
+      "Seed layout: perceptual roughness per channel, strictly increasing (default 0.1,0.4,0.7,1.0)");
   c->add_flag("--azimuth", o->azimuth,
-              "Azimuth-aware table: also the cos(phi) and cos(2 phi) coefficients, stacked as slabs along z "
-              "(same as --harmonics 2)");
+              "Azimuth-aware table: cone layout: channels a0..a3 of cos(h phi) (same as --harmonics 3); seed "
+              "layout: cos(phi), cos(2 phi) slabs along z (--harmonics 2)");
   o->harmonics_opt = c->add_option("--harmonics", o->harmonics,
-                                   "Number of cos(h phi) coefficient slabs (0 = plain mean LUT)");
-  c->add_option("--samples", o->samples, "VNDF samples per azimuth node and (roughness, N.V) pair")
-      ->capture_default_str();
+                                   "Number of cos(h phi) coefficients (0 = plain mean LUT; cone: at most 3)");
+  c->add_option("--samples", o->samples,
+                "VNDF samples per azimuth node and (roughness, N.V) pair (default: cone 4096, seed 16384)");
   c->add_option("--phi-nodes", o->phi_nodes, "Gauss-Legendre nodes over the relative azimuth [0, pi]")
       ->capture_default_str();
   c->add_option("--seed", o->seed, "Scrambling seed")->capture_default_str();

@@ -3,12 +3,14 @@
 //
 //   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
 //       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
-//   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, lut3d, lut2d [--lut
-//   FILE]) microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
+//   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, generic-vndf-alu,
+//   lut3d, lut2d [--lut FILE])
+//   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -26,8 +28,9 @@ namespace {
 
 using ms::G2Form;
 
-const std::vector<std::string> kMethods = {
-    "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic", "generic-vndf", "lut3d", "lut2d"};
+const std::vector<std::string> kMethods = {"reference",      "brinck-maximov-2016", "chan-2018",
+                                           "part1-analytic", "generic-vndf",        "lut3d",
+                                           "lut2d",          "generic-vndf-alu"};
 
 struct EvalArgs {
   std::string method = "generic-vndf", g2 = "height-correlated", lut;
@@ -54,7 +57,8 @@ Vec3d light_dir(double ndotl, double phi) {
 // Number of azimuths (midpoints of equal strata of [0, π]) of the sampled azimuth mean.
 constexpr int kEstimateAzimuths = 32;
 
-// Generic term: exact (no samples) or the seed's Sobol estimator; at one azimuth or the mean over [0, π].
+// Generic term: exact (no samples) or the Sobol estimator of Zurita 2026b; at one azimuth or the mean over
+// [0, π].
 double eval_generic(double V, double ax, double ay, double nl, double nv, const double* phi, int64_t samples,
                     G2Form form, uint32_t seed) {
   const Vec3d v = view_dir(nv);
@@ -117,7 +121,7 @@ void run_eval(const EvalArgs& a) {
     if (!a.lut.empty())
       table = std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(a.lut));
     else if (!early)
-      table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 2 : 0);
+      table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 3 : 0);
     if (!table) {
       out["value"] = 0.0;
       out["lut"] = "default (not needed: early-out)";
@@ -129,17 +133,39 @@ void run_eval(const EvalArgs& a) {
     }
     const lut::MicroShadowingLutView view = table->view();
     if (m == "lut3d" && view.n_nv < 2)
-      throw UsageError("lut3d needs a 3D table (depth > 1); use --method lut2d for an N.V = 1 table");
+      throw UsageError("lut3d needs a 3D table (N.V size > 1); use --method lut2d for an N.V = 1 table");
+    // --phi asks for the term at that azimuth: only an azimuth-aware table has it (never the mean silently).
+    if (has_phi && view.harmonics == 0)
+      throw UsageError(
+          "--phi needs an azimuth-aware table (bake micro-shadowing --azimuth); this table holds the azimuth "
+          "mean only (omit --phi for the mean)");
     // lut2d: the N·V = 1 slice whatever the table (a 2D table has only that slice).
     const double nv = m == "lut2d" ? 1.0 : a.ndotv;
     value = has_phi ? lut::sample_micro_shadowing_azimuth(view, a.visibility, a.ndotl, nv, a.roughness,
                                                           std::cos(a.phi))
                     : lut::sample_micro_shadowing(view, a.visibility, a.ndotl, nv, a.roughness);
     out["lut"] = a.lut.empty() ? nlohmann::json("default (baked on first use)") : nlohmann::json(a.lut);
+    out["lut_layout"] = lut::layout_name(view.layout);
     out["lut_size"] = {view.n_vis, view.n_nl, view.n_nv};
-    out["lut_roughness"] = table->roughness;
+    if (view.layout == lut::LutLayout::Cone) {
+      out["lut_roughness_slabs"] = view.n_rough;
+      out["lut_roughness_range"] = {lut::short_float(view.cone.roughness_min),
+                                    lut::short_float(view.cone.roughness_max)};
+    } else {
+      out["lut_roughness"] = table->roughness;
+    }
     out["harmonics"] = view.harmonics;
     out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
+  } else if (m == "generic-vndf-alu") {
+    // ALU-only approximations of the azimuth mean (micro_shadowing_fit.h), in float as a shader runs them:
+    // value = the one-call form, two_stage = the per-pixel + per-light form.
+    if (has_phi || has_ry || a.samples > 0)
+      throw UsageError(
+          "--phi, --roughness-y and --samples do not apply to generic-vndf-alu (isotropic mean)");
+    const float vf = float(a.visibility), lf = float(a.ndotl), nf = float(a.ndotv), rf = float(a.roughness);
+    value = ms::generic_vndf_alu(vf, lf, nf, rf);
+    out["two_stage"] = ms::generic_vndf_alu_two_stage(vf, lf, nf, rf);
+    out["azimuth"] = "mean over [0, pi]";
   } else if (m == "generic-vndf") {
     value = eval_generic(a.visibility, ax, ay, a.ndotl, a.ndotv, has_phi ? &a.phi : nullptr, a.samples, form,
                          a.seed);
@@ -394,8 +420,10 @@ void add_micro_shadowing(Groups& g) {
                                        "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
                                        "exact term at that azimuth. Without "
                                        "--samples the generic term is the exact quadrature (error < 1e-6).");
-  e->add_option("--method", ea->method,
-                "reference | brinck-maximov-2016 | chan-2018 | part1-analytic | generic-vndf | lut3d | lut2d")
+  e->add_option(
+       "--method", ea->method,
+       "reference | brinck-maximov-2016 | chan-2018 | part1-analytic | generic-vndf | lut3d | lut2d | "
+       "generic-vndf-alu")
       ->capture_default_str();
   e->add_option("--visibility", ea->visibility,
                 "Micro-occlusion visibility V in [0, 1] (projected solid angle)")
@@ -412,8 +440,9 @@ void add_micro_shadowing(Groups& g) {
   e->add_option("--ndotv", ea->ndotv, "N.V in [0, 1]")->check(Finite)->capture_default_str();
   ea->phi_opt =
       e->add_option("--phi", ea->phi, "Relative azimuth of l and v in [0, pi] (radians)")->check(Finite);
-  ea->samples_opt = e->add_option("--samples", ea->samples,
-                                  "Estimate with N Owen-scrambled Sobol VNDF samples (the seed's loop)");
+  ea->samples_opt =
+      e->add_option("--samples", ea->samples,
+                    "Estimate with N Owen-scrambled Sobol VNDF samples (the loop of Zurita 2026b)");
   e->add_option("--seed", ea->seed, "Scrambling seed of --samples")->capture_default_str();
   e->add_option("--g2", ea->g2, "height-correlated | uncorrelated (Smith G2/G1 weight)")
       ->capture_default_str();

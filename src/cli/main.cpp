@@ -45,6 +45,8 @@ int main(int argc, char** argv) {
   g.bake->require_subcommand(1);
   g.plot = app.add_subcommand("plot", "Write figure data (CSV) and figures (PNG)");
   g.plot->require_subcommand(1);
+  g.verify = app.add_subcommand("verify", "Measure an approximation's accuracy as it is used");
+  g.verify->require_subcommand(1);
   run_registrars(g);
 
   try {

@@ -18,6 +18,7 @@ struct Groups {
   CLI::App* eval = nullptr;  // microshadow eval <what>
   CLI::App* bake = nullptr;  // microshadow bake <what>
   CLI::App* plot = nullptr;  // microshadow plot <what>  (CSV/PNG figure data)
+  CLI::App* verify = nullptr;  // microshadow verify <what>  (as-used accuracy measurements)
 };
 
 using Registrar = void (*)(Groups&);

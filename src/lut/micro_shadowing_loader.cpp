@@ -8,6 +8,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 namespace msh::lut {
 
@@ -17,16 +18,44 @@ std::filesystem::path sidecar_path(const std::filesystem::path& table) {
   return p;
 }
 
+// The shortest decimal that reads back as the same float (0.1f → 0.1, not 0.10000000149011612).
+double short_float(float f) { return std::stod(fmt::format("{}", f)); }
+
+const char* layout_name(LutLayout l) { return l == LutLayout::Cone ? "cone" : "seed"; }
+
+LutLayout layout_from_name(const std::string& name) {
+  if (name == "seed") return LutLayout::Seed;
+  if (name == "cone") return LutLayout::Cone;
+  throw InputError(fmt::format("unknown LUT layout '{}' (seed or cone)", name));
+}
+
 std::string sidecar_json(const BakeOptions& o) {
   nlohmann::json j;
   j["format"] = "microshadow micro-shadowing LUT";
-  j["layout"] =
-      "x = Visibility, y = N·L, z = N·V (+ harmonic slab), channel = roughness; texel i of n = i/(n-1)";
-  j["roughness"] = o.roughness;
+  j["layout"] = layout_name(o.layout);
   j["harmonics"] = o.harmonics;
-  j["size_visibility"] = o.n_vis;
   j["size_n_dot_l"] = o.n_nl;
   j["size_n_dot_v"] = o.two_d ? 1 : o.n_nv;
+  if (o.layout == LutLayout::Cone) {
+    j["layout_description"] =
+        "x = t (cone half-angle relative to the light, t = 0 at 2V + N.L = 1, t = 1 at V = 1), y = N.L "
+        "coordinate, z = N.V coordinate + n_nv * roughness slab, channel h = cos(h phi) coefficient; see "
+        "docs/lut.md";
+    j["size_t"] = o.n_vis;
+    j["roughness_slabs"] = o.n_rough;
+    j["roughness_range"] = {short_float(o.cone.roughness_min), short_float(o.cone.roughness_max)};
+    j["roughness_power"] = short_float(o.cone.roughness_power);
+    j["warp_scale"] = short_float(o.cone.warp_scale);
+    j["nl_warp"] = o.cone.nl_warp;
+    j["nv_warp"] = o.cone.nv_warp;
+    j["nv_scale"] = short_float(o.cone.nv_scale);
+    j["top_scale"] = short_float(o.cone.top_scale);
+  } else {
+    j["layout_description"] =
+        "x = Visibility, y = N·L, z = N·V (+ harmonic slab), channel = roughness; texel i of n = i/(n-1)";
+    j["size_visibility"] = o.n_vis;
+    j["roughness"] = o.roughness;
+  }
   j["two_d"] = o.two_d;
   j["samples"] = o.samples;
   j["phi_nodes"] = o.phi_nodes;
@@ -42,18 +71,58 @@ MicroShadowingLut load_micro_shadowing_lut(const std::filesystem::path& path,
   std::vector<double> r(kDefaultRoughness.begin(), kDefaultRoughness.end());
   int h = 0;
   const auto side = sidecar_path(path);
+  const io::Volume& vol = lut.volume;
   if (std::filesystem::exists(side)) {
     std::ifstream in(side);
+    nlohmann::json j;
     try {
-      const nlohmann::json j = nlohmann::json::parse(in);
-      r = j.at("roughness").get<std::vector<double>>();
+      j = nlohmann::json::parse(in);
+      // Sidecars written before the cone layout hold a description string under "layout": the seed layout.
+      const std::string name = j.value("layout", std::string("seed"));
+      lut.layout = name.rfind("x = Visibility", 0) == 0 ? LutLayout::Seed : layout_from_name(name);
       h = j.at("harmonics").get<int>();
+      if (lut.layout == LutLayout::Cone) {
+        lut.n_rough = j.at("roughness_slabs").get<int>();
+        const auto range = j.at("roughness_range").get<std::vector<float>>();
+        if (range.size() != 2) throw InputError("roughness_range must hold 2 values");
+        lut.cone.roughness_min = range[0], lut.cone.roughness_max = range[1];
+        lut.cone.roughness_power = j.at("roughness_power").get<float>();
+        lut.cone.warp_scale = j.at("warp_scale").get<float>();
+        lut.cone.nl_warp = j.at("nl_warp").get<int>();
+        lut.cone.nv_warp = j.at("nv_warp").get<int>();
+        lut.cone.nv_scale = j.at("nv_scale").get<float>();
+        lut.cone.top_scale = j.at("top_scale").get<float>();
+      } else {
+        r = j.at("roughness").get<std::vector<double>>();
+      }
     } catch (const std::exception& e) {
       throw InputError(fmt::format("'{}': not a valid LUT sidecar ({})", side.string(), e.what()));
     }
-  } else if (lut.volume.channels != 4 && !roughness) {
+    // Sizes recorded by the baker must match the file (a sidecar next to another table is an error).
+    auto check = [&](const char* key, int actual) {
+      if (j.contains(key) && j[key].is_number_integer() && j[key].get<int>() != actual)
+        throw InputError(fmt::format("'{}': sidecar {} = {} but '{}' has {}", side.string(), key,
+                                     j[key].get<int>(), path.string(), actual));
+    };
+    check(lut.layout == LutLayout::Cone ? "size_t" : "size_visibility", vol.width);
+    check("size_n_dot_l", vol.height);
+    if (lut.layout == LutLayout::Cone) {
+      check("roughness_slabs", lut.n_rough > 0 && vol.depth % lut.n_rough == 0 ? lut.n_rough : -1);
+      if (lut.n_rough > 0) check("size_n_dot_v", vol.depth / lut.n_rough);
+    } else {
+      check("size_n_dot_v", vol.depth / std::max(1, h + 1));
+    }
+  } else if (vol.channels != 4 && !roughness) {
     throw InputError(fmt::format("'{}' has {} channels and no sidecar '{}': give the roughness per channel",
-                                 path.string(), lut.volume.channels, side.string()));
+                                 path.string(), vol.channels, side.string()));
+  }
+  if (lut.layout == LutLayout::Cone) {
+    if (roughness)
+      throw InputError("a cone-layout LUT has roughness slabs (from its sidecar), not roughness per channel");
+    if (harmonics) h = *harmonics;
+    lut.harmonics = h;
+    (void)lut.view();  // validates the shape and the parameters
+    return lut;
   }
   if (roughness) r = *roughness;
   if (harmonics) h = *harmonics;
@@ -66,19 +135,22 @@ MicroShadowingLut load_micro_shadowing_lut(const std::filesystem::path& path,
   return lut;
 }
 
-std::shared_ptr<const MicroShadowingLut> default_micro_shadowing_lut(bool two_d, int harmonics) {
+std::shared_ptr<const MicroShadowingLut> default_micro_shadowing_lut(bool two_d, int harmonics,
+                                                                     LutLayout layout) {
   static std::mutex mutex;
-  static std::map<std::pair<bool, int>, std::shared_ptr<const MicroShadowingLut>> cache;
+  static std::map<std::tuple<bool, int, int>, std::shared_ptr<const MicroShadowingLut>> cache;
   std::lock_guard<std::mutex> lock(mutex);
-  auto& slot = cache[{two_d, harmonics}];
+  auto& slot = cache[{two_d, harmonics, int(layout)}];
   if (!slot) {
-    BakeOptions o;
+    BakeOptions o = default_bake_options(layout, harmonics);
     o.two_d = two_d;
-    o.harmonics = harmonics;
     auto lut = std::make_shared<MicroShadowingLut>();
     lut->volume = bake_micro_shadowing_lut(o);
+    lut->layout = layout;
     lut->roughness = o.roughness;
     lut->harmonics = harmonics;
+    lut->n_rough = o.n_rough;
+    lut->cone = o.cone;
     slot = lut;
   }
   return slot;

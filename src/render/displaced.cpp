@@ -8,8 +8,7 @@
 
 namespace msh::render {
 
-namespace {
-void check_square(float tu, float tv, const Material& m, const std::string& where) {
+void check_ground_truth_texels(float tu, float tv, const Material& m, const std::string& where) {
   if (std::abs(tu - tv) > 0.01f * tu)
     throw InputError(fmt::format("{}: ground truth needs square texels (material '{}': {} × {} world units)",
                                  where, m.name, tu, tv));
@@ -19,6 +18,8 @@ void check_square(float tu, float tv, const Material& m, const std::string& wher
                     "in the scene or ship material.json beside the height map)",
                     where, m.name));
 }
+
+namespace {
 // Heights of the repeated map in texel units, z ≤ 0 (the top of the range on the base surface).
 float depth_at(const Material& m, int i, int j) { return (m.height.texel(i, j, 0) - 1.0f) * m.height_texels; }
 // Two triangles per cell of an nu × nv vertex grid (row-major, vertex (i, j) = j·nu + i); `flip` reverses the
@@ -45,7 +46,7 @@ Mesh displaced_plane_mesh(const Object& o, const Material& m, const std::string&
   const int W = int(std::lround(m.uv_scale * float(m.height.width()))),
             H = int(std::lround(m.uv_scale * float(m.height.height())));
   const float tu = 2 * o.half_size.x / float(W), tv = 2 * o.half_size.y / float(H);
-  check_square(tu, tv, m, where);
+  check_ground_truth_texels(tu, tv, m, where);
   const Vec3f B = cross(o.normal, o.tangent);
   Mesh mesh;
   const int nu = W + 1, nv = H + 1;
@@ -66,7 +67,7 @@ Mesh displaced_cylinder_mesh(const Object& o, const Material& m, const std::stri
             H = int(std::lround(m.uv_scale * float(m.height.height())));
   const float R = o.cyl_radius, len = o.cyl_height;
   const float tu = 2 * kPi<float> * R / float(W), tv = len / float(H);
-  check_square(tu, tv, m, where);
+  check_ground_truth_texels(tu, tv, m, where);
   const float cr = std::cos(o.cyl_rotate_z), sr = std::sin(o.cyl_rotate_z);
   Mesh mesh;
   // Column W repeats column 0 at the same position (u past 1: textures wrap), so no triangle interpolates u

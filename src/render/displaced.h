@@ -7,6 +7,9 @@
 
 namespace msh::render {
 
+// InputError unless texels of world size tu × tv are square (to 1 %) and the material's depth is known.
+void check_ground_truth_texels(float tu, float tv, const Material& m, const std::string& where);
+
 // The plane's height field in world space: vertex (i, j) at c + T((i + ½)·texel − half.x) + B((j + ½)·texel −
 // half.y) + N·(h − 1)·depth·texel for i ∈ [0, W·s], j ∈ [0, H·s] (heights wrap), W × H the map, s = uv_scale.
 // InputError when the texels are not square.

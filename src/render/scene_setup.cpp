@@ -91,15 +91,8 @@ void Renderer::Impl::setup_ground_truth(const Scene& s) {
     p.T = o.tangent, p.N = o.normal, p.B = cross(o.normal, o.tangent), p.c = o.center, p.half = o.half_size;
     const float tu = 2 * o.half_size.x / (m.uv_scale * float(m.height.width()));
     const float tv = 2 * o.half_size.y / (m.uv_scale * float(m.height.height()));
-    if (std::abs(tu - tv) > 0.01f * tu)
-      throw InputError(fmt::format("{}: ground truth needs square texels on the plane (material '{}')",
-                                   s.source.string(), m.name));
+    check_ground_truth_texels(tu, tv, m, s.source.string());
     p.texel = tu;
-    if (!(m.height_texels > 0))
-      throw InputError(
-          fmt::format("{}: ground truth: material '{}' has a height map but no height_texels "
-                      "(set it in the scene or ship material.json beside the height map)",
-                      s.source.string(), m.name));
     p.hf = HeightField(m.height, m.height_texels);
     p.lo = {-0.5f, -0.5f};
     p.hi = {2 * o.half_size.x / tu - 0.5f, 2 * o.half_size.y / tu - 0.5f};

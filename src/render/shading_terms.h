@@ -1,5 +1,5 @@
-// Per-light terms of the renderer: micro-shadowing (REFERENCE.md §2) and the bump-terminator fix (§5).
-// Private to src/render/.
+// Per-light terms of the renderer: micro-shadowing (docs/micro-shadowing.md) and the bump-terminator fix
+// (docs/bump-terminator.md). Private to src/render/.
 #pragma once
 
 #include <fmt/format.h>
@@ -14,7 +14,9 @@ namespace msh::render {
 
 class LutSampler;  // render/lut_glue.cpp
 std::shared_ptr<const LutSampler> load_lut_sampler(const std::string& path, bool two_d);
-float sample_lut(const LutSampler& lut, float V, float n_dot_l, float n_dot_v, float roughness);
+// cos_phi: relative azimuth of l and v about the normal (used by an azimuth-aware table, else ignored).
+float sample_lut(const LutSampler& lut, float V, float n_dot_l, float n_dot_v, float roughness,
+                 float cos_phi);
 
 // The micro-shadowing term: V from the micro-occlusion map; N·L and N·V with the shading (normal-mapped)
 // normal, as the seed's shaders do. Multiplies diffuse and specular of one light.
@@ -54,9 +56,14 @@ class MicroShadowingTerm {
                                          ms::G2Form::HeightCorrelated, seed | 1u);
       }
       case MicroShadowing::Lut3d:
-      case MicroShadowing::Lut2d:
+      case MicroShadowing::Lut2d: {
         if (ms::exact_zero(V, nl)) return 0.0f;  // the seed's early-out: no LUT fetch
-        return sample_lut(*lut_, V, nl, saturate(dot(n, wo)), sp.roughness);
+        // Relative azimuth of the tangent-plane projections of wo and wi (for azimuth-aware tables).
+        const Vec3f pv = wo - dot(n, wo) * n, pl = wi - dot(n, wi) * n;
+        const float d = std::sqrt(dot(pv, pv) * dot(pl, pl));
+        const float cos_phi = d > 0.0f ? clamp(dot(pv, pl) / d, -1.0f, 1.0f) : 1.0f;
+        return sample_lut(*lut_, V, nl, saturate(dot(n, wo)), sp.roughness, cos_phi);
+      }
     }
     return 1.0f;
   }
@@ -68,7 +75,7 @@ class MicroShadowingTerm {
   std::shared_ptr<const LutSampler> lut_;
 };
 
-// Bump-terminator shadowing of the light (seed 003 / REFERENCE §5): ng = the unperturbed (interpolated)
+// Bump-terminator shadowing of the light (docs/bump-terminator.md): ng = the unperturbed (interpolated)
 // normal, ns = the bumped normal.
 class BumpTerminatorTerm {
  public:

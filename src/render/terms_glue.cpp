@@ -31,7 +31,7 @@ class LutSampler {
 std::shared_ptr<const LutSampler> load_lut_sampler(const std::string& path, bool two_d) {
   auto s = std::make_shared<LutSampler>();
   s->two_d = two_d;
-  // No file: the LUT module's default table (64³ or 64², baked once per process and cached).
+  // No file: the LUT module's default table (cone layout, 3D or N·V = 1, baked once per process and cached).
   s->table = path.empty()
                  ? lut::default_micro_shadowing_lut(two_d)
                  : std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(path));
@@ -39,9 +39,13 @@ std::shared_ptr<const LutSampler> load_lut_sampler(const std::string& path, bool
   return s;
 }
 
-// The 2D LUT is the N·V = 1 slice (seed 002): N·V is not looked up.
-float sample_lut(const LutSampler& l, float V, float n_dot_l, float n_dot_v, float roughness) {
-  return lut::sample_micro_shadowing(l.view, V, n_dot_l, l.two_d ? 1.0f : n_dot_v, roughness);
+// The 2D LUT is the N·V = 1 slice (Zurita 2026): N·V is not looked up. Any layout (the view dispatches); an
+// azimuth-aware table is evaluated at the light's azimuth, never reduced to its mean silently.
+float sample_lut(const LutSampler& l, float V, float n_dot_l, float n_dot_v, float roughness, float cos_phi) {
+  const float nv = l.two_d ? 1.0f : n_dot_v;
+  if (l.view.harmonics > 0)
+    return lut::sample_micro_shadowing_azimuth(l.view, V, n_dot_l, nv, roughness, cos_phi);
+  return lut::sample_micro_shadowing(l.view, V, n_dot_l, nv, roughness);
 }
 
 }  // namespace msh::render

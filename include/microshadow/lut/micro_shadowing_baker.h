@@ -1,4 +1,5 @@
-// Baker for the micro-shadowing LUT (seed 002; layout REFERENCE.md §1 and micro_shadowing_lut.h).
+// Baker for the micro-shadowing LUT (Zurita 2026, "Improving Direct Lighting Material Occlusion - Part 2";
+// layouts in micro_shadowing_lut.h and docs/lut.md).
 //
 // Algorithm (docs/lut.md): for the Smith profile the term is a ratio of VNDF masses,
 //   R(V) = P[min(n·m, m·l) > sqrt(1 − V)] / P[m·l > 0],   m ~ VNDF(v, α),
@@ -7,7 +8,8 @@
 // Visibility row (a cumulative histogram). The mean over φ ∈ [0, π] (and the cos(hφ) coefficients of the
 // azimuth-aware table) uses Gauss-Legendre nodes in φ, each with its own scrambled point set. The V = 0 and
 // V = 1 columns and the early-out region 2V + N·L < 1 are written exactly. Rows are independent tasks
-// (oneTBB), so the result is bit-identical for any thread count.
+// (oneTBB), so the result is bit-identical for any thread count. The cone layout bins by the t coordinate of
+// the key's cone instead (rows of constant N·L, so the same single pass per (N·L, φ) gives the whole t row).
 #pragma once
 
 #include <microshadow/io/texture.h>
@@ -20,7 +22,11 @@
 namespace msh::lut {
 
 struct BakeOptions {
-  int n_vis = 64, n_nl = 64, n_nv = 64;  // texels per axis (each ≥ 2; n_nv unused with two_d)
+  LutLayout layout = LutLayout::Seed;
+  int n_vis = 64, n_nl = 64,
+      n_nv = 64;          // texels per axis (each ≥ 2; n_nv unused with two_d); cone: n_vis = t
+  int n_rough = 16;       // cone layout: roughness slabs (≥ 2)
+  ConeLayoutParams cone;  // cone layout: warps and roughness range
   std::vector<double> roughness = {0.1, 0.4, 0.7, 1.0};  // one channel each, strictly increasing, in [0, 1]
   bool two_d = false;                                    // the N·V = 1 slice only (depth 1)
   int harmonics = 0;  // 0: mean over φ; H ≥ 1: azimuth-aware table, also a_h for cos(hφ), h ≤ H
@@ -33,6 +39,12 @@ struct BakeOptions {
   std::function<void(double fraction_done)> progress;  // called from worker threads, serialized
 };
 
+// The default table (what `bake micro-shadowing` writes without --layout): cone layout, 64 t × 48 N·L ×
+// 16 N·V × 16 roughness slabs (1.5 MiB as R16F), 4096 samples per φ node; with harmonics > 0 (a_0..a_H in
+// RGBA) 48 t × 40 N·L × 16 × 16 (3.75 MiB as RGBA16F). docs/lut.md. A default-constructed BakeOptions is the
+// seed layout (64³ × 4 channels, 16384 samples), bit-identical to the bake before the cone layout.
+BakeOptions default_bake_options(LutLayout layout = LutLayout::Cone, int harmonics = 0);
+
 // Throws msh::InputError naming the first bad field.
 void validate(const BakeOptions& o);
 
@@ -42,6 +54,12 @@ io::Volume bake_micro_shadowing_lut(const BakeOptions& o);
 // A view of `vol` as a table with the given roughness per channel and harmonic count (throws InputError when
 // the shape is inconsistent: depth not divisible by H + 1, more than 4 channels, roughness count ≠ channels).
 MicroShadowingLutView make_view(const io::Volume& vol, const std::vector<double>& roughness, int harmonics);
+
+// The same for a cone-layout table (depth = n_nv · n_rough, channels = harmonics + 1 or more).
+MicroShadowingLutView make_cone_view(const io::Volume& vol, int n_rough, int harmonics,
+                                     const ConeLayoutParams& params);
+// Throws msh::InputError when a cone-layout parameter is out of range.
+void validate_cone(const ConeLayoutParams& p);
 
 // Samples per φ node the baker uses for roughness r (the power of 2 ≥ o.samples, scaled as documented above).
 int samples_for_roughness(const BakeOptions& o, double roughness);

@@ -107,6 +107,60 @@ Vec2<T> sobol_2d(uint32_t index, uint32_t seed = 0) {
           u32_to_unit<T>(nested_uniform_scramble(sobol_dim1(i), hash_combine(seed, 1)))};
 }
 
+// Sobol sequence in up to kSobolMaxDims dimensions, 32-bit fixed point. Direction numbers of Joe & Kuo 2008,
+// "Constructing Sobol sequences with better two-dimensional projections" (SIAM J. Sci. Comput. 30(5)),
+// dimensions 1–5 of their table (s, a, m_i): dim 0 is van der Corput, then (1, 0, {1}), (2, 1, {1, 3}),
+// (3, 1, {1, 3, 1}), (3, 2, {1, 1, 1}). Dims 0 and 1 equal sobol_dim0/sobol_dim1. Each dimension of any
+// 2^k-point prefix is stratified into 2^k equal intervals.
+inline constexpr int kSobolMaxDims = 5;
+namespace sampling_detail {
+struct SobolDirections {
+  uint32_t v[kSobolMaxDims][32];
+};
+constexpr SobolDirections make_sobol_directions() {
+  SobolDirections d{};
+  for (int k = 0; k < 32; ++k) d.v[0][k] = 1u << (31 - k);
+  struct Poly {
+    int s;
+    uint32_t a, m[3];
+  };
+  constexpr Poly polys[kSobolMaxDims - 1] = {
+      {1, 0, {1, 0, 0}}, {2, 1, {1, 3, 0}}, {3, 1, {1, 3, 1}}, {3, 2, {1, 1, 1}}};
+  for (int j = 1; j < kSobolMaxDims; ++j) {
+    const Poly& p = polys[j - 1];
+    uint32_t m[32] = {};
+    for (int i = 0; i < p.s; ++i) m[i] = p.m[i];
+    // m_i = 2 a_1 m_{i-1} ^ 4 a_2 m_{i-2} ^ ... ^ 2^{s-1} a_{s-1} m_{i-s+1} ^ 2^s m_{i-s} ^ m_{i-s}
+    for (int i = p.s; i < 32; ++i) {
+      uint32_t x = m[i - p.s] ^ (m[i - p.s] << p.s);
+      for (int k = 1; k < p.s; ++k)
+        if ((p.a >> (p.s - 1 - k)) & 1u) x ^= m[i - k] << k;
+      m[i] = x;
+    }
+    for (int i = 0; i < 32; ++i) d.v[j][i] = m[i] << (31 - i);
+  }
+  return d;
+}
+inline constexpr SobolDirections kSobolDirections = make_sobol_directions();
+}  // namespace sampling_detail
+
+// Coordinate `dim` (0 ≤ dim < kSobolMaxDims) of Sobol point `index`, unscrambled.
+constexpr uint32_t sobol_u32(uint32_t index, int dim) {
+  uint32_t r = 0;
+  for (int k = 0; index; index >>= 1, ++k)
+    if (index & 1u) r ^= sampling_detail::kSobolDirections.v[dim][k];
+  return r;
+}
+
+// Coordinate `dim` of point `index` of the Owen-scrambled, index-shuffled Sobol sequence for `seed` (Burley
+// 2020, §4: one index shuffle shared by all dimensions, an independent scramble per dimension), in [0, 1).
+// The first 2^k points are an aligned block of the sequence, so they keep its stratification.
+template <class T>
+T sobol_scrambled(uint32_t index, int dim, uint32_t seed) {
+  const uint32_t i = nested_uniform_scramble(index, seed);
+  return u32_to_unit<T>(nested_uniform_scramble(sobol_u32(i, dim), hash_combine(seed, uint32_t(dim))));
+}
+
 // Hammersley point i of n: (i/n, radical inverse of i). A (0, m, 2)-net when n = 2^m.
 template <class T>
 Vec2<T> hammersley_2d(uint32_t i, uint32_t n) {

@@ -22,7 +22,7 @@ struct GenOptions {
   std::string kind = "plaster";  // plaster | bark | gravel (material_kinds())
   int size = 256;                // texels per side (power of two not required)
   float depth_texels = 0;  // 0 = the kind's default (plaster 6, bark 12, gravel 8 texels at size 256, scaled)
-  int ao_rays = 128;       // azimuths per texel for the micro-occlusion bake (each exact in elevation)
+  int ao_rays = 32;  // azimuths per texel for the micro-occlusion bake (each exact in elevation)
   float ao_max_distance = 0;  // bake ray length, texels; 0 = the kind's default (8% of the size)
   float rough_left = 0.8f, rough_right = 0.3f;
   uint32_t seed = 7;

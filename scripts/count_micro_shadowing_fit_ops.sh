@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Arithmetic instruction counts of the ALU-only micro-shadowing shaders (shaders/glsl/micro_shadowing_fit.glsl;
+# docs/micro-shadowing.md, "ALU-only approximation"): each function is compiled alone into a compute kernel
+# (glslangValidator -V), optimized (spirv-opt -O) and its float instructions counted by opcode. Needs
+# glslang-tools and spirv-tools. Usage: scripts/count_micro_shadowing_fit_ops.sh
+set -euo pipefail
+src="$(cd "$(dirname "$0")/.." && pwd)/shaders/glsl/micro_shadowing_fit.glsl"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+declare -A body=(
+  [one-call]='o[i] = msh_ms_generic_vndf_alu(r.x, r.y, r.z, r.w);'
+  [pixel]='MshMsAluPixel p = msh_ms_generic_vndf_alu_pixel(r.x, r.z, r.w); o[i] = p.vis + p.c + p.s + p.a2 + p.oma2 + p.inv_st + p.g + p.den;'
+  [light]='MshMsAluPixel p = MshMsAluPixel(r.x, r.y, r.z, r.w, q.x, q.y, q.z, q.w); o[i] = msh_ms_generic_vndf_alu_light(p, q.x * q.y);'
+)
+for f in one-call pixel light; do
+  {
+    echo '#version 450'
+    cat "$src"
+    echo 'layout(local_size_x = 64) in;'
+    echo 'layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };'
+    echo 'layout(std430, binding = 1) writeonly buffer Out { float o[]; };'
+    echo "void main() { uint i = gl_GlobalInvocationID.x; vec4 r = rec[2u * i]; vec4 q = rec[2u * i + 1u]; ${body[$f]} }"
+  } > "$tmp/k.comp"
+  glslangValidator -V "$tmp/k.comp" -o "$tmp/k.spv" > /dev/null
+  spirv-opt -O "$tmp/k.spv" -o "$tmp/ko.spv"
+  # The kernel's own glue (the pixel kernel's 7 adds summing the struct, the light kernel's q.x * q.y) is
+  # counted too: subtract it (docs/micro-shadowing.md).
+  echo "$f: $(spirv-dis "$tmp/ko.spv" | sed -n '/OpFunction /,$p' | grep -E 'OpF(Add|Sub|Mul|Div|Negate|Ord|Unord)|OpExtInst |OpSelect ' |
+    awk '{for (i = 1; i <= NF; i++) if ($i ~ /^Op/) { op = $i; if (op == "OpExtInst") op = $(i + 3); print op; break } }' |
+    sort | uniq -c | awk '{printf "%s %s, ", $2, $1; n += $1} END {printf "total %d\n", n}')"
+done

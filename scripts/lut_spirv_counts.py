@@ -1,0 +1,69 @@
+#!/usr/bin/env python3
+"""SPIR-V cost of each LUT sampler of shaders/glsl/micro_shadowing.glsl (docs/shaders.md, docs/lut.md).
+
+For each method a minimal compute shader calls only that function; glslangValidator compiles it to Vulkan
+SPIR-V, spirv-opt -O inlines and optimizes it, and the static instruction count of main (OpLabel, OpPhi,
+OpLoopMerge etc. included; OpLine/OpName not) and its image-sample instructions (hardware-filtered fetches,
+before any runtime early-out) are printed as a Markdown table. Usage: scripts/lut_spirv_counts.py
+"""
+import os, re, subprocess, sys, tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+LIB = open(os.path.join(ROOT, "shaders/glsl/micro_shadowing.glsl")).read()
+HEAD = """#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
+layout(std430, binding = 1) writeonly buffer Out { float o[]; };
+layout(binding = 2) uniform sampler3D lut3;
+layout(binding = 3) uniform sampler2D lut2;
+"""
+METHODS = [
+    ("seed 3D (`msh_ms_lut_sample`)", "msh_ms_lut_sample(lut3, a.x, a.y, a.z, a.w)"),
+    ("seed 2D (`msh_ms_lut_sample_2d`)", "msh_ms_lut_sample_2d(lut2, a.x, a.y, a.w)"),
+    ("seed azimuth-aware, H = 2 (`msh_ms_lut_sample_azimuth`)",
+     "msh_ms_lut_sample_azimuth(lut3, 2, a.x, a.y, a.z, a.w, b.x)"),
+    ("cone plain (`msh_ms_lut_sample_cone`)", "msh_ms_lut_sample_cone(lut3, 16, a.x, a.y, a.z, a.w)"),
+    ("cone azimuth-aware, H = 3 (`msh_ms_lut_sample_cone_azimuth`)",
+     "msh_ms_lut_sample_cone_azimuth(lut3, 16, 3, a.x, a.y, a.z, a.w, b.x)"),
+]
+SKIP = re.compile(r"^\s*(OpLine|OpNoLine|OpName|OpSource|OpDecorate|OpMemberName)")
+
+
+def count(call):
+    src = HEAD + LIB + """
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  vec4 a = rec[2u * i], b = rec[2u * i + 1u];
+  o[i] = %s;
+}
+""" % call
+    with tempfile.TemporaryDirectory() as d:
+        comp, spv, opt = (os.path.join(d, n) for n in ("s.comp", "s.spv", "o.spv"))
+        open(comp, "w").write(src)
+        subprocess.run(["glslangValidator", "-V", "-S", "comp", comp, "-o", spv], check=True,
+                       stdout=subprocess.DEVNULL)
+        subprocess.run(["spirv-opt", "-O", spv, "-o", opt], check=True)
+        dis = subprocess.run(["spirv-dis", "--raw-id", opt], check=True, capture_output=True, text=True).stdout
+    body, inside = [], False
+    for line in dis.splitlines():
+        if "OpFunction " in line or line.strip().endswith("OpFunction"):
+            inside = True
+        if inside and not SKIP.match(line):
+            body.append(line)
+        if "OpFunctionEnd" in line:
+            inside = False
+    fetches = sum("OpImageSample" in l for l in body)
+    return len(body), fetches
+
+
+def main():
+    print("| method | SPIR-V instructions (spirv-opt -O) | image samples |")
+    print("|---|---|---|")
+    for label, call in METHODS:
+        n, f = count(call)
+        print(f"| {label} | {n} | {f} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
