@@ -63,11 +63,11 @@ double eval_generic(double V, double ax, double ay, double nl, double nv, const 
                     G2Form form, uint32_t seed) {
   const Vec3d v = view_dir(nv);
   if (samples == 0) {
-    if (phi) return ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, *phi), form);
-    if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv, form);
+    if (phi) return ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, *phi));
+    if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv);
     // Anisotropic mean: the same adaptive rule over φ (the term is symmetric in φ → −φ for axis-aligned α).
     const auto f = [&](double p) {
-      return std::array<double, 1>{ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, p), form)};
+      return std::array<double, 1>{ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, p))};
     };
     const double h = 0.5 * kPi<double>;
     return (ms::detail::gk_adaptive<ms::detail::GK15, 1>(f, 0, h, 1e-5 * h)[0] +
@@ -335,8 +335,7 @@ void run_plot(const PlotArgs& a) {
     if (ms::exact_zero(z.V, z.nl)) return;
     for (size_t i = 0; i < gl_x.size(); ++i) {
       const double p = 0.5 * kPi<double> * (gl_x[i] + 1);
-      const double f =
-          ms::generic_vndf_exact(z.V, al, al, v, light_dir(z.nl, p), G2Form::HeightCorrelated, 1e-6);
+      const double f = ms::generic_vndf_exact(z.V, al, al, v, light_dir(z.nl, p), 1e-6);
       for (int h = 0; h <= kH; ++h) z.a[h] += (h == 0 ? 0.5 : 1.0) * gl_w[i] * f * std::cos(h * p);
     }
   });

@@ -370,15 +370,14 @@ inline double vndf_region_probability(const GGX<double>& ggx, const Vec3d& v, co
 
 }  // namespace detail
 
-// Exact GenericM_g (seed 002) at full vectors, anisotropic GGX (αx along t = x, αy along b = y). Any G2 form
-// gives the same value (the Smith weight cancels); the argument exists for API symmetry with the estimators.
-// Numerator by azimuthal quadrature, denominator in closed form. rel_tol bounds the quadrature's error
-// estimate relative to the denominator (default 1e-7; the measured error is far below, see
-// docs/micro-shadowing.md). v.z < 0 is mirrored (as the VNDF sampler does); non-unit vectors are normalized;
-// NaN or Inf inputs give 0.
+// Exact GenericM_g (seed 002) at full vectors, anisotropic GGX (αx along t = x, αy along b = y). It takes no
+// G2 form: for the Smith profile the weight G2/G1 depends on (v, l) only and cancels in the ratio, so both
+// forms give the same value. Numerator by azimuthal quadrature, denominator in closed form. rel_tol bounds
+// the quadrature's error estimate relative to the denominator (default 1e-7; the measured error is far below,
+// see docs/micro-shadowing.md). v.z < 0 is mirrored (as the VNDF sampler does); non-unit vectors are
+// normalized; NaN or Inf inputs give 0.
 inline double generic_vndf_exact(double V, double alpha_x, double alpha_y, const Vec3d& v, const Vec3d& l,
-                                 G2Form form = G2Form::HeightCorrelated, double rel_tol = 1e-7) {
-  (void)form;
+                                 double rel_tol = 1e-7) {
   if (!is_finite(v) || !is_finite(l) || std::isnan(alpha_x) || std::isnan(alpha_y)) return 0.0;
   const double vis = saturate(V);
   Vec3d vn = normalize(v), ln = normalize(l);
@@ -400,8 +399,7 @@ inline double generic_vndf_exact(double V, double alpha_x, double alpha_y, const
 // generic_vndf_exact. The term is smooth in φ apart from a few kinks; the measured error with the defaults
 // is < 1e-6 (docs/micro-shadowing.md).
 inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_dot_l, double n_dot_v,
-                                              G2Form form = G2Form::HeightCorrelated, double abs_tol = 1e-5,
-                                              double rel_tol = 1e-5) {
+                                              double abs_tol = 1e-5, double rel_tol = 1e-5) {
   if (std::isnan(alpha)) return 0.0;
   const double vis = saturate(V);
   const double nl = detail::clamp_nan(n_dot_l, -1.0, 1.0);
@@ -410,7 +408,7 @@ inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_d
   const Vec3d v(std::sqrt(std::max(0.0, 1 - nv * nv)), 0, nv);
   const double sl = std::sqrt(std::max(0.0, 1 - nl * nl));
   auto at = [&](double phi) {
-    return generic_vndf_exact(vis, alpha, alpha, v, Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl), form,
+    return generic_vndf_exact(vis, alpha, alpha, v, Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl),
                               rel_tol);
   };
   if (nv == 1.0 || sl == 0.0 || vis == 1.0) return at(0.0);
