@@ -27,6 +27,7 @@
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
+#include <microshadow/occlusion/micro_shadowing_early_out.h>
 
 #include <algorithm>
 #include <array>
@@ -90,12 +91,7 @@ T part1_analytic(T V, T n_dot_l) {
   return std::pow(saturate(saturate(n_dot_l) / cp), T(0.75) / v);
 }
 
-// Exact early-out (REFERENCE §2): a cone normal is within θ of n and of l, so angle(n,l) < 2θ, i.e.
-// N·L > cos 2θ = 1 − 2V. Hence 2V + N·L < 1 ⇒ the generic term is exactly 0 (for every roughness and v).
-template <class T>
-bool exact_zero(T V, T n_dot_l) {
-  return T(2) * saturate(V) + saturate(n_dot_l) < T(1);
-}
+// exact_zero(V, N·L), the exact early-out 2V + N·L < 1: occlusion/micro_shadowing_early_out.h.
 
 template <class T>
 struct GenericSample {
