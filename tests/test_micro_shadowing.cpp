@@ -1,8 +1,9 @@
 // Micro-shadowing terms (include/microshadow/occlusion/micro_shadowing.h) against independent references:
 // closed forms re-derived in long double, Monte Carlo with samplers and estimators written here, a plain
-// 1D quadrature of the θ integrand, a brute-force azimuth mean, and the limits of REFERENCE.md §2.
+// 1D quadrature of the θ integrand, a brute-force azimuth mean, and the limits of docs/theory.md §3.
 #include <gtest/gtest.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <cmath>
 #include <limits>
@@ -351,8 +352,8 @@ TEST(MicroShadowingEstimate, G2FormsAgreeWhereTheWeightCancels) {
   }
 }
 
-// The seed's estimator (Owen-scrambled Sobol, float) converges to the exact term; independent seeds scatter
-// around it.
+// The Zurita 2026b estimator (Owen-scrambled Sobol, float) converges to the exact term; independent seeds
+// scatter around it.
 TEST(MicroShadowingEstimate, ConvergesToExact) {
   Pcg32 rng(41);
   for (int t = 0; t < 20; ++t) {

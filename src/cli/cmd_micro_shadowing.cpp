@@ -11,6 +11,7 @@
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
