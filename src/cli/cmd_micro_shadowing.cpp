@@ -63,14 +63,7 @@ double eval_generic(double V, double ax, double ay, double nl, double nv, const 
   if (samples == 0) {
     if (phi) return ms::generic_vndf_exact(V, ax, ay, v, study_light_dir(nl, *phi));
     if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv);
-    // Anisotropic mean: the same adaptive rule over φ (the term is symmetric in φ → −φ for axis-aligned α).
-    const auto f = [&](double p) {
-      return std::array<double, 1>{ms::generic_vndf_exact(V, ax, ay, v, study_light_dir(nl, p))};
-    };
-    const double h = 0.5 * kPi<double>;
-    return (ms::detail::gk_adaptive<ms::detail::GK15, 1>(f, 0, h, 1e-5 * h)[0] +
-            ms::detail::gk_adaptive<ms::detail::GK15, 1>(f, h, 2 * h, 1e-5 * h)[0]) /
-           kPi<double>;
+    return ms::generic_vndf_exact_azimuth_mean_anisotropic(V, ax, ay, nl, nv);
   }
   const GGX<double> ggx(ax, ay);
   if (phi) return ms::generic_vndf_estimate(V, ggx, v, study_light_dir(nl, *phi), int(samples), form, seed);

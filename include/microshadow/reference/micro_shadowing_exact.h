@@ -304,4 +304,23 @@ inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_d
   return saturate(s / kPi<double>);
 }
 
+// Anisotropic GGX (αx along x, αy along y): mean over the relative azimuth φ ∈ [0, π] (uniform) of
+// generic_vndf_exact with v = (sin θv, 0, N·V), l = (sin θl cos φ, sin θl sin φ, N·L), by the same two-panel
+// adaptive Gauss–Kronrod as generic_vndf_exact_azimuth_mean (the term is symmetric in φ → −φ for axis-aligned
+// α, so [0, π] is the whole circle's mean). N·L, N·V ∈ [0, 1]; abs_tol bounds the error estimate.
+inline double generic_vndf_exact_azimuth_mean_anisotropic(double V, double alpha_x, double alpha_y,
+                                                          double n_dot_l, double n_dot_v,
+                                                          double abs_tol = 1e-5) {
+  const Vec3d v(safe_sqrt(1 - n_dot_v * n_dot_v), 0.0, n_dot_v);
+  const double sl = safe_sqrt(1 - n_dot_l * n_dot_l);
+  const auto f = [&](double p) {
+    return std::array<double, 1>{
+        generic_vndf_exact(V, alpha_x, alpha_y, v, Vec3d(sl * std::cos(p), sl * std::sin(p), n_dot_l))};
+  };
+  const double h = 0.5 * kPi<double>;
+  return (detail::gk_adaptive<detail::GK15, 1>(f, 0, h, abs_tol * h)[0] +
+          detail::gk_adaptive<detail::GK15, 1>(f, h, 2 * h, abs_tol * h)[0]) /
+         kPi<double>;
+}
+
 }  // namespace msh::ms
