@@ -1,6 +1,6 @@
 // Tests of the micro-shadowing LUT baker against independent references: the exact quadrature of
 // occlusion/micro_shadowing.h (closed-form denominator, Gauss-Kronrod numerator; written by another module)
-// and the semi-analytic ring integration of lut/micro_shadowing_exact.h (checked against it here).
+// and the semi-analytic ring integration of reference/micro_shadowing_ring.h (checked against it here).
 #include <gtest/gtest.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>

@@ -1,8 +1,8 @@
 // Studies of the generic micro-shadowing term (include/microshadow/lut/micro_shadowing_analysis.h).
 #include <microshadow/lut/micro_shadowing_analysis.h>
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
-#include <microshadow/microfacet/quadrature.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <tbb/parallel_for.h>
@@ -82,7 +82,7 @@ std::vector<AzimuthConfig> azimuth_study(std::size_t configs) {
              0,
              {}};
   }
-  const detail::GaussLegendre gl(96);
+  const GaussLegendre gl(96);
   tbb::parallel_for(size_t(0), az.size(), [&](size_t k) {
     AzimuthConfig& z = az[k];
     const double al = roughness_to_alpha(z.roughness);
