@@ -3,7 +3,7 @@
 //   2D),
 //                             wall time on all threads and process CPU time
 //   BM_LutVerifyAllTexels     the default bake against the semi-analytic exact term on EVERY texel (counters)
-//   BM_LutStraightforwardMC   the seed's per-texel Monte Carlo loop on a texel subset, extrapolated to the
+//   BM_LutStraightforwardMC   Zurita 2026b's per-texel Monte Carlo loop on a texel subset, extrapolated to the
 //   full
 //                             table at the binned baker's error (the speed-up ratio at equal error)
 //   BM_LutAzimuthError        what ignoring the azimuth costs at random (v, l), and the azimuth-aware table

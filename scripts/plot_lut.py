@@ -6,7 +6,7 @@
   DIR/micro_shadowing_exact_slices.npy   exact azimuth mean on N.V slices (plot micro-shadowing-lut)
   DIR/micro_shadowing_exact_slices.json  which slices, roughness per channel
 
-Writes DIR/lut_slices.png (the seed's figure: roughness left to right, N.V top to bottom; in each panel
+Writes DIR/lut_slices.png (Zurita 2026b's figure: roughness left to right, N.V top to bottom; in each panel
 Visibility left to right and N.L top to bottom), DIR/lut_error_3d.png and DIR/lut_error_2d.png (LUT minus exact
 on the same slices; the 2D LUT is used at every N.V, as an engine with only the 2D LUT would).
 Usage: /usr/bin/python3 scripts/plot_lut.py DIR

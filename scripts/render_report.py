@@ -142,7 +142,7 @@ h.append("""<h2>The renderer's comparison set</h2>
 BRDFs, <i>micro-shadowing</i> (how much of a light a texel's micro-occlusion cone lets through), the bump-terminator
 fix, the lookup tables that make them cheap in an engine, and this reference renderer that checks them against the
 real thing. Below, a procedurally generated damaged-plaster texture set (rough left half, smooth right half, as in
-the seed's test) is lit by one directional light. Every micro-shadowing method sees only the normal map and the
+Zurita 2026b's test) is lit by one directional light. Every micro-shadowing method sees only the normal map and the
 baked micro-occlusion map; the <b>ground truth</b> ray-traces the same height field as real micro-geometry
 (texel-resolution triangles, 16 samples per pixel), so its shadows are exact. All images use the same exposure.
 Difference images: red = method brighter than the ground truth, blue = darker (|Δ luminance| × 4, display space).</p>""")

@@ -292,7 +292,7 @@ void expect_finite_stats(const nlohmann::json& s, std::size_t count) {
   EXPECT_LE(s["p99"].get<double>(), s["max"].get<double>());
 }
 
-// Small tables of both layouts (the seed's and the cone layout), through the CLI.
+// Small tables of both layouts (Zurita 2026b's seed layout and the cone layout), through the CLI.
 const char* const kSmallBakes[][2] = {
     {"seed", "--layout seed --size 16 --samples 1024 --phi-nodes 4"},
     {"cone",

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Microfacet core (docs/microfacet.md): the GGX directional albedo E(mu, alpha) against the three published
-# values of REFERENCE.md §6 (Blender Cycles' table_ggx_E), then a small grid of E and a few NDF evaluations.
+# values of docs/theory.md §2 (Blender Cycles' table_ggx_E), then a small grid of E and a few NDF evaluations.
 set -euo pipefail
 D="$OUT/microfacet"
 mkdir -p "$D"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Micro-shadowing (docs/micro-shadowing.md): every term over (Visibility, N.L) for roughness 0-1 and several N.V
-# (seed 002's plots), error maps of the older terms against the exact generic VNDF term, the cost of ignoring
+# (the plots of Zurita 2026b), error maps of the older terms against the exact generic VNDF term, the cost of ignoring
 # the azimuth, an exact-vs-Monte-Carlo check, and a few single evaluations.
 set -euo pipefail
 D="$OUT/micro-shadowing"

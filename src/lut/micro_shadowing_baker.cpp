@@ -449,7 +449,7 @@ double monte_carlo_texel(double alpha, double visibility, double n_dot_l, double
     for (int j = 0; j < per; ++j) {
       const Vec3f m = ggx.Sample_wm(v, {rng.next_float(), rng.next_float()});
       const float ml = dot(m, l);
-      // Seed 002, MicroShadowingTermPZGenericVNDFBased: the Smith weight G2/G1 is constant here and cancels.
+      // Zurita 2026b, MicroShadowingTermPZGenericVNDFBased: the Smith weight G2/G1 is constant here and cancels.
       hemi += (m.z > 0.0f && ml > 0.0f) ? 1.0 : 0.0;
       cone += (m.z > c && ml > c) ? 1.0 : 0.0;
     }

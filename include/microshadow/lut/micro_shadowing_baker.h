@@ -67,7 +67,7 @@ int samples_for_roughness(const BakeOptions& o, double roughness);
 // Gauss-Legendre nodes on [0, π] and weights normalized to sum to 1 (the φ rule of the baker).
 void phi_rule(int n, std::vector<double>& phi, std::vector<double>& weight);
 
-// The straightforward baker for one texel, as the seed's shader loop does it: `samples` independent random
+// The straightforward baker for one texel, as the shader loop of Zurita 2026b does it: `samples` independent random
 // VNDF samples (PCG32), split over `phi_strata` jittered φ strata, ratio of cone to hemisphere counts per
 // stratum, mean over strata. Kept to measure the speed-up of the binned baker at equal error (bench only).
 double monte_carlo_texel(double alpha, double visibility, double n_dot_l, double n_dot_v, int samples,
