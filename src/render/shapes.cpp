@@ -35,28 +35,12 @@ bool Renderer::Impl::shape_hit(int i, const Vec3f& o, const Vec3f& d, float tmin
 }
 
 bool Renderer::Impl::shape_occluded(int i, const Vec3f& o, const Vec3f& d, float tmin, float tmax) const {
-  const Object& ob = scene.objects[i];
-  if (ob.type == ShapeType::Plane) {
-    if (obj_hf[i] >= 0) {
-      const PlaneHF& p = hfs[obj_hf[i]];
-      float t;
-      return p.hf.intersect(p.to_grid_p(o), p.to_grid_d(d), tmin, tmax, p.lo, p.hi, &t, nullptr);
-    }
-    const float dn = dot(d, ob.normal);
-    if (std::abs(dn) < 1e-12f) return false;
-    const float t = dot(ob.center - o, ob.normal) / dn;
-    if (!(t > tmin && t < tmax)) return false;
-    const Vec3f q = o + d * t - ob.center;
-    return std::abs(dot(q, ob.tangent)) <= ob.half_size.x &&
-           std::abs(dot(q, cross(ob.normal, ob.tangent))) <= ob.half_size.y;
-  }
-  const Vec3f oc = o - ob.center;  // sphere
-  const float a = dot(d, d), b = dot(oc, d), c = dot(oc, oc) - ob.radius * ob.radius;
-  const float disc = b * b - a * c;
-  if (disc < 0) return false;
-  const float sq = std::sqrt(disc);
-  const float t0 = (-b - sq) / a, t1 = (-b + sq) / a;
-  return (t0 > tmin && t0 < tmax) || (t1 > tmin && t1 < tmax);
+  // Any hit in range is the closest one's existence: a sphere's far root is tested when the near one is
+  // before tmin, and the near root ≤ the far one.
+  float t;
+  Vec2f sr;
+  Vec3f ng;
+  return shape_hit(i, o, d, tmin, tmax, t, sr, ng);
 }
 
 void Renderer::Impl::shape_bounds(int i, RTCBounds& bounds) const {
