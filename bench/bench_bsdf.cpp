@@ -1,10 +1,10 @@
 // BRDF models part 1: ns per evaluation (float, as in an engine, and double) over a pool of random
 // upper-hemisphere direction pairs; VNDF sampling; the albedo integrator and one DFG texel bake.
 #include <benchmark/benchmark.h>
-#include <microshadow/bsdf/albedo.h>
 #include <microshadow/bsdf/diffuse.h>
 #include <microshadow/bsdf/fresnel.h>
 #include <microshadow/bsdf/multiscatter.h>
+#include <microshadow/bsdf/runtime/albedo.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/math/sampling.h>
 

@@ -2,7 +2,7 @@
 """Figures for the micro-shadowing terms from the CSVs of `microshadow plot micro-shadowing --out DIR`.
 
 Writes into DIR:
-  maps_ndotv_<nv>.png     every method over (Visibility, N.L), one row per roughness (seed 002's plots)
+  maps_ndotv_<nv>.png     every method over (Visibility, N.L), one row per roughness (the plots of Zurita 2026b, Part 2)
   curves.png              the terms against Visibility at a few N.L, roughness 0.1/0.4/0.7/1, N.V = 1 and 0.1
   error_maps.png          older terms minus the exact generic term (N.V = 1 and 0.5), per roughness
   azimuth_error.png       exact term vs its azimuth mean (and Fourier truncations) at random configurations
@@ -47,7 +47,7 @@ def main():
     d = read_csv(os.path.join(out, "maps.csv"))
     roughs = sorted(set(d["roughness"]))
     nvs = sorted(set(d["ndotv"]), reverse=True)
-    ext = [0, 1, 1, 0]  # x = Visibility left→right, y = N.L top→bottom (the seed's LUT orientation)
+    ext = [0, 1, 1, 0]  # x = Visibility left→right, y = N.L top→bottom (the LUT orientation of Zurita 2026b)
 
     for nv in nvs:
         fig, axes = plt.subplots(len(roughs), len(METHODS), figsize=(2.3 * len(METHODS), 2.2 * len(roughs)),

@@ -1,9 +1,9 @@
 // `eval brdf`, `bake ggx-albedo`, `bake dfg`: values equal the library's, bad input exits 2 with one line and
 // no file, baked files read back with the documented axes and channels.
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/multiscatter.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/io/texture.h>
 #include <sys/wait.h>
 
@@ -84,6 +84,11 @@ TEST(BrdfCli, BadInputExitsTwoWithOneLine) {
   const char* bad[] = {"eval brdf --model nope --ndotv 0.5",
                        "eval brdf --model ggx --ndotv 1.5",
                        "eval brdf --model ggx --ndotv nan",
+                       "eval brdf --model ggx --roughness nan",
+                       "eval brdf --model beckmann --roughness nan",
+                       "eval microfacet --alpha nan",
+                       "eval microfacet --ndf beckmann --alpha 0.3 --alpha-y nan",
+                       "eval microfacet --ndf gtr --alpha 0.3 --gamma nan",
                        "eval brdf --model ggx --roughness 2",
                        "eval brdf --model ggx --fresnel fancy",
                        "eval brdf --model lambert --roughness 0.5",

@@ -3,7 +3,7 @@
 // Helmholtz reciprocity where claimed, non-negativity and finiteness, and the importance sampler against its
 // own pdf (chi-square).
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/brdf_model.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/math/sampling.h>
 
 #include "support/chi2.h"

@@ -4,7 +4,7 @@
 // of averages.
 #include <gtest/gtest.h>
 #include <microshadow/bsdf/fresnel.h>
-#include <microshadow/bsdf/quadrature.h>
+#include <microshadow/math/quadrature.h>
 
 using namespace msh;
 using namespace msh::bsdf;

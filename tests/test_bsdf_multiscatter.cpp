@@ -1,12 +1,12 @@
-// Multiple-bounce specular and its tables: shipped table vs published values (REFERENCE.md §6), re-baked
+// Multiple-bounce specular and its tables: shipped table vs published values (docs/theory.md §2), re-baked
 // texels vs the shipped ones, the α → 0 DFG limit, the white furnace (= 1 within 1% with F = 1), the
 // Fresnel factor against its geometric series, the KSK-coupled pair (= 1 at ρ = 1).
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/multiscatter.h>
-#include <microshadow/bsdf/quadrature.h>
-#include <microshadow/bsdf/tables.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
+#include <microshadow/bsdf/runtime/tables.h>
+#include <microshadow/math/quadrature.h>
 #include <microshadow/microfacet/albedo.h>
 
 using namespace msh;
@@ -14,10 +14,6 @@ using namespace msh::bsdf;
 
 namespace {
 
-std::unique_ptr<BrdfModel> make(const std::string& name,
-                                const std::map<std::string, std::vector<double>>& v) {
-  return make_brdf(name, v);
-}
 double fresnel_index(const std::string& value) {
   for (const auto& p : find_brdf_model("ggx").params)
     if (p.name == "fresnel")
@@ -101,7 +97,8 @@ TEST(ShippedTables, AveragesAreConsistentWithTheTable) {
 }
 
 TEST(Dfg, MirrorLimit) {
-  // REFERENCE.md §6: at α = 0, DFG = ((1 − N·V)⁵, 1). r = 0.01 (α = 1e-4) through the VNDF estimator.
+  // Filament's DFG convention (docs/theory.md §2): at α = 0, DFG = ((1 − N·V)⁵, 1). r = 0.01 (α = 1e-4)
+  // through the VNDF estimator.
   for (double mu : {0.05, 0.3, 0.6, 1.0}) {
     const Vec2d d = ggx_dfg_reference(mu, 0.01, 1u << 12);
     EXPECT_NEAR(d.x, std::pow(1 - mu, 5), 1e-3) << mu;
@@ -122,7 +119,7 @@ TEST(Multiscatter, WhiteFurnaceIsOneWithinOnePercent) {
   double worst = 0;
   for (double r : {0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 0.85, 1.0})
     for (double mu : {1.0 / 31, 0.05, 0.1, 0.3, 0.6, 1.0}) {
-      const auto m = make("ggx", {{"roughness", {r}}, {"fresnel", {none}}, {"multiscatter", {1}}});
+      const auto m = make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {none}}, {"multiscatter", {1}}});
       const double e = directional_albedo(*m, mu, 1u << 15).g;
       worst = std::max(worst, std::abs(e - 1));
       EXPECT_NEAR(e, 1.0, 0.01) << "r " << r << " mu " << mu;
@@ -131,7 +128,7 @@ TEST(Multiscatter, WhiteFurnaceIsOneWithinOnePercent) {
   double worst_grazing = 0;
   for (double r : {0.05, 0.1, 0.3, 1.0})
     for (double mu : {0.005, 0.02}) {
-      const auto m = make("ggx", {{"roughness", {r}}, {"fresnel", {none}}, {"multiscatter", {1}}});
+      const auto m = make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {none}}, {"multiscatter", {1}}});
       const double e = directional_albedo(*m, mu, 1u << 15).g;
       worst_grazing = std::max(worst_grazing, std::abs(e - 1));
       EXPECT_LE(e, 1.0 + 0.01);
@@ -139,7 +136,7 @@ TEST(Multiscatter, WhiteFurnaceIsOneWithinOnePercent) {
   std::printf("  white furnace |E - 1|: max %.4f for N.V >= 1/31, %.4f below\n", worst, worst_grazing);
   EXPECT_LT(worst_grazing, 0.1);
   // Without the lobe the loss is large at r = 1 (the published 1 − 0.306853 at μ = 1).
-  const auto m = make("ggx", {{"roughness", {1.0}}, {"fresnel", {none}}});
+  const auto m = make_brdf("ggx", {{"roughness", {1.0}}, {"fresnel", {none}}});
   EXPECT_LT(directional_albedo(*m, 1.0, 1u << 14).g, 0.31);
 }
 
@@ -159,10 +156,11 @@ TEST(Multiscatter, WithFresnelStaysBelowOneAndAddsEnergy) {
   for (const char* fr : {"schlick", "conductor", "dielectric"})
     for (double r : {0.2, 0.6, 1.0})
       for (double mu : {0.05, 0.5, 1.0}) {
-        const auto on = make(
+        const auto on = make_brdf(
             "ggx",
             {{"roughness", {r}}, {"fresnel", {fresnel_index(fr)}}, {"multiscatter", {1}}, {"f0", {1.0}}});
-        const auto off = make("ggx", {{"roughness", {r}}, {"fresnel", {fresnel_index(fr)}}, {"f0", {1.0}}});
+        const auto off =
+            make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {fresnel_index(fr)}}, {"f0", {1.0}}});
         const Rgbd a = directional_albedo(*on, mu, 1u << 13), b = directional_albedo(*off, mu, 1u << 13);
         EXPECT_LE(max_component(a), 1.0 + 2e-3) << fr << " " << r << " " << mu;
         EXPECT_GE(a.g, b.g - 1e-6);
@@ -190,25 +188,25 @@ TEST(Ksk, CoupledPairConservesEnergy) {
     for (double f0 : {0.04, 0.5})
       for (double ms : {0.0, 1.0})
         for (double mu : {0.05, 0.4, 1.0}) {
-          const auto m =
-              make("ggx-ksk", {{"roughness", {r}}, {"f0", {f0}}, {"rho", {1.0}}, {"multiscatter", {ms}}});
+          const auto m = make_brdf(
+              "ggx-ksk", {{"roughness", {r}}, {"f0", {f0}}, {"rho", {1.0}}, {"multiscatter", {ms}}});
           EXPECT_NEAR(directional_albedo(*m, mu, 1u << 14).g, 1.0, 0.01) << r << " " << f0 << " " << mu;
         }
   // The uncoupled Lambert pair exceeds 1 (why the coupling exists).
-  const auto l = make("ggx-lambert", {{"roughness", {0.3}}, {"f0", {0.04}}, {"rho", {1.0}}});
+  const auto l = make_brdf("ggx-lambert", {{"roughness", {0.3}}, {"f0", {0.04}}, {"rho", {1.0}}});
   EXPECT_GT(directional_albedo(*l, 1.0, 1u << 14).g, 1.02);
 }
 
 TEST(Dfg, FilamentConventionMatchesSchlickAlbedo) {
-  // E(F0) = mix(DFG.x, DFG.y, F0) (REFERENCE.md §6) against the QMC albedo of the runtime GGX + Schlick
-  // model.
+  // E(F0) = mix(DFG.x, DFG.y, F0) (Filament's convention, docs/theory.md §2) against the QMC albedo of the
+  // runtime GGX + Schlick model.
   for (int j : {6, 15, 31})
     for (int i : {4, 15, 31})
       for (double f0 : {0.04, 0.5, 0.95}) {
         const double mu = i / 31.0, r = j / 31.0;
         const double x = shipped::kGgxEFc[j * N + i], y = shipped::kGgxE[j * N + i];
         const auto m =
-            make("ggx", {{"roughness", {r}}, {"fresnel", {fresnel_index("schlick")}}, {"f0", {f0}}});
+            make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {fresnel_index("schlick")}}, {"f0", {f0}}});
         EXPECT_NEAR(directional_albedo(*m, mu, 1u << 16).g, x + f0 * (y - x), 5e-5)
             << mu << " " << r << " " << f0;
       }

@@ -1,11 +1,11 @@
 // Specular microfacet BRDF (9.34), the two-lobe GGX NDF and the runtime specular models: published albedo
-// values (REFERENCE.md §6), the closed-form GGX visibility 9.43, NDF/VNDF normalization of the mixture (9.21,
-// 9.23) by adaptive quadrature, QMC albedo vs quadrature albedo, the mirror limit, chi-square of every
-// specular sampler against its pdf.
+// values (Blender Cycles table_ggx_E, docs/theory.md §2), the closed-form GGX visibility 9.43, NDF/VNDF
+// normalization of the mixture (9.21, 9.23) by adaptive quadrature, QMC albedo vs quadrature albedo, the
+// mirror limit, chi-square of every specular sampler against its pdf.
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/fresnel.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/masking.h>
@@ -17,10 +17,6 @@ using namespace msh::bsdf;
 
 namespace {
 
-std::unique_ptr<BrdfModel> make(const std::string& name,
-                                const std::map<std::string, std::vector<double>>& v) {
-  return make_brdf(name, v);
-}
 double choice(const std::string& model, const std::string& param, const std::string& value) {
   for (const auto& p : find_brdf_model(model).params)
     if (p.name == param)
@@ -42,14 +38,7 @@ double quadrature_albedo(const BrdfModel& m, const Vec3d& wo, double tol = 1e-7)
   return s;
 }
 
-struct Uniforms {
-  Pcg32 rng;
-  explicit Uniforms(uint64_t seed) : rng(seed) {}
-  Vec2d next() {
-    const double a = rng.next_double();
-    return {a, rng.next_double()};
-  }
-};
+using msh::test::Uniforms;
 
 void expect_sampler_matches_pdf(const BrdfModel& m, const Vec3d& wo, const std::string& what,
                                 int n = 400000) {
@@ -74,7 +63,7 @@ TEST(Specular, PublishedGgxAlbedoValues) {
     double mu, r, e;
   } cases[] = {{1.0, 1.0, 0.306853}, {1.0, 15.0 / 31, 0.926694}, {15.0 / 31, 1.0, 0.457779}};
   for (const auto& c : cases) {
-    const auto m = make("ggx", {{"roughness", {c.r}}, {"fresnel", {none}}});
+    const auto m = make_brdf("ggx", {{"roughness", {c.r}}, {"fresnel", {none}}});
     // r is perceptual: α = r² = (15/31)² means r = 15/31.
     EXPECT_NEAR(directional_albedo(*m, c.mu, 1u << 20).r, c.e, 1e-4) << c.mu << " " << c.r;
   }
@@ -164,24 +153,25 @@ TEST(Specular, QmcAlbedoMatchesQuadrature) {
   const double none = choice("ggx", "fresnel", "none");
   for (double r : {0.5, 0.8}) {
     for (double mu : {0.2, 0.7}) {
-      const auto m = make("ggx", {{"roughness", {r}}, {"fresnel", {none}}});
+      const auto m = make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {none}}});
       EXPECT_NEAR(directional_albedo(*m, mu, 1u << 18).g, quadrature_albedo(*m, dir(mu)), 2e-4)
           << r << " " << mu;
     }
   }
-  const auto d = make("ggx-dual", {{"roughness", {0.5}},
-                                   {"roughness2", {0.9}},
-                                   {"mix", {0.4}},
-                                   {"fresnel", {choice("ggx-dual", "fresnel", "dielectric")}}});
+  const auto d = make_brdf("ggx-dual", {{"roughness", {0.5}},
+                                        {"roughness2", {0.9}},
+                                        {"mix", {0.4}},
+                                        {"fresnel", {choice("ggx-dual", "fresnel", "dielectric")}}});
   EXPECT_NEAR(directional_albedo(*d, 0.6, 1u << 18).g, quadrature_albedo(*d, dir(0.6)), 2e-4);
-  const auto b = make("beckmann", {{"roughness", {0.7}}, {"fresnel", {none}}, {"g2", {1.0}}});
+  const auto b = make_brdf("beckmann", {{"roughness", {0.7}}, {"fresnel", {none}}, {"g2", {1.0}}});
   EXPECT_NEAR(directional_albedo(*b, 0.35, 1u << 18).g, quadrature_albedo(*b, dir(0.35)), 2e-4);
 }
 
 TEST(Specular, MirrorLimitReturnsFresnel) {
   // r → 0: the lobe is a mirror with G2 → 1, so the albedo is F(μ).
   for (double mu : {0.3, 0.8}) {
-    const auto m = make("ggx", {{"roughness", {0.02}}, {"fresnel", {choice("ggx", "fresnel", "conductor")}}});
+    const auto m =
+        make_brdf("ggx", {{"roughness", {0.02}}, {"fresnel", {choice("ggx", "fresnel", "conductor")}}});
     const Rgbd e = directional_albedo(*m, mu, 1u << 14);
     EXPECT_NEAR(e.r, fresnel_conductor(mu, 0.143, 3.983), 2e-3);
     EXPECT_NEAR(e.b, fresnel_conductor(mu, 1.442, 1.603), 2e-3);
@@ -190,22 +180,22 @@ TEST(Specular, MirrorLimitReturnsFresnel) {
 
 TEST(Specular, SamplersMatchTheirPdf) {
   const double none = choice("ggx", "fresnel", "none");
-  const auto g1 = make("ggx", {{"roughness", {0.3}}, {"fresnel", {none}}});
+  const auto g1 = make_brdf("ggx", {{"roughness", {0.3}}, {"fresnel", {none}}});
   expect_sampler_matches_pdf(*g1, dir(0.6, 0.2), "ggx r=0.3");
-  const auto g2 = make("ggx", {{"roughness", {0.7}}, {"anisotropy", {0.6}}});
+  const auto g2 = make_brdf("ggx", {{"roughness", {0.7}}, {"anisotropy", {0.6}}});
   expect_sampler_matches_pdf(*g2, dir(0.3, 1.0), "ggx aniso");
-  const auto g3 = make("ggx", {{"roughness", {0.8}}, {"multiscatter", {1}}});
+  const auto g3 = make_brdf("ggx", {{"roughness", {0.8}}, {"multiscatter", {1}}});
   expect_sampler_matches_pdf(*g3, dir(0.4, 0.0), "ggx + multiscatter");
-  const auto d = make("ggx-dual", {{"roughness", {0.2}}, {"roughness2", {0.8}}, {"mix", {0.5}}});
+  const auto d = make_brdf("ggx-dual", {{"roughness", {0.2}}, {"roughness2", {0.8}}, {"mix", {0.5}}});
   expect_sampler_matches_pdf(*d, dir(0.5, 0.0), "ggx-dual");
-  const auto b = make("beckmann", {{"roughness", {0.5}}, {"anisotropy", {-0.4}}});
+  const auto b = make_brdf("beckmann", {{"roughness", {0.5}}, {"anisotropy", {-0.4}}});
   expect_sampler_matches_pdf(*b, dir(0.45, 0.7), "beckmann");
-  const auto k = make("ggx-ksk", {{"roughness", {0.4}}});
+  const auto k = make_brdf("ggx-ksk", {{"roughness", {0.4}}});
   expect_sampler_matches_pdf(*k, dir(0.7, 0.0), "ggx-ksk");
 }
 
 TEST(Specular, SampledValueAndPdfAgreeWithEvaluation) {
-  const auto m = make("ggx-dual", {{"roughness", {0.3}}, {"roughness2", {0.7}}, {"mix", {0.25}}});
+  const auto m = make_brdf("ggx-dual", {{"roughness", {0.3}}, {"roughness2", {0.7}}, {"mix", {0.25}}});
   Pcg32 rng(11);
   const Vec3d wo = dir(0.55, 0.4);
   for (int i = 0; i < 1000; ++i) {

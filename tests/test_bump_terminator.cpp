@@ -1,8 +1,8 @@
 // Bump-terminator terms (Conty 2019, Chiang 2019), the GGX variance metric and the Hanika 2021 offset.
-// References are independent of the code under test: the literal closed forms of REFERENCE.md §5 / listing
-// 12.1 in double on unit vectors, the GGX class's Smith G1 (microfacet/ggx.h), a numerical integral of the
-// Beckmann slope variance, and bounds derived by hand (derivations in the comments and
-// docs/bump-terminator.md).
+// References are independent of the code under test: the literal closed forms of docs/theory.md §4 /
+// Conty Estevez et al. 2019 listing 12.1 in double on unit vectors, the GGX class's Smith G1
+// (microfacet/ggx.h), a numerical integral of the Beckmann slope variance, and bounds derived by hand
+// (derivations in the comments and docs/bump-terminator.md).
 #include <gtest/gtest.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
@@ -187,7 +187,7 @@ TEST(BumpBoth, FloatAccuracy) {
 }
 
 // ---------------------------------------------------------------------------------------------------------
-// Properties stated by the seed (§12.4) and by the formulas.
+// Properties stated by Conty Estevez et al. 2019 (§12.4) and by the formulas.
 
 TEST(BumpBoth, NoPerturbationIsExactlyOne) {
   Pcg32 rng(5);
@@ -421,8 +421,9 @@ TEST(BumpVariance, ClosedForms) {
   EXPECT_EQ(alpha2_from_tan2_perturbation(std::numeric_limits<double>::infinity()), 1.0);
 }
 
-// σ² = 2α² is the tangent (slope) variance of the Beckmann NDF with α_b = √2 α (the seed's equivalence):
-// E[tan²θ_m] = ∫ tan²θ D_b(m) cosθ dω, integrated numerically over θ (midpoint rule in t = tanθ).
+// σ² = 2α² is the tangent (slope) variance of the Beckmann NDF with α_b = √2 α (the equivalence of Conty
+// Estevez et al. 2019): E[tan²θ_m] = ∫ tan²θ D_b(m) cosθ dω, integrated numerically over θ (midpoint rule in
+// t = tanθ).
 TEST(BumpVariance, MatchesBeckmannSlopeVarianceNumerically) {
   for (double a : {0.05, 0.2, 0.5}) {
     const double ab = beckmann_alpha_from_ggx(a);
@@ -444,7 +445,7 @@ TEST(BumpVariance, MatchesBeckmannSlopeVarianceNumerically) {
 namespace {
 using Tri = std::array<Vec3d, 3>;
 
-// REFERENCE.md §5 literally, unit normals: p + Σ b_i (p − p_i − min(0, (p − p_i)·n_i) n_i).
+// Hanika 2021 (docs/theory.md §4) literally, unit normals: p + Σ b_i (p − p_i − min(0, (p − p_i)·n_i) n_i).
 Vec3d hanika_literal(const Vec3d& p, const Tri& pos, const Tri& nrm, const std::array<double, 3>& b) {
   Vec3d out = p;
   for (int i = 0; i < 3; ++i) {

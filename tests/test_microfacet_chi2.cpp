@@ -11,15 +11,7 @@ using msh::test::chi2_test_directions;
 
 namespace {
 
-// Independent uniforms from a fixed stream (a low-discrepancy sequence would make χ² too small).
-struct Uniforms {
-  Pcg32 rng;
-  explicit Uniforms(uint64_t seed) : rng(seed) {}
-  Vec2d next() {
-    const double a = rng.next_double();
-    return {a, rng.next_double()};
-  }
-};
+using msh::test::Uniforms;
 
 }  // namespace
 

@@ -283,7 +283,7 @@ TEST(MicrofacetBoundedVndf, PdfDominatesVndfAndIsNormalized) {
 
 // ---- GGX directional albedo.
 TEST(MicrofacetAlbedo, PublishedValuesAndClosedForm) {
-  // REFERENCE.md §6 (Blender Cycles table_ggx_E), 6 decimals.
+  // docs/theory.md §2 (Blender Cycles table_ggx_E), 6 decimals.
   EXPECT_NEAR(ggx_directional_albedo(1.0, 1.0), 0.306853, 1e-6);
   EXPECT_NEAR(ggx_directional_albedo(1.0, sqr(15.0 / 31)), 0.926694, 1.5e-6);
   EXPECT_NEAR(ggx_directional_albedo(15.0 / 31, 1.0), 0.457779, 1.5e-6);

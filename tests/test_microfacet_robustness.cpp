@@ -143,3 +143,26 @@ TYPED_TEST(MicrofacetRobustness, Gtr) {
   size_t idx = 0;
   sweep_ndf<T, GTR<T>>([&](Inputs<T>&) { return gtrs[idx++ % gtrs.size()]; }, false);
 }
+
+// A NaN α is a precondition violation: the constructors do not turn it into a mirror (kMinAlpha) silently;
+// it propagates, so a caller that passes one sees NaN. Finite values below the minimum (and −∞) are clamped.
+TYPED_TEST(MicrofacetRobustness, NanAlphaIsNotClampedFiniteAlphaIs) {
+  using T = TypeParam;
+  const T nan = std::numeric_limits<T>::quiet_NaN(), inf = std::numeric_limits<T>::infinity();
+  EXPECT_TRUE(std::isnan(GGX<T>(nan).alpha_x()));
+  EXPECT_TRUE(std::isnan(GGX<T>(T(0.3), nan).alpha_y()));
+  EXPECT_EQ(GGX<T>(T(0.3), nan).alpha_x(), T(0.3));
+  EXPECT_TRUE(std::isnan(Beckmann<T>(nan).alpha_x()));
+  EXPECT_TRUE(std::isnan(BlinnPhong<T>(nan).exponent()));
+  EXPECT_TRUE(std::isnan(GTR<T>(nan, T(2)).alpha()));
+  EXPECT_TRUE(std::isnan(GTR<T>(T(0.5), nan).gamma()));
+  EXPECT_TRUE(std::isnan(GGX<T>(nan).D(Vec3<T>(0, 0, 1))));
+  for (T a : {T(0), T(-1), -inf, T(1e-30)}) {
+    EXPECT_EQ(GGX<T>(a).alpha_x(), GGX<T>::kMinAlpha) << a;
+    EXPECT_EQ(Beckmann<T>(a).alpha_y(), Beckmann<T>::kMinAlpha) << a;
+    if (!(a > T(0))) {  // αp ≥ 0 is the domain: non-positive values clamp to 0
+      EXPECT_EQ(BlinnPhong<T>(a).exponent(), T(0)) << a;
+    }
+    EXPECT_EQ(GTR<T>(a, T(2)).alpha(), GTR<T>::kMinAlpha) << a;
+  }
+}

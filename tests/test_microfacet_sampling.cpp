@@ -1,8 +1,8 @@
-// Chi-square goodness of fit (tests/support/chi2.h, REFERENCE.md §7) of every microfacet sampler against its
-// own pdf: both GGX VNDF samplers against the analytic VNDF (isotropic, anisotropic, normal, grazing and
-// backfacing incidence), the bounded VNDF (over m and over the reflected direction), Beckmann VNDF, and plain
-// NDF sampling of every NDF. Peaked lobes (α ≤ 0.1) are also tested on the stretched sphere, where they fill
-// the grid.
+// Chi-square goodness of fit (tests/support/chi2.h, the pbrt-v4 / Mitsuba 3 habit) of every microfacet
+// sampler against its own pdf: both GGX VNDF samplers against the analytic VNDF (isotropic, anisotropic,
+// normal, grazing and backfacing incidence), the bounded VNDF (over m and over the reflected direction),
+// Beckmann VNDF, and plain NDF sampling of every NDF. Peaked lobes (α ≤ 0.1) are also tested on the stretched
+// sphere, where they fill the grid.
 #include <gtest/gtest.h>
 #include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/blinn_phong.h>
@@ -21,14 +21,7 @@ namespace {
 constexpr int kTests = 40;
 constexpr int kSamples = 250000;
 
-struct Rng {
-  Pcg32 r;
-  explicit Rng(uint64_t s) : r(s) {}
-  Vec2d u() {
-    const double a = r.next_double();
-    return {a, r.next_double()};
-  }
-};
+using Rng = msh::test::Uniforms;
 
 Vec3d dir(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
@@ -37,7 +30,7 @@ Vec3d dir(double theta, double phi) {
 template <class Sampler, class Pdf>
 Chi2Result run(uint64_t seed, Sampler&& s, Pdf&& p, double stretch_x = 0, double stretch_y = 0) {
   Rng rng(seed);
-  auto sample = [&](uint32_t) { return std::optional<Vec3d>(s(rng.u())); };
+  auto sample = [&](uint32_t) { return std::optional<Vec3d>(s(rng.next())); };
   std::function<double(const Vec3d&)> pdf = p;
   if (stretch_x > 0)
     return msh::test::chi2_test_directions_stretched(sample, pdf, stretch_x, stretch_y, kSamples, 40, 80,
@@ -151,7 +144,7 @@ TEST(MicrofacetSampling, FloatSamplersAgreeWithDouble) {
   const Beckmann<double> bd(0.3, 0.5);
   Rng rng(7);
   for (int i = 0; i < 10000; ++i) {
-    const Vec2d u = rng.u();
+    const Vec2d u = rng.next();
     const Vec2f uf(float(u.x), float(u.y));
     const Vec3d w = dir(0.01 + 1.2 * u.y, 6 * u.x);
     const Vec3f wf(w);

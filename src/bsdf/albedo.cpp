@@ -1,4 +1,4 @@
-#include <microshadow/bsdf/albedo.h>
+#include <microshadow/bsdf/runtime/albedo.h>
 
 namespace msh::bsdf {
 

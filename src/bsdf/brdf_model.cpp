@@ -1,4 +1,4 @@
-#include <microshadow/bsdf/brdf_model.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
 

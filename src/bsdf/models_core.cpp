@@ -1,10 +1,10 @@
 // Runtime wrappers (double precision) of the specular, Fresnel, multiple-bounce and diffuse models of
 // include/microshadow/bsdf/{fresnel,specular,multiscatter,diffuse}.h, for `eval brdf`, the tests and the
 // renderer. Every model lists its source equation (RTR4 numbering) and its parameters with ranges.
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/diffuse.h>
 #include <microshadow/bsdf/fresnel.h>
 #include <microshadow/bsdf/multiscatter.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/beckmann.h>
@@ -163,11 +163,12 @@ class GgxSpecular final : public BrdfModel {
   bool ms_;
 };
 
-// Beckmann microfacet specular (9.34 with 9.35/9.52 and the exact Smith Λ 9.38), VNDF-sampled.
-class BeckmannSpecular final : public BrdfModel {
+// One VNDF-sampled microfacet specular lobe (9.34) over any Smith NDF: Beckmann (9.35/9.52 with the exact Λ
+// 9.38) and the two-GGX mixture (Imageworks).
+template <class Ndf>
+class MicrofacetLobe final : public BrdfModel {
  public:
-  BeckmannSpecular(double r, double aniso, FresnelSpec fr, G2Form g2)
-      : ndf_(r * r * (1 + aniso), r * r * (1 - aniso)), fr_(std::move(fr)), g2_(g2) {}
+  MicrofacetLobe(Ndf ndf, FresnelSpec fr, G2Form g2) : ndf_(std::move(ndf)), fr_(std::move(fr)), g2_(g2) {}
   Rgbd f(const Vec3d& wo, const Vec3d& wi) const override {
     const auto e = microfacet_specular(ndf_, wo, wi, g2_);
     return fr_(e.cos_hl) * e.f1;
@@ -182,33 +183,9 @@ class BeckmannSpecular final : public BrdfModel {
   }
 
  private:
-  Beckmann<double> ndf_;
+  Ndf ndf_;
   FresnelSpec fr_;
   G2Form g2_;
-};
-
-// Two GGX NDFs mixed into one extended NDF (Imageworks).
-class GgxDual final : public BrdfModel {
- public:
-  GgxDual(double r1, double r2, double w, FresnelSpec fr)
-      : mix_(GGX<double>(roughness_to_alpha(r1)), GGX<double>(roughness_to_alpha(r2)), w),
-        fr_(std::move(fr)) {}
-  Rgbd f(const Vec3d& wo, const Vec3d& wi) const override {
-    const auto e = microfacet_specular(mix_, wo, wi);
-    return fr_(e.cos_hl) * e.f1;
-  }
-  std::optional<BsdfSample> sample(const Vec3d& wo, Vec2d u) const override {
-    const auto s = sample_microfacet_specular(mix_, wo, u);
-    if (!s) return std::nullopt;
-    return BsdfSample{s->wi, f(wo, s->wi), s->pdf};
-  }
-  double pdf(const Vec3d& wo, const Vec3d& wi) const override {
-    return microfacet_specular_pdf(mix_, wo, wi);
-  }
-
- private:
-  GGXMixture<double> mix_;
-  FresnelSpec fr_;
 };
 
 // A diffuse model given as a lambda, sampled with the default cosine sampler.
@@ -306,6 +283,35 @@ ParamSpec f0_param() {
   return {"f0", "Specular normal-incidence reflectance F0 (Schlick)", {0.04}, 0, 1, 3, {}};
 }
 
+// Oren & Nayar 1994 (RTR4 §9.9.4), full or qualitative: rho and the slope-angle deviation sigma.
+using OrenNayarDiffuse = Rgbd (*)(const Rgbd&, double, const Vec3d&, const Vec3d&);
+ModelInfo oren_nayar_info(std::string name, std::string summary, OrenNayarDiffuse fn) {
+  const ParamSpec sigma{
+      "sigma", "Oren-Nayar slope-angle standard deviation sigma (radians)", {0.5}, 0, 1.5707963267948966, 1,
+      {}};
+  return diffuse_info(
+      std::move(name), std::move(summary), "Oren & Nayar 1994 (RTR4 §9.9.4)", {albedo_param(), sigma},
+      [fn](const BrdfParams& P) -> DiffuseModel::Fn {
+        const Rgbd a = P.rgb("rho");
+        const double s = P.get("sigma");
+        return [a, s, fn](const Vec3d& l, const Vec3d& v) { return fn(a, s, l, v); };
+      },
+      true, false);
+}
+
+// An energy-conserving diffuse term of (rho, f0) coupled to a Schlick specular: 9.62, 9.63, 9.64.
+using RhoF0Diffuse = Rgbd (*)(const Rgbd&, const Rgbd&, const Vec3d&, const Vec3d&);
+ModelInfo rho_f0_diffuse_info(std::string name, std::string summary, std::string source, RhoF0Diffuse fn,
+                              bool reciprocal) {
+  return diffuse_info(
+      std::move(name), std::move(summary), std::move(source), {albedo_param(), f0_param()},
+      [fn](const BrdfParams& P) -> DiffuseModel::Fn {
+        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
+        return [a, f0, fn](const Vec3d& l, const Vec3d& v) { return fn(a, f0, l, v); };
+      },
+      reciprocal, true);
+}
+
 }  // namespace
 
 std::vector<ModelInfo> core_brdf_models() {
@@ -340,8 +346,10 @@ std::vector<ModelInfo> core_brdf_models() {
                {"g2", "Smith masking-shadowing form", {0}, 0, 1, 1, g2_names}},
               fresnel_params()),
        [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
-         return std::make_unique<BeckmannSpecular>(P.get("roughness"), P.get("anisotropy"),
-                                                   FresnelSpec::from(P), G2Form(int(P.get("g2"))));
+         const double r = P.get("roughness"), aniso = P.get("anisotropy");
+         return std::make_unique<MicrofacetLobe<Beckmann<double>>>(
+             Beckmann<double>(r * r * (1 + aniso), r * r * (1 - aniso)), FresnelSpec::from(P),
+             G2Form(int(P.get("g2"))));
        }});
 
   v.push_back(
@@ -352,8 +360,10 @@ std::vector<ModelInfo> core_brdf_models() {
                {"mix", "Weight w of the second NDF: D = (1-w) D1 + w D2", {0.3}, 0, 1, 1, {}}},
               fresnel_params()),
        [](const BrdfParams& P) -> std::unique_ptr<BrdfModel> {
-         return std::make_unique<GgxDual>(P.get("roughness"), P.get("roughness2"), P.get("mix"),
-                                          FresnelSpec::from(P));
+         return std::make_unique<MicrofacetLobe<GGXMixture<double>>>(
+             GGXMixture<double>(GGX<double>(roughness_to_alpha(P.get("roughness"))),
+                                GGX<double>(roughness_to_alpha(P.get("roughness2"))), P.get("mix")),
+             FresnelSpec::from(P), G2Form::HeightCorrelated);
        }});
 
   v.push_back(diffuse_info(
@@ -363,30 +373,14 @@ std::vector<ModelInfo> core_brdf_models() {
         return [a](const Vec3d& l, const Vec3d& v) { return diffuse_lambert(a, l, v); };
       },
       true, true));
-  v.push_back(diffuse_info(
+  v.push_back(rho_f0_diffuse_info(
       "lambert-fresnel-n", "(1 - F(n,l)) rho/pi: diffuse coupled to a flat Schlick mirror (not reciprocal)",
-      "RTR4 9.62", {albedo_param(), f0_param()},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
-        return [a, f0](const Vec3d& l, const Vec3d& v) { return diffuse_fresnel_n(a, f0, l, v); };
-      },
-      false, true));
-  v.push_back(diffuse_info(
-      "lambert-fresnel-h", "(1 - F(h,l)) rho/pi: diffuse coupled to a microfacet specular term", "RTR4 9.63",
-      {albedo_param(), f0_param()},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
-        return [a, f0](const Vec3d& l, const Vec3d& v) { return diffuse_fresnel_h(a, f0, l, v); };
-      },
-      true, true));
-  v.push_back(diffuse_info(
-      "shirley", "Shirley et al. 1997 coupled diffuse for a flat Schlick mirror", "RTR4 9.64",
-      {albedo_param(), f0_param()},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho"), f0 = P.rgb("f0");
-        return [a, f0](const Vec3d& l, const Vec3d& v) { return diffuse_shirley(a, f0, l, v); };
-      },
-      true, true));
+      "RTR4 9.62", &diffuse_fresnel_n<double, Rgbd>, false));
+  v.push_back(rho_f0_diffuse_info("lambert-fresnel-h",
+                                  "(1 - F(h,l)) rho/pi: diffuse coupled to a microfacet specular term",
+                                  "RTR4 9.63", &diffuse_fresnel_h<double, Rgbd>, true));
+  v.push_back(rho_f0_diffuse_info("shirley", "Shirley et al. 1997 coupled diffuse for a flat Schlick mirror",
+                                  "RTR4 9.64", &diffuse_shirley<double, Rgbd>, true));
   v.push_back(diffuse_info(
       "ksk", "Kelemen/Szirmay-Kalos coupled diffuse for a GGX Schlick specular (diffuse term only)",
       "RTR4 9.65; Ashikhmin & Shirley 2000, Kelemen & Szirmay-Kalos 2001; R_spec from the shipped DFG table",
@@ -423,27 +417,10 @@ std::vector<ModelInfo> core_brdf_models() {
         return [a, f0, alpha](const Vec3d& l, const Vec3d& v) { return diffuse_hammon(a, alpha, f0, l, v); };
       },
       true, false));
-  const ParamSpec sigma{
-      "sigma", "Oren-Nayar slope-angle standard deviation sigma (radians)", {0.5}, 0, 1.5707963267948966, 1,
-      {}};
-  v.push_back(diffuse_info(
-      "oren-nayar", "Oren-Nayar 1994, full model with interreflection", "Oren & Nayar 1994 (RTR4 §9.9.4)",
-      {albedo_param(), sigma},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho");
-        const double s = P.get("sigma");
-        return [a, s](const Vec3d& l, const Vec3d& v) { return diffuse_oren_nayar(a, s, l, v); };
-      },
-      true, false));
-  v.push_back(diffuse_info(
-      "oren-nayar-qualitative", "Oren-Nayar 1994 qualitative model", "Oren & Nayar 1994 (RTR4 §9.9.4)",
-      {albedo_param(), sigma},
-      [](const BrdfParams& P) -> DiffuseModel::Fn {
-        const Rgbd a = P.rgb("rho");
-        const double s = P.get("sigma");
-        return [a, s](const Vec3d& l, const Vec3d& v) { return diffuse_oren_nayar_qualitative(a, s, l, v); };
-      },
-      true, false));
+  v.push_back(oren_nayar_info("oren-nayar", "Oren-Nayar 1994, full model with interreflection",
+                              &diffuse_oren_nayar<double, Rgbd>));
+  v.push_back(oren_nayar_info("oren-nayar-qualitative", "Oren-Nayar 1994 qualitative model",
+                              &diffuse_oren_nayar_qualitative<double, Rgbd>));
 
   for (const bool ksk : {false, true}) {
     v.push_back({ksk ? "ggx-ksk" : "ggx-lambert",

@@ -2,9 +2,9 @@
 // NAME`). The math lives in include/microshadow/bsdf/{cloth,thin_film,layered}.h; these wrappers only
 // configure it and add importance sampling (mixtures of the cosine lobe and the model's own NDF / VNDF
 // sampler).
-#include <microshadow/bsdf/brdf_model.h>
 #include <microshadow/bsdf/cloth.h>
 #include <microshadow/bsdf/layered.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/bsdf/thin_film.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>

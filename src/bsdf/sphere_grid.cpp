@@ -1,5 +1,5 @@
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/sphere_grid.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/sphere_grid.h>
 #include <microshadow/math/color.h>
 #include <tbb/parallel_for.h>
 

@@ -1,8 +1,8 @@
 #include <fmt/format.h>
 #include <microshadow/bsdf/multiscatter.h>
-#include <microshadow/bsdf/quadrature.h>
-#include <microshadow/bsdf/tables.h>
+#include <microshadow/bsdf/runtime/tables.h>
 #include <microshadow/io/error.h>
+#include <microshadow/math/quadrature.h>
 #include <tbb/parallel_for.h>
 
 namespace msh::bsdf {

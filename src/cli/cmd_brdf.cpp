@@ -1,9 +1,9 @@
 // `eval brdf`, `bake ggx-albedo`, `bake dfg`, `bake brdf-shipped`: the BRDF models and their tables.
 #include <fmt/format.h>
-#include <microshadow/bsdf/albedo.h>
-#include <microshadow/bsdf/brdf_model.h>
-#include <microshadow/bsdf/sphere_grid.h>
-#include <microshadow/bsdf/tables.h>
+#include <microshadow/bsdf/runtime/albedo.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
+#include <microshadow/bsdf/runtime/sphere_grid.h>
+#include <microshadow/bsdf/runtime/tables.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
 

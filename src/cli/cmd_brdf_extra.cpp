@@ -6,7 +6,7 @@
 // behind, both white with irradiance 3 and 2 at normal incidence; tangent = projection of world +x (fibers
 // for Kajiya-Kay). Output: 8-bit sRGB PNG (exact IEC 61966-2-1 curve), written atomically.
 #include <fmt/format.h>
-#include <microshadow/bsdf/brdf_model.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/math/color.h>
 #include <tbb/blocked_range.h>

@@ -82,7 +82,8 @@ void run_eval(const EvalOptions& o) {
 }
 
 // ---------------------------------------------------------------------------------------------------------
-// plot bump-terminator: figure data in the spirit of the seed's figure 12.4.
+// plot bump-terminator: figure data in the spirit of figure 12.4 of Conty Estevez et al. 2019 (Ray Tracing
+// Gems ch. 12).
 
 struct PlotOptions {
   std::string out;

@@ -1,4 +1,5 @@
-// Chi-square goodness-of-fit test for direction samplers (the pbrt-v4 / Mitsuba 3 habit, REFERENCE.md §7).
+// Chi-square goodness-of-fit test for direction samplers (the habit of pbrt-v4's and Mitsuba 3's
+// sampler tests).
 //
 // Samples are histogrammed on a (cos θ, φ) grid over the FULL sphere; since dω = d(cos θ) dφ, the expected
 // mass of a cell is the plain integral of pdf(cos θ, φ) over the rectangle, computed here by adaptive
@@ -8,6 +9,7 @@
 // expected mass is an immediate failure; the p-value is Q(dof/2, χ²/2) (regularized upper incomplete gamma).
 #pragma once
 
+#include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 
 #include <cstdint>
@@ -16,6 +18,17 @@
 #include <string>
 
 namespace msh::test {
+
+// Independent uniform pairs from a fixed PCG32 stream, the sample source of the chi-square tests (a
+// low-discrepancy sequence would make χ² too small).
+struct Uniforms {
+  Pcg32 rng;
+  explicit Uniforms(uint64_t seed) : rng(seed) {}
+  Vec2d next() {
+    const double a = rng.next_double();
+    return {a, rng.next_double()};
+  }
+};
 
 struct Chi2Result {
   bool pass = false;

@@ -1,6 +1,7 @@
 // Tiny Vulkan compute harness (see vk_compute.h). Loads libvulkan.so.1 with dlopen; no link-time dependency.
 #include "vk_compute.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -240,8 +241,23 @@ Context* Context::get(std::string* why) {
     if (init(*c->impl_, &c->device_name_, &reason)) ctx = c;  // kept for the process lifetime
 #endif
   });
-  if (!ctx && why) *why = reason;
+  if (!ctx) {
+    if (why) *why = reason;
+    // A missing device must not pass silently: the run part of every shader test would be skipped and the
+    // suite would look green. Skipping is allowed only when asked for (or in sanitizer builds, which never
+    // run the driver).
+#ifndef MSH_VK_SANITIZED
+    if (!no_vulkan_allowed())
+      ADD_FAILURE() << "no Vulkan compute device (" << reason
+                    << "); set MSH_ALLOW_NO_VULKAN=1 to allow skipping the Vulkan runs";
+#endif
+  }
   return ctx;
+}
+
+bool no_vulkan_allowed() {
+  const char* e = std::getenv("MSH_ALLOW_NO_VULKAN");
+  return e != nullptr && std::strcmp(e, "1") == 0;
 }
 
 bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vector<std::byte>*>& buffers,

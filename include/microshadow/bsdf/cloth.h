@@ -29,9 +29,9 @@ Rgb<T> uncharted2_cloth_diffuse(const Rgb<T>& rho, T cos_v, T k_rim, T a_rim, T 
 // Wrap lighting (RTR4 9.71, Uncharted 4): REPLACES f_diff(l,v)(n·l)⁺ by
 // ρ/π · sat(c_scatter + sat(n·l)) · sat((n·l + w)/(1 + w)). Nonzero down to n·l = −w. Domain: w in [0,1]
 // (clamped). The clamp is read as enclosing the whole fraction (the classic wrap term, Green 2004, GPU Gems
-// ch. 16); the seed's typesetting puts it on the numerator only, which would halve normal incidence at w = 1.
-// c_scatter = 0, w = 0 gives ρ/π (n·l)² as printed, not Lambert: the scatter factor acts as a tint.
-// Not a BRDF in the strict sense: it modifies the cosine too (use `wrap_diffuse_brdf` for f alone).
+// ch. 16); RTR4's typesetting of 9.71 puts it on the numerator only, which would halve normal incidence
+// when w = 1. c_scatter = 0, w = 0 gives ρ/π (n·l)² as printed, not Lambert: the scatter factor acts as a
+// tint. Not a BRDF in the strict sense: it modifies the cosine too (use `wrap_diffuse_brdf` for f alone).
 template <class T>
 Rgb<T> wrap_diffuse_lighting(const Rgb<T>& rho, const Rgb<T>& c_scatter, T cos_l, T w) {
   w = saturate(w);

@@ -125,6 +125,21 @@ template <class T>
 T tan_clamped(T theta) {
   return std::sin(theta) / std::max(std::cos(theta), T(1e-7));
 }
+// The angles and the σ-dependent coefficients shared by both Oren-Nayar models: A (= C1) = 1 − 0.5σ²/(σ² +
+// 0.33) and B = 0.45σ²/(σ² + 0.09).
+template <class T>
+struct OrenNayarTerms {
+  T a, b, cos_dphi, s2, A, B;
+};
+template <class T>
+OrenNayarTerms<T> oren_nayar_terms(T sigma, const Vec3<T>& l, const Vec3<T>& v) {
+  OrenNayarTerms<T> t;
+  oren_nayar_angles(l, v, t.a, t.b, t.cos_dphi);
+  t.s2 = sigma * sigma;
+  t.A = T(1) - T(0.5) * t.s2 / (t.s2 + T(0.33));
+  t.B = T(0.45) * t.s2 / (t.s2 + T(0.09));
+  return t;
+}
 }  // namespace detail
 
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model" (SIGGRAPH), full model (their eqs. for
@@ -133,11 +148,8 @@ T tan_clamped(T theta) {
 template <class T, class C>
 C diffuse_oren_nayar(const C& rho, T sigma, const Vec3<T>& l, const Vec3<T>& v) {
   if (!detail::both_above(l, v)) return C(T(0));
-  T a, b, cphi;
-  detail::oren_nayar_angles(l, v, a, b, cphi);
-  const T s2 = sigma * sigma;
-  const T c1 = T(1) - T(0.5) * s2 / (s2 + T(0.33));
-  const T k2 = T(0.45) * s2 / (s2 + T(0.09));
+  const detail::OrenNayarTerms<T> t = detail::oren_nayar_terms(sigma, l, v);
+  const T a = t.a, b = t.b, cphi = t.cos_dphi, s2 = t.s2, c1 = t.A, k2 = t.B;
   const T c2 = cphi >= T(0) ? k2 * std::sin(a) : k2 * (std::sin(a) - std::pow(T(2) * b / kPi<T>, T(3)));
   const T c3 = T(0.125) * s2 / (s2 + T(0.09)) * sqr(T(4) * a * b / (kPi<T> * kPi<T>));
   const T l1 = c1 + cphi * c2 * detail::tan_clamped(b) +
@@ -151,12 +163,9 @@ C diffuse_oren_nayar(const C& rho, T sigma, const Vec3<T>& l, const Vec3<T>& v) 
 template <class T, class C>
 C diffuse_oren_nayar_qualitative(const C& rho, T sigma, const Vec3<T>& l, const Vec3<T>& v) {
   if (!detail::both_above(l, v)) return C(T(0));
-  T a, b, cphi;
-  detail::oren_nayar_angles(l, v, a, b, cphi);
-  const T s2 = sigma * sigma;
-  const T A = T(1) - T(0.5) * s2 / (s2 + T(0.33));
-  const T B = T(0.45) * s2 / (s2 + T(0.09));
-  return rho * (kInvPi<T> * (A + B * std::max(T(0), cphi) * std::sin(a) * detail::tan_clamped(b)));
+  const detail::OrenNayarTerms<T> t = detail::oren_nayar_terms(sigma, l, v);
+  return rho *
+         (kInvPi<T> * (t.A + t.B * std::max(T(0), t.cos_dphi) * std::sin(t.a) * detail::tan_clamped(t.b)));
 }
 
 }  // namespace msh::bsdf

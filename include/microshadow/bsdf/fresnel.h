@@ -4,8 +4,8 @@
 // microfacet BRDF. Header-only, templated on the scalar; every function is finite for every finite input.
 #pragma once
 
-#include <microshadow/bsdf/quadrature.h>
 #include <microshadow/math/color.h>
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/vec.h>
 
 #include <complex>

@@ -4,13 +4,13 @@
 //   E_Fc(μ, r) = ∫ (1 − v·h)⁵ f_sF1 (n·l) dl: together they are the split-sum "DFG" table (Karis 2013) in the
 //   Filament multiscatter layout, DFG = (E_Fc, E): E_Schlick(F0) = mix(DFG.x, DFG.y, F0) = F0 E + (1 − F0)
 //   E_Fc. Karis' (scale, bias) = (E − E_Fc, E_Fc). Height-correlated Smith G2 (9.31).
-// - Axes (REFERENCE.md §1): μ = N·V and perceptual roughness r (α = r²), texel i of n holds i/(n − 1).
+// - Axes (docs/theory.md §1): μ = N·V and perceptual roughness r (α = r²), texel i of n holds i/(n − 1).
 // - Imageworks / Kulla & Conty 2017 multiple-bounce lobe (RTR4 9.56–9.57) from those tables.
 // Shipped 32×32 tables (tables_data.h, baked by `microshadow bake brdf-shipped`) make the runtime file-free.
 #pragma once
 
-#include <microshadow/bsdf/albedo.h>
 #include <microshadow/bsdf/fresnel.h>
+#include <microshadow/bsdf/qmc.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/bsdf/tables_data.h>
 #include <microshadow/math/color.h>
@@ -19,8 +19,8 @@
 namespace msh::bsdf {
 
 // (E_Fc, E) at (μ, r) by QMC over n visible normals (Owen-scrambled Sobol, fixed seed): the estimator weight
-// of VNDF sampling is G2/G1(v), finite at μ = 0. r = 0 uses the exact mirror limit ((1 − μ)⁵, 1) (REFERENCE
-// §6).
+// of VNDF sampling is G2/G1(v), finite at μ = 0. r = 0 uses the exact mirror limit ((1 − μ)⁵, 1) (Filament's
+// DFG convention, docs/theory.md §2).
 template <class T>
 Vec2<T> ggx_dfg_reference(T mu, T r, uint32_t n, uint32_t seed = kAlbedoSeed) {
   mu = saturate(mu);

@@ -46,26 +46,9 @@ struct SpecularEval {
   T cos_hl = T(1);  // h·l (= h·v), the argument of F(h, l)
 };
 
-// RTR4 9.34 with F = 1. Zero when either direction is at or below the horizon, or when l = −v (h undefined).
-template <class T, class Dist>
-SpecularEval<T> microfacet_specular(const Dist& dist, const Vec3<T>& wo, const Vec3<T>& wi,
-                                    G2Form form = G2Form::HeightCorrelated) {
-  SpecularEval<T> r;
-  if (!(wo.z > T(0)) || !(wi.z > T(0))) return r;
-  const Vec3<T> hs = wo + wi;
-  const T l2 = dot(hs, hs);
-  if (!(l2 > T(1e-24))) return r;
-  const Vec3<T> h = hs / std::sqrt(l2);
-  r.cos_hl = saturate(dot(h, wi));
-  const T g2 = smith_g2(dist.G1(wo), dist.G1(wi), form);
-  const T den = T(4) * wo.z * wi.z;
-  const T f = dist.D(h) * g2 / den;
-  r.f1 = std::isfinite(f) ? f : T(0);
-  return r;
-}
-
-// RTR4 9.34 with F = 1 and any G2 form given as g2(wo, wi, h), e.g. the direction-correlated forms of
-// microfacet/masking.h: [&](auto& o, auto& i, auto& h) { return G2_direction_correlated(ndf, o, i, h, λ); }.
+// RTR4 9.34 with F = 1 and any G2 form given as g2(wo, wi, h) (zero where microfacet_specular is), e.g. the
+// direction-correlated forms of microfacet/masking.h: [&](auto& o, auto& i, auto& h) { return
+// G2_direction_correlated(ndf, o, i, h, λ); }.
 template <class T, class Dist, class G2Fn>
 SpecularEval<T> microfacet_specular_custom_g2(const Dist& dist, const Vec3<T>& wo, const Vec3<T>& wi,
                                               G2Fn&& g2) {
@@ -79,6 +62,16 @@ SpecularEval<T> microfacet_specular_custom_g2(const Dist& dist, const Vec3<T>& w
   const T f = dist.D(h) * g2(wo, wi, h) / (T(4) * wo.z * wi.z);
   r.f1 = std::isfinite(f) ? f : T(0);
   return r;
+}
+
+// RTR4 9.34 with F = 1 and the Smith G2 of `form`. Zero when either direction is at or below the horizon, or
+// when l = −v (h undefined).
+template <class T, class Dist>
+SpecularEval<T> microfacet_specular(const Dist& dist, const Vec3<T>& wo, const Vec3<T>& wi,
+                                    G2Form form = G2Form::HeightCorrelated) {
+  return microfacet_specular_custom_g2(dist, wo, wi, [&](const Vec3<T>& o, const Vec3<T>& i, const Vec3<T>&) {
+    return smith_g2(dist.G1(o), dist.G1(i), form);
+  });
 }
 
 // Solid-angle pdf of wi under VNDF sampling: D_wo(h) / (4 |wo·h|) (Heitz 2014, eq. 17 + reflection Jacobian).

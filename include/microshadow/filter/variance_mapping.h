@@ -20,7 +20,7 @@ namespace msh::filter {
 inline constexpr double kBeckmannEquivalent = 1.0;
 inline constexpr double kConty2019 = 2.0;
 
-// Perceptual roughness r (REFERENCE §1: α = r²) → per-axis slope variance k α²/2. r clamped to [0,1].
+// Perceptual roughness r (docs/theory.md §1: α = r²) → per-axis slope variance k α²/2. r clamped to [0,1].
 template <class T>
 T roughness_to_slope_variance(T r, T k = T(kBeckmannEquivalent)) {
   const T a = saturate(r);

@@ -1,5 +1,6 @@
 // Small vector and frame helpers, templated on the scalar type so references can run in double.
-// Convention (REFERENCE.md §1): shading frame n = (0,0,1), t = x, b = y; directions point away from the surface.
+// Convention (docs/theory.md §1): shading frame n = (0,0,1), t = x, b = y; directions point away from the
+// surface.
 #pragma once
 
 #include <algorithm>
@@ -121,8 +122,8 @@ template <class T>
 T length(const Vec3<T>& a) {
   return std::sqrt(dot(a, a));
 }
-// Unit vector along a. A zero, non-finite or denormal-length vector returns `fallback` (default +z), so callers
-// never divide by zero; check is_finite()/length() first where that case is an input error.
+// Unit vector along a. A zero, non-finite or denormal-length vector returns `fallback` (default +z), so
+// callers never divide by zero; check is_finite()/length() first where that case is an input error.
 template <class T>
 Vec3<T> normalize(const Vec3<T>& a, const Vec3<T>& fallback = Vec3<T>(0, 0, 1)) {
   const T l2 = dot(a, a);

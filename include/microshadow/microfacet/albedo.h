@@ -16,9 +16,9 @@
 // Domain: μ ∈ [0, 1] (clamped; μ = 0 returns 0, the limit), α ∈ [0, ∞) clamped below to GGX<T>::kMinAlpha.
 #pragma once
 
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
-#include <microshadow/microfacet/quadrature.h>
 
 #include <algorithm>
 #include <vector>
@@ -58,9 +58,9 @@ inline double ggx_directional_albedo_rule(double mu, double alpha, int n_gl, dou
   std::sort(zb.begin(), zb.end());
   zb.erase(std::unique(zb.begin(), zb.end()), zb.end());
   const std::vector<double> pb = detail::graded_breaks(0.0, kPi<double>, kPi<double>, w, ratio);
-  static const detail::GaussLegendre rule16(16);
-  const detail::GaussLegendre gl_other(n_gl == 16 ? 1 : n_gl);
-  const detail::GaussLegendre& gl = n_gl == 16 ? rule16 : gl_other;
+  static const GaussLegendre rule16(16);
+  const GaussLegendre gl_other(n_gl == 16 ? 1 : n_gl);
+  const GaussLegendre& gl = n_gl == 16 ? rule16 : gl_other;
   // Node lists of the two composite rules.
   std::vector<double> zn, zw, pn, pw;
   auto nodes = [&](const std::vector<double>& b, std::vector<double>& xs, std::vector<double>& ws) {

@@ -4,12 +4,16 @@
 // Sampling Microfacet-Based BSDFs using the Distribution of Visible Normals", with the numerical inversion of
 // the slope CDF by Newton-bisection (Jakob 2014, as in Mitsuba and pbrt-v3).
 //
-// Domain: alpha_x, alpha_y ≥ 0 (clamped to kMinAlpha); unit directions in the shading frame (n = +z). Every
-// member returns a finite value for any finite unit input (grazing, backfacing, the pole).
+// The Smith members shared with the other NDFs (G1, G1(w, m), G2, D(w, m), PDF, pdf_ndf) are in smith.h.
+//
+// Domain: alpha_x, alpha_y ≥ 0, not NaN (clamped to kMinAlpha; see AnisotropicAlpha); unit directions in the
+// shading frame (n = +z). Every member returns a finite value for any finite unit input (grazing, backfacing,
+// the pole).
 #pragma once
 
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
+#include <microshadow/microfacet/smith.h>
 
 #include <cmath>
 #include <limits>
@@ -58,34 +62,26 @@ T erf_inv(T y) {
 }
 
 template <class T>
-class Beckmann {
+class Beckmann : public SmithMicrofacet<Beckmann<T>, T>, public AnisotropicAlpha<T> {
  public:
-  static constexpr T kMinAlpha = T(1e-4);
-
-  Beckmann() = default;
-  explicit Beckmann(T alpha) : Beckmann(alpha, alpha) {}
-  Beckmann(T alpha_x, T alpha_y) : ax_(clamp_alpha(alpha_x)), ay_(clamp_alpha(alpha_y)) {}
-
-  T alpha_x() const { return ax_; }
-  T alpha_y() const { return ay_; }
-  bool is_isotropic() const { return ax_ == ay_; }
-  bool effectively_smooth() const { return std::max(ax_, ay_) < T(1e-3); }
+  // Beckmann(), Beckmann(α), Beckmann(αx, αy); α below kMinAlpha is clamped, a NaN α propagates
+  // (AnisotropicAlpha).
+  using AnisotropicAlpha<T>::AnisotropicAlpha;
+  using SmithMicrofacet<Beckmann<T>, T>::D;
 
   // D(m), 9.52: exp(−(x²/αx² + y²/αy²)/z²) / (π αx αy z⁴). Zero for m.z ≤ 0; underflows to 0 near the
   // horizon.
   T D(const Vec3<T>& wm) const {
     if (!(wm.z > T(0))) return T(0);
     const T z2 = sqr(wm.z);
-    const T e = (sqr(wm.x / ax_) + sqr(wm.y / ay_)) / z2;  // tan²θ/α(φ)²
+    const T e = (sqr(wm.x / this->ax_) + sqr(wm.y / this->ay_)) / z2;  // tan²θ/α(φ)²
     if (!(e < T(700))) return T(0);
-    return std::exp(-e) / (kPi<T> * ax_ * ay_ * z2 * z2);
+    return std::exp(-e) / (kPi<T> * this->ax_ * this->ay_ * z2 * z2);
   }
-
-  T projected_alpha2_sin2(const Vec3<T>& w) const { return sqr(ax_ * w.x) + sqr(ay_ * w.y); }
 
   // a = |n·s| / sqrt(αx²(t·s)² + αy²(b·s)²) (9.37, 9.51); +∞ at the pole.
   T a(const Vec3<T>& w) const {
-    const T den = std::sqrt(projected_alpha2_sin2(w));
+    const T den = std::sqrt(this->projected_alpha2_sin2(w));
     return den > T(0) ? std::abs(w.z) / den : std::numeric_limits<T>::infinity();
   }
 
@@ -119,22 +115,10 @@ class Beckmann {
     return l < std::numeric_limits<T>::max() ? l : std::numeric_limits<T>::max();
   }
 
-  // G1(w) = 1/(1 + Λ(w)) (9.24 without χ⁺); 0 at grazing.
-  T G1(const Vec3<T>& w) const {
-    const T l = Lambda(w);
-    return l < std::numeric_limits<T>::max() ? T(1) / (T(1) + l) : T(0);
-  }
-  T G1(const Vec3<T>& w, const Vec3<T>& wm) const { return dot(w, wm) * w.z > T(0) ? G1(w) : T(0); }
-  // Height-correlated G2 (9.31) without χ⁺ factors, through G1 so grazing stays finite.
-  T G2(const Vec3<T>& wo, const Vec3<T>& wi) const {
-    const T go = G1(wo), gi = G1(wi);
-    const T den = go + gi - go * gi;
-    return den > T(0) ? go * gi / den : T(0);
-  }
   // G1(w)/|cos θ| = 1/(|z|(1 + Λ)): finite at grazing (→ 2/(α(φ) sinθ)·… for large Λ via Λ·|z| limit).
   T G1_over_cos(const Vec3<T>& w) const {
     const T z = std::abs(w.z);
-    const T s = std::sqrt(projected_alpha2_sin2(w));
+    const T s = std::sqrt(this->projected_alpha2_sin2(w));
     if (!(s > T(0))) return z > T(0) ? T(1) / z : T(0);
     // |z|·Λ(a) with a = z/s: as z → 0, zΛ → s/(2√π) (the first term of 9.38), so the sum stays positive.
     const T a = z / s;
@@ -147,44 +131,29 @@ class Beckmann {
     return den > T(0) ? T(1) / den : T(0);
   }
 
-  // Visible normals D_w(m) = G1(w) max(0, w·m) D(m) / |w·n| (Heitz 2014, eq. 16); w.z < 0 uses −w.
-  T D(const Vec3<T>& w, const Vec3<T>& wm) const {
-    const Vec3<T> wu = w.z < T(0) ? -w : w;
-    const T d = D(wm);
-    return d > T(0) ? G1_over_cos(wu) * std::max(T(0), dot(wu, wm)) * d : T(0);
-  }
-  T PDF(const Vec3<T>& w, const Vec3<T>& wm) const { return D(w, wm); }
-
   // Visible-normal sampling (Heitz & d'Eon 2014): stretch w to α = 1, sample the visible slope distribution
   // of the standard Beckmann surface (x by numerically inverting its CDF, y ~ N(0, 1/2)), rotate, unstretch.
   // pdf = D(w, m). w.z < 0 is mirrored to −w.
   Vec3<T> Sample_wm(const Vec3<T>& w, Vec2<T> u) const {
-    Vec3<T> ws = normalize(Vec3<T>(ax_ * w.x, ay_ * w.y, w.z));
+    Vec3<T> ws = normalize(Vec3<T>(this->ax_ * w.x, this->ay_ * w.y, w.z));
     if (ws.z < T(0)) ws = -ws;
     T sx, sy;
     sample_slopes_11(ws.z, u, sx, sy);
     const T cp = cos_phi(ws), sp = sin_phi(ws);
-    const T x = (cp * sx - sp * sy) * ax_, y = (sp * sx + cp * sy) * ay_;
+    const T x = (cp * sx - sp * sy) * this->ax_, y = (sp * sx + cp * sy) * this->ay_;
     return normalize(Vec3<T>(-x, -y, T(1)));
   }
 
   // Plain NDF sampling, pdf D(m)(n·m): anisotropic azimuth tan φ = (αy/αx) tan(2π u.y), then
   // tan²θ = −α(φ)² ln(1 − u.x) with 1/α(φ)² = cos²φ/αx² + sin²φ/αy² (Walter et al. 2007, eq. 28).
   Vec3<T> sample_ndf(Vec2<T> u) const {
-    const T a = T(2) * kPi<T> * u.y;
-    const T phi = std::atan2(ay_ * std::sin(a), ax_ * std::cos(a));
-    const T c = std::cos(phi), s = std::sin(phi);
-    const T inv_a2 = sqr(c / ax_) + sqr(s / ay_);
+    T c, s, inv_a2;
+    this->ndf_sample_azimuth(u.y, c, s, inv_a2);
     const T tan2 = -std::log1p(-std::min(u.x, kOneMinusEpsilon<T>)) / inv_a2;
-    const T cos_t = T(1) / std::sqrt(T(1) + tan2);
-    const T sin_t = safe_sqrt(T(1) - cos_t * cos_t);
-    return {sin_t * c, sin_t * s, cos_t};
+    return this->ndf_sample_direction(tan2, c, s);
   }
-  T pdf_ndf(const Vec3<T>& wm) const { return D(wm) * std::max(T(0), wm.z); }
 
  private:
-  static T clamp_alpha(T a) { return a > kMinAlpha ? a : kMinAlpha; }
-
   // Slopes (x̃, ỹ) of a visible normal of the α = 1 Beckmann surface seen from cos θ = cos_t at φ = 0. The
   // marginal CDF of x̃ (x̃ < cot θ) in the variable b = erf(x̃) is ∝ 1 + b + tanθ e^{−x̃²}/√π; it is inverted by
   // safeguarded Newton iterations (bisection when a step leaves the bracket).
@@ -222,8 +191,7 @@ class Beckmann {
     }
     sx = T(erf_inv(b));
   }
-
-  T ax_ = T(0.5), ay_ = T(0.5);
 };
+static_assert(VisibleNormalSampler<Beckmann<float>> && VisibleNormalSampler<Beckmann<double>>);
 
 }  // namespace msh

@@ -5,12 +5,14 @@
 // is no exact visible-normal sampler: only plain NDF sampling (exact inverse CDF).
 //
 // Domain: αp ≥ 0 (αp = 0 is the uniform hemisphere NDF; large αp is smooth, capped at kMaxExponent so D stays
-// finite in float). Same member names as GGX<T> except Sample_wm.
+// finite in float; NaN is a precondition violation and propagates). Same member names as GGX<T> except
+// Sample_wm and PDF; the Smith members (G1, G2, D(w, m), pdf_ndf) are smith.h's.
 #pragma once
 
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/beckmann.h>
+#include <microshadow/microfacet/smith.h>
 
 namespace msh {
 
@@ -28,15 +30,19 @@ T beckmann_alpha_from_blinn_phong(T alpha_p) {
 }
 
 template <class T>
-class BlinnPhong {
+class BlinnPhong : public SmithMicrofacet<BlinnPhong<T>, T> {
+  using Smith = SmithMicrofacet<BlinnPhong<T>, T>;
+
  public:
+  using Smith::D;
+
   // D at the pole is (αp+2)/(2π): 1e7 keeps it well inside float range and is sharper than any measured
   // material.
   static constexpr T kMaxExponent = T(1e7);
 
   BlinnPhong() = default;
   explicit BlinnPhong(T alpha_p)
-      : ap_(alpha_p > T(0) ? std::min(alpha_p, kMaxExponent) : T(0)),
+      : ap_(alpha_p > T(0) || std::isnan(alpha_p) ? std::min(alpha_p, kMaxExponent) : T(0)),
         beckmann_(beckmann_alpha_from_blinn_phong(ap_)) {}
 
   T exponent() const { return ap_; }
@@ -48,30 +54,21 @@ class BlinnPhong {
     if (!(wm.z > T(0))) return T(0);
     return (ap_ + T(2)) * (T(0.5) * kInvPi<T>)*std::pow(std::min(wm.z, T(1)), ap_);
   }
-  // Λ, G1 via the Beckmann equivalence (Walter et al. 2007).
+  // Λ and G1/|cos θ| via the Beckmann equivalence (Walter et al. 2007); G1, G2 and the visible normals
+  // (which integrate to 1 only up to that approximation) follow from them in smith.h.
   T Lambda(const Vec3<T>& w) const { return beckmann_.Lambda(w); }
-  T G1(const Vec3<T>& w) const { return beckmann_.G1(w); }
-  T G1(const Vec3<T>& w, const Vec3<T>& wm) const { return beckmann_.G1(w, wm); }
-  T G2(const Vec3<T>& wo, const Vec3<T>& wi) const { return beckmann_.G2(wo, wi); }
   T G1_over_cos(const Vec3<T>& w) const { return beckmann_.G1_over_cos(w); }
-  // Visible normals G1(w) (w·m)⁺ D(m) / |n·w| (w.z < 0 uses −w): integrates to 1 only up to the Λ
-  // approximation.
-  T D(const Vec3<T>& w, const Vec3<T>& wm) const {
-    const Vec3<T> wu = w.z < T(0) ? -w : w;
-    const T d = D(wm);
-    return d > T(0) ? G1_over_cos(wu) * std::max(T(0), dot(wu, wm)) * d : T(0);
-  }
 
   // Plain NDF sampling, pdf D(m)(n·m): cos θ = (1 − u.x)^(1/(αp + 2)), φ = 2π u.y (exact inverse CDF).
   Vec3<T> sample_ndf(Vec2<T> u) const {
     const T cos_t = std::exp(std::log1p(-std::min(u.x, kOneMinusEpsilon<T>)) / (ap_ + T(2)));
     return spherical_direction(std::min(cos_t, T(1)), T(2) * kPi<T> * u.y);
   }
-  T pdf_ndf(const Vec3<T>& wm) const { return D(wm) * std::max(T(0), wm.z); }
 
  private:
   T ap_ = T(30);
   Beckmann<T> beckmann_{beckmann_alpha_from_blinn_phong(T(30))};
 };
+static_assert(SmithDistribution<BlinnPhong<double>> && !VisibleNormalSampler<BlinnPhong<double>>);
 
 }  // namespace msh

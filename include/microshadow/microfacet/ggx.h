@@ -1,58 +1,51 @@
 // GGX / Trowbridge-Reitz microfacet distribution with the Smith masking function.
 // RTR4 eqs. 9.41 (isotropic), 9.53 (anisotropic), 9.24 (G1), 9.31 (height-correlated G2); Heitz 2014,
 // "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs". All directions are in the local
-// shading frame (n = +z, t = x, b = y) and need not be in the upper hemisphere unless stated.
+// shading frame (n = +z, t = x, b = y) and need not be in the upper hemisphere unless stated. The Smith
+// members shared with the other NDFs (G1(w, m), G2, D(w, m), PDF, pdf_ndf) are in smith.h.
 //
-// Domain: alpha_x, alpha_y ≥ 0 (values below kMinAlpha are clamped to it, so roughness 0 is a very sharp but
-// finite lobe); unit-length directions. Every member returns a finite value for any finite unit input,
-// including grazing (z = 0) and backfacing directions.
+// Domain: alpha_x, alpha_y ≥ 0, not NaN (values below kMinAlpha are clamped to it, so roughness 0 is a very
+// sharp but finite lobe; see AnisotropicAlpha); unit-length directions. Every member returns a finite value
+// for any finite unit input, including grazing (z = 0) and backfacing directions.
 #pragma once
 
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
+#include <microshadow/microfacet/smith.h>
 
 #include <limits>
 
 namespace msh {
 
 template <class T>
-class GGX {
+class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
  public:
-  // Below this alpha the lobe is treated as a (near) mirror; D stays finite in float.
-  static constexpr T kMinAlpha = T(1e-4);
-
-  GGX() = default;
-  explicit GGX(T alpha) : GGX(alpha, alpha) {}
-  GGX(T alpha_x, T alpha_y) : ax_(clamp_alpha(alpha_x)), ay_(clamp_alpha(alpha_y)) {}
-
-  T alpha_x() const { return ax_; }
-  T alpha_y() const { return ay_; }
-  bool is_isotropic() const { return ax_ == ay_; }
-  // Roughness so small that a renderer should treat the lobe as a delta (pbrt-v4 uses the same threshold).
-  bool effectively_smooth() const { return std::max(ax_, ay_) < T(1e-3); }
+  // GGX(), GGX(α), GGX(αx, αy); α below kMinAlpha is clamped, a NaN α propagates (AnisotropicAlpha).
+  using AnisotropicAlpha<T>::AnisotropicAlpha;
+  using SmithMicrofacet<GGX<T>, T>::D;
+  using SmithMicrofacet<GGX<T>, T>::G1;
 
   // NDF D(m), 9.53, written as 1 / (π αx αy (x²/αx² + y²/αy² + z²)²): no tan, exact at the pole.
   // Normalized so that ∫ D(m) (n·m) dm = 1. Zero for m.z ≤ 0.
   T D(const Vec3<T>& wm) const {
     if (!(wm.z > T(0))) return T(0);
-    const T k = sqr(wm.x / ax_) + sqr(wm.y / ay_) + sqr(wm.z);
-    return T(1) / (kPi<T> * ax_ * ay_ * k * k);
+    const T k = sqr(wm.x / this->ax_) + sqr(wm.y / this->ay_) + sqr(wm.z);
+    return T(1) / (kPi<T> * this->ax_ * this->ay_ * k * k);
   }
 
-  // Projected roughness α(φ_w)² = αx² cos²φ + αy² sin²φ times sin²θ: the stretched tangential length².
-  T projected_alpha2_sin2(const Vec3<T>& w) const { return sqr(ax_ * w.x) + sqr(ay_ * w.y); }
-  // Projected roughness along the azimuth of w (the seed's ProjectRoughnessGGX). α at the pole.
+  // Projected roughness along the azimuth of w (Zurita 2026b, "Improving Direct Lighting Material Occlusion –
+  // Part 2": ProjectRoughnessGGX; RTR4 (9.51)). α at the pole.
   T projected_alpha(const Vec3<T>& w) const {
     const T s2 = sqr(w.x) + sqr(w.y);
-    if (!(s2 > T(0))) return std::sqrt(T(0.5) * (ax_ * ax_ + ay_ * ay_));
-    return std::sqrt(projected_alpha2_sin2(w) / s2);
+    if (!(s2 > T(0))) return std::sqrt(T(0.5) * (this->ax_ * this->ax_ + this->ay_ * this->ay_));
+    return std::sqrt(this->projected_alpha2_sin2(w) / s2);
   }
 
   // Smith Λ(w) = (−1 + sqrt(1 + α²tan²θ)) / 2 (9.37 with a from 9.51), in the cancellation-free form
   // x / (2(1 + sqrt(1 + x))), x = α²tan²θ. Even in w.z. Grazing w (z = 0) gives the largest finite T.
   T Lambda(const Vec3<T>& w) const {
     const T z2 = sqr(w.z);
-    const T x = projected_alpha2_sin2(w) / z2;
+    const T x = this->projected_alpha2_sin2(w) / z2;
     if (!(x < std::numeric_limits<T>::infinity())) return std::numeric_limits<T>::max();
     return x / (T(2) * (T(1) + std::sqrt(T(1) + x)));
   }
@@ -61,35 +54,14 @@ class GGX {
   T G1(const Vec3<T>& w) const {
     // 2|z| / (|z| + sqrt(z² + αx²x² + αy²y²)): the same value, finite and exact at grazing.
     const T z = std::abs(w.z);
-    const T den = z + std::sqrt(sqr(w.z) + projected_alpha2_sin2(w));
+    const T den = z + std::sqrt(sqr(w.z) + this->projected_alpha2_sin2(w));
     return den > T(0) ? T(2) * z / den : T(1);
   }
-  // G1(w, m) with the χ⁺ factor: zero when w sees the back of the microfacet (sign(w·m) ≠ sign(w·n)).
-  T G1(const Vec3<T>& w, const Vec3<T>& wm) const {
-    return dot(w, wm) * w.z > T(0) ? G1(w) : T(0);
-  }
-  // Height-correlated Smith G2 (9.31): 1 / (1 + Λ(wo) + Λ(wi)), without χ⁺ factors.
-  T G2(const Vec3<T>& wo, const Vec3<T>& wi) const {
-    // Written through G1 so grazing directions stay finite: 1/(1/G1o + 1/G1i − 1) = G1o G1i/(G1o + G1i − G1o G1i).
-    const T go = G1(wo), gi = G1(wi);
-    const T den = go + gi - go * gi;
-    return den > T(0) ? go * gi / den : T(0);
-  }
-
   // G1(w) / |cos θ_w| = 2 / (|z| + sqrt(z² + αx²x² + αy²y²)): finite at grazing, where both factors vanish.
   T G1_over_cos(const Vec3<T>& w) const {
-    const T den = std::abs(w.z) + std::sqrt(sqr(w.z) + projected_alpha2_sin2(w));
+    const T den = std::abs(w.z) + std::sqrt(sqr(w.z) + this->projected_alpha2_sin2(w));
     return den > T(0) ? T(2) / den : T(0);
   }
-
-  // Distribution of visible normals D_w(m) = G1(w) max(0, w·m) D(m) / |w·n| (Heitz 2014, eq. 16).
-  // Normalized over m for every w: ∫ D_w(m) dm = 1. Defined for w.z ≥ 0 (w.z < 0 uses −w, as in Sample_wm).
-  T D(const Vec3<T>& w, const Vec3<T>& wm) const {
-    const Vec3<T> wu = w.z < T(0) ? -w : w;
-    return G1_over_cos(wu) * std::max(T(0), dot(wu, wm)) * D(wm);
-  }
-  // pdf (solid angle, over m) of Sample_wm and of both VNDF samplers below.
-  T PDF(const Vec3<T>& w, const Vec3<T>& wm) const { return D(w, wm); }
 
   // Default visible-normal sampler: Dupuy & Benyoub 2023.
   Vec3<T> Sample_wm(const Vec3<T>& w, Vec2<T> u) const { return sample_vndf_spherical_caps(w, u); }
@@ -98,7 +70,7 @@ class GGX {
   // (α = 1) configuration the visible normals are the half vectors between w and a uniform point on the
   // spherical cap z ≥ −w.z. Samples m with pdf D(w, m). w.z < 0 is mirrored to −w.
   Vec3<T> sample_vndf_spherical_caps(const Vec3<T>& w, Vec2<T> u) const {
-    Vec3<T> wi = normalize(Vec3<T>(ax_ * w.x, ay_ * w.y, w.z));
+    Vec3<T> wi = normalize(Vec3<T>(this->ax_ * w.x, this->ay_ * w.y, w.z));
     if (wi.z < T(0)) wi = -wi;
     const T phi = T(2) * kPi<T> * u.x;
     // z = (1 − u.y)(1 + wi.z) − wi.z. sin² = 1 − z² = (1 − z)(1 + z) with 1 − z = u.y(1 + wi.z) and
@@ -108,13 +80,13 @@ class GGX {
     const T z = (T(1) - u.y) * (T(1) + wi.z) - wi.z;
     const T s = safe_sqrt(one_minus_z * one_plus_z);
     const Vec3<T> h = Vec3<T>(s * std::cos(phi), s * std::sin(phi), z) + wi;
-    return normalize(Vec3<T>(ax_ * h.x, ay_ * h.y, std::max(T(0), h.z)));
+    return normalize(Vec3<T>(this->ax_ * h.x, this->ay_ * h.y, std::max(T(0), h.z)));
   }
 
   // Heitz 2018, "Sampling the GGX Distribution of Visible Normals" (JCGT 7(4)): stretch, sample the projected
   // hemisphere as a disk warped by s = (1 + z)/2, unstretch. Same distribution as the spherical-caps sampler.
   Vec3<T> sample_vndf_heitz2018(const Vec3<T>& w, Vec2<T> u) const {
-    Vec3<T> vh = normalize(Vec3<T>(ax_ * w.x, ay_ * w.y, w.z));
+    Vec3<T> vh = normalize(Vec3<T>(this->ax_ * w.x, this->ay_ * w.y, w.z));
     if (vh.z < T(0)) vh = -vh;
     const T lensq = vh.x * vh.x + vh.y * vh.y;
     const Vec3<T> t1 = lensq > T(0) ? Vec3<T>(-vh.y, vh.x, T(0)) / std::sqrt(lensq) : Vec3<T>(1, 0, 0);
@@ -125,29 +97,21 @@ class GGX {
     const T sblend = T(0.5) * (T(1) + vh.z);
     const T p2 = (T(1) - sblend) * safe_sqrt(T(1) - p1 * p1) + sblend * r * std::sin(phi);
     const Vec3<T> nh = p1 * t1 + p2 * t2 + safe_sqrt(T(1) - p1 * p1 - p2 * p2) * vh;
-    return normalize(Vec3<T>(ax_ * nh.x, ay_ * nh.y, std::max(T(0), nh.z)));
+    return normalize(Vec3<T>(this->ax_ * nh.x, this->ay_ * nh.y, std::max(T(0), nh.z)));
   }
 
   // Plain NDF sampling: m with pdf D(m) (n·m) (solid angle). Anisotropic azimuth from
   // tan φ = (αy/αx) tan(2π u.y), then tan²θ = α(φ)² u.x / (1 − u.x) with 1/α(φ)² = cos²φ/αx² + sin²φ/αy².
   Vec3<T> sample_ndf(Vec2<T> u) const {
-    const T a = T(2) * kPi<T> * u.y;
-    const T phi = std::atan2(ay_ * std::sin(a), ax_ * std::cos(a));
-    const T c = std::cos(phi), s = std::sin(phi);
-    const T inv_a2 = sqr(c / ax_) + sqr(s / ay_);
+    T c, s, inv_a2;
+    this->ndf_sample_azimuth(u.y, c, s, inv_a2);
     const T tan2 = u.x / ((T(1) - u.x) * inv_a2);
-    const T cos_t = T(1) / std::sqrt(T(1) + tan2);
-    const T sin_t = safe_sqrt(T(1) - cos_t * cos_t);
-    return {sin_t * c, sin_t * s, cos_t};
+    return this->ndf_sample_direction(tan2, c, s);
   }
-  T pdf_ndf(const Vec3<T>& wm) const { return D(wm) * std::max(T(0), wm.z); }
-
- private:
-  static T clamp_alpha(T a) { return a > kMinAlpha ? a : kMinAlpha; }  // also maps NaN to kMinAlpha
-  T ax_ = T(0.5), ay_ = T(0.5);
 };
+static_assert(VisibleNormalSampler<GGX<float>> && VisibleNormalSampler<GGX<double>>);
 
-// User-facing perceptual roughness r ∈ [0,1] to GGX/Beckmann α = r² (REFERENCE.md §1).
+// User-facing perceptual roughness r ∈ [0,1] to GGX/Beckmann α = r² (Burley 2012; docs/theory.md §1).
 template <class T>
 constexpr T roughness_to_alpha(T r) {
   return r * r;

@@ -8,14 +8,17 @@
 // its relative accuracy from the pole to grazing. Table build: deterministic, tens of ms
 // (docs/microfacet.md); copies share the table.
 //
-// Domain: α ∈ [kMinAlpha, 1] is the intended range (α > 1 also works), γ ∈ [kMinGamma, kMaxGamma]. Unit
-// directions; finite results for grazing, backfacing and pole inputs. Same member names as GGX<T> except
-// Sample_wm (no visible-normal sampler: only plain NDF sampling, exact inverse CDF).
+// Domain: α ∈ [kMinAlpha, 1] is the intended range (α > 1 also works), γ ∈ [kMinGamma, kMaxGamma]; finite
+// values outside are clamped to them, NaN is a precondition violation (it propagates as NaN, without building
+// the table). Unit directions; finite results for grazing, backfacing and pole inputs. Same member names as
+// GGX<T> except Sample_wm and PDF (no visible-normal sampler: only plain NDF sampling, exact inverse CDF);
+// the Smith members (G1, G2, D(w, m), pdf_ndf) are smith.h's.
 #pragma once
 
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
-#include <microshadow/microfacet/quadrature.h>
+#include <microshadow/microfacet/smith.h>
 
 #include <array>
 #include <cmath>
@@ -39,8 +42,12 @@ inline double gtr_normalization(double alpha, double gamma) {
 }
 
 template <class T>
-class GTR {
+class GTR : public SmithMicrofacet<GTR<T>, T> {
+  using Smith = SmithMicrofacet<GTR<T>, T>;
+
  public:
+  using Smith::D;
+
   // Below α = 1e-2 the Λ-table quadrature can take seconds (the NDF peak is ~α wide); GTR is a rough-lobe
   // model.
   static constexpr T kMinAlpha = T(1e-2);
@@ -49,8 +56,8 @@ class GTR {
 
   GTR() : GTR(T(0.5), T(2)) {}
   GTR(T alpha, T gamma)
-      : a_(alpha > kMinAlpha ? alpha : kMinAlpha),
-        g_(gamma > kMinGamma ? std::min(gamma, kMaxGamma) : kMinGamma),
+      : a_(alpha > kMinAlpha || std::isnan(alpha) ? alpha : kMinAlpha),
+        g_(gamma > kMinGamma || std::isnan(gamma) ? std::min(gamma, kMaxGamma) : kMinGamma),
         log_k_(T(std::log(gtr_normalization(double(a_), double(g_))))),
         table_(build_table(double(a_), double(g_))) {}
 
@@ -70,29 +77,12 @@ class GTR {
     const double l = interp(2.0 * kInvPi<double> * std::atan(std::sqrt(x))) * x / std::sqrt(1.0 + x);
     return l < double(std::numeric_limits<T>::max()) ? T(l) : std::numeric_limits<T>::max();
   }
-  T G1(const Vec3<T>& w) const {
-    const T l = Lambda(w);
-    return l < std::numeric_limits<T>::max() ? T(1) / (T(1) + l) : T(0);
-  }
-  T G1(const Vec3<T>& w, const Vec3<T>& wm) const { return dot(w, wm) * w.z > T(0) ? G1(w) : T(0); }
-  T G2(const Vec3<T>& wo, const Vec3<T>& wi) const {
-    const T go = G1(wo), gi = G1(wi);
-    const T den = go + gi - go * gi;
-    return den > T(0) ? go * gi / den : T(0);
-  }
   // G1(w)/|cos θ|; at grazing its limit 1/(μΛ) → 1/∫D(m)(−v·m)⁺dm, taken from the table's last entry.
   T G1_over_cos(const Vec3<T>& w) const {
     const T z = std::abs(w.z);
-    if (z > T(1e-4)) return G1(w) / z;
+    if (z > T(1e-4)) return this->G1(w) / z;
     return T(1) / (z + T(table_->grazing_back_area));
   }
-  // Visible normals G1(w)(w·m)⁺D(m)/|n·w|; w.z < 0 uses −w. Normalized up to the table's accuracy.
-  T D(const Vec3<T>& w, const Vec3<T>& wm) const {
-    const Vec3<T> wu = w.z < T(0) ? -w : w;
-    const T d = D(wm);
-    return d > T(0) ? G1_over_cos(wu) * std::max(T(0), dot(wu, wm)) * d : T(0);
-  }
-
   // Plain NDF sampling, pdf D(m)(n·m): t = cos²θ has density k(1 + t(α² − 1))^{−γ} on [0, 1], inverted in
   // closed form: t = (α²^… ) — t(α²−1) = expm1(log1p(u·expm1((1−γ) ln α²))/(1−γ)); γ = 1: t = expm1(u ln
   // α²)/(α² − 1).
@@ -110,8 +100,6 @@ class GTR {
     const T cos_t = T(std::sqrt(clamp(t, 0.0, 1.0)));
     return spherical_direction(cos_t, T(2) * kPi<T> * u.y);
   }
-  T pdf_ndf(const Vec3<T>& wm) const { return D(wm) * std::max(T(0), wm.z); }
-
   // Λ(θ) by direct quadrature (no table), in double: the reference the table is built from.
   static double lambda_reference(double cos_t, double alpha, double gamma) {
     const double mu = clamp(std::abs(cos_t), 0.0, 1.0);
@@ -159,17 +147,22 @@ class GTR {
     }
     // Absolute tolerance 1e-11 × a first estimate of the whole integral, or 1e-10 relative per panel.
     double est = 0.0;
-    for (const auto& p : panels) est += std::abs(detail::gauss_kronrod(f, p.first, p.second, 1e300, 0.0));
+    for (const auto& p : panels) est += std::abs(gauss_kronrod(f, p.first, p.second, 1e300, 0.0));
     const double tol = 1e-11 * est / double(panels.size());
     double sum = 0.0;
-    for (const auto& p : panels)
-      sum += detail::gauss_kronrod(f, p.first, p.second, std::max(tol, 1e-17), 1e-10);
+    for (const auto& p : panels) sum += gauss_kronrod(f, p.first, p.second, std::max(tol, 1e-17), 1e-10);
     return sum;
   }
 
   static std::shared_ptr<const Table> build_table(double alpha, double gamma) {
     auto t = std::make_shared<Table>();
     const int n = kTableSize;
+    if (std::isnan(alpha) || std::isnan(gamma)) {  // precondition violated: NaN out, no quadrature
+      t->q.assign(size_t(n), std::numeric_limits<double>::quiet_NaN());
+      t->slope = t->q;
+      t->grazing_back_area = t->q[0];
+      return t;
+    }
     const double log_k = std::log(gtr_normalization(alpha, gamma));
     t->grazing_back_area = back_area(0.0, alpha, gamma, log_k);
     t->q.resize(size_t(n));
@@ -217,5 +210,6 @@ class GTR {
   T a_, g_, log_k_;
   std::shared_ptr<const Table> table_;
 };
+static_assert(SmithDistribution<GTR<double>> && !VisibleNormalSampler<GTR<double>>);
 
 }  // namespace msh

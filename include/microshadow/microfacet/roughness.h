@@ -1,4 +1,4 @@
-// Roughness parameterizations (REFERENCE.md §1; RTR4 §9.8.1). The user-facing roughness r ∈ [0, 1] maps to
+// Roughness parameterizations (docs/theory.md §1; RTR4 §9.8.1). The user-facing roughness r ∈ [0, 1] maps to
 // the GGX/Beckmann α = r² (Burley 2012; roughness_to_alpha in ggx.h); anisotropy by Disney (9.54) or
 // Imageworks (9.55); Blinn-Phong exponent ↔ Beckmann α in blinn_phong.h.
 #pragma once

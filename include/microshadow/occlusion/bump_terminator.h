@@ -1,6 +1,6 @@
 // The bump-terminator fix: a shadowing factor for the light when the shading normal is perturbed (bump or
 // normal map) away from the geometric normal, which otherwise lets light leak past the geometric terminator
-// and then cut off hard (REFERENCE.md §5, seed 003).
+// and then cut off hard (docs/theory.md §4).
 //
 //   Conty Estevez, Lecocq, Stein 2019, "A Microfacet-Based Shadowing Function to Solve the Bump Terminator
 //   Problem" (Ray Tracing Gems ch. 12, listing 12.1): treat the perturbation as a GGX roughness,
@@ -14,13 +14,12 @@
 //     pointing away from the surface. They need NOT be unit length: every term is written so that it is
 //     invariant under positive (and negative, see below) scaling of each vector, through
 //     |a × b|² / (a·b)² = tan² angle(a, b) (Lagrange's identity), so no normalization is needed.
-//   * Sign conventions: as in the seed, the Conty term uses |N_g·N_s| and |N_g·L|; Chiang's ratio g is
-//     unchanged by flipping any one of the three vectors. Both terms are therefore symmetric under ng → −ng,
-//     ns → −ns and l → −l separately (bit-exactly).
+//   * Sign conventions: as in Conty Estevez et al. 2019 (listing 12.1), the Conty term uses |N_g·N_s| and
+//     |N_g·L|; Chiang's ratio g is unchanged by flipping any one of the three vectors. Both terms are
+//     therefore symmetric under ng → −ng, ns → −ns and l → −l separately (bit-exactly).
 //   * HemisphereTest::kOn additionally returns 0 unless the light is strictly above both the geometric and
-//   the
-//     shading hemisphere (N_g·L > 0 and N_s·L > 0). Orient ng and ns to the side being shaded (e.g. flip both
-//     when N_g·V < 0) before using it; the sign symmetry above then no longer holds, by design.
+//     the shading hemisphere (N_g·L > 0 and N_s·L > 0). Orient ng and ns to the side being shaded (e.g. flip
+//     both when N_g·V < 0) before using it; the sign symmetry above then no longer holds, by design.
 //   * Degenerate inputs: a zero-length or non-finite vector gives 1 (no correction) with the hemisphere test
 //     off, and 0 with it on (the strict test fails). The result is always finite and in [0, 1].
 #pragma once

@@ -1,5 +1,5 @@
 // Shadow-ray origin offset for smooth-shaded low-poly meshes: Hanika 2021, "Hacking the Shadow Terminator"
-// (Ray Tracing Gems II, ch. 4); REFERENCE.md §5.
+// (Ray Tracing Gems II, ch. 4); docs/theory.md §4.
 //
 // A flat triangle with interpolated vertex normals shades like a curved surface but shadows like a flat one:
 // near the terminator the shadow ray leaves from the flat face and hits the neighbouring faces, giving the

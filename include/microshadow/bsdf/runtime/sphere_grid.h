@@ -3,7 +3,7 @@
 // tabulated per model) plus one directional light. Deterministic; threads (oneTBB) only split pixel rows.
 #pragma once
 
-#include <microshadow/bsdf/brdf_model.h>
+#include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/io/texture.h>
 
 #include <vector>

@@ -1,6 +1,7 @@
-// Runtime (double precision) interface to every BRDF model, for the CLI (`eval brdf`), the white-furnace and
-// reciprocity tests, and the renderer's model switch. The math itself lives in header-only templates next to
-// this file; a BrdfModel wraps one configured instance.
+// Runtime (double precision) interface to every BRDF model, for the CLI (`eval brdf`, `plot brdf`) and the
+// white-furnace and reciprocity tests: a registry of models by name (std::function, std::map) over
+// virtual BrdfModel instances. Not engine code: the math itself lives in the header-only templates of
+// include/microshadow/bsdf/ (this directory's parent); a BrdfModel wraps one configured instance.
 #pragma once
 
 #include <microshadow/math/color.h>

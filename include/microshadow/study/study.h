@@ -1,0 +1,69 @@
+// The multiscale study (docs/study.md): a fine height field is the real surface; the texture set an engine
+// would use is derived from it at 1/k resolution; the ground truth ray-traces the fine geometry, every
+// micro-shadowing term renders the coarse set with the same camera, and the study measures each term's
+// mean-radiance bias and footprint RMSE against the ground truth, with the ground truth's noise floor.
+#pragma once
+
+#include <microshadow/render/multiscale.h>
+#include <microshadow/render/scene.h>
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace msh::study {
+
+struct StudyConfig {
+  std::string name = "full";
+  std::vector<std::string> materials{"plaster", "bark", "gravel"};  // generate_texture_set kinds
+  int fine_size = 2048;                                             // fine height field, texels per side
+  int ao_rays = 16;  // micro-occlusion bake: azimuths per fine texel (each exact in elevation)
+  std::vector<int> scales{1, 4, 16};         // k: coarse set = fine / k
+  std::vector<std::string> shapes{"plane"};  // plane, cylinder (displaced; its ground truth uses Embree)
+  std::vector<double> elevations{5, 10, 25, 45, 70};  // directional lights (degrees above the plane)
+  std::vector<double> azimuths{0, 90};                // degrees from +u (the texture's x axis)
+  bool point_light = true, sphere_light = true;
+  int image_size = 64;         // pixels per side at every scale; a pixel covers k × k fine texels (across)
+  double view_elevation = 60;  // camera elevation above the plane, degrees (looking along +v)
+  int method_spp = 4;          // samples per pixel of the approximations
+  int vndf_samples = 64;       // generic-vndf samples per light
+  int area_samples = 16;       // sphere light: area samples per shading point (ground truth and terms)
+  int gt_spp = 64;           // ground truth: first round's samples per pixel (doubled until the floor is met)
+  int gt_max_spp = 512;      // ... or until this many
+  int footprint = 4;         // rmse_footprint block: footprint × footprint pixels
+  double delta_bias = 0.01;  // smallest bias difference the ranking resolves
+  double delta_rmse = 0.01;  // smallest rmse_footprint difference it resolves, relative to the GT mean
+  bool widened = true;       // also render every term with the variance-widened coarse roughness
+  bool normal_ablation = true;  // also render the N·L terms with the unperturbed normal
+  std::vector<std::string> featured_lights{"dir-el10-az0", "dir-el45-az0"};  // lights shown as images
+  std::string lut_path;  // lut3d / lut2d table (empty: the LUT module's default)
+  // When set, fine texture sets are cached there (float32 NPY, keyed by kind, size, bake azimuths, seed) and
+  // reused by later runs; results are identical either way.
+  std::filesystem::path material_cache;
+  uint32_t seed = 1;
+};
+
+// `--quick` (make demo) and the full study.
+StudyConfig quick_config();
+StudyConfig full_config();
+
+// Progress lines (stderr in the CLI).
+using Log = std::function<void(const std::string&)>;
+
+// Runs the study and writes out_dir/results.json (config, ground-truth rows, method rows, summary),
+// results.csv (one line per method row), summary.md (the verdict tables), study.html and images/*.png, and
+// timing.json (wall times; results.json holds no times, so it is bit-identical across runs and thread
+// counts). Returns results.json's content. InputError on a bad configuration or an unwritable directory.
+nlohmann::json run_study(const StudyConfig& cfg, const std::filesystem::path& out_dir, const Log& log = {});
+
+// The verdict tables: from the method rows of results.json (used by run_study; exposed for tests).
+nlohmann::json summarize(const nlohmann::json& rows, const StudyConfig& cfg);
+
+// Writes study.html from results.json's content (images referenced relative to out_dir).
+void write_study_html(const nlohmann::json& results, const std::filesystem::path& out_dir);
+// Markdown verdict tables (summary.md).
+std::string summary_markdown(const nlohmann::json& results);
+
+}  // namespace msh::study

@@ -1,0 +1,214 @@
+// The multiscale study: metric functions against hand-computable cases, and the study's results.json
+// (schema, counts, determinism across thread counts, bad configurations) on a tiny configuration.
+#include <gtest/gtest.h>
+#include <microshadow/io/error.h>
+#include <microshadow/study/metrics.h>
+#include <microshadow/study/study.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace msh::study;
+
+namespace {
+
+Plane ramp(int w, int h) {
+  Plane p(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) p.at(x, y) = 0.5 + 0.01 * x + 0.03 * y + 0.2 * std::sin(0.7 * x * y);
+  return p;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST(StudyMetrics, BiasOfAScaledImageIsTheScale) {
+  const Plane g = ramp(12, 8);
+  Plane a = g;
+  for (double& v : a.v) v *= 1.37;
+  const Plane se(12, 8, 0.0);
+  const Mask all(12, 8, 1);
+  EXPECT_NEAR(bias(a, g, se, all).value, 1.37, 1e-12);
+  EXPECT_EQ(bias(a, g, se, all).floor, 0.0);
+  // Over a sub-region too.
+  Mask left(12, 8, 0);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 6; ++x) left.in[std::size_t(y) * 12 + x] = 1;
+  EXPECT_NEAR(bias(a, g, se, left).value, 1.37, 1e-12);
+}
+
+TEST(StudyMetrics, BiasFloorFromPerPixelErrors) {
+  // g = 2 on n = 40 pixels with σ = 0.1 each: the mean's relative error is 0.1 √n / (2 n).
+  const Plane g(8, 5, 2.0), se(8, 5, 0.1);
+  Plane a(8, 5, 3.0);
+  const Mask all(8, 5, 1);
+  const Measure b = bias(a, g, se, all);
+  EXPECT_NEAR(b.value, 1.5, 1e-12);
+  EXPECT_NEAR(b.floor, 1.5 * 0.1 * std::sqrt(40.0) / 80.0, 1e-12);
+  const Measure m = region_mean(g, se, all);
+  EXPECT_NEAR(m.value, 2.0, 1e-12);
+  EXPECT_NEAR(m.floor, 0.1 / std::sqrt(40.0), 1e-12);
+}
+
+TEST(StudyMetrics, FootprintRmseOfAZeroMeanPatternIsZero) {
+  // a = g + a ±c checkerboard: zero mean inside every 2×2 (and 4×4) footprint.
+  const Plane g = ramp(16, 12);
+  Plane a = g;
+  for (int y = 0; y < 12; ++y)
+    for (int x = 0; x < 16; ++x) a.at(x, y) += ((x + y) % 2 ? 0.25 : -0.25);
+  const Plane se(16, 12, 0.0);
+  const Mask all(16, 12, 1);
+  EXPECT_NEAR(rmse(a, g, se, all).value, 0.25, 1e-12);
+  EXPECT_NEAR(rmse_footprint(a, g, se, all, 1).value, 0.25, 1e-12);  // b = 1 is the per-pixel RMSE
+  EXPECT_NEAR(rmse_footprint(a, g, se, all, 2).value, 0.0, 1e-12);
+  EXPECT_NEAR(rmse_footprint(a, g, se, all, 4).value, 0.0, 1e-12);
+  // A constant offset survives the averaging unchanged.
+  Plane c = g;
+  for (double& v : c.v) v += 0.1;
+  EXPECT_NEAR(rmse_footprint(c, g, se, all, 4).value, 0.1, 1e-12);
+}
+
+TEST(StudyMetrics, NoiseFloors) {
+  // σ = 0.2 on every pixel: per-pixel floor 0.2, footprint (b × b) floor 0.2 / b.
+  const Plane g = ramp(8, 8), se(8, 8, 0.2);
+  const Mask all(8, 8, 1);
+  EXPECT_NEAR(rmse(g, g, se, all).floor, 0.2, 1e-12);
+  EXPECT_NEAR(rmse_footprint(g, g, se, all, 4).floor, 0.05, 1e-12);
+  EXPECT_EQ(rmse(g, g, se, all).value, 0.0);
+}
+
+TEST(StudyMetrics, BlocksOutsideTheMaskAreDropped) {
+  // One pixel of the second 2×2 block is outside the mask: that block's large error must not count.
+  Plane g(4, 2, 1.0), a(4, 2, 1.0);
+  a.at(2, 0) = a.at(3, 0) = a.at(2, 1) = a.at(3, 1) = 5.0;
+  Mask m(4, 2, 1);
+  m.in[3] = 0;
+  const Plane se(4, 2, 0.0);
+  const Blocks b = block_average(a, se, m, 2);
+  ASSERT_EQ(b.mean.width, 2);
+  EXPECT_EQ(b.mask.count(), 1u);
+  EXPECT_NEAR(rmse_footprint(a, g, se, m, 2).value, 0.0, 1e-12);
+  // A partial last column of blocks is dropped too (5 wide, b = 2: two blocks per row).
+  EXPECT_EQ(block_average(Plane(5, 2, 1.0), Plane(5, 2, 0.0), Mask(5, 2, 1), 2).mean.width, 2);
+  EXPECT_THROW(block_average(g, se, m, 0), msh::InputError);
+}
+
+TEST(StudyMetrics, LuminanceOfGreyIsTheGrey) {
+  msh::render::Image img(2, 1);
+  img.px[0] = {0.3f, 0.3f, 0.3f};
+  img.px[1] = {1.0f, 0.0f, 0.0f};
+  const Plane l = luminance(img);
+  EXPECT_NEAR(l.v[0], 0.3, 1e-6);
+  EXPECT_NEAR(l.v[1], 0.2126, 1e-7);
+}
+
+TEST(StudyMetrics, EmptyOrDarkRegions) {
+  const Plane z(4, 4, 0.0);
+  const Mask none(4, 4, 0), all(4, 4, 1);
+  EXPECT_TRUE(std::isnan(bias(z, z, z, all).value));  // no signal: no ratio
+  EXPECT_TRUE(std::isnan(rmse(z, z, z, none).value));
+  EXPECT_EQ(region_mean(z, z, none).value, 0.0);
+}
+
+namespace {
+StudyConfig tiny() {
+  StudyConfig c;
+  c.name = "tiny";
+  c.materials = {"plaster"};
+  c.shapes = {"plane", "cylinder"};
+  c.fine_size = 64;
+  c.ao_rays = 4;
+  c.scales = {1, 4};
+  c.elevations = {25};
+  c.azimuths = {0};
+  c.point_light = false;
+  c.sphere_light = true;
+  c.area_samples = 4;
+  c.image_size = 16;
+  c.footprint = 4;
+  c.gt_spp = 8;
+  c.gt_max_spp = 16;
+  c.featured_lights = {"dir-el25-az0"};
+  return c;
+}
+}  // namespace
+
+TEST(Study, TinyRunSchemaAndDeterminism) {
+  const fs::path d1 = fs::temp_directory_path() / "msh_test_study_1",
+                 d2 = fs::temp_directory_path() / "msh_test_study_2";
+  fs::remove_all(d1), fs::remove_all(d2);
+  nlohmann::json r1, r2;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    r1 = run_study(tiny(), d1);
+  }
+  {
+    tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    r2 = run_study(tiny(), d2);
+  }
+  EXPECT_EQ(slurp(d1 / "results.json"), slurp(d2 / "results.json"));
+  EXPECT_EQ(slurp(d1 / "results.csv"), slurp(d2 / "results.csv"));
+  for (const char* f : {"results.json", "results.csv", "summary.md", "study.html", "timing.json"})
+    EXPECT_TRUE(fs::exists(d1 / f)) << f;
+
+  // Rows: 1 material × 2 shapes × 2 lights × (k = 1: 9 terms + 7 smooth-normal; k = 4: + 9 widened) × 3
+  // components.
+  const auto& rows = r1["rows"];
+  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * (16 + 25) * 3));
+  EXPECT_EQ(r1["ground_truth"].size(), 8u);
+  for (const auto& row : rows) {
+    for (const char* k :
+         {"material", "shape", "scale", "light", "method", "component", "bias", "rmse_footprint", "rmse",
+          "rmse_stderr", "ssim", "bias_stderr", "rmse_footprint_floor", "ms_normal", "roughness", "gt_mean"})
+      ASSERT_TRUE(row.contains(k)) << k;
+    for (const char* k :
+         {"bias", "bias_stderr", "rmse_footprint", "rmse_footprint_floor", "rmse", "rmse_stderr"})
+      for (const char* reg : {"rough", "smooth", "whole"})
+        ASSERT_TRUE(row[k].contains(reg)) << k << " " << reg;
+    if (row["component"] != "total") continue;
+    // The total always has signal: every metric is a finite number and the floors are non-negative.
+    for (const char* k : {"bias", "rmse_footprint", "rmse"}) {
+      // On the tiny cylinder (5 pixels wide at k = 4) no 4 × 4 footprint may lie entirely on the surface.
+      if (std::string(k) == "rmse_footprint" && row["shape"] == "cylinder" && row["scale"] == 4) continue;
+      ASSERT_TRUE(row[k]["whole"].is_number()) << k << " " << row.dump();
+      EXPECT_GE(row[k]["whole"].get<double>(), 0.0);
+    }
+    EXPECT_GE(row["rmse_stderr"]["whole"].get<double>(), 0.0);
+    EXPECT_LE(row["ssim"].get<double>(), 1.0 + 1e-9);
+  }
+  // The footprint average can only remove error: rmse_footprint <= rmse (for the whole view).
+  for (const auto& row : rows) {
+    if (row["rmse"]["whole"].is_number() && row["rmse_footprint"]["whole"].is_number()) {
+      EXPECT_LE(row["rmse_footprint"]["whole"].get<double>(), row["rmse"]["whole"].get<double>() + 1e-12);
+    }
+  }
+  EXPECT_TRUE(r1["summary"].contains("cells"));
+  EXPECT_FALSE(r1["summary"]["cells"].empty());
+}
+
+TEST(Study, BadConfigurations) {
+  const fs::path d = fs::temp_directory_path() / "msh_test_study_bad";
+  StudyConfig c = tiny();
+  c.scales = {3};  // does not divide 64
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  c = tiny();
+  c.shapes = {"torus"};
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  c = tiny();
+  c.scales = {16};  // 16 pixels × 16 texels = 256 > 64: the view is wider than the texture
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  c = tiny();
+  c.elevations = {90};
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  EXPECT_FALSE(fs::exists(d / "results.json"));
+}
