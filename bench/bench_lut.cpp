@@ -10,11 +10,12 @@
 //   BM_LutSample*             runtime sampler throughput
 #include <benchmark/benchmark.h>
 #include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_exact.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
+#include <microshadow/reference/micro_shadowing_ring.h>
 #include <sys/resource.h>
 #include <tbb/parallel_for.h>
 

@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <vector>
 

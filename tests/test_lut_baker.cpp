@@ -1,15 +1,16 @@
 // Tests of the micro-shadowing LUT baker against independent references: the exact quadrature of
 // occlusion/micro_shadowing.h (closed-form denominator, Gauss-Kronrod numerator; written by another module)
-// and the semi-analytic ring integration of lut/micro_shadowing_exact.h (checked against it here).
+// and the semi-analytic ring integration of reference/micro_shadowing_ring.h (checked against it here).
 #include <gtest/gtest.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_exact.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
+#include <microshadow/reference/micro_shadowing_ring.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -292,7 +293,7 @@ TEST(LutBakerCone, EndColumnsAreExactAndTexelsSitInTheLitRange) {
   const io::Volume& vol = default_cone_bake();
   for (int z = 0; z < vol.depth; ++z)
     for (int y = 0; y < vol.height; ++y) {
-      EXPECT_EQ(vol.at(0, y, z, 0), 0.0f);  // t = 0: the early-out boundary 2V + N·L = 1
+      EXPECT_EQ(vol.at(0, y, z, 0), 0.0f);              // t = 0: the early-out boundary 2V + N·L = 1
       EXPECT_EQ(vol.at(vol.width - 1, y, z, 0), 1.0f);  // t = 1: just past V = 1, where the term is 1
     }
   // Every texel's cone half-angle lies in [θ_l/2, θ_l + π/2], increasing along x from the early-out

@@ -4,10 +4,10 @@
 // through the real sampler, and the CLI (finite, reproducible, thread-independent, bad input → exit 2).
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_exact.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/micro_shadowing_verify.h>
 #include <microshadow/math/vec.h>
+#include <microshadow/reference/micro_shadowing_ring.h>
 #include <sys/wait.h>
 #include <unistd.h>
 

@@ -1,6 +1,7 @@
 // `microshadow eval micro-shadowing` / `plot micro-shadowing`: JSON output, exit codes, files.
 #include <gtest/gtest.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 #include <sys/wait.h>
 
 #include <cstdio>

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 #include <sys/wait.h>
 
 #include <cstdio>

@@ -11,6 +11,7 @@
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <algorithm>
 #include <array>
@@ -257,7 +258,8 @@ bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, cons
   return true;
 }
 
-// ---- Double references, written from the closed forms (docs/micro-shadowing.md, RTR4), not from the C++ code. ----
+// ---- Double references, written from the closed forms (docs/micro-shadowing.md, RTR4), not from the C++
+// code. ----
 double sat(double x) { return std::clamp(x, 0.0, 1.0); }
 double ref_chan(double vis, double nl) {
   const double c = std::sqrt(1 - sat(vis));

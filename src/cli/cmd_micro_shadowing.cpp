@@ -8,10 +8,11 @@
 //   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
+#include <microshadow/lut/micro_shadowing_analysis.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
-#include <tbb/parallel_for.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -47,12 +48,9 @@ G2Form parse_g2(const std::string& s) {
   throw UsageError(fmt::format("--g2 must be height-correlated or uncorrelated, got '{}'", s));
 }
 
-// v in the xz plane (azimuth 0 = along the tangent), l at relative azimuth phi.
-Vec3d view_dir(double ndotv) { return {safe_sqrt(1 - ndotv * ndotv), 0.0, ndotv}; }
-Vec3d light_dir(double ndotl, double phi) {
-  const double s = safe_sqrt(1 - ndotl * ndotl);
-  return {s * std::cos(phi), s * std::sin(phi), ndotl};
-}
+// v in the xz plane (azimuth 0 = along the tangent), l at relative azimuth phi (the studies' convention).
+using lut::study_light_dir;
+using lut::study_view_dir;
 
 // Number of azimuths (midpoints of equal strata of [0, π]) of the sampled azimuth mean.
 constexpr int kEstimateAzimuths = 32;
@@ -61,25 +59,19 @@ constexpr int kEstimateAzimuths = 32;
 // [0, π].
 double eval_generic(double V, double ax, double ay, double nl, double nv, const double* phi, int64_t samples,
                     G2Form form, uint32_t seed) {
-  const Vec3d v = view_dir(nv);
+  const Vec3d v = study_view_dir(nv);
   if (samples == 0) {
-    if (phi) return ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, *phi), form);
-    if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv, form);
-    // Anisotropic mean: the same adaptive rule over φ (the term is symmetric in φ → −φ for axis-aligned α).
-    const auto f = [&](double p) {
-      return std::array<double, 1>{ms::generic_vndf_exact(V, ax, ay, v, light_dir(nl, p), form)};
-    };
-    const double h = 0.5 * kPi<double>;
-    return (ms::detail::gk_adaptive<ms::detail::GK15, 1>(f, 0, h, 1e-5 * h)[0] +
-            ms::detail::gk_adaptive<ms::detail::GK15, 1>(f, h, 2 * h, 1e-5 * h)[0]) /
-           kPi<double>;
+    if (phi) return ms::generic_vndf_exact(V, ax, ay, v, study_light_dir(nl, *phi));
+    if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv);
+    return ms::generic_vndf_exact_azimuth_mean_anisotropic(V, ax, ay, nl, nv);
   }
   const GGX<double> ggx(ax, ay);
-  if (phi) return ms::generic_vndf_estimate(V, ggx, v, light_dir(nl, *phi), int(samples), form, seed);
+  if (phi) return ms::generic_vndf_estimate(V, ggx, v, study_light_dir(nl, *phi), int(samples), form, seed);
   double sum = 0;
   for (int k = 0; k < kEstimateAzimuths; ++k) {
     const double p = kPi<double> * (k + 0.5) / kEstimateAzimuths;
-    sum += ms::generic_vndf_estimate(V, ggx, v, light_dir(nl, p), int(samples), form, hash_combine(seed, k));
+    sum += ms::generic_vndf_estimate(V, ggx, v, study_light_dir(nl, p), int(samples), form,
+                                     hash_combine(seed, k));
   }
   return sum / kEstimateAzimuths;
 }
@@ -209,33 +201,6 @@ const std::vector<double> kPlotNdotV = {1.0, 0.5, 0.1};
 
 std::string fmtd(double x) { return fmt::format("{:.9g}", x); }
 
-// Percentile p ∈ [0, 1] of sorted values (nearest rank).
-double percentile(const std::vector<double>& s, double p) {
-  if (s.empty()) return 0;
-  const double rank = std::ceil(p * double(s.size()));
-  return s[std::min(s.size() - 1, size_t(std::max(1.0, rank)) - 1)];
-}
-
-// n-point Gauss–Legendre nodes and weights on [-1, 1] (Newton on P_n from the Chebyshev guess).
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(size_t(n), 0.0), w.assign(size_t(n), 0.0);
-  for (int i = 0; i < n; ++i) {
-    double z = std::cos(kPi<double> * (i + 0.75) / (n + 0.5)), dp = 1;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1, p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-16) break;
-    }
-    x[size_t(i)] = z, w[size_t(i)] = 2 / ((1 - z * z) * dp * dp);
-  }
-}
-
 void run_plot(const PlotArgs& a) {
   if (a.out.empty()) throw UsageError("--out is required");
   if (a.size < 2 || a.size > 257) throw UsageError(fmt::format("--size must be in [2, 257], got {}", a.size));
@@ -253,155 +218,60 @@ void run_plot(const PlotArgs& a) {
 
   // 1. Maps of every method over (Visibility, N·L) for each roughness and N·V (generic: azimuth mean).
   const int n = a.size;
-  struct Cell {
-    double rough, nv, V, nl, ref, bm, chan, p1, gen;
-  };
-  std::vector<Cell> cells;
-  for (double r : kPlotRoughness)
-    for (double nv : kPlotNdotV)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          cells.push_back({r, nv, double(i) / (n - 1), double(j) / (n - 1), 0, 0, 0, 0, 0});
-  tbb::parallel_for(size_t(0), cells.size(), [&](size_t k) {
-    Cell& c = cells[k];
-    c.ref = ms::reference_step(c.V, c.nl);
-    c.bm = ms::brinck_maximov_2016(c.V, c.nl);
-    c.chan = ms::chan_2018(c.V, c.nl);
-    c.p1 = ms::part1_analytic(c.V, c.nl);
-    c.gen = ms::generic_vndf_exact_azimuth_mean(c.V, roughness_to_alpha(c.rough), c.nl, c.nv);
-  });
+  const std::vector<lut::TermMapCell> cells = lut::term_maps(n, kPlotRoughness, kPlotNdotV);
   std::ostringstream maps;
   maps << "roughness,ndotv,visibility,ndotl,reference,brinck_maximov_2016,chan_2018,part1_analytic,generic_"
           "vndf\n";
-  for (const Cell& c : cells)
-    maps << fmtd(c.rough) << ',' << fmtd(c.nv) << ',' << fmtd(c.V) << ',' << fmtd(c.nl) << ',' << fmtd(c.ref)
-         << ',' << fmtd(c.bm) << ',' << fmtd(c.chan) << ',' << fmtd(c.p1) << ',' << fmtd(c.gen) << '\n';
+  for (const lut::TermMapCell& c : cells)
+    maps << fmtd(c.roughness) << ',' << fmtd(c.n_dot_v) << ',' << fmtd(c.visibility) << ',' << fmtd(c.n_dot_l)
+         << ',' << fmtd(c.reference) << ',' << fmtd(c.brinck_maximov) << ',' << fmtd(c.chan) << ','
+         << fmtd(c.part1) << ',' << fmtd(c.generic) << '\n';
   io::write_file_atomic(dir / "maps.csv", maps.str());
 
   // 2. Error of the older terms vs the exact generic term, per roughness and N·V (RMS and max over the map).
   std::ostringstream err;
   err << "roughness,ndotv,method,rms,max_abs,mean_signed\n";
-  const char* names[4] = {"reference", "brinck_maximov_2016", "chan_2018", "part1_analytic"};
   for (double r : kPlotRoughness)
     for (double nv : kPlotNdotV) {
-      double s2[4] = {}, mx[4] = {}, sm[4] = {};
-      int cnt = 0;
-      for (const Cell& c : cells) {
-        if (c.rough != r || c.nv != nv) continue;
-        const double vals[4] = {c.ref, c.bm, c.chan, c.p1};
-        for (int q = 0; q < 4; ++q) {
-          const double d = vals[q] - c.gen;
-          s2[q] += d * d, sm[q] += d, mx[q] = std::max(mx[q], std::abs(d));
-        }
-        ++cnt;
-      }
+      const std::array<lut::TermError, 4> e = lut::term_map_errors(cells, r, nv);
       for (int q = 0; q < 4; ++q)
-        err << fmtd(r) << ',' << fmtd(nv) << ',' << names[q] << ',' << fmtd(std::sqrt(s2[q] / cnt)) << ','
-            << fmtd(mx[q]) << ',' << fmtd(sm[q] / cnt) << '\n';
+        err << fmtd(r) << ',' << fmtd(nv) << ',' << lut::kTermNames[q] << ',' << fmtd(e[q].rms) << ','
+            << fmtd(e[q].max_abs) << ',' << fmtd(e[q].mean_signed) << '\n';
     }
   io::write_file_atomic(dir / "errors.csv", err.str());
 
-  // 3. Beyond the seed: what ignoring the azimuth costs. Random (V, roughness, N·L, N·V, φ): the exact term
-  // at
-  //    φ minus its azimuth mean (what a LUT without an azimuth axis stores at best).
-  //    Also the residual after keeping the Fourier cosine terms a_0 + Σ_{h ≤ H} a_h cos(hφ) (what an
-  //    azimuth-aware table with H harmonic slabs stores), a_h from a 96-point Gauss–Legendre rule in φ.
-  constexpr int kH = 4;
-  struct Az {
-    double V, rough, nl, nv, phi, exact, mean;
-    std::array<double, kH + 1> a;
-  };
-  std::vector<Az> az(size_t(a.azimuth_configs));
-  for (size_t k = 0; k < az.size(); ++k) {
-    Pcg32 rng(0x5eed + k, 7);
-    az[k] = {rng.next_double(),
-             0.1 + 0.9 * rng.next_double(),
-             rng.next_double(),
-             rng.next_double(),
-             kPi<double> * rng.next_double(),
-             0,
-             0,
-             {}};
-  }
-  std::vector<double> gl_x, gl_w;
-  gauss_legendre(96, gl_x, gl_w);
-  tbb::parallel_for(size_t(0), az.size(), [&](size_t k) {
-    Az& z = az[k];
-    const double al = roughness_to_alpha(z.rough);
-    const Vec3d v = view_dir(z.nv);
-    z.exact = ms::generic_vndf_exact(z.V, al, al, v, light_dir(z.nl, z.phi));
-    z.mean = ms::generic_vndf_exact_azimuth_mean(z.V, al, z.nl, z.nv);
-    z.a.fill(0.0);
-    if (ms::exact_zero(z.V, z.nl)) return;
-    for (size_t i = 0; i < gl_x.size(); ++i) {
-      const double p = 0.5 * kPi<double> * (gl_x[i] + 1);
-      const double f =
-          ms::generic_vndf_exact(z.V, al, al, v, light_dir(z.nl, p), G2Form::HeightCorrelated, 1e-6);
-      for (int h = 0; h <= kH; ++h) z.a[h] += (h == 0 ? 0.5 : 1.0) * gl_w[i] * f * std::cos(h * p);
-    }
-  });
+  // 3. Beyond the seed: what ignoring the azimuth costs, and what H Fourier harmonics keep.
+  const std::vector<lut::AzimuthConfig> az = lut::azimuth_study(size_t(a.azimuth_configs));
   std::ostringstream azc;
   azc << "visibility,roughness,ndotl,ndotv,phi,exact,azimuth_mean,error,error_h1,error_h2,error_h4\n";
-  auto truncated = [&](const Az& z, int H) {
-    double s = z.a[0];
-    for (int h = 1; h <= H; ++h) s += z.a[h] * std::cos(h * z.phi);
-    return z.exact - saturate(s);
-  };
-  for (const Az& z : az)
-    azc << fmtd(z.V) << ',' << fmtd(z.rough) << ',' << fmtd(z.nl) << ',' << fmtd(z.nv) << ',' << fmtd(z.phi)
-        << ',' << fmtd(z.exact) << ',' << fmtd(z.mean) << ',' << fmtd(z.exact - z.mean) << ','
-        << fmtd(truncated(z, 1)) << ',' << fmtd(truncated(z, 2)) << ',' << fmtd(truncated(z, 4)) << '\n';
+  for (const lut::AzimuthConfig& z : az)
+    azc << fmtd(z.visibility) << ',' << fmtd(z.roughness) << ',' << fmtd(z.n_dot_l) << ',' << fmtd(z.n_dot_v)
+        << ',' << fmtd(z.phi) << ',' << fmtd(z.exact) << ',' << fmtd(z.mean) << ',' << fmtd(z.exact - z.mean)
+        << ',' << fmtd(z.truncation_error(1)) << ',' << fmtd(z.truncation_error(2)) << ','
+        << fmtd(z.truncation_error(4)) << '\n';
   io::write_file_atomic(dir / "azimuth_error.csv", azc.str());
   nlohmann::json summary = nlohmann::json::object();
   for (int H : {0, 1, 2, 4})
     for (int subset = 0; subset < 2; ++subset) {
-      std::vector<double> e;
-      for (const Az& z : az)
-        if (subset == 0 || !ms::exact_zero(z.V, z.nl))
-          e.push_back(std::abs(H == 0 ? z.exact - z.mean : truncated(z, H)));
-      std::sort(e.begin(), e.end());
-      double s2 = 0;
-      for (double x : e) s2 += x * x;
-      const double above = double(std::count_if(e.begin(), e.end(), [](double x) { return x > 0.5 / 255; }));
+      const lut::AbsErrorSummary s = lut::azimuth_error_summary(az, H, subset == 1);
       summary[fmt::format("harmonics_{}", H)][subset == 0 ? "all" : "outside_early_out"] = {
-          {"count", e.size()},
-          {"rms", e.empty() ? 0.0 : std::sqrt(s2 / double(e.size()))},
-          {"p50", percentile(e, 0.5)},
-          {"p90", percentile(e, 0.9)},
-          {"p99", percentile(e, 0.99)},
-          {"max", e.empty() ? 0.0 : e.back()},
-          {"frac_above_half_unorm8_step", e.empty() ? 0.0 : above / double(e.size())}};
+          {"count", s.count},
+          {"rms", s.rms},
+          {"p50", s.p50},
+          {"p90", s.p90},
+          {"p99", s.p99},
+          {"max", s.max},
+          {"frac_above_half_unorm8_step", s.frac_above_half_unorm8_step}};
     }
 
   // 4. Exact vs a high-sample Monte Carlo (PCG32, spherical-caps sampler) at a few fixed points.
   std::ostringstream val;
   val << "visibility,alpha_x,alpha_y,ndotl,ndotv,phi,exact,mc,mc_sigma,samples\n";
-  const std::vector<std::array<double, 6>> pts = {
-      {0.5, 0.16, 0.16, 0.3, 0.8, 1.2}, {0.8, 0.49, 0.49, 0.6, 0.3, 2.5}, {0.9, 0.01, 0.01, 0.35, 0.5, 0.4},
-      {0.7, 1.0, 1.0, 0.9, 0.1, 3.0},   {0.6, 0.09, 0.64, 0.5, 0.6, 0.8}, {0.95, 0.25, 0.25, 0.2, 0.95, 1.6}};
-  std::vector<std::array<double, 3>> vres(pts.size());
   if (a.mc_samples > 0)
-    tbb::parallel_for(size_t(0), pts.size(), [&](size_t k) {
-      const auto& p = pts[k];
-      const GGX<double> g(p[1], p[2]);
-      const Vec3d v = view_dir(p[4]), l = light_dir(p[3], p[5]);
-      const double c = std::sqrt(1 - p[0]);
-      Pcg32 rng(99 + k, 3);
-      double cone = 0, hemi = 0;
-      for (int64_t i = 0; i < a.mc_samples; ++i) {
-        const Vec3d m = g.sample_vndf_spherical_caps(v, Vec2d(rng.next_double(), rng.next_double()));
-        hemi += (m.z > 0 && dot(m, l) > 0);
-        cone += (m.z > c && dot(m, l) > c);
-      }
-      const double r = hemi > 0 ? cone / hemi : 0;
-      vres[k] = {ms::generic_vndf_exact(p[0], p[1], p[2], v, l), r,
-                 std::sqrt(r * (1 - r) / std::max(hemi, 1.0))};
-    });
-  for (size_t k = 0; k < pts.size() && a.mc_samples > 0; ++k) {
-    for (double x : pts[k]) val << fmtd(x) << ',';
-    val << fmtd(vres[k][0]) << ',' << fmtd(vres[k][1]) << ',' << fmtd(vres[k][2]) << ',' << a.mc_samples
-        << '\n';
-  }
+    for (const lut::MonteCarloCheck& m : lut::monte_carlo_validation(a.mc_samples)) {
+      for (double x : m.point) val << fmtd(x) << ',';
+      val << fmtd(m.exact) << ',' << fmtd(m.mc) << ',' << fmtd(m.sigma) << ',' << a.mc_samples << '\n';
+    }
   io::write_file_atomic(dir / "validation.csv", val.str());
 
   summary["size"] = n;

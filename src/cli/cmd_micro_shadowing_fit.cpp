@@ -10,6 +10,7 @@
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>

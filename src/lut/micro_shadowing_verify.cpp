@@ -5,6 +5,7 @@
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/reference/micro_shadowing_exact.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>

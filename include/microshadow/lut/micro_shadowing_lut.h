@@ -1,5 +1,6 @@
-// Runtime sampler for the micro-shadowing LUT (Zurita 2026, "Improving Direct Lighting Material Occlusion - Part 2", "LUT-Based Approximation"; layout docs/lut.md).
-// Header-only, no allocation, no I/O: an engine points a MicroShadowingLutView at its own copy of the table.
+// Runtime sampler for the micro-shadowing LUT (Zurita 2026, "Improving Direct Lighting Material Occlusion -
+// Part 2", "LUT-Based Approximation"; layout docs/lut.md). Header-only, no allocation, no I/O: an engine
+// points a MicroShadowingLutView at its own copy of the table.
 //
 // Table layout (what bake_micro_shadowing_lut writes, what io::read_volume returns):
 //   data[((z * n_nl + y) * n_vis + x) * channels + c], x = Visibility, y = N·L, z = N·V (+ harmonic slab),
@@ -11,6 +12,7 @@
 #pragma once
 
 #include <microshadow/math/vec.h>
+#include <microshadow/occlusion/micro_shadowing_early_out.h>
 
 #include <array>
 #include <cmath>
@@ -111,12 +113,6 @@ T interpolate_roughness(const MicroShadowingLutView& lut, const std::array<T, 4>
   const T r0 = T(lut.roughness[j]), r1 = T(lut.roughness[j + 1]);
   const T t = r1 > r0 ? clamp((r - r0) / (r1 - r0), T(0), T(1)) : T(0);
   return lerp(t, ch[j], ch[j + 1]);
-}
-
-// Exact early-out (docs/micro-shadowing.md): 2V + N·L < 1 ⇒ the term is 0, no fetch needed.
-template <class T>
-bool micro_shadowing_early_out(T visibility, T n_dot_l) {
-  return T(2) * saturate(visibility) + saturate(n_dot_l) < T(1);
 }
 
 // ---- Cone layout ---------------------------------------------------------------------------------------
@@ -283,11 +279,12 @@ std::array<T, 4> fetch_cone(const MicroShadowingLutView& lut, T visibility, T n_
   return a;
 }
 
-// The LUT approximation of the generic VNDF micro-shadowing term (Zurita 2026 Part 2), azimuth ignored (mean over φ).
-// Domain: V, N·L, N·V clamped to [0, 1] (NaN → 0), roughness clamped to the channel range. Result in [0, 1].
+// The LUT approximation of the generic VNDF micro-shadowing term (Zurita 2026 Part 2), azimuth ignored (mean
+// over φ). Domain: V, N·L, N·V clamped to [0, 1] (NaN → 0), roughness clamped to the channel range. Result in
+// [0, 1].
 template <class T>
 T sample_micro_shadowing(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v, T roughness) {
-  if (micro_shadowing_early_out(visibility, n_dot_l)) return T(0);
+  if (ms::exact_zero(visibility, n_dot_l)) return T(0);  // 2V + N·L < 1: exactly 0, no fetch
   if (lut.layout == LutLayout::Cone)
     return saturate(fetch_cone(lut, visibility, n_dot_l, n_dot_v, roughness)[0]);
   return saturate(
@@ -300,7 +297,7 @@ T sample_micro_shadowing(const MicroShadowingLutView& lut, T visibility, T n_dot
 template <class T>
 T sample_micro_shadowing_azimuth(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v,
                                  T roughness, T cos_phi) {
-  if (micro_shadowing_early_out(visibility, n_dot_l)) return T(0);
+  if (ms::exact_zero(visibility, n_dot_l)) return T(0);  // 2V + N·L < 1: exactly 0, no fetch
   const T c1 = clamp(cos_phi, T(-1), T(1));
   if (lut.layout == LutLayout::Cone) {
     const std::array<T, 4> a = fetch_cone(lut, visibility, n_dot_l, n_dot_v, roughness);

@@ -1,32 +1,19 @@
-// Micro-shadowing terms: how much of a light survives the micro-occlusion cone of a texel.
-// Conventions (REFERENCE.md §1–§2): local shading frame n = (0,0,1), tangent = x; v, l unit vectors pointing
-// away from the surface; visibility V ∈ [0,1] is visibility in projected solid angle, so the visibility cone
-// has cos_t = sqrt(1 − V) (Nusselt analog).
+// Micro-shadowing terms: how much of a light survives the micro-occlusion cone of a texel. Engine-facing,
+// header-only: the closed-form terms, the early-out, the per-microfacet function of the generic VNDF-based
+// term and its Sobol estimator. The exact (converged, double-precision) reference evaluation of the generic
+// term lives in reference/micro_shadowing_exact.h.
+// Conventions (docs/theory.md §1, §3): local shading frame n = (0,0,1), tangent = x; v, l unit vectors
+// pointing away from the surface; visibility V ∈ [0,1] is visibility in projected solid angle, so the
+// visibility cone has cos_t = sqrt(1 − V) (Nusselt analog).
 //
 // Input handling, shared by every function here: V and N·L are clamped to [0,1] and NaN maps to 0
 // (saturate semantics), so every term returns a finite value in [0,1] for any input, including ±Inf and NaN.
-//
-// The exact generic VNDF-based term (seed 002, GenericM_g) is evaluated deterministically:
-//   For the Smith profile the per-sample weight G2/G1 depends on (v, l) only, so it cancels in the ratio and
-//     GenericM_g = P[n·m > c ∧ m·l > c] / P[m·l > 0],   m ~ D_v (the VNDF of v),  c = cos_t.
-//   Denominator: closed form. In the stretched (α = 1) configuration the VNDF is a clamped cosine lobe and
-//     m·l > 0 is a hemisphere, so P is a cosine integral over a spherical triangle (Lambert's formula).
-//   Numerator: in spherical coordinates (θ, φ) of m about n, D_v(m) dm ∝ (v·m)⁺ D(m) sinθ dθ dφ. For a fixed
-//   φ:
-//     * n·m > c is θ < acos c;  m·l = R cos(θ − δ) > c is |θ − δ| < acos(c/R) (R, δ from l and φ);
-//     * (v·m)⁺ clips θ to θ < atan2(v_z, −a) when a = v_t·(cosφ, sinφ) < 0;
-//     * with t = tanθ the integrand is (a t² + b t)/(k t² + 1)² dt, k = cos²φ/αx² + sin²φ/αy², which has a
-//       closed-form antiderivative.
-//   What remains is a 1D integral over φ of a continuous, piecewise-smooth function. Its kinks and
-//   square-root points (where the θ interval changes form) are found in closed form; each panel between them
-//   is integrated by adaptive Gauss–Kronrod (7/15) after a smoothstep substitution that removes the square
-//   roots. The azimuth mean is a second adaptive Gauss–Kronrod over the relative azimuth. Accuracy and speed:
-//   docs/micro-shadowing.md.
 #pragma once
 
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
+#include <microshadow/occlusion/micro_shadowing_early_out.h>
 
 #include <algorithm>
 #include <array>
@@ -36,7 +23,7 @@
 
 namespace msh::ms {
 
-// Form of the Smith masking-shadowing function used for the per-sample weight G2/G1 (seed 002).
+// Form of the Smith masking-shadowing function used for the per-sample weight G2/G1 (Zurita 2026b).
 enum class G2Form { HeightCorrelated, Uncorrelated };
 
 namespace detail {
@@ -48,13 +35,13 @@ T clamp_nan(T x, T lo, T hi, T nan_value = T(0)) {
 }
 }  // namespace detail
 
-// Cosine of the visibility cone's half-angle, sqrt(1 − V) (REFERENCE §1, Nusselt analog). V ∈ [0,1].
+// Cosine of the visibility cone's half-angle, sqrt(1 − V) (Nusselt analog, docs/theory.md §1). V ∈ [0,1].
 template <class T>
 T cone_cos_from_visibility(T V) {
   return std::sqrt(T(1) - saturate(V));
 }
 
-// Reference term (seed 002): step(cos_t, N·L), lit iff N·L > cos_t (strict, the seed's χ⁺).
+// Reference term (Zurita 2026b): step(cos_t, N·L), lit iff N·L > cos_t (strict χ⁺, as in Zurita 2026b).
 template <class T>
 T reference_step(T V, T n_dot_l) {
   return saturate(n_dot_l) > cone_cos_from_visibility(V) ? T(1) : T(0);
@@ -78,7 +65,7 @@ T chan_2018(T V, T n_dot_l) {
   return x * x;
 }
 
-// Part 1 "analytical alternative" (Zurita 2026, as reported by third-party copies, REFERENCE §2):
+// Part 1 "analytical alternative" (Zurita 2026, as reported by third-party copies, docs/theory.md §3):
 // V ∈ {0, 1} returns V; else pow(saturate(N·L / sqrt(1 − V⁵)), 0.75 / V).
 template <class T>
 T part1_analytic(T V, T n_dot_l) {
@@ -90,21 +77,16 @@ T part1_analytic(T V, T n_dot_l) {
   return std::pow(saturate(saturate(n_dot_l) / cp), T(0.75) / v);
 }
 
-// Exact early-out (REFERENCE §2): a cone normal is within θ of n and of l, so angle(n,l) < 2θ, i.e.
-// N·L > cos 2θ = 1 − 2V. Hence 2V + N·L < 1 ⇒ the generic term is exactly 0 (for every roughness and v).
-template <class T>
-bool exact_zero(T V, T n_dot_l) {
-  return T(2) * saturate(V) + saturate(n_dot_l) < T(1);
-}
+// exact_zero(V, N·L), the exact early-out 2V + N·L < 1: occlusion/micro_shadowing_early_out.h.
 
 template <class T>
 struct GenericSample {
   T cone, hemisphere, weight;
 };
 
-// G2(v,l,m)/G1(v,m) for the Smith profile given m·l > 0 and m·v > 0 (seed 002 table): uncorrelated G1(l),
-// height-correlated G1(l)/(G1(l) + G1(v) − G1(l)G1(v)). Anisotropy via the projected roughness, which is what
-// GGX::G1 does. Depends on (v, l) only.
+// G2(v,l,m)/G1(v,m) for the Smith profile given m·l > 0 and m·v > 0 (Zurita 2026b, table of weights):
+// uncorrelated G1(l), height-correlated G1(l)/(G1(l) + G1(v) − G1(l)G1(v)). Anisotropy via the projected
+// roughness, which is what GGX::G1 does. Depends on (v, l) only.
 template <class T>
 T smith_g2_over_g1(const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, G2Form form) {
   const T gl = ggx.G1(l), gv = ggx.G1(v);
@@ -113,7 +95,7 @@ T smith_g2_over_g1(const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, G2Form
   return den > T(0) ? gl / den : T(0);
 }
 
-// The seed's per-microfacet function GenericM_m (seed 002, MicroShadowingTermPZGenericVNDFBased): m from the
+// The per-microfacet function GenericM_m (Zurita 2026b, MicroShadowingTermPZGenericVNDFBased): m from the
 // Dupuy–Benyoub 2023 VNDF sampler of v, weight G2/G1 in the chosen form. cos_t ∈ [0,1].
 template <class T>
 GenericSample<T> generic_vndf_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l,
@@ -129,7 +111,7 @@ GenericSample<T> generic_vndf_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>& 
   return s;
 }
 
-// GenericM_g (seed 002) estimated with n Owen-scrambled Sobol samples (seed 0: plain Sobol), Σcone /
+// GenericM_g (Zurita 2026b) estimated with n Owen-scrambled Sobol samples (seed 0: plain Sobol), Σcone /
 // Σhemisphere; 0 when no sample reaches the hemisphere or when exact_zero holds (exact, no samples taken).
 template <class T>
 T generic_vndf_estimate(T V, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, int n, G2Form form,
@@ -144,283 +126,6 @@ T generic_vndf_estimate(T V, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>&
     hemi += s.hemisphere;
   }
   return hemi > T(0) ? std::min(T(1), cone / hemi) : T(0);
-}
-
-// ---- Exact evaluation (double) -------------------------------------------------------------------------
-
-namespace detail {
-
-// Gauss–Kronrod rules on [-1, 1]: nodes x (descending, last = 0), Kronrod weights wk, Gauss weights wg for
-// the odd-indexed nodes and the centre (QUADPACK qk15).
-struct GK15 {
-  static constexpr int kHalf = 7;
-  static constexpr std::array<double, 8> x = {
-      0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-      0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-      0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-      0.207784955007898467600689403773245, 0.0};
-  static constexpr std::array<double, 8> wk = {
-      0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-      0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-      0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-      0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-  static constexpr std::array<double, 4> wg = {
-      0.129484966168869693270611432679082, 0.279705391489276667901467239865264,
-      0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
-};
-// Adaptive Gauss–Kronrod of a function returning N values (std::array<double, N>). An interval is accepted
-// when every component's |Kronrod − Gauss| ≤ tol · (its length / total length), or at max_depth.
-template <class Rule, size_t N, class F>
-std::array<double, N> gk_adaptive(const F& f, double a, double b, double tol, int max_depth = 30) {
-  using Arr = std::array<double, N>;
-  struct Item {
-    double a, b;
-    int depth;
-  };
-  const double total = b - a;
-  Arr sum{};
-  if (!(total > 0)) return sum;
-  Item stack[64];
-  int top = 0;
-  stack[top++] = {a, b, 0};
-  while (top > 0) {
-    const Item it = stack[--top];
-    const double c = 0.5 * (it.a + it.b), h = 0.5 * (it.b - it.a);
-    Arr k{}, g{};
-    const Arr fc = f(c);
-    for (size_t j = 0; j < N; ++j)
-      k[j] = Rule::wk[Rule::kHalf] * fc[j], g[j] = Rule::wg[Rule::kHalf / 2] * fc[j];
-    for (int i = 0; i < Rule::kHalf; ++i) {
-      const Arr f1 = f(c - h * Rule::x[i]), f2 = f(c + h * Rule::x[i]);
-      for (size_t j = 0; j < N; ++j) {
-        k[j] += Rule::wk[i] * (f1[j] + f2[j]);
-        if (i % 2 == 1) g[j] += Rule::wg[i / 2] * (f1[j] + f2[j]);
-      }
-    }
-    const bool forced = it.depth >= max_depth || top >= 62;
-    const double local_tol = tol * (2 * h / total);
-    bool ok = true;
-    for (size_t j = 0; j < N; ++j) ok = ok && std::abs(h * (k[j] - g[j])) <= local_tol;
-    if (ok || forced) {
-      for (size_t j = 0; j < N; ++j) sum[j] += h * k[j];
-    } else {
-      stack[top++] = {c, it.b, it.depth + 1};
-      stack[top++] = {it.a, c, it.depth + 1};
-    }
-  }
-  return sum;
-}
-
-// With t = tanθ, s = √k t: ∫_0^t (a u² + b u)/(k u² + 1)² du
-//   = a (atan s − s/(1 + s²)) / (2 k^{3/2}) + b t² / (2(k t² + 1)),
-// written in sinθ, cosθ so that θ = π/2 is finite.
-inline double gv_F(double theta, double a, double b, double k, double sk) {
-  const double s = std::sin(theta), c = std::cos(theta);
-  const double q = k * s * s + c * c;
-  return a * (std::atan2(sk * s, c) - sk * s * c / q) / (2.0 * k * sk) + b * s * s / (2.0 * q);
-}
-
-// Integrand over the azimuth φ of m: ∫ (v·m)⁺ D(m) sinθ dθ over {θ < acos c ∧ m·l > c}, up to the constant
-// 1/(π αx αy) and the VNDF's G1(v)/v_z, which cancel in the ratio. c = cos_t for the cone, 0 for the
-// hemisphere. v.z ≥ 0, v and l unit.
-struct RegionIntegrand {
-  Vec3d v, l;
-  double inv_ax2, inv_ay2, c, theta_max;
-
-  double operator()(double phi) const {
-    const double pc = std::cos(phi), ps = std::sin(phi);
-    const double p = l.x * pc + l.y * ps, q = l.z;  // m·l = R cos(θ − δ)
-    const double R = std::sqrt(p * p + q * q);
-    if (!(R > c)) return 0.0;
-    const double delta = std::atan2(p, q);
-    const double beta = std::acos(std::min(1.0, c / R));
-    const double lo = std::max(0.0, delta - beta);
-    double hi = std::min(theta_max, delta + beta);
-    const double a = v.x * pc + v.y * ps, b = v.z;    // v·m = a sinθ + b cosθ
-    if (a < 0) hi = std::min(hi, std::atan2(b, -a));  // (v·m)⁺ clip
-    if (!(hi > lo)) return 0.0;
-    const double k = pc * pc * inv_ax2 + ps * ps * inv_ay2, sk = std::sqrt(k);
-    const double r = gv_F(hi, a, b, k, sk) - (lo > 0 ? gv_F(lo, a, b, k, sk) : 0.0);
-    return std::max(0.0, r);
-  }
-};
-
-// Azimuths where the θ interval of RegionIntegrand changes form (kinks) or vanishes like a square root, all
-// in closed form: the l-cone meets the n-cone; the l-cone is tangent to a meridian (R = c, support ends); the
-// great circle v·m = 0 meets the n-cone or the l-cone; p = 0. Returned unsorted, count in n.
-inline int region_breakpoints(const Vec3d& v, const Vec3d& l, double c, double* out) {
-  int n = 0;
-  const double sc = std::sqrt(std::max(0.0, 1 - c * c));
-  const double lt = std::hypot(l.x, l.y), q = l.z;
-  const double phl = lt > 0 ? std::atan2(l.y, l.x) : 0.0;
-  auto pair = [&](double center, double cosw) {
-    if (std::abs(cosw) <= 1) {
-      const double w = std::acos(cosw);
-      out[n++] = center - w, out[n++] = center + w;
-    }
-  };
-  out[n++] = phl;  // the origin of the panels
-  if (lt > 1e-12) {
-    if (q <= c) pair(phl, 0.0);                      // p = 0: support end of the hemisphere when l.z ≤ 0
-    if (sc > 0) pair(phl, c * (1 - q) / (sc * lt));  // l-cone ∩ n-cone
-    if (c > std::abs(q)) pair(phl, std::sqrt(c * c - q * q) / lt);  // support ends (R = c)
-  }
-  const double vt = std::hypot(v.x, v.y);
-  if (vt > 1e-12) {
-    const double phv = std::atan2(v.y, v.x);
-    if (sc > 0) pair(phv, -v.z * c / (sc * vt));  // v circle ∩ n-cone
-    // v circle ∩ l-cone: m = cosψ e1 + sinψ e2 ⟂ v with m·l = c.
-    const Frame<double> f = Frame<double>::from_z(v);
-    const double A = dot(l, f.s), B = dot(l, f.t), rho = std::hypot(A, B);
-    if (rho > c && rho > 0) {
-      const double psi0 = std::atan2(B, A), dpsi = std::acos(c / rho);
-      for (double psi : {psi0 - dpsi, psi0 + dpsi}) {
-        const Vec3d m = std::cos(psi) * f.s + std::sin(psi) * f.t;
-        if (m.z > 0) out[n++] = std::atan2(m.y, m.x);
-      }
-    }
-  }
-  return n;
-}
-
-// ∫_0^{2π} RegionIntegrand dφ: panels between the breakpoints (none wider than π/2), each integrated by
-// adaptive Gauss–Kronrod after the substitution φ = a + (b − a)(3s² − 2s³), which turns square-root endpoints
-// into smooth ones. abs_tol is the total absolute tolerance.
-inline double integrate_region(const RegionIntegrand& f, double abs_tol) {
-  double bp[24];
-  const int nb = region_breakpoints(f.v, f.l, f.c, bp);
-  const double two_pi = 2 * kPi<double>;
-  const double origin = bp[0];  // φ_l: every other breakpoint is mapped into [origin, origin + 2π)
-  double pts[64];
-  int np = 0;
-  pts[np++] = 0.0;
-  for (int i = 1; i < nb; ++i) {
-    double x = std::fmod(bp[i] - origin, two_pi);
-    if (x < 0) x += two_pi;
-    if (x > 1e-12 && x < two_pi - 1e-12) pts[np++] = x;
-  }
-  pts[np++] = two_pi;
-  std::sort(pts, pts + np);
-  double sum = 0;
-  for (int i = 0; i + 1 < np; ++i) {
-    const double a0 = pts[i], b0 = pts[i + 1];
-    if (!(b0 - a0 > 1e-13)) continue;
-    const int parts = int(std::ceil((b0 - a0) / (0.5 * kPi<double>)));
-    for (int j = 0; j < parts; ++j) {
-      const double a = origin + a0 + (b0 - a0) * j / parts, h = (b0 - a0) / parts;
-      const auto g = [&](double s) {
-        return std::array<double, 1>{f(a + h * s * s * (3 - 2 * s)) * 6 * h * s * (1 - s)};
-      };
-      sum += gk_adaptive<GK15, 1>(g, 0.0, 1.0, abs_tol * h / two_pi)[0];
-    }
-  }
-  return sum;
-}
-
-// ∫ (w·m) dm over {m·w > 0 ∧ m·n1 > 0 ∧ m·n2 > 0} (unit w, n1, n2): a spherical triangle (or lune, or
-// hemisphere), integrated by Lambert's polygon formula, ½ Σ_edges θ_e (w·n_e), with n_e the inward normal of
-// the edge's great circle (Arvo 1995, "Applications of Irradiance Tensors"). The arc of circle i inside the
-// other two hemispheres is the overlap of two semicircles, π − angle between their centres.
-inline double clamped_cosine_over_hemispheres(const Vec3d& w, const Vec3d& n1, const Vec3d& n2) {
-  Vec3d ns[3] = {w, n1, n2};
-  int n = 1;
-  for (const Vec3d& c : {n1, n2}) {
-    bool dup = false;
-    for (int i = 0; i < n; ++i) {
-      if (length(c - ns[i]) < 1e-12) dup = true;
-      if (length(c + ns[i]) < 1e-12) return 0.0;  // opposite hemispheres: measure zero
-    }
-    if (!dup) ns[n++] = c;
-  }
-  double sum = 0;
-  for (int i = 0; i < n; ++i) {
-    double theta = 2 * kPi<double>;
-    Vec3d u[2];
-    int nu = 0;
-    for (int j = 0; j < n; ++j)
-      if (j != i) u[nu++] = normalize(ns[j] - dot(ns[j], ns[i]) * ns[i], Vec3d(0, 0, 0));
-    if (nu == 1) theta = kPi<double>;
-    if (nu == 2) theta = std::max(0.0, kPi<double> - std::atan2(length(cross(u[0], u[1])), dot(u[0], u[1])));
-    sum += theta * dot(w, ns[i]);
-  }
-  return 0.5 * sum;
-}
-
-// P[m·l > 0] for m ~ VNDF of v (v.z ≥ 0), closed form. In the stretched (α = 1) configuration the VNDF is the
-// clamped cosine 2(w·m)⁺/(π(1 + w_z)) on z > 0 with w = normalize(αx v_x, αy v_y, v_z) (Heitz 2018), and
-// m·l > 0 becomes m·(αx l_x, αy l_y, l_z) > 0, a hemisphere: the three-hemisphere integral above.
-inline double vndf_hemisphere_probability(const GGX<double>& ggx, const Vec3d& v, const Vec3d& l) {
-  const Vec3d w = normalize(Vec3d(ggx.alpha_x() * v.x, ggx.alpha_y() * v.y, v.z));
-  const Vec3d lp = normalize(Vec3d(ggx.alpha_x() * l.x, ggx.alpha_y() * l.y, l.z), Vec3d(0, 0, 0));
-  if (!(dot(lp, lp) > 0)) return 0.0;
-  return std::min(1.0,
-                  clamped_cosine_over_hemispheres(w, Vec3d(0, 0, 1), lp) / (0.5 * kPi<double> * (1 + w.z)));
-}
-
-// P[n·m > c ∧ m·l > c] for m ~ VNDF of v (v.z ≥ 0) by the azimuthal quadrature (c = 0: the hemisphere, used
-// to cross-check the closed form). abs_tol is on the probability.
-inline double vndf_region_probability(const GGX<double>& ggx, const Vec3d& v, const Vec3d& l, double c,
-                                      double abs_tol) {
-  // D_v(m) dm = G1(v)/v_z · (v·m)⁺ · sinθ dθ dφ / (π αx αy (k sin²θ + cos²θ)²); the integrand drops the
-  // constant.
-  const double pre = ggx.G1_over_cos(v) / (kPi<double> * ggx.alpha_x() * ggx.alpha_y());
-  const RegionIntegrand f{v, l, 1 / sqr(ggx.alpha_x()), 1 / sqr(ggx.alpha_y()), c, std::acos(c)};
-  return pre * integrate_region(f, abs_tol / pre);
-}
-
-}  // namespace detail
-
-// Exact GenericM_g (seed 002) at full vectors, anisotropic GGX (αx along t = x, αy along b = y). Any G2 form
-// gives the same value (the Smith weight cancels); the argument exists for API symmetry with the estimators.
-// Numerator by azimuthal quadrature, denominator in closed form. rel_tol bounds the quadrature's error
-// estimate relative to the denominator (default 1e-7; the measured error is far below, see
-// docs/micro-shadowing.md). v.z < 0 is mirrored (as the VNDF sampler does); non-unit vectors are normalized;
-// NaN or Inf inputs give 0.
-inline double generic_vndf_exact(double V, double alpha_x, double alpha_y, const Vec3d& v, const Vec3d& l,
-                                 G2Form form = G2Form::HeightCorrelated, double rel_tol = 1e-7) {
-  (void)form;
-  if (!is_finite(v) || !is_finite(l) || std::isnan(alpha_x) || std::isnan(alpha_y)) return 0.0;
-  const double vis = saturate(V);
-  Vec3d vn = normalize(v), ln = normalize(l);
-  if (vn.z < 0) vn = -vn;
-  if (exact_zero(vis, ln.z) || vis == 0.0) return 0.0;
-  const GGX<double> ggx(std::min(alpha_x, 1e4), std::min(alpha_y, 1e4));  // α ∈ [kMinAlpha, 1e4]
-  const double den = detail::vndf_hemisphere_probability(ggx, vn, ln);
-  if (!(den > 0)) return 0.0;
-  if (vis == 1.0) return 1.0;
-  const double c = cone_cos_from_visibility(vis);
-  const double num = detail::vndf_region_probability(ggx, vn, ln, c, rel_tol * den);
-  return saturate(num / den);
-}
-
-// Isotropic GGX (α), mean over the relative azimuth φ ∈ [0, π] (uniform) of the exact term with
-// v = (sin θv, 0, N·V), l = (sin θl cos φ, sin θl sin φ, N·L): what a LUT texel stores (REFERENCE §1).
-// N·V = 1, N·L = ±1 and V = 1 are azimuth independent and take one evaluation. The mean is an adaptive
-// Gauss–Kronrod over φ (two panels) whose error estimate is bounded by abs_tol; rel_tol is passed to
-// generic_vndf_exact. The term is smooth in φ apart from a few kinks; the measured error with the defaults
-// is < 1e-6 (docs/micro-shadowing.md).
-inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_dot_l, double n_dot_v,
-                                              G2Form form = G2Form::HeightCorrelated, double abs_tol = 1e-5,
-                                              double rel_tol = 1e-5) {
-  if (std::isnan(alpha)) return 0.0;
-  const double vis = saturate(V);
-  const double nl = detail::clamp_nan(n_dot_l, -1.0, 1.0);
-  const double nv = detail::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
-  if (exact_zero(vis, nl) || vis == 0.0) return 0.0;
-  const Vec3d v(std::sqrt(std::max(0.0, 1 - nv * nv)), 0, nv);
-  const double sl = std::sqrt(std::max(0.0, 1 - nl * nl));
-  auto at = [&](double phi) {
-    return generic_vndf_exact(vis, alpha, alpha, v, Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl), form,
-                              rel_tol);
-  };
-  if (nv == 1.0 || sl == 0.0 || vis == 1.0) return at(0.0);
-  const auto f = [&](double phi) { return std::array<double, 1>{at(phi)}; };
-  // Two panels: one 15-point rule over [0, π] can misjudge a kink (measured 2.7e-6 error); two keep it <
-  // 1e-6.
-  const double h = 0.5 * kPi<double>;
-  const double s = detail::gk_adaptive<detail::GK15, 1>(f, 0.0, h, abs_tol * h)[0] +
-                   detail::gk_adaptive<detail::GK15, 1>(f, h, 2 * h, abs_tol * h)[0];
-  return saturate(s / kPi<double>);
 }
 
 }  // namespace msh::ms

@@ -1,8 +1,8 @@
 // ALU-only approximations (no texture) of the azimuth-mean generic VNDF micro-shadowing term for isotropic
-// Smith-GGX: the value a LUT texel stores, generic_vndf_exact_azimuth_mean (micro_shadowing.h), i.e. the mean
-// over the relative azimuth φ ∈ [0, π] of P[n·m > c ∧ m·l > c] / P[n·m > 0 ∧ m·l > 0], m ~ VNDF(v, α = r²),
-// c = cos θc = sqrt(1 − V). Fit, operation counts and measured error: docs/micro-shadowing.md,
-// "ALU-only approximation".
+// Smith-GGX: the value a LUT texel stores, generic_vndf_exact_azimuth_mean
+// (reference/micro_shadowing_exact.h), i.e. the mean over the relative azimuth φ ∈ [0, π] of P[n·m > c ∧ m·l
+// > c] / P[n·m > 0 ∧ m·l > 0], m ~ VNDF(v, α = r²), c = cos θc = sqrt(1 − V). Fit, operation counts and
+// measured error: docs/micro-shadowing.md, "ALU-only approximation".
 //
 // Both share one form (θl = acos N·L; a and q are fitted functions of roughness, V and N·V):
 //   f = Pcap · P1 · L / P2,   Pcap = V / (V + (1 − V) q),   L = 1 + g (1 − V) (N·L − 1) / V,

@@ -1,6 +1,7 @@
-// Semi-analytic evaluation of the generic VNDF-based micro-shadowing term (seed 002, REFERENCE.md §2) for
-// isotropic Smith-GGX, used to verify the LUT baker on every texel. Independent of the samplers: no VNDF
-// sampling, no Monte Carlo.
+// Reference (not for an engine): semi-analytic evaluation of the generic VNDF-based micro-shadowing term
+// (Zurita 2026b, docs/theory.md §3) for isotropic Smith-GGX, used to verify the LUT baker on every texel. A
+// second method beside reference/micro_shadowing_exact.h (the two agree to 3e-10 when this one is refined).
+// Independent of the samplers: no VNDF sampling, no Monte Carlo.
 //
 // For the Smith profile G2/G1 depends on (v, l) only, so the term is the VNDF-mass ratio
 //   R = ∫_{n·m > c, m·l > c} (v·m)⁺ D(m) dm / ∫_{m·l > 0} (v·m)⁺ D(m) dm,   c = sqrt(1 − V).
@@ -113,9 +114,9 @@ inline double cone_mass(const MsGeometry& g, double alpha, double c_cap, double 
   return total;
 }
 
-// The generic term at one relative azimuth φ, (REFERENCE.md §2, Smith ratio form). Domain: V, N·L, N·V ∈ [0,
-// 1], α ≥ 0 (clamped to 1e-4). V = 1 → 1, V = 0 → 0, early-out region 2V + N·L < 1 → 0; a configuration with
-// no VNDF mass facing l (e.g. N·V = N·L = 0, φ = π) returns 0 for V < 1.
+// The generic term at one relative azimuth φ, (Zurita 2026b; Smith ratio form, docs/theory.md §3). Domain: V,
+// N·L, N·V ∈ [0, 1], α ≥ 0 (clamped to 1e-4). V = 1 → 1, V = 0 → 0, early-out region 2V + N·L < 1 → 0; a
+// configuration with no VNDF mass facing l (e.g. N·V = N·L = 0, φ = π) returns 0 for V < 1.
 inline double micro_shadowing_semi_analytic(double alpha, double visibility, double n_dot_l, double n_dot_v,
                                             double phi) {
   if (!(visibility < 1.0)) return 1.0;
