@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <memory>
+#include <string>
 
 using namespace msh::render;
 
@@ -105,5 +106,39 @@ void BM_GroundTruthIntersector2048(benchmark::State& state) {
   state.counters["build_s"] = build;
 }
 BENCHMARK(BM_GroundTruthIntersector2048)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// Scene intersection: a floor plane, `n` analytic spheres, a 24 × 12 UV-sphere mesh and a cylinder mesh,
+// a directional and a point light; one thread, 256² pixels, 1 spp, no micro-shadowing. Camera + shadow rays
+// per CPU second (the render runs on the calling thread). range(0): number of analytic spheres.
+void BM_MixedSceneIntersect256(benchmark::State& state) {
+  const int n = int(state.range(0));
+  std::string objects = R"({"type": "plane", "material": "m", "center": [0, 0, 0], "size": [12, 12]},
+    {"type": "uv-sphere", "material": "m", "center": [-2.5, 1, 0.8], "radius": 0.8, "segments": 24, "rings": 12},
+    {"type": "cylinder", "material": "m", "center": [2.5, 1, 0], "radius": 0.5, "height": 1.6})";
+  for (int i = 0; i < n; ++i)
+    objects += ", {\"type\": \"sphere\", \"material\": \"m\", \"center\": [" +
+               std::to_string(-2 + 4.0 * (i % 4) / 3) + ", " + std::to_string(-1.5 + 0.8 * (i / 4)) +
+               ", 0.3], \"radius\": 0.3}";
+  const std::string json =
+      R"({"camera": {"eye": [0, -7, 3.2], "target": [0, 0, 0.6], "up": [0, 0, 1], "fov_deg": 40},
+    "materials": {"m": {"base_color": [0.6, 0.6, 0.6], "roughness": 0.5}},
+    "objects": [)" +
+      objects + R"(],
+    "lights": [{"type": "directional", "elevation_deg": 35, "azimuth_deg": 30},
+               {"type": "point", "position": [1, -2, 3], "intensity": 6}],
+    "settings": {"width": 256, "height": 256, "spp": 1, "micro_shadowing": "none"}})";
+  const Scene s = parse_scene(json, "bench_mixed.json", {});
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const Renderer r(s);
+  RenderStats total;
+  for (auto _ : state) {
+    RenderStats st;
+    benchmark::DoNotOptimize(r.render({}, &st));
+    total.camera_rays += st.camera_rays, total.shadow_rays += st.shadow_rays;
+  }
+  state.counters["rays/s"] =
+      benchmark::Counter(double(total.camera_rays + total.shadow_rays), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_MixedSceneIntersect256)->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 
 }  // namespace

@@ -1,11 +1,14 @@
 // CLI tests of `render`, `gen-material` and `compare`: bad input gives one error line naming the problem,
 // exit code 2 and no output file; output is bit-identical whatever --threads is.
 #include <gtest/gtest.h>
+#include <microshadow/render/image.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -26,6 +29,15 @@ Result run(const std::string& args) {
   std::stringstream ss;
   ss << in.rdbuf();
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+// Runs the CLI and parses the JSON it prints on stdout (null if the command fails or prints no JSON).
+nlohmann::json run_json(const std::string& args) {
+  const fs::path out = fs::temp_directory_path() / "msh_render_cli_stdout.txt";
+  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " > " + out.string() + " 2> /dev/null";
+  if (std::system(cmd.c_str()) != 0) return nullptr;
+  std::ifstream in(out);
+  return nlohmann::json::parse(in, nullptr, false);
 }
 
 std::string slurp(const fs::path& p) {
@@ -128,9 +140,35 @@ TEST_F(RenderCli, OutputIndependentOfThreadCount) {
     EXPECT_FALSE(x.empty()) << m;
     EXPECT_EQ(x, y) << m;
   }
-  // compare: identical images give RMSE 0; the diff PNG is written.
-  const Result r =
-      run("compare " + a + "_chan-2018.exr " + b + "_chan-2018.exr --diff " + (dir / "d.png").string());
-  EXPECT_EQ(r.code, 0) << r.err;
+  // compare: identical images give RMSE 0 and SSIM 1; the diff PNG is written.
+  const nlohmann::json j =
+      run_json("compare " + a + "_chan-2018.exr " + b + "_chan-2018.exr --diff " + (dir / "d.png").string());
+  ASSERT_TRUE(j.is_object()) << j;
+  EXPECT_EQ(j.at("rmse").get<double>(), 0.0) << j;
+  EXPECT_EQ(j.at("ssim").get<double>(), 1.0) << j;
   EXPECT_TRUE(fs::exists(dir / "d.png"));
+}
+
+TEST_F(RenderCli, CompareConstantImagesGivesKnownErrors) {
+  // Two constant grey images, 0.25 and 0.75 (exact in half and float EXR): every channel differs by 0.5, so
+  // RMSE = 0.5. SSIM of constant images has no variance terms: (2 a b + C1) / (a² + b² + C1), C1 = 0.01²,
+  // with a, b the display (sRGB-encoded, IEC 61966-2-1) luminances of the two greys.
+  msh::render::Image a(40, 30), b(40, 30);
+  for (auto& p : a.px) p = msh::Rgbf(0.25f);
+  for (auto& p : b.px) p = msh::Rgbf(0.75f);
+  msh::render::write_exr(dir / "a.exr", a);
+  msh::render::write_exr(dir / "b.exr", b);
+  const nlohmann::json j =
+      run_json("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string() + " --downsample 2");
+  ASSERT_TRUE(j.is_object()) << j;
+  EXPECT_NEAR(j.at("rmse").get<double>(), 0.5, 1e-7) << j;
+  EXPECT_NEAR(j.at("rmse_downsampled").get<double>(), 0.5, 1e-7) << j;
+  const double sa = 1.055 * std::pow(0.25, 1 / 2.4) - 0.055, sb = 1.055 * std::pow(0.75, 1 / 2.4) - 0.055;
+  const double c1 = 1e-4, expect = (2 * sa * sb + c1) / (sa * sa + sb * sb + c1);
+  EXPECT_NEAR(j.at("ssim").get<double>(), expect, 1e-5) << j;
+  EXPECT_NEAR(j.at("ssim_downsampled").get<double>(), expect, 1e-5) << j;
+  // Symmetric in A and B.
+  const nlohmann::json k = run_json("compare " + (dir / "b.exr").string() + " " + (dir / "a.exr").string());
+  ASSERT_TRUE(k.is_object()) << k;
+  EXPECT_NEAR(k.at("rmse").get<double>(), 0.5, 1e-7) << k;
 }

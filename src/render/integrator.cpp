@@ -59,9 +59,8 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
     if (!m.normal.empty()) {
       const Framef fr = Framef::from_zx(h.ns, h.tangent);
       const Vec3f bt = fr.t * h.tangent_sign;
-      const Vec3f tn(m.normal_strength * (2 * m.normal.sample(u, v, 0) - 1),
-                     m.normal_strength * (2 * m.normal.sample(u, v, 1) - 1),
-                     2 * m.normal.sample(u, v, 2) - 1);
+      const Rgbf nt = m.normal.sample_rgb(u, v);
+      const Vec3f tn(m.normal_strength * (2 * nt.r - 1), m.normal_strength * (2 * nt.g - 1), 2 * nt.b - 1);
       sp.n_shading = normalize(fr.s * tn.x + bt * tn.y + h.ns * tn.z, h.ns);
     }
   }

@@ -26,20 +26,44 @@ float Texture::texel(int x, int y, int c) const {
   return at(x, y, c < c_ ? c : c_ - 1);
 }
 
-float Texture::sample(float u, float v, int c) const {
-  if (empty()) return 0.0f;
+namespace {
+// Wraps the integer-valued float i into [0, n), exactly for every float: an int64 remainder while
+// |i| < 2^62, the (exact) fmod beyond. Non-finite i gives 0: its bilinear weights are NaN, so is the sample.
+int wrap_index(float i, int n) {
+  if (std::abs(i) < 0x1p62f) {
+    const long long k = static_cast<long long>(i) % n;
+    return int(k < 0 ? k + n : k);
+  }
+  if (!std::isfinite(i)) return 0;
+  const int k = int(std::fmod(i, float(n)));
+  return k < 0 ? k + n : k;
+}
+}  // namespace
+
+// The four texels and weights of a bilinear lookup at (u, v), wrapped once for every channel.
+Texture::Footprint Texture::footprint(float u, float v) const {
   const float x = u * float(w_) - 0.5f, y = v * float(h_) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
-  const float tx = x - fx, ty = y - fy;
-  // Wrap in double-free integer space; large |u| stays exact enough for float textures.
-  const int ix = int(std::fmod(fx, float(w_))), iy = int(std::fmod(fy, float(h_)));
-  const float a = texel(ix, iy, c), b = texel(ix + 1, iy, c), d = texel(ix, iy + 1, c),
-              e = texel(ix + 1, iy + 1, c);
-  return (1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * d + tx * e);
+  const int x0 = wrap_index(fx, w_), y0 = wrap_index(fy, h_);
+  const int x1 = x0 + 1 == w_ ? 0 : x0 + 1, y1 = y0 + 1 == h_ ? 0 : y0 + 1;
+  const auto idx = [&](int xx, int yy) { return (std::size_t(yy) * w_ + xx) * c_; };
+  return {{idx(x0, y0), idx(x1, y0), idx(x0, y1), idx(x1, y1)}, x - fx, y - fy};
+}
+
+float Texture::filter(const Footprint& f, int c) const {
+  const float a = data_[f.i[0] + c], b = data_[f.i[1] + c], d = data_[f.i[2] + c], e = data_[f.i[3] + c];
+  return (1 - f.ty) * ((1 - f.tx) * a + f.tx * b) + f.ty * ((1 - f.tx) * d + f.tx * e);
+}
+
+float Texture::sample(float u, float v, int c) const {
+  if (empty()) return 0.0f;
+  return filter(footprint(u, v), c < c_ ? c : c_ - 1);
 }
 
 Rgbf Texture::sample_rgb(float u, float v) const {
-  return {sample(u, v, 0), sample(u, v, 1), sample(u, v, 2)};
+  if (empty()) return Rgbf(0.0f);
+  const Footprint f = footprint(u, v);
+  return {filter(f, 0), filter(f, c_ > 1 ? 1 : c_ - 1), filter(f, c_ > 2 ? 2 : c_ - 1)};
 }
 
 Texture load_texture(const std::filesystem::path& path, bool srgb) {

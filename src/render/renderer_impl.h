@@ -1,6 +1,6 @@
 // Private to src/render/: the renderer's implementation, split by concern — scene and Embree set-up
-// (scene_setup.cpp), ray-shape intersection (shapes.cpp), lights and BRDF (integrator.cpp), camera and the
-// tile loop (renderer.cpp).
+// (scene_setup.cpp), ray-shape intersection through the one Embree scene (shapes.cpp), lights and BRDF
+// (integrator.cpp), camera and the tile loop (renderer.cpp).
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -58,6 +58,13 @@ struct Renderer::Impl {
   std::vector<int> obj_hf;                       // object → index in hfs or −1
   std::vector<std::shared_ptr<Mesh>> gt_meshes;  // displaced ground-truth meshes (Embree, front faces only)
   std::vector<int> obj_gt_mesh;                  // object → index in gt_meshes or −1
+  // Embree user geometry for the analytic planes and spheres and the height-field planes: one per object,
+  // so every shape is found by the one rtcIntersect1 / rtcOccluded1 (Embree user data points here).
+  struct UserShape {
+    const Impl* impl;
+    int obj;
+  };
+  std::vector<UserShape> user_shapes;
   MicroShadowingTerm ms;
   BumpTerminatorTerm bt;
 
@@ -65,6 +72,19 @@ struct Renderer::Impl {
   ~Impl();
   // Rejects hits on triangles the ray meets from behind (outward winding of the displaced meshes).
   static void front_face_filter(const RTCFilterFunctionNArguments* args);
+  // Embree user-geometry callbacks of the analytic and height-field shapes (shapes.cpp).
+  static void user_bounds(const RTCBoundsFunctionArguments* args);
+  static void user_intersect(const RTCIntersectFunctionNArguments* args);
+  static void user_occluded(const RTCOccludedFunctionNArguments* args);
+  // Closest hit of object i (a plane, sphere or height-field plane) along o + t d, t ∈ (tmin, tmax) (the
+  // height field: [tmin, tmax)). Stores t and, for a flat plane, its (s, r) offsets along tangent and
+  // bitangent; for the height field, the grid-space facet normal.
+  bool shape_hit(int i, const Vec3f& o, const Vec3f& d, float tmin, float tmax, float& t, Vec2f& sr,
+                 Vec3f& ng) const;
+  // Any hit of object i along o + t d, t ∈ (tmin, tmax).
+  bool shape_occluded(int i, const Vec3f& o, const Vec3f& d, float tmin, float tmax) const;
+  // World-space bounds of object i (a plane, sphere or height-field plane), padded.
+  void shape_bounds(int i, RTCBounds& bounds) const;
   void setup_ground_truth(const Scene& s);
   // Closest hit along o + t d, t ∈ (tmin, tmax).
   bool intersect(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Hit& h) const;

@@ -14,19 +14,20 @@ Renderer::Impl::Impl(const Scene& s) : scene(s), ms(s.settings), bt(s.settings.b
   obj_hf.assign(s.objects.size(), -1);
   obj_gt_mesh.assign(s.objects.size(), -1);
   if (s.settings.micro_shadowing == MicroShadowing::GroundTruth) setup_ground_truth(s);
-  bool any_mesh = !gt_meshes.empty();
-  for (const auto& o : s.objects) any_mesh |= o.type == ShapeType::Mesh;
-  if (any_mesh) {
-    device = rtcNewDevice(nullptr);
-    if (!device) throw std::runtime_error("Embree: cannot create a device");
-    rtc = rtcNewScene(device);
-    rtcSetSceneBuildQuality(rtc, RTC_BUILD_QUALITY_HIGH);
-    for (std::size_t i = 0; i < s.objects.size(); ++i) {
-      const Object& o = s.objects[i];
-      const bool gt = obj_gt_mesh[i] >= 0;
-      if (o.type != ShapeType::Mesh && !gt) continue;
+  // One Embree scene holds every shape: meshes as triangles, analytic planes and spheres and the
+  // height-field planes as user geometry (one primitive each), geometry ids in object order.
+  device = rtcNewDevice(nullptr);
+  if (!device) throw std::runtime_error("Embree: cannot create a device");
+  rtc = rtcNewScene(device);
+  rtcSetSceneBuildQuality(rtc, RTC_BUILD_QUALITY_HIGH);
+  user_shapes.reserve(s.objects.size());  // stable addresses: Embree keeps pointers into it
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const Object& o = s.objects[i];
+    const bool gt = obj_gt_mesh[i] >= 0;
+    RTCGeometry g;
+    if (o.type == ShapeType::Mesh || gt) {
       const Mesh& mesh = gt ? *gt_meshes[obj_gt_mesh[i]] : *o.mesh;
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                              3 * sizeof(float), mesh.p.size()));
       for (std::size_t k = 0; k < mesh.p.size(); ++k)
@@ -42,14 +43,22 @@ Renderer::Impl::Impl(const Scene& s) : scene(s), ms(s.settings), bt(s.settings.b
         rtcSetGeometryIntersectFilterFunction(g, front_face_filter);
         rtcSetGeometryOccludedFilterFunction(g, front_face_filter);
       }
-      rtcCommitGeometry(g);
-      const unsigned id = rtcAttachGeometry(rtc, g);
-      rtcReleaseGeometry(g);
-      if (geom_to_obj.size() <= id) geom_to_obj.resize(id + 1, -1);
-      geom_to_obj[id] = int(i);
+    } else {
+      g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+      user_shapes.push_back({this, int(i)});
+      rtcSetGeometryUserPrimitiveCount(g, 1);
+      rtcSetGeometryUserData(g, &user_shapes.back());
+      rtcSetGeometryBoundsFunction(g, user_bounds, nullptr);
+      rtcSetGeometryIntersectFunction(g, user_intersect);
+      rtcSetGeometryOccludedFunction(g, user_occluded);
     }
-    rtcCommitScene(rtc);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(rtc, g);
+    rtcReleaseGeometry(g);
+    if (geom_to_obj.size() <= id) geom_to_obj.resize(id + 1, -1);
+    geom_to_obj[id] = int(i);
   }
+  rtcCommitScene(rtc);
 }
 
 Renderer::Impl::~Impl() {

@@ -12,14 +12,15 @@
 
 namespace msh::render {
 
-class LutSampler;  // render/lut_glue.cpp
+class LutSampler;  // src/render/terms_glue.cpp
 std::shared_ptr<const LutSampler> load_lut_sampler(const std::string& path, bool two_d);
 // cos_phi: relative azimuth of l and v about the normal (used by an azimuth-aware table, else ignored).
 float sample_lut(const LutSampler& lut, float V, float n_dot_l, float n_dot_v, float roughness,
                  float cos_phi);
 
 // The micro-shadowing term: V from the micro-occlusion map; N·L and N·V with the shading (normal-mapped)
-// normal, as the seed's shaders do. Multiplies diffuse and specular of one light.
+// normal, as the shaders of Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2" do.
+// Multiplies diffuse and specular of one light.
 class MicroShadowingTerm {
  public:
   explicit MicroShadowingTerm(const Settings& s)
@@ -57,7 +58,7 @@ class MicroShadowingTerm {
       }
       case MicroShadowing::Lut3d:
       case MicroShadowing::Lut2d: {
-        if (ms::exact_zero(V, nl)) return 0.0f;  // the seed's early-out: no LUT fetch
+        if (ms::exact_zero(V, nl)) return 0.0f;  // Zurita 2026 (Part 2) early-out: no LUT fetch
         // Relative azimuth of the tangent-plane projections of wo and wi (for azimuth-aware tables).
         const Vec3f pv = wo - dot(n, wo) * n, pl = wi - dot(n, wi) * n;
         const float d = std::sqrt(dot(pv, pv) * dot(pl, pl));

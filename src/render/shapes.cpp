@@ -1,71 +1,154 @@
-// Ray–shape intersection: analytic planes and spheres, the ground truth's height-field DDA and Embree meshes.
+// Ray–shape intersection through one Embree scene: meshes (and the ground truth's displaced meshes) as
+// triangles, analytic planes and spheres and the ground truth's height-field DDA as user geometry.
+#include <algorithm>
 #include <cmath>
 
 #include "renderer_impl.h"
 
 namespace msh::render {
 
-// Closest hit along o + t d, t ∈ (tmin, tmax).
+bool Renderer::Impl::shape_hit(int i, const Vec3f& o, const Vec3f& d, float tmin, float tmax, float& t,
+                               Vec2f& sr, Vec3f& ng) const {
+  const Object& ob = scene.objects[i];
+  if (ob.type == ShapeType::Plane) {
+    if (obj_hf[i] >= 0) {
+      const PlaneHF& p = hfs[obj_hf[i]];
+      return p.hf.intersect(p.to_grid_p(o), p.to_grid_d(d), tmin, tmax, p.lo, p.hi, &t, &ng);
+    }
+    const float dn = dot(d, ob.normal);
+    if (std::abs(dn) < 1e-12f) return false;
+    t = dot(ob.center - o, ob.normal) / dn;
+    if (!(t > tmin && t < tmax)) return false;
+    const Vec3f q = o + d * t - ob.center;
+    const Vec3f B = cross(ob.normal, ob.tangent);
+    sr = {dot(q, ob.tangent), dot(q, B)};
+    return std::abs(sr.x) <= ob.half_size.x && std::abs(sr.y) <= ob.half_size.y;
+  }
+  const Vec3f oc = o - ob.center;  // sphere
+  const float a = dot(d, d), b = dot(oc, d), c = dot(oc, oc) - ob.radius * ob.radius;
+  const float disc = b * b - a * c;
+  if (disc < 0) return false;
+  const float sq = std::sqrt(disc);
+  t = (-b - sq) / a;
+  if (!(t > tmin)) t = (-b + sq) / a;
+  return t > tmin && t < tmax;
+}
+
+bool Renderer::Impl::shape_occluded(int i, const Vec3f& o, const Vec3f& d, float tmin, float tmax) const {
+  // Any hit in range is the closest one's existence: a sphere's far root is tested when the near one is
+  // before tmin, and the near root ≤ the far one.
+  float t;
+  Vec2f sr;
+  Vec3f ng;
+  return shape_hit(i, o, d, tmin, tmax, t, sr, ng);
+}
+
+void Renderer::Impl::shape_bounds(int i, RTCBounds& bounds) const {
+  const Object& ob = scene.objects[i];
+  const float inf = detail::kInf;
+  Vec3f lo(inf, inf, inf), hi(-inf, -inf, -inf);
+  auto add = [&](const Vec3f& p) {
+    lo = Vec3f(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+    hi = Vec3f(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+  };
+  if (ob.type == ShapeType::Sphere) {
+    const Vec3f r(ob.radius, ob.radius, ob.radius);
+    add(ob.center - r), add(ob.center + r);
+  } else if (obj_hf[i] >= 0) {
+    // The DDA's clip box: x, y over the plane's grid extent, z over the height slab (one unit per texel),
+    // mapped back to world space.
+    const PlaneHF& p = hfs[obj_hf[i]];
+    for (float gx : {p.lo.x, p.hi.x})
+      for (float gy : {p.lo.y, p.hi.y})
+        for (float gz : {p.hf.z_min(), p.hf.z_max()})
+          add(p.c + p.to_world_d(Vec3f((gx + 0.5f) * p.texel - p.half.x, (gy + 0.5f) * p.texel - p.half.y,
+                                       gz * p.texel)));
+  } else {
+    const Vec3f B = cross(ob.normal, ob.tangent);
+    for (float a : {-1.0f, 1.0f})
+      for (float b : {-1.0f, 1.0f})
+        add(ob.center + ob.tangent * (a * ob.half_size.x) + B * (b * ob.half_size.y));
+  }
+  // Padding: the box only culls; a flat plane's box is flat, and the shape tests round differently from
+  // Embree's box test.
+  const float ext = std::max(
+      {1.0f, std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+  const float pad = 1e-3f * ext;
+  bounds.lower_x = lo.x - pad, bounds.lower_y = lo.y - pad, bounds.lower_z = lo.z - pad;
+  bounds.upper_x = hi.x + pad, bounds.upper_y = hi.y + pad, bounds.upper_z = hi.z + pad;
+}
+
+void Renderer::Impl::user_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto* u = static_cast<const UserShape*>(args->geometryUserPtr);
+  u->impl->shape_bounds(u->obj, *args->bounds_o);
+}
+
+void Renderer::Impl::user_intersect(const RTCIntersectFunctionNArguments* args) {
+  const auto* u = static_cast<const UserShape*>(args->geometryUserPtr);
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+  for (unsigned k = 0; k < args->N; ++k) {
+    if (args->valid[k] != -1) continue;
+    const Vec3f o(RTCRayN_org_x(ray, args->N, k), RTCRayN_org_y(ray, args->N, k),
+                  RTCRayN_org_z(ray, args->N, k));
+    const Vec3f d(RTCRayN_dir_x(ray, args->N, k), RTCRayN_dir_y(ray, args->N, k),
+                  RTCRayN_dir_z(ray, args->N, k));
+    float t;
+    Vec2f sr;
+    Vec3f ng;
+    if (!u->impl->shape_hit(u->obj, o, d, RTCRayN_tnear(ray, args->N, k), RTCRayN_tfar(ray, args->N, k), t,
+                            sr, ng))
+      continue;
+    RTCRayN_tfar(ray, args->N, k) = t;
+    RTCHitN_u(hit, args->N, k) = sr.x, RTCHitN_v(hit, args->N, k) = sr.y;
+    RTCHitN_Ng_x(hit, args->N, k) = ng.x, RTCHitN_Ng_y(hit, args->N, k) = ng.y;
+    RTCHitN_Ng_z(hit, args->N, k) = ng.z;
+    RTCHitN_primID(hit, args->N, k) = args->primID;
+    RTCHitN_geomID(hit, args->N, k) = args->geomID;
+    RTCHitN_instID(hit, args->N, k, 0) = args->context->instID[0];
+  }
+}
+
+void Renderer::Impl::user_occluded(const RTCOccludedFunctionNArguments* args) {
+  const auto* u = static_cast<const UserShape*>(args->geometryUserPtr);
+  for (unsigned k = 0; k < args->N; ++k) {
+    if (args->valid[k] != -1) continue;
+    RTCRayN* ray = args->ray;
+    const Vec3f o(RTCRayN_org_x(ray, args->N, k), RTCRayN_org_y(ray, args->N, k),
+                  RTCRayN_org_z(ray, args->N, k));
+    const Vec3f d(RTCRayN_dir_x(ray, args->N, k), RTCRayN_dir_y(ray, args->N, k),
+                  RTCRayN_dir_z(ray, args->N, k));
+    if (u->impl->shape_occluded(u->obj, o, d, RTCRayN_tnear(ray, args->N, k), RTCRayN_tfar(ray, args->N, k)))
+      RTCRayN_tfar(ray, args->N, k) = -detail::kInf;
+  }
+}
+
+// Closest hit along o + t d, t ∈ (tmin, tmax): one Embree query over every shape, then the hit's frame.
 bool Renderer::Impl::intersect(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Hit& h) const {
-  h.t = tmax;
-  bool found = false;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& ob = scene.objects[i];
-    if (obj_gt_mesh[i] >= 0) continue;  // traced by Embree
-    if (ob.type == ShapeType::Plane) {
-      if (obj_hf[i] >= 0) {
-        const PlaneHF& p = hfs[obj_hf[i]];
-        float t;
-        Vec3f ng;
-        if (p.hf.intersect(p.to_grid_p(o), p.to_grid_d(d), tmin, h.t, p.lo, p.hi, &t, &ng)) {
-          h.t = t, h.obj = int(i), h.heightfield = h.gt = true, found = true;
-          h.ng = normalize(p.to_world_d(ng));
-        }
-        continue;
-      }
-      const float dn = dot(d, ob.normal);
-      if (std::abs(dn) < 1e-12f) continue;
-      const float t = dot(ob.center - o, ob.normal) / dn;
-      if (!(t > tmin && t < h.t)) continue;
-      const Vec3f q = o + d * t - ob.center;
-      const Vec3f B = cross(ob.normal, ob.tangent);
-      const float s = dot(q, ob.tangent), r = dot(q, B);
-      if (std::abs(s) > ob.half_size.x || std::abs(r) > ob.half_size.y) continue;
-      h.t = t, h.obj = int(i), h.heightfield = h.gt = false, found = true;
-      h.ng = h.ns = ob.normal;
-      h.tangent = ob.tangent, h.tangent_sign = 1;
-      h.uv = {(s + ob.half_size.x) / (2 * ob.half_size.x), (r + ob.half_size.y) / (2 * ob.half_size.y)};
-    } else if (ob.type == ShapeType::Sphere) {
-      const Vec3f oc = o - ob.center;
-      const float a = dot(d, d), b = dot(oc, d), c = dot(oc, oc) - ob.radius * ob.radius;
-      const float disc = b * b - a * c;
-      if (disc < 0) continue;
-      const float sq = std::sqrt(disc);
-      float t = (-b - sq) / a;
-      if (!(t > tmin)) t = (-b + sq) / a;
-      if (!(t > tmin && t < h.t)) continue;
-      h.t = t, h.obj = int(i), h.heightfield = h.gt = false, found = true;
-    }
-  }
-  if (rtc) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRayHit rh{};
-    rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
-    rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
-    rh.ray.tnear = tmin, rh.ray.tfar = h.t, rh.ray.mask = 0xFFFFFFFFu, rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtc, &ctx, &rh);
-    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < h.t) {
-      h.t = rh.ray.tfar, h.obj = geom_to_obj[rh.hit.geomID], h.prim = int(rh.hit.primID), found = true;
-      h.heightfield = false;
-      h.gt = obj_gt_mesh[h.obj] >= 0;
-      h.bary = {1 - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};
-    }
-  }
-  if (!found) return false;
-  h.p = o + d * h.t;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh{};
+  rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
+  rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+  rh.ray.tnear = tmin, rh.ray.tfar = tmax, rh.ray.mask = 0xFFFFFFFFu, rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || !(rh.ray.tfar < tmax)) return false;
+  h.t = rh.ray.tfar, h.obj = geom_to_obj[rh.hit.geomID], h.prim = int(rh.hit.primID);
   const Object& ob = scene.objects[h.obj];
+  h.gt = obj_gt_mesh[h.obj] >= 0 || obj_hf[h.obj] >= 0;
+  h.heightfield = obj_hf[h.obj] >= 0;
+  if (ob.type == ShapeType::Mesh || obj_gt_mesh[h.obj] >= 0) {
+    h.bary = {1 - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};
+  } else if (h.heightfield) {
+    h.ng = normalize(hfs[obj_hf[h.obj]].to_world_d(Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)));
+  } else if (ob.type == ShapeType::Plane) {
+    const float s = rh.hit.u, r = rh.hit.v;
+    h.ng = h.ns = ob.normal;
+    h.tangent = ob.tangent, h.tangent_sign = 1;
+    h.uv = {(s + ob.half_size.x) / (2 * ob.half_size.x), (r + ob.half_size.y) / (2 * ob.half_size.y)};
+  }
+  h.p = o + d * h.t;
   if (ob.type == ShapeType::Sphere) {
     const Vec3f n = normalize(h.p - ob.center);
     h.ng = h.ns = n;
@@ -115,44 +198,13 @@ bool Renderer::Impl::intersect(const Vec3f& o, const Vec3f& d, float tmin, float
 
 // Any hit along o + t d, t ∈ (tmin, tmax).
 bool Renderer::Impl::occluded(const Vec3f& o, const Vec3f& d, float tmin, float tmax) const {
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& ob = scene.objects[i];
-    if (obj_gt_mesh[i] >= 0) continue;  // traced by Embree
-    if (ob.type == ShapeType::Plane) {
-      if (obj_hf[i] >= 0) {
-        const PlaneHF& p = hfs[obj_hf[i]];
-        float t;
-        if (p.hf.intersect(p.to_grid_p(o), p.to_grid_d(d), tmin, tmax, p.lo, p.hi, &t, nullptr)) return true;
-        continue;
-      }
-      const float dn = dot(d, ob.normal);
-      if (std::abs(dn) < 1e-12f) continue;
-      const float t = dot(ob.center - o, ob.normal) / dn;
-      if (!(t > tmin && t < tmax)) continue;
-      const Vec3f q = o + d * t - ob.center;
-      if (std::abs(dot(q, ob.tangent)) <= ob.half_size.x &&
-          std::abs(dot(q, cross(ob.normal, ob.tangent))) <= ob.half_size.y)
-        return true;
-    } else if (ob.type == ShapeType::Sphere) {
-      const Vec3f oc = o - ob.center;
-      const float a = dot(d, d), b = dot(oc, d), c = dot(oc, oc) - ob.radius * ob.radius;
-      const float disc = b * b - a * c;
-      if (disc < 0) continue;
-      const float sq = std::sqrt(disc);
-      const float t0 = (-b - sq) / a, t1 = (-b + sq) / a;
-      if ((t0 > tmin && t0 < tmax) || (t1 > tmin && t1 < tmax)) return true;
-    }
-  }
-  if (rtc) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRay r{};
-    r.org_x = o.x, r.org_y = o.y, r.org_z = o.z, r.dir_x = d.x, r.dir_y = d.y, r.dir_z = d.z;
-    r.tnear = tmin, r.tfar = tmax, r.mask = 0xFFFFFFFFu, r.flags = 0;
-    rtcOccluded1(rtc, &ctx, &r);
-    if (r.tfar < 0) return true;
-  }
-  return false;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r{};
+  r.org_x = o.x, r.org_y = o.y, r.org_z = o.z, r.dir_x = d.x, r.dir_y = d.y, r.dir_z = d.z;
+  r.tnear = tmin, r.tfar = tmax, r.mask = 0xFFFFFFFFu, r.flags = 0;
+  rtcOccluded1(rtc, &ctx, &r);
+  return r.tfar < 0;
 }
 
 }  // namespace msh::render

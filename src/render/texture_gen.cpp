@@ -173,7 +173,8 @@ void finish_set(TextureSet& s, const GenOptions& opt) {
   s.visibility = bake_visibility(s.height, s.depth_texels, opt.ao_rays, maxd);
 }
 
-// The seed's test roughness: rough on the left half, smooth on the right half (noise breaks banding).
+// The test roughness of Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2": rough on the
+// left half, smooth on the right half (noise breaks banding).
 float split_roughness(const GenOptions& opt, float u, float noise) {
   return saturate((u < 0.5f ? opt.rough_left : opt.rough_right) + noise);
 }

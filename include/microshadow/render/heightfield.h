@@ -18,7 +18,9 @@ class HeightField {
 
   int width() const { return w_; }
   int height() const { return h_; }
-  float z(int i, int j) const;  // wraps
+  float z(int i, int j) const;           // wraps
+  float z_min() const { return zmin_; }  // lowest and highest vertex height
+  float z_max() const { return zmax_; }
   // Smooth normal at grid point (x, y): bilinear blend of the central-difference vertex normals (what the
   // generated normal map stores at texel centres).
   Vec3f smooth_normal(float x, float y) const;

@@ -30,9 +30,16 @@ class Texture {
   float texel(int x, int y, int c) const;
   // Bilinear sample of channel c (channel index clamped to the last one) at (u, v), wrap addressing.
   float sample(float u, float v, int c = 0) const;
+  // Channels 0, 1, 2 (each clamped to the last channel) of the bilinear sample at (u, v).
   Rgbf sample_rgb(float u, float v) const;
 
  private:
+  struct Footprint {
+    std::array<std::size_t, 4> i;  // data offsets of texels (x0, y0), (x1, y0), (x0, y1), (x1, y1)
+    float tx, ty;                  // bilinear weights of x1 and y1
+  };
+  Footprint footprint(float u, float v) const;
+  float filter(const Footprint& f, int c) const;
   int w_ = 0, h_ = 0, c_ = 0;
   std::vector<float> data_;
 };
@@ -47,10 +54,11 @@ struct Material {
   std::string name;
   Texture base_color;  // linear RGB
   Texture normal;  // tangent space, encoded n·0.5 + 0.5; x = +u (tangent), y = +v (bitangent); empty = flat
-  Texture roughness;   // perceptual roughness r (α = r²)
-  Texture metallic;    // 0 = dielectric (F0 = 0.04), 1 = metal (F0 = base colour)
-  Texture visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, docs/micro-shadowing.md)
-  Texture height;      // [0,1]; empty = no displacement
+  Texture roughness;  // perceptual roughness r (α = r²)
+  Texture metallic;   // 0 = dielectric (F0 = 0.04), 1 = metal (F0 = base colour)
+  Texture
+      visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, docs/micro-shadowing.md)
+  Texture height;  // [0,1]; empty = no displacement
   float height_texels = 0.0f;    // depth of the full height range in texel units (ground truth only)
   float uv_scale = 1.0f;         // texture repeats per unit of the object's uv
   float specular = 1.0f;         // dielectric F0 = 0.04 · specular (0 = pure Lambert, for closed-form tests)
@@ -154,8 +162,8 @@ struct Settings {
   MicroShadowing micro_shadowing = MicroShadowing::None;
   int vndf_samples = 32;
   // Normal for the micro-shadowing term's N·L and N·V: false = the shading (normal-mapped) normal, as the
-  // shaders of Zurita 2026 do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion bake's
-  // cone uses.
+  // shaders of Zurita 2026 do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion
+  // bake's cone uses.
   bool ms_smooth_normal = false;
   BumpTerminator bump_terminator = BumpTerminator::Off;
   bool hanika_offset = false;
