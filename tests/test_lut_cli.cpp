@@ -7,6 +7,7 @@
 #include <microshadow/lut/micro_shadowing_baker.h>
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
+#include <support/cli_test_util.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,14 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path p = fs::path(MSH_BINARY_DIR) / "lut_cli_tmp" /
-               (std::string(info->name()) + "." + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+fs::path scratch() { return msh::test::scratch_dir("lut_cli_tmp"); }
 
 struct CliResult {
   int code;

@@ -8,6 +8,7 @@
 #include <microshadow/lut/micro_shadowing_verify.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/reference/micro_shadowing_ring.h>
+#include <support/cli_test_util.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -249,31 +250,10 @@ TEST(Verify, SamplerWeightBitsGiveHardwareWeights) {
 // ----------------------------------------------------------------------------------------------------------
 // CLI
 
-fs::path scratch() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path p = fs::path(MSH_BINARY_DIR) / "lut_verify_tmp" /
-               (std::string(info->name()) + "." + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-struct CliResult {
-  int code;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-CliResult run(const std::string& args, const fs::path& dir) {
-  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " > " + (dir / "stdout.txt").string() +
-                          " 2> " + (dir / "stderr.txt").string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stdout.txt"), slurp(dir / "stderr.txt")};
-}
+fs::path scratch() { return msh::test::scratch_dir("lut_verify_tmp"); }
+using msh::test::CliResult;
+using msh::test::slurp;
+CliResult run(const std::string& args, const fs::path& dir) { return msh::test::run_cli(args, dir); }
 
 nlohmann::json without_seconds(const std::string& text) {
   nlohmann::json j = nlohmann::json::parse(text);

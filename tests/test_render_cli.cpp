@@ -2,6 +2,7 @@
 // exit code 2 and no output file; output is bit-identical whatever --threads is.
 #include <gtest/gtest.h>
 #include <microshadow/render/image.h>
+#include <support/cli_test_util.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -16,20 +17,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string err;
-};
-
-Result run(const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / "msh_render_cli_stderr.txt";
-  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " > /dev/null 2> " + err.string();
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(err);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
-}
+using Result = msh::test::CliResult;
+Result run(const std::string& args) { return msh::test::run_cli(args); }
 
 // Runs the CLI and parses the JSON it prints on stdout (null if the command fails or prints no JSON).
 nlohmann::json run_json(const std::string& args) {

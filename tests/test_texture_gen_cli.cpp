@@ -3,6 +3,7 @@
 // material.json depth), thread-count independence, and bad input (one error line, exit 2, no output).
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
+#include <support/cli_test_util.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -19,20 +20,8 @@ using namespace msh;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string err;
-};
-
-Result run(const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / "msh_texture_gen_cli_stderr.txt";
-  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " > /dev/null 2> " + err.string();
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(err);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
-}
+using Result = msh::test::CliResult;
+Result run(const std::string& args) { return msh::test::run_cli(args); }
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
