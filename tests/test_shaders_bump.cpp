@@ -20,12 +20,7 @@ namespace vk = msh::test::vk;
 
 namespace {
 
-std::string read_source(const std::string& rel) {
-  std::ifstream f(std::string(MSH_SOURCE_DIR) + "/" + rel);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using vk::read_source;
 
 // Compute kernels around the library: one record = (ng, ns, l) as vec4s → (conty, chiang, conty+test,
 // chiang+test); a second entry evaluates the Hanika offset: (p, p0, p1, p2, n0, n1, n2, b) → p'.

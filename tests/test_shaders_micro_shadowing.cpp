@@ -27,12 +27,7 @@ namespace vk = msh::test::vk;
 
 namespace {
 
-std::string read_source(const std::string& rel) {
-  std::ifstream f(std::string(MSH_SOURCE_DIR) + "/" + rel);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using vk::read_source;
 
 constexpr int kOut = 8;        // vec4 outputs per record
 constexpr uint32_t kSeed = 7;  // Sobol seed for the point check (0 = plain sequence also checked)

@@ -21,12 +21,7 @@ namespace vk = msh::test::vk;
 
 namespace {
 
-std::string read_source(const std::string& rel) {
-  std::ifstream f(std::string(MSH_SOURCE_DIR) + "/" + rel);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using vk::read_source;
 
 const char* kGlslMain = R"(
 layout(local_size_x = 64) in;

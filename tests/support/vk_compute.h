@@ -17,6 +17,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -71,5 +73,13 @@ class Context {
   Impl* impl_ = nullptr;
   std::string device_name_;
 };
+
+// A shader source file of the repository, read whole (path relative to the source tree).
+inline std::string read_source(const std::string& rel) {
+  std::ifstream f(std::string(MSH_SOURCE_DIR) + "/" + rel);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
 
 }  // namespace msh::test::vk
