@@ -1,9 +1,12 @@
-# The browser viewer (`microshadow view`, docs/viewer.md): cpp-httplib (header-only, Debian libcpp-httplib-dev)
+# The browser viewer (`microshadow view`, docs/viewer.md): cpp-httplib (Debian libcpp-httplib-dev)
 # for src/view/, the source tree's path for the view command only (the library builds identically from any
 # checkout), and install rules: the page and the GLSL files go to <prefix>/share/microshadow, where the
 # installed binary looks for them.
-find_path(MSH_HTTPLIB_INCLUDE_DIR httplib.h REQUIRED)
-target_include_directories(microshadow PRIVATE ${MSH_HTTPLIB_INCLUDE_DIR})
+# Debian builds it in split mode (the header declares, libcpp-httplib.so defines), with TLS, zlib and brotli:
+# its pkg-config flags are needed for the same class layouts as the library's.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(MSH_HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+target_link_libraries(microshadow PRIVATE PkgConfig::MSH_HTTPLIB)
 set_source_files_properties(${CMAKE_SOURCE_DIR}/src/cli/cmd_view.cpp PROPERTIES
   COMPILE_DEFINITIONS MSH_VIEW_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 

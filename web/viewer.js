@@ -156,7 +156,7 @@ void main() {
   float term = lit ? view_term(m, vis, nl, nv, rough, alpha, cos_phi, v, l) : 0.0;
   float bump = lit ? view_bump(u_bump, ng, ns, wl) : 0.0;
   if (u_mode == 2) { o_color = vec4(vis, nl, nv, rough); return; }  // probe: inputs (float target)
-  if (u_mode == 3) { o_color = vec4(term, cos_phi, bump, lit ? 1.0 : 0.0); return; }
+  if (u_mode == 3) { o_color = vec4(term, cos_phi, bump, lit ? 1.0 : 0.5); return; }
   if (u_mode == 4) { o_color = vec4(v, 1.0); return; }
   if (u_mode == 5) { o_color = vec4(l, 1.0); return; }
   if (u_mode == 1) { o_color = vec4(vec3(term), 1.0); return; }  // the term, linear grey
@@ -334,7 +334,7 @@ class Viewer {
     this.setScene(s.scene);
     gl.viewport(0, 0, w, h);
     gl.enable(gl.DEPTH_TEST);
-    gl.clearColor(0.05, 0.05, 0.06, 1);
+    if (ov.mode !== undefined) gl.clearColor(0, 0, 0, 0); else gl.clearColor(0.05, 0.05, 0.06, 1);  // probe: alpha 0 = background
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
     gl.useProgram(this.prog);
     const target = SCENES[s.scene].target;
@@ -390,12 +390,15 @@ class Viewer {
   }
 
   offscreen(w, h, float) {
-    const gl = this.gl, key = `${w}x${h}:${float}`;
-    if (this.fbo && this.fbo.key === key) return this.fbo;
-    if (this.fbo) { gl.deleteFramebuffer(this.fbo.fb); gl.deleteTexture(this.fbo.tex); gl.deleteRenderbuffer(this.fbo.depth); }
+    const gl = this.gl, key = `${w}x${h}`;
+    this.fbos = this.fbos || {};
+    const old = this.fbos[float];
+    if (old && old.key === key) return old;
+    if (old) { gl.deleteFramebuffer(old.fb); gl.deleteTexture(old.tex); gl.deleteRenderbuffer(old.depth); }
     const tex = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, tex);
     gl.texStorage2D(gl.TEXTURE_2D, 1, float ? gl.RGBA32F : gl.RGBA8, w, h);
+    gl.bindTexture(gl.TEXTURE_2D, null);  // never left on a unit the program samples (a feedback loop)
     const depth = gl.createRenderbuffer();
     gl.bindRenderbuffer(gl.RENDERBUFFER, depth);
     gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT24, w, h);
@@ -404,41 +407,56 @@ class Viewer {
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
     gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, depth);
     if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) throw new Error('offscreen framebuffer incomplete');
-    this.fbo = { key, fb, tex, depth };
-    return this.fbo;
+    this.fbos[float] = { key, fb, tex, depth };
+    return this.fbos[float];
   }
 
-  // One pixel (x, y from the top-left, canvas pixels) rendered with an override into an offscreen target.
-  readPixel(x, y, ov, float) {
+  // Pixels (x, y from the top-left, canvas pixels) rendered with an override into an offscreen target: one
+  // pixel under a scissor, several from one full frame.
+  readPoints(pts, ov, float) {
     const gl = this.gl, w = this.canvas.width, h = this.canvas.height;
     const f = this.offscreen(w, h, float);
     gl.bindFramebuffer(gl.FRAMEBUFFER, f.fb);
-    gl.enable(gl.SCISSOR_TEST);
-    gl.scissor(x, h - 1 - y, 1, 1);
+    const one = pts.length === 1;
+    if (one) {
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(pts[0][0], h - 1 - pts[0][1], 1, 1);
+    }
     this.draw(this.state, w, h, ov);
     gl.disable(gl.SCISSOR_TEST);
-    const out = float ? new Float32Array(4) : new Uint8Array(4);
-    gl.readPixels(x, h - 1 - y, 1, 1, gl.RGBA, float ? gl.FLOAT : gl.UNSIGNED_BYTE, out);
+    const [x0, y0, rw, rh] = one ? [pts[0][0], h - 1 - pts[0][1], 1, 1] : [0, 0, w, h];
+    const buf = float ? new Float32Array(rw * rh * 4) : new Uint8Array(rw * rh * 4);
+    gl.readPixels(x0, y0, rw, rh, gl.RGBA, float ? gl.FLOAT : gl.UNSIGNED_BYTE, buf);
+    const err = gl.getError();
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    return Array.from(out);
+    if (err !== gl.NO_ERROR) throw new Error(`WebGL error 0x${err.toString(16)} reading pixels`);
+    return pts.map(([x, y]) => {
+      const i = one ? 0 : 4 * ((h - 1 - y) * w + x);
+      return Array.from(buf.subarray(i, i + 4));
+    });
   }
 
-  // The probe: the shader's inputs at the pixel and every method's value there (float32 render targets).
-  probe(x, y) {
+  // The probe: the shader's inputs at each pixel and every method's value there (float32 render targets), and
+  // with term8 each method's 8-bit "term" display output.
+  probeMany(pts, term8 = false) {
     if (!this.floatTargets) throw new Error('the probe needs EXT_color_buffer_float (float render targets)');
-    const [vis, nl, nv, rough] = this.readPixel(x, y, { mode: 2, method: 0 }, true);
-    const [, cos_phi, bump, lit] = this.readPixel(x, y, { mode: 3, method: 0 }, true);
-    const v = this.readPixel(x, y, { mode: 4, method: 0 }, true).slice(0, 3);
-    const l = this.readPixel(x, y, { mode: 5, method: 0 }, true).slice(0, 3);
-    const values = {};
-    this.methods.forEach((m, k) => { values[m.id] = this.readPixel(x, y, { mode: 3, method: k }, true)[0]; });
-    return { x, y, visibility: vis, ndotl: nl, ndotv: nv, roughness: rough, cos_phi, bump, lit: lit > 0.5, v, l, samples: this.state.samples, values };
+    const inputs = this.readPoints(pts, { mode: 2, method: 0 }, true);
+    const extra = this.readPoints(pts, { mode: 3, method: 0 }, true);
+    const vs = this.readPoints(pts, { mode: 4, method: 0 }, true), ls = this.readPoints(pts, { mode: 5, method: 0 }, true);
+    const per = this.methods.map((m, k) => this.readPoints(pts, { mode: 3, method: k }, true));
+    const per8 = term8 ? this.methods.map((m, k) => this.readPoints(pts, { mode: 1, method: k }, false)) : null;
+    return pts.map(([x, y], i) => {
+      const [vis, nl, nv, rough] = inputs[i], [, cos_phi, bump, hit] = extra[i];
+      if (!(hit > 0)) return { x, y, hit: false, lit: false };
+      const values = {}, t8 = {};
+      this.methods.forEach((m, k) => { values[m.id] = per[k][i][0]; if (per8) t8[m.id] = per8[k][i][0]; });
+      const p = { x, y, hit: true, visibility: vis, ndotl: nl, ndotv: nv, roughness: rough, cos_phi, bump, lit: hit > 0.75,
+        v: vs[i].slice(0, 3), l: ls[i].slice(0, 3), samples: this.state.samples, values };
+      if (per8) p.term8 = t8;
+      return p;
+    });
   }
-
-  // The term of method id at the pixel as 8-bit output (the "term" display written to an RGBA8 target).
-  term8(x, y, id) {
-    return this.readPixel(x, y, { mode: 1, method: this.methodIndex(id) }, false)[0];
-  }
+  probe(x, y) { return this.probeMany([[x, y]])[0]; }
 }
 
 // ---- UI
@@ -537,7 +555,7 @@ async function main() {
     if (drag && !drag.moved) {
       const r = canvas.getBoundingClientRect();
       const x = Math.floor((e.clientX - r.left) * canvas.width / r.width), y = Math.floor((e.clientY - r.top) * canvas.height / r.height);
-      try { $('probe').textContent = formatProbe(viewer.probe(x, y), viewer); } catch (err) { showError(err.message); }
+      try { const p = viewer.probe(x, y); $('probe').textContent = p.hit ? formatProbe(p, viewer) : `pixel (${x}, ${y}): background`; } catch (err) { showError(err.message); }
     }
     drag = null;
   });
@@ -551,7 +569,7 @@ async function main() {
   // For scripts (the browser test, the frame-time bench): set controls, render synchronously, probe.
   window.mshViewer = {
     ready: Promise.resolve(true),
-    methods: viewer.methods.map((x) => ({ id: x.id, label: x.label, lut: x.lut || null })),
+    methods: viewer.methods.map((x) => ({ id: x.id, label: x.label, lut: x.lut || null, cpp: x.cpp || null })),
     bumps: viewer.bumps.map((x) => x.id),
     manifest: viewer.manifest,
     set(s) { writeControls(s); viewer.state = readControls(); labels(); },
@@ -567,7 +585,7 @@ async function main() {
       return (performance.now() - t0) / n;
     },
     probe(x, y) { return viewer.probe(x, y); },
-    term8(x, y, id) { return viewer.term8(x, y, id); },
+    probeMany(pts, term8) { return viewer.probeMany(pts, term8); },
     size() { return [canvas.width, canvas.height]; },
   };
 }

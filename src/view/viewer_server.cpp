@@ -234,9 +234,9 @@ Content build_content(const ViewerOptions& o) {
   Content c;
   c.manifest = {{"version", MSH_VERSION}};
   const bool builtin = o.material.empty();
-  add_material(builtin ? ensure_plaster(o.cache.empty() ? default_cache_dir() : o.cache) : o.material, builtin,
-               c.data, c.manifest);
+  if (!builtin) add_material(o.material, false, c.data, c.manifest);  // cheap checks first
   add_luts(o, c.data, c.manifest);
+  if (builtin) add_material(ensure_plaster(o.cache.empty() ? default_cache_dir() : o.cache), true, c.data, c.manifest);
   return c;
 }
 
@@ -322,17 +322,6 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
   const std::string host = o.host == "localhost" ? "127.0.0.1" : o.host == "[::1]" ? "::1" : o.host;
   const bool static_root = !o.root.empty();
   Content content;
-  if (static_root) {
-    if (!o.material.empty() || !o.lut.empty())
-      throw InputError("--root serves a static copy as is: --material and --lut do not apply");
-    if (!fs::is_regular_file(o.root / "index.html") || !fs::is_regular_file(o.root / "data" / "manifest.json"))
-      throw InputError(fmt::format("'{}' is not a viewer copy (no index.html, data/manifest.json; write one with "
-                                   "microshadow view --export DIR)",
-                                   o.root.string()));
-  } else {
-    content = build_content(o);
-  }
-
   httplib::Server svr;
   // Only SO_REUSEADDR: httplib's default SO_REUSEPORT would let a second server share a port in use.
   svr.set_socket_options([](socket_t sock) {
@@ -393,6 +382,18 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
     throw InputError(fmt::format("cannot listen on {} port {}: {}", host, o.port,
                                  err ? std::strerror(err) : "bind failed"));
   }
+  // Bound first (a port in use fails at once), then the content (the tables take a few seconds).
+  if (static_root) {
+    if (!o.material.empty() || !o.lut.empty())
+      throw InputError("--root serves a static copy as is: --material and --lut do not apply");
+    if (!fs::is_regular_file(o.root / "index.html") || !fs::is_regular_file(o.root / "data" / "manifest.json"))
+      throw InputError(fmt::format("'{}' is not a viewer copy (no index.html, data/manifest.json; write one with "
+                                   "microshadow view --export DIR)",
+                                   o.root.string()));
+  } else {
+    content = build_content(o);
+  }
+
   const std::string url =
       host.find(':') != std::string::npos ? fmt::format("http://[{}]:{}/", host, port) : fmt::format("http://{}:{}/", host, port);
   on_ready(url);
