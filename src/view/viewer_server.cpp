@@ -293,6 +293,11 @@ void export_viewer(const ViewerOptions& o, const fs::path& out) {
       if (!f) throw InputError(fmt::format("cannot write '{}'", (tmp / path).string()));
     }
     std::ofstream(tmp / "data" / "manifest.json") << man.dump(1) << "\n";
+    std::ofstream(tmp / "README.txt")
+        << "microshadow viewer, static copy (docs/viewer.md). Serve it over HTTP on this machine, then open the URL:\n"
+           "  microshadow view --root " << out.string() << "\n"
+           "  or any static server, e.g. python3 -m http.server --bind 127.0.0.1 -d " << out.string() << " 8080\n"
+           "Opening index.html from file:// does not work: browsers refuse fetch() of file URLs.\n";
   } catch (const fs::filesystem_error& e) {
     fs::remove_all(tmp, ec);
     throw InputError(fmt::format("cannot write the viewer copy '{}': {}", out.string(), e.what()));

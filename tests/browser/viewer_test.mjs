@@ -35,7 +35,9 @@ const CONFIGS = [
 ];
 const GRID = [8, 6];  // probe points per configuration: a grid over its region (background ones dropped)
 
-const results = { url, errors: [], configs: [], screenshots: [], banner: {} };
+const results = { url, errors: [], configs: [], screenshots: [], banner: {}, timing: {} };
+const T0 = Date.now();
+const mark = (k) => { results.timing[k] = (Date.now() - T0) / 1000; };
 const browser = await chromium.launch({ executablePath: exe, headless: true, args: CHROMIUM_ARGS });
 try {
   const page = await browser.newPage({ viewport: { width: 1100, height: 760 } });
@@ -45,6 +47,7 @@ try {
   await page.waitForFunction(() => window.mshViewer !== undefined, null, { timeout: 120000 });
   const ok = await page.evaluate(() => window.mshViewer.ready);
   results.loaded = ok;
+  mark('loaded');
   if (!ok) results.errors.push(`page: ${await page.evaluate(() => window.mshViewer.error)}`);
   if (ok) {
     results.methods = await page.evaluate(() => window.mshViewer.methods);
@@ -70,11 +73,12 @@ try {
           pts.push([Math.floor(W * (rx0 + (rx1 - rx0) * (i + 0.5) / GRID[0])), Math.floor(H * (ry0 + (ry1 - ry0) * (j + 0.5) / GRID[1]))]);
       c.probes = (await page.evaluate((p) => window.mshViewer.probeMany(p, true), pts)).filter((p) => p.hit);
       results.configs.push(c);
+      mark(cfg.name);
     }
     // The A/B split in the shaded display, and the specular-only toggle: screenshots.
     await page.evaluate(([w, h]) => window.mshViewer.resize(w, h), [960, 540]);
     for (const [name, s] of [['split-shaded', { display: 'shaded', split: true, method_a: 'chan-2018', method_b: 'lut3d' }],
-      ['split-specular', { component: 'specular' }], ['all-three', { scene: 'all', component: 'both', cam_dist: 7, cam_el: 25 }]]) {
+      ['split-specular', { display: 'shaded', split: true, method_a: 'chan-2018', method_b: 'lut3d', component: 'specular' }], ['all-three', { display: 'shaded', scene: 'all', cam_dist: 7, cam_el: 25 }]]) {
       const err = await page.evaluate((st) => { window.mshViewer.set(st); return window.mshViewer.render(); }, { ...CONFIGS[0].state, ...s });
       if (err !== 0) results.errors.push(`gl error ${err} (${name})`);
       const file = path.join(out, `viewer_${name}.png`);
@@ -91,6 +95,7 @@ try {
       return s / (3 * 255 * c.width * c.height);
     });
   }
+  mark('screens');
   await page.close();
 
   // Error banners: no WebGL2 (getContext('webgl2') -> null), and a failed fetch (the manifest answers 404).
@@ -111,6 +116,7 @@ try {
     await p.screenshot({ path: path.join(out, `viewer_banner_${kind}.png`) });
     await p.close();
   }
+  mark('banners');
 } catch (e) {
   results.errors.push(`driver: ${e.message}`);
 } finally {
