@@ -1,12 +1,13 @@
-// The browser viewer (`microshadow view`, docs/viewer.md). Server: refuses non-loopback hosts, a port in use, a
-// missing texture set and tables the shaders cannot sample (exit 2, one line); exports a static copy and serves
-// it with --root; stops cleanly (exit 0) on SIGINT. Browser: headless Debian chromium with SwiftShader WebGL2,
-// driven by tests/browser/viewer_test.mjs (playwright-core, `npm ci` in tests/browser by
+// The browser viewer (`microshadow view`, docs/viewer.md). Server: refuses non-loopback hosts, a port in use,
+// a missing texture set and tables the shaders cannot sample (exit 2, one line); exports a static copy and
+// serves it with --root; stops cleanly (exit 0) on SIGINT. Browser: headless Debian chromium with SwiftShader
+// WebGL2, driven by tests/browser/viewer_test.mjs (playwright-core, `npm ci` in tests/browser by
 // scripts/install-deps.sh): it loads the page, switches through every method, probes fixed configurations and
-// this test compares each method's shader value at the probe's own inputs (V, N·L, N·V, roughness, cos φ, v, l
-// read back from float32 render targets) with the C++ library, in float and as 8-bit output; no console errors;
-// error banners for a missing WebGL2 and a failed fetch. Fails without chromium/node/playwright-core unless
-// MSH_ALLOW_NO_BROWSER=1 (then skips), as the shader tests do without Vulkan.
+// this test compares each method's shader value at the probe's own inputs (V, N·L, N·V, roughness, cos φ, v,
+// l read back from float32 render targets) with the C++ library, in float and as 8-bit output; no console
+// errors; error banners for a missing WebGL2 and a failed fetch. Fails without chromium/node/playwright-core
+// unless MSH_ALLOW_NO_BROWSER=1 (then skips), as the shader tests do without Vulkan.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <microshadow/lut/micro_shadowing_analysis.h>
 #include <microshadow/microfacet/ggx.h>
@@ -20,7 +21,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <arpa/inet.h>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -49,21 +49,22 @@ std::string chromium_path() {
 
 // Why the browser test cannot run here ("" = it can).
 std::string missing_browser() {
-  if (access(chromium_path().c_str(), X_OK) != 0) return "no chromium at " + chromium_path() + " (Debian package chromium)";
+  if (access(chromium_path().c_str(), X_OK) != 0)
+    return "no chromium at " + chromium_path() + " (Debian package chromium)";
   if (std::system("node --version > /dev/null 2>&1") != 0) return "no node on PATH (Debian package nodejs)";
   if (!fs::exists(kBrowserDir / "node_modules" / "playwright-core" / "package.json"))
     return "playwright-core is not installed: run `npm ci` in tests/browser (scripts/install-deps.sh does)";
   return "";
 }
 
-#define REQUIRE_BROWSER()                                                                         \
-  do {                                                                                            \
-    const std::string why = missing_browser();                                                    \
-    if (!why.empty()) {                                                                           \
-      const char* allow = std::getenv("MSH_ALLOW_NO_BROWSER");                                    \
-      if (allow && std::string(allow) == "1") GTEST_SKIP() << why;                                \
-      FAIL() << why << " (set MSH_ALLOW_NO_BROWSER=1 to skip the browser test)";                  \
-    }                                                                                             \
+#define REQUIRE_BROWSER()                                                        \
+  do {                                                                           \
+    const std::string why = missing_browser();                                   \
+    if (!why.empty()) {                                                          \
+      const char* allow = std::getenv("MSH_ALLOW_NO_BROWSER");                   \
+      if (allow && std::string(allow) == "1") GTEST_SKIP() << why;               \
+      FAIL() << why << " (set MSH_ALLOW_NO_BROWSER=1 to skip the browser test)"; \
+    }                                                                            \
   } while (0)
 
 int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
@@ -176,7 +177,8 @@ TEST(ViewerServer, RefusesAPortInUse) {
   socklen_t len = sizeof(a);
   getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
   const int port = ntohs(a.sin_port);
-  const auto r = run_cli("view --port " + std::to_string(port) + " --cache " + kCache.string(), scratch_dir("viewer"));
+  const auto r =
+      run_cli("view --port " + std::to_string(port) + " --cache " + kCache.string(), scratch_dir("viewer"));
   close(fd);
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
@@ -193,7 +195,9 @@ TEST(ViewerServer, RefusesBadTexturesAndTables) {
   };
   expect_one_line("--material " + (dir / "nothing").string(), "no material.json");
   // A texture set whose normal map is missing.
-  ASSERT_EQ(run_cli("gen-material --kind plaster --size 16 --ao-rays 2 --out " + (dir / "m").string(), dir).code, 0);
+  ASSERT_EQ(
+      run_cli("gen-material --kind plaster --size 16 --ao-rays 2 --out " + (dir / "m").string(), dir).code,
+      0);
   fs::remove(dir / "m" / "normal.png");
   expect_one_line("--material " + (dir / "m").string(), "normal texture");
   // A seed-layout table (the viewer's GLSL samples the cone layout) and a cone table whose sidecar does not
@@ -204,11 +208,13 @@ TEST(ViewerServer, RefusesBadTexturesAndTables) {
                 .code,
             0);
   expect_one_line("--lut " + (dir / "seed.npy").string(), "seed-layout");
-  ASSERT_EQ(run_cli("bake micro-shadowing --size-t 4 --size-nl 4 --size-nv 2 --roughness-slabs 2 --samples 16 "
-                    "--phi-nodes 2 --quiet --out " + (dir / "cone.npy").string(),
-                    dir)
-                .code,
-            0);
+  ASSERT_EQ(
+      run_cli("bake micro-shadowing --size-t 4 --size-nl 4 --size-nv 2 --roughness-slabs 2 --samples 16 "
+              "--phi-nodes 2 --quiet --out " +
+                  (dir / "cone.npy").string(),
+              dir)
+          .code,
+      0);
   std::string side = slurp(dir / "cone.npy.json");
   const auto p = side.find("\"size_n_dot_l\"");
   ASSERT_NE(p, std::string::npos) << side;
@@ -230,9 +236,9 @@ TEST(ViewerServer, ExportsAStaticCopyAndServesIt) {
             slurp(fs::path(MSH_SOURCE_DIR) / "shaders/glsl/micro_shadowing.glsl"));
   const auto man = nlohmann::json::parse(slurp(copy / "data/manifest.json"));
   const auto& L = man["luts"]["lut3d"];
-  EXPECT_EQ(fs::file_size(copy / "data/lut3d.f16"),
-            std::size_t(L["size"][0].get<int>()) * L["size"][1].get<int>() * L["size"][2].get<int>() *
-                L["channels"].get<int>() * 2);
+  EXPECT_EQ(fs::file_size(copy / "data/lut3d.f16"), std::size_t(L["size"][0].get<int>()) *
+                                                        L["size"][1].get<int>() * L["size"][2].get<int>() *
+                                                        L["channels"].get<int>() * 2);
 
   Server s = start_server({"--root", copy.string(), "--port", "0"}, dir);
   ASSERT_FALSE(s.url.empty());
@@ -242,6 +248,27 @@ TEST(ViewerServer, ExportsAStaticCopyAndServesIt) {
   EXPECT_NE(http_get(s.url, "/../CMakeLists.txt").first.find("404"), std::string::npos);
   EXPECT_NE(http_get(s.url, "/data/nothing.bin").first.find("404"), std::string::npos);
   EXPECT_EQ(stop_server(s, SIGTERM), 0) << slurp(s.err);
+}
+
+// Every shaders/glsl/*.glsl file compiles as GLSL ES 3.00 (WebGL2), the way the page concatenates them (all
+// files, sorted, one fragment shader), with glslangValidator: a check that needs no browser.
+TEST(ViewerShaders, GlslFilesCompileAsGlslEs300) {
+  const fs::path dir = scratch_dir("viewer");
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(fs::path(MSH_SOURCE_DIR) / "shaders" / "glsl"))
+    if (e.path().extension() == ".glsl") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 3u);
+  std::string src =
+      "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
+      "precision highp sampler3D;\n";
+  for (const auto& f : files) src += slurp(f) + "\n";
+  src += "out vec4 o;\nvoid main() { o = vec4(1.0); }\n";
+  std::ofstream(dir / "all.frag") << src;
+  const int rc = std::system(
+      ("glslangValidator " + (dir / "all.frag").string() + " > " + (dir / "log.txt").string() + " 2>&1")
+          .c_str());
+  EXPECT_EQ(rc, 0) << slurp(dir / "log.txt");
 }
 
 // ---- the browser ---------------------------------------------------------------------------------------
@@ -258,9 +285,9 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
   fs::remove_all(shots);
   Server s = start_server({"--port", "0", "--cache", kCache.string()}, dir);
   ASSERT_FALSE(s.url.empty());
-  const std::string cmd = "cd " + kBrowserDir.string() + " && node viewer_test.mjs --url " + s.url + " --out " +
-                          shots.string() + " --chromium " + chromium_path() + " > " + (dir / "node.out").string() +
-                          " 2>&1";
+  const std::string cmd = "cd " + kBrowserDir.string() + " && node viewer_test.mjs --url " + s.url +
+                          " --out " + shots.string() + " --chromium " + chromium_path() + " > " +
+                          (dir / "node.out").string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   // Ctrl-C: a clean exit.
   EXPECT_EQ(stop_server(s), 0) << slurp(s.err);
@@ -272,16 +299,17 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
   EXPECT_TRUE(res["banner"]["no-webgl2"]["visible"].get<bool>());
   EXPECT_NE(res["banner"]["no-webgl2"]["text"].get<std::string>().find("WebGL2"), std::string::npos);
   EXPECT_TRUE(res["banner"]["fetch-fails"]["visible"].get<bool>());
-  EXPECT_NE(res["banner"]["fetch-fails"]["text"].get<std::string>().find("could not load"), std::string::npos);
+  EXPECT_NE(res["banner"]["fetch-fails"]["text"].get<std::string>().find("could not load"),
+            std::string::npos);
   EXPECT_GT(res["shadedMean"].get<double>(), 0.03) << "the shaded view is (nearly) black";
   for (const auto& f : res["screenshots"]) EXPECT_TRUE(fs::is_regular_file(f.get<std::string>())) << f;
 
   // Every GLSL term the project has is offered (none dropped because its function or table went missing).
   std::vector<std::string> ids;
   for (const auto& m : res["methods"]) ids.push_back(m["id"]);
-  for (const char* want : {"none", "ao", "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic",
-                           "generic-vndf", "generic-vndf-alu", "generic-vndf-alu-two-stage", "lut3d", "lut2d",
-                           "lut-azimuth"})
+  for (const char* want :
+       {"none", "ao", "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic", "generic-vndf",
+        "generic-vndf-alu", "generic-vndf-alu-two-stage", "lut3d", "lut2d", "lut-azimuth"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
 
   std::map<std::string, std::unique_ptr<occlusion::MicroShadowingEvaluator>> evaluators;
@@ -296,7 +324,8 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
         continue;
       }
       ++lit;
-      const float V = p["visibility"], nl = p["ndotl"], nv = p["ndotv"], r = p["roughness"], cphi = p["cos_phi"];
+      const float V = p["visibility"], nl = p["ndotl"], nv = p["ndotv"], r = p["roughness"],
+                  cphi = p["cos_phi"];
       ASSERT_TRUE(V >= 0 && V <= 1 && nl >= 0 && nl <= 1 && nv >= 0 && nv <= 1 && r >= 0 && r <= 1);
       const Vec3f v(p["v"][0].get<float>(), p["v"][1].get<float>(), p["v"][2].get<float>());
       const Vec3f l(p["l"][0].get<float>(), p["l"][1].get<float>(), p["l"][2].get<float>());
@@ -312,7 +341,8 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
           if (c.value("frame", false)) {
             // The Sobol estimator at the pixel's own v and l (it is not rotation-invariant about n).
             const float a = r * r;
-            want = ms::generic_vndf_estimate<float>(V, GGX<float>(a, a), v, l, n, ms::G2Form::HeightCorrelated, 1u);
+            want = ms::generic_vndf_estimate<float>(V, GGX<float>(a, a), v, l, n,
+                                                    ms::G2Form::HeightCorrelated, 1u);
             tol = 2.0 / n + 1e-4, tol8 = 1.0 / 255 + 2.0 / n;
             exact = ms::generic_vndf_exact(V, double(a), double(a), Vec3d(v), Vec3d(l));
           } else if (c.value("two_stage", false)) {
@@ -328,12 +358,14 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
           if (method.rfind("lut", 0) == 0 || method == "generic-vndf-alu") {
             // Tables: half floats in the texture (2^-11 relative) and the GPU's filter weights.
             if (method.rfind("lut", 0) == 0) tol = 1e-3, tol8 = 2.0 / 255;
-            exact = c.value("phi", false)
-                        ? ms::generic_vndf_exact(V, double(r) * r, double(r) * r, lut::study_view_dir(nv),
-                                                 lut::study_light_dir(nl, phi))
-                        : ms::generic_vndf_exact_azimuth_mean(V, double(r) * r, nl, method == "lut2d" ? 1.0 : nv);
+            exact =
+                c.value("phi", false)
+                    ? ms::generic_vndf_exact(V, double(r) * r, double(r) * r, lut::study_view_dir(nv),
+                                             lut::study_light_dir(nl, phi))
+                    : ms::generic_vndf_exact_azimuth_mean(V, double(r) * r, nl, method == "lut2d" ? 1.0 : nv);
           }
-          if (method == "reference" && std::abs(double(nl) - std::sqrt(1.0 - V)) < 1e-4) continue;  // boundary
+          if (method == "reference" && std::abs(double(nl) - std::sqrt(1.0 - V)) < 1e-4)
+            continue;  // boundary
         }
         EXPECT_NEAR(got, want, tol) << id << " at V=" << V << " N.L=" << nl << " N.V=" << nv << " r=" << r
                                     << " cos_phi=" << cphi << " (" << cfg["name"] << ")";
@@ -348,9 +380,10 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
     EXPECT_GE(lit, 6) << cfg["name"] << ": too few lit probe pixels for a meaningful comparison";
     lit_total += lit;
   }
-  std::printf("viewer: %d lit probe pixels; |shader - C++| per method (float32 target / 8-bit output), and vs the "
-              "exact generic term where one applies:\n",
-              lit_total);
+  std::printf(
+      "viewer: %d lit probe pixels; |shader - C++| per method (float32 target / 8-bit output), and vs the "
+      "exact generic term where one applies:\n",
+      lit_total);
   for (const auto& [id, st] : stats)
     std::printf("  %-28s n=%3d  float %.2e  8-bit %.2f/255  vs exact %s\n", id.c_str(), st.n, st.max_float,
                 st.max_8bit * 255, st.max_vs_exact > 0 ? std::to_string(st.max_vs_exact).c_str() : "-");

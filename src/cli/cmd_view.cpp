@@ -37,7 +37,8 @@ fs::path find_assets() {
       if (has_assets(d)) return d;
   }
   throw UsageError(
-      "cannot find the viewer's files (web/index.html, shaders/glsl/): neither the source tree this binary was "
+      "cannot find the viewer's files (web/index.html, shaders/glsl/): neither the source tree this binary "
+      "was "
       "built from nor <prefix>/share/microshadow has them");
 }
 
@@ -48,12 +49,13 @@ struct ViewArgs {
 
 void register_view(Groups& g) {
   auto a = std::make_shared<ViewArgs>();
-  CLI::App* c = g.root->add_subcommand(
-      "view",
-      "Interactive micro-shadowing viewer in the browser (WebGL2, the project's GLSL and tables): serves it on "
-      "127.0.0.1 and prints the URL; Ctrl-C stops it. See docs/viewer.md");
-  c->add_option("--material", a->material, "Texture set: a gen-material folder (default: the built-in plaster, "
-                                           "generated once into the cache directory)");
+  CLI::App* c = g.root->add_subcommand("view",
+                                       "Interactive micro-shadowing viewer in the browser (WebGL2, the "
+                                       "project's GLSL and tables): serves it on "
+                                       "127.0.0.1 and prints the URL; Ctrl-C stops it. See docs/viewer.md");
+  c->add_option("--material", a->material,
+                "Texture set: a gen-material folder (default: the built-in plaster, "
+                "generated once into the cache directory)");
   c->add_option("--lut", a->lut,
                 "A cone-layout table (bake micro-shadowing, with its .json sidecar) replacing the default of "
                 "its kind (3D, 2D or azimuth-aware)");
@@ -61,10 +63,12 @@ void register_view(Groups& g) {
   c->add_option("--host", a->o.host, "Loopback address to bind (127.0.0.1, ::1 or localhost; nothing else)")
       ->capture_default_str();
   c->add_option("--root", a->root, "Serve this static copy (written by --export, e.g. out/viewer) as is");
-  c->add_option("--export", a->exp, "Write a static copy of the page, GLSL files, textures and tables to DIR "
-                                    "and exit (any static HTTP server can serve it)");
-  c->add_option("--cache", a->cache, "Cache directory for the built-in plaster (default $XDG_CACHE_HOME/"
-                                     "microshadow or ~/.cache/microshadow)");
+  c->add_option("--export", a->exp,
+                "Write a static copy of the page, GLSL files, textures and tables to DIR "
+                "and exit (any static HTTP server can serve it)");
+  c->add_option("--cache", a->cache,
+                "Cache directory for the built-in plaster (default $XDG_CACHE_HOME/"
+                "microshadow or ~/.cache/microshadow)");
   c->callback([a] {
     // Before any thread starts (the table bake uses TBB): SIGINT/SIGTERM go to the server's stop thread.
     view::block_stop_signals();
@@ -73,10 +77,6 @@ void register_view(Groups& g) {
     o.lut = a->lut;
     o.root = a->root;
     o.cache = a->cache;
-    if (!view::is_loopback_host(o.host))
-      throw UsageError(fmt::format("--host must be a loopback address (127.0.0.1, ::1 or localhost): the viewer "
-                                   "serves this machine only; got '{}'",
-                                   o.host));
     if (!a->exp.empty()) {
       if (!a->root.empty()) throw UsageError("--export and --root are exclusive");
       o.assets = find_assets();

@@ -1,4 +1,5 @@
 // The browser viewer's content and HTTP server (docs/viewer.md). cpp-httplib (header-only) serves it.
+#include <Imath/half.h>
 #include <fmt/format.h>
 #include <httplib.h>
 #include <microshadow/io/atomic_file.h>
@@ -13,7 +14,6 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <Imath/half.h>
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -78,7 +78,8 @@ fs::path ensure_plaster(const fs::path& cache) {
   if (fs::exists(dir / "material.json")) return dir;
   std::error_code ec;
   fs::create_directories(cache, ec);
-  if (ec) throw InputError(fmt::format("cannot create the cache directory '{}': {}", cache.string(), ec.message()));
+  if (ec)
+    throw InputError(fmt::format("cannot create the cache directory '{}': {}", cache.string(), ec.message()));
   fmt::print(stderr, "microshadow view: generating the built-in plaster texture set ({}x{}, once) in '{}'\n",
              kPlasterSize, kPlasterSize, dir.string());
   render::GenOptions g;
@@ -101,16 +102,18 @@ fs::path ensure_plaster(const fs::path& cache) {
 void add_material(const fs::path& dir, bool builtin, std::map<std::string, Blob>& data, nlohmann::json& man) {
   const fs::path mj = dir / "material.json";
   if (!fs::is_regular_file(mj))
-    throw InputError(fmt::format("'{}' is not a texture set: no material.json (make one with microshadow "
-                                 "gen-material --out DIR)",
-                                 dir.string()));
+    throw InputError(
+        fmt::format("'{}' is not a texture set: no material.json (make one with microshadow "
+                    "gen-material --out DIR)",
+                    dir.string()));
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(read_bytes(mj));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("'{}': not valid JSON ({})", mj.string(), e.what()));
   }
-  nlohmann::json m = {{"name", builtin ? fmt::format("plaster (built-in, {}²)", kPlasterSize) : dir.string()}};
+  nlohmann::json m = {
+      {"name", builtin ? fmt::format("plaster (built-in, {}²)", kPlasterSize) : dir.string()}};
   for (const char* key : {"base_color", "normal", "roughness", "metallic", "micro_occlusion"}) {
     const bool optional = std::string(key) == "metallic";
     if (!j.contains(key) || !j[key].is_string()) {
@@ -121,9 +124,11 @@ void add_material(const fs::path& dir, bool builtin, std::map<std::string, Blob>
     if (!fs::is_regular_file(f))
       throw InputError(fmt::format("'{}': the {} texture '{}' is missing", mj.string(), key, f.string()));
     std::string ext = f.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     if (ext != ".png")
-      throw InputError(fmt::format("'{}': the viewer reads PNG textures only (browsers decode no EXR)", f.string()));
+      throw InputError(
+          fmt::format("'{}': the viewer reads PNG textures only (browsers decode no EXR)", f.string()));
     (void)io::read_image(f);  // InputError naming the file if it does not decode
     const std::string url = fmt::format("data/material/{}.png", key);
     data[url] = {read_bytes(f), "image/png"};
@@ -183,18 +188,21 @@ void add_luts(const ViewerOptions& o, std::map<std::string, Blob>& data, nlohman
   if (!o.lut.empty()) {
     user = std::make_unique<lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(o.lut));
     if (user->layout != lut::LutLayout::Cone)
-      throw InputError(fmt::format("'{}' is a seed-layout table; the viewer samples cone-layout tables "
-                                   "(bake micro-shadowing --layout cone, the default)",
-                                   o.lut.string()));
+      throw InputError(
+          fmt::format("'{}' is a seed-layout table; the viewer samples cone-layout tables "
+                      "(bake micro-shadowing --layout cone, the default)",
+                      o.lut.string()));
     if (!default_cone_params(user->cone))
-      throw InputError(fmt::format("'{}' was baked with non-default cone warps or roughness range; the "
-                                   "viewer's GLSL (shaders/glsl/micro_shadowing.glsl) has the defaults as "
-                                   "constants",
-                                   o.lut.string()));
+      throw InputError(
+          fmt::format("'{}' was baked with non-default cone warps or roughness range; the "
+                      "viewer's GLSL (shaders/glsl/micro_shadowing.glsl) has the defaults as "
+                      "constants",
+                      o.lut.string()));
     const int n_nv = user->volume.depth / std::max(1, user->n_rough);
     user_slot = user->harmonics > 0 ? "lut_azimuth" : n_nv == 1 ? "lut2d" : "lut3d";
     if (user_slot == "lut_azimuth" && n_nv == 1)
-      throw InputError(fmt::format("'{}': a 2D azimuth-aware table is not supported by the viewer", o.lut.string()));
+      throw InputError(
+          fmt::format("'{}': a 2D azimuth-aware table is not supported by the viewer", o.lut.string()));
   }
   for (const Slot s : {Slot{"lut3d", false, 0}, Slot{"lut2d", true, 0}, Slot{"lut_azimuth", false, 3}}) {
     if (s.name == user_slot) {
@@ -236,15 +244,17 @@ Content build_content(const ViewerOptions& o) {
   const bool builtin = o.material.empty();
   if (!builtin) add_material(o.material, false, c.data, c.manifest);  // cheap checks first
   add_luts(o, c.data, c.manifest);
-  if (builtin) add_material(ensure_plaster(o.cache.empty() ? default_cache_dir() : o.cache), true, c.data, c.manifest);
+  if (builtin)
+    add_material(ensure_plaster(o.cache.empty() ? default_cache_dir() : o.cache), true, c.data, c.manifest);
   return c;
 }
 
 void check_host(const std::string& host) {
   if (!is_loopback_host(host))
-    throw InputError(fmt::format("--host must be a loopback address (127.0.0.1, ::1 or localhost): the viewer "
-                                 "serves this machine only; got '{}'",
-                                 host));
+    throw InputError(
+        fmt::format("--host must be a loopback address (127.0.0.1, ::1 or localhost): the viewer "
+                    "serves this machine only; got '{}'",
+                    host));
 }
 
 }  // namespace
@@ -266,7 +276,8 @@ fs::path default_cache_dir() {
 }
 
 void export_viewer(const ViewerOptions& o, const fs::path& out) {
-  if (!o.root.empty()) throw InputError("--export writes a static copy from the source files; not with --root");
+  if (!o.root.empty())
+    throw InputError("--export writes a static copy from the source files; not with --root");
   Content c = build_content(o);
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
   std::error_code ec;
@@ -286,7 +297,8 @@ void export_viewer(const ViewerOptions& o, const fs::path& out) {
     nlohmann::json man = c.manifest;
     man["glsl"] = glsl_files(o.assets / "shaders" / "glsl");
     for (const auto& g : man["glsl"])
-      fs::copy_file(o.assets / "shaders" / "glsl" / g.get<std::string>(), tmp / "shaders" / "glsl" / g.get<std::string>());
+      fs::copy_file(o.assets / "shaders" / "glsl" / g.get<std::string>(),
+                    tmp / "shaders" / "glsl" / g.get<std::string>());
     for (const auto& [path, blob] : c.data) {
       std::ofstream f(tmp / path, std::ios::binary);
       f.write(blob.bytes.data(), std::streamsize(blob.bytes.size()));
@@ -294,9 +306,14 @@ void export_viewer(const ViewerOptions& o, const fs::path& out) {
     }
     std::ofstream(tmp / "data" / "manifest.json") << man.dump(1) << "\n";
     std::ofstream(tmp / "README.txt")
-        << "microshadow viewer, static copy (docs/viewer.md). Serve it over HTTP on this machine, then open the URL:\n"
-           "  microshadow view --root " << out.string() << "\n"
-           "  or any static server, e.g. python3 -m http.server --bind 127.0.0.1 -d " << out.string() << " 8080\n"
+        << "microshadow viewer, static copy (docs/viewer.md). Serve it over HTTP on this machine, then open "
+           "the URL:\n"
+           "  microshadow view --root "
+        << out.string()
+        << "\n"
+           "  or any static server, e.g. python3 -m http.server --bind 127.0.0.1 -d "
+        << out.string()
+        << " 8080\n"
            "Opening index.html from file:// does not work: browsers refuse fetch() of file URLs.\n";
   } catch (const fs::filesystem_error& e) {
     fs::remove_all(tmp, ec);
@@ -323,7 +340,8 @@ void block_stop_signals() {
 
 void serve(const ViewerOptions& o, const std::function<void(const std::string& url)>& on_ready) {
   check_host(o.host);
-  if (o.port < 0 || o.port > 65535) throw InputError(fmt::format("--port must be in [0, 65535], got {}", o.port));
+  if (o.port < 0 || o.port > 65535)
+    throw InputError(fmt::format("--port must be in [0, 65535], got {}", o.port));
   const std::string host = o.host == "localhost" ? "127.0.0.1" : o.host == "[::1]" ? "::1" : o.host;
   const bool static_root = !o.root.empty();
   Content content;
@@ -354,9 +372,9 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
         return;
       }
     }
-    const fs::path file = static_root                          ? o.root / p
+    const fs::path file = static_root                        ? o.root / p
                           : p.rfind("shaders/glsl/", 0) == 0 ? o.assets / p
-                                                               : o.assets / "web" / p;
+                                                             : o.assets / "web" / p;
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) {
       res.status = 404;
@@ -382,8 +400,8 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
   if (!bound) {
     const int err = errno;
     if (err == EADDRINUSE)
-      throw InputError(fmt::format("port {} on {} is in use (choose another with --port, or 0 for any free port)",
-                                   o.port, host));
+      throw InputError(fmt::format(
+          "port {} on {} is in use (choose another with --port, or 0 for any free port)", o.port, host));
     throw InputError(fmt::format("cannot listen on {} port {}: {}", host, o.port,
                                  err ? std::strerror(err) : "bind failed"));
   }
@@ -391,16 +409,18 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
   if (static_root) {
     if (!o.material.empty() || !o.lut.empty())
       throw InputError("--root serves a static copy as is: --material and --lut do not apply");
-    if (!fs::is_regular_file(o.root / "index.html") || !fs::is_regular_file(o.root / "data" / "manifest.json"))
-      throw InputError(fmt::format("'{}' is not a viewer copy (no index.html, data/manifest.json; write one with "
-                                   "microshadow view --export DIR)",
-                                   o.root.string()));
+    if (!fs::is_regular_file(o.root / "index.html") ||
+        !fs::is_regular_file(o.root / "data" / "manifest.json"))
+      throw InputError(
+          fmt::format("'{}' is not a viewer copy (no index.html, data/manifest.json; write one with "
+                      "microshadow view --export DIR)",
+                      o.root.string()));
   } else {
     content = build_content(o);
   }
 
-  const std::string url =
-      host.find(':') != std::string::npos ? fmt::format("http://[{}]:{}/", host, port) : fmt::format("http://{}:{}/", host, port);
+  const std::string url = host.find(':') != std::string::npos ? fmt::format("http://[{}]:{}/", host, port)
+                                                              : fmt::format("http://{}:{}/", host, port);
   on_ready(url);
 
   // SIGINT / SIGTERM (blocked in every thread) are taken here and stop the server: a clean return.
