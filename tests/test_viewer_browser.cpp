@@ -9,7 +9,7 @@
 // unless MSH_ALLOW_NO_BROWSER=1 (then skips), as the shader tests do without Vulkan.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>

@@ -4,7 +4,6 @@
 //   microshadow view --root out/viewer            (serve a static copy as is)
 //   microshadow view --export out/viewer          (write the static copy and exit)
 #include <fmt/format.h>
-#include <microshadow/view/viewer_server.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -12,6 +11,7 @@
 #include <memory>
 #include <system_error>
 
+#include "../view/viewer_server.h"
 #include "common.h"
 
 namespace msh::cli {

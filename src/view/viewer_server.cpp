@@ -1,14 +1,15 @@
 // The browser viewer's content and HTTP server (docs/viewer.md). cpp-httplib (header-only) serves it.
+#include "viewer_server.h"
+
 #include <Imath/half.h>
 #include <fmt/format.h>
 #include <httplib.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/render/texture_gen.h>
-#include <microshadow/view/viewer_server.h>
 #include <pthread.h>
 #include <signal.h>
 #include <sys/socket.h>
