@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/microfacet/ggx.h>
+#include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
@@ -312,6 +313,11 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
         "generic-vndf-alu", "generic-vndf-alu-two-stage", "lut3d", "lut2d", "lut-azimuth"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
 
+  std::vector<std::string> bumps;
+  for (const auto& b : res["bumps"]) bumps.push_back(b);
+  for (const char* want : {"none", "conty-2019", "chiang-2019"})
+    EXPECT_NE(std::find(bumps.begin(), bumps.end(), want), bumps.end()) << want;
+
   std::map<std::string, std::unique_ptr<occlusion::MicroShadowingEvaluator>> evaluators;
   std::map<std::string, Stat> stats;
   int lit_total = 0;
@@ -374,6 +380,28 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
         st.max_float = std::max(st.max_float, std::abs(got - want));
         st.max_8bit = std::max(st.max_8bit, std::abs(got8 - want));
         if (exact >= 0) st.max_vs_exact = std::max(st.max_vs_exact, std::abs(got - exact));
+        ++st.n;
+      }
+    }
+    // The bump-terminator terms at the pixel's own normals and light direction (world space), C++ float.
+    for (const auto& p : cfg["probes"]) {
+      if (!p["lit"].get<bool>()) continue;
+      auto vec = [&](const char* k) {
+        return Vec3f(p[k][0].get<float>(), p[k][1].get<float>(), p[k][2].get<float>());
+      };
+      const Vec3f ng = vec("ng"), ns = vec("ns"), wl = vec("wl");
+      const auto test = p["bump_hemi"].get<bool>() ? bump::HemisphereTest::kOn : bump::HemisphereTest::kOff;
+      for (const auto& id : res["bumps"]) {
+        bump::Method m = bump::Method::kNone;
+        double want = 1;
+        if (id != "none") {
+          ASSERT_TRUE(bump::parse_method(id.get<std::string>(), m)) << id;
+          want = bump::term(m, ng, ns, wl, test);
+        }
+        const double got = p["bumps"][id.get<std::string>()];
+        EXPECT_NEAR(got, want, 1e-4) << id << " (" << cfg["name"] << ")";
+        Stat& st = stats["bump " + id.get<std::string>()];
+        st.max_float = std::max(st.max_float, std::abs(got - want));
         ++st.n;
       }
     }

@@ -159,6 +159,9 @@ void main() {
   if (u_mode == 3) { o_color = vec4(term, cos_phi, bump, lit ? 1.0 : 0.5); return; }
   if (u_mode == 4) { o_color = vec4(v, 1.0); return; }
   if (u_mode == 5) { o_color = vec4(l, 1.0); return; }
+  if (u_mode == 6) { o_color = vec4(ng, 1.0); return; }
+  if (u_mode == 7) { o_color = vec4(ns, 1.0); return; }
+  if (u_mode == 8) { o_color = vec4(wl, 1.0); return; }
   if (u_mode == 1) { o_color = vec4(vec3(term), 1.0); return; }  // the term, linear grey
   // Lambert + GGX (height-correlated Smith, Schlick Fresnel), Real-Time Rendering 4th ed., eqs. 9.41, 9.42, 9.16.
   vec3 h = normalize(wl + wo);
@@ -355,7 +358,7 @@ class Viewer {
     gl.uniform1i(L.u_method_b, s.split && ov.method === undefined ? mb : ma);
     gl.uniform1f(L.u_split, s.split && ov.method === undefined ? s.split_pos * w : -10);
     gl.uniform1i(L.u_samples, s.samples);
-    gl.uniform1i(L.u_bump, Math.max(0, this.bumps.findIndex((b) => b.id === s.bump)));
+    gl.uniform1i(L.u_bump, ov.bump !== undefined ? ov.bump : Math.max(0, this.bumps.findIndex((b) => b.id === s.bump)));
     gl.uniform1i(L.u_bump_hemi, s.bump_hemi ? 1 : 0);
     gl.uniform1f(L.u_rough_override, s.rough_on ? s.rough : -1);
     gl.uniform1f(L.u_vis_override, s.vis_on ? s.vis : -1);
@@ -444,6 +447,8 @@ class Viewer {
     const extra = this.readPoints(pts, { mode: 3, method: 0 }, true);
     const vs = this.readPoints(pts, { mode: 4, method: 0 }, true), ls = this.readPoints(pts, { mode: 5, method: 0 }, true);
     const per = this.methods.map((m, k) => this.readPoints(pts, { mode: 3, method: k }, true));
+    const world = [6, 7, 8].map((mode) => this.readPoints(pts, { mode, method: 0 }, true));
+    const perBump = this.bumps.map((b, k) => this.readPoints(pts, { mode: 3, method: 0, bump: k }, true));
     const per8 = term8 ? this.methods.map((m, k) => this.readPoints(pts, { mode: 1, method: k }, false)) : null;
     return pts.map(([x, y], i) => {
       const [vis, nl, nv, rough] = inputs[i], [, cos_phi, bump, hit] = extra[i];
@@ -452,6 +457,10 @@ class Viewer {
       this.methods.forEach((m, k) => { values[m.id] = per[k][i][0]; if (per8) t8[m.id] = per8[k][i][0]; });
       const p = { x, y, hit: true, visibility: vis, ndotl: nl, ndotv: nv, roughness: rough, cos_phi, bump, lit: hit > 0.75,
         v: vs[i].slice(0, 3), l: ls[i].slice(0, 3), samples: this.state.samples, values };
+      p.ng = world[0][i].slice(0, 3); p.ns = world[1][i].slice(0, 3); p.wl = world[2][i].slice(0, 3);
+      p.bump_hemi = !!this.state.bump_hemi;
+      p.bumps = {};
+      this.bumps.forEach((b, k) => { p.bumps[b.id] = perBump[k][i][2]; });
       if (per8) p.term8 = t8;
       return p;
     });
@@ -491,6 +500,7 @@ function formatProbe(p, viewer) {
   const f = (x) => (typeof x === 'number' ? x.toFixed(4) : String(x));
   const lines = [`pixel (${p.x}, ${p.y})${p.lit ? '' : '  (not lit: N_g·L or N·L <= 0)'}`,
     `V ${f(p.visibility)}  N·L ${f(p.ndotl)}  N·V ${f(p.ndotv)}`, `roughness ${f(p.roughness)}  cos φ ${f(p.cos_phi)}  bump ${f(p.bump)}`, ''];
+  lines.push(`bump terminator: ${viewer.bumps.map((b) => `${b.id} ${f(p.bumps[b.id])}`).join(', ')}`, '');
   for (const m of viewer.methods) lines.push(`${f(p.values[m.id])}  ${m.label}${m.id === 'generic-vndf' ? ` (N = ${p.samples})` : ''}`);
   return lines.join('\n');
 }

@@ -28,10 +28,10 @@ export const CHROMIUM_ARGS = ['--use-angle=swiftshader', '--enable-unsafe-swifts
 const W = 480, H = 270;
 // Fixed configurations: camera, light and material controls (docs/viewer.md lists the controls).
 const CONFIGS = [
-  { name: 'plane-directional', state: { scene: 'plane', cam_el: 40, cam_az: 0, cam_dist: 4, light_type: 'directional', light_el: 25, light_az: 30, tiling: 2, normal_strength: 1, rough_on: false, vis_on: false, samples: 32, split: false, display: 'term', bump: 'none' } },
-  { name: 'plane-flat-visibility', state: { scene: 'plane', cam_el: 55, cam_az: 30, cam_dist: 3.5, light_type: 'directional', light_el: 40, light_az: -40, tiling: 2, normal_strength: 0, rough_on: false, vis_on: true, vis: 0.45, samples: 32, split: false, display: 'term', bump: 'none' } },
-  { name: 'sphere-point', state: { scene: 'sphere', cam_el: 30, cam_az: 20, cam_dist: 3.5, light_type: 'point', light_el: 35, light_az: -60, light_dist: 2.5, tiling: 2, normal_strength: 1.5, rough_on: true, rough: 0.55, vis_on: true, vis: 0.8, samples: 16, split: false, display: 'term', bump: 'conty-2019' }, region: [0.3, 0.1, 0.7, 0.9] },
-  { name: 'cylinder-grazing', state: { scene: 'cylinder', cam_el: 15, cam_az: 0, cam_dist: 4.5, light_type: 'directional', light_el: 8, light_az: 70, tiling: 2, normal_strength: 1, rough_on: false, vis_on: true, vis: 0.62, samples: 64, split: false, display: 'term', bump: 'chiang-2019' }, region: [0.3, 0.1, 0.7, 0.9] },
+  { name: 'plane-directional', state: { scene: 'plane', cam_el: 40, cam_az: 0, cam_dist: 4, light_type: 'directional', light_el: 25, light_az: 30, tiling: 2, normal_strength: 1, rough_on: false, vis_on: false, samples: 32, split: false, display: 'term', bump: 'none', bump_hemi: false } },
+  { name: 'plane-flat-visibility', state: { scene: 'plane', cam_el: 55, cam_az: 30, cam_dist: 3.5, light_type: 'directional', light_el: 40, light_az: -40, tiling: 2, normal_strength: 0, rough_on: false, vis_on: true, vis: 0.45, samples: 32, split: false, display: 'term', bump: 'none', bump_hemi: false } },
+  { name: 'sphere-point', state: { scene: 'sphere', cam_el: 30, cam_az: 20, cam_dist: 3.5, light_type: 'point', light_el: 35, light_az: -60, light_dist: 2.5, tiling: 2, normal_strength: 1.5, rough_on: true, rough: 0.55, vis_on: true, vis: 0.8, samples: 16, split: false, display: 'term', bump: 'conty-2019', bump_hemi: false }, region: [0.3, 0.1, 0.7, 0.9] },
+  { name: 'cylinder-grazing', state: { scene: 'cylinder', cam_el: 15, cam_az: 0, cam_dist: 4.5, light_type: 'directional', light_el: 8, light_az: 70, tiling: 2, normal_strength: 1, rough_on: false, vis_on: true, vis: 0.62, samples: 64, split: false, display: 'term', bump: 'chiang-2019', bump_hemi: true }, region: [0.3, 0.1, 0.7, 0.9] },
 ];
 const GRID = [8, 6];  // probe points per configuration: a grid over its region (background ones dropped)
 
