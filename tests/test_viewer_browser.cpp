@@ -251,6 +251,30 @@ TEST(ViewerServer, ExportsAStaticCopyAndServesIt) {
   EXPECT_EQ(stop_server(s, SIGTERM), 0) << slurp(s.err);
 }
 
+// --lut FILE: a cone-layout table replaces the default of its kind (here the 3D one), served as its half
+// floats.
+TEST(ViewerServer, UsesAGivenConeTable) {
+  const fs::path dir = scratch_dir("viewer");
+  ASSERT_EQ(
+      run_cli("bake micro-shadowing --size-t 4 --size-nl 4 --size-nv 2 --roughness-slabs 2 --samples 16 "
+              "--phi-nodes 2 --quiet --out " +
+                  (dir / "cone.npy").string(),
+              dir)
+          .code,
+      0);
+  const auto r = run_cli("view --export " + (dir / "v").string() + " --cache " + kCache.string() + " --lut " +
+                             (dir / "cone.npy").string(),
+                         dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto man = nlohmann::json::parse(slurp(dir / "v" / "data" / "manifest.json"));
+  EXPECT_EQ(man["luts"]["lut3d"]["source"], (dir / "cone.npy").string());
+  EXPECT_EQ(man["luts"]["lut3d"]["size"], nlohmann::json({4, 4, 4}));
+  EXPECT_EQ(man["luts"]["lut3d"]["roughness_slabs"], 2);
+  EXPECT_EQ(fs::file_size(dir / "v" / "data" / "lut3d.f16"), 4u * 4 * 4 * 2);
+  EXPECT_EQ(slurp(dir / "v" / "data" / "lut3d.json"), slurp(dir / "cone.npy.json"));
+  EXPECT_NE(man["luts"]["lut2d"]["source"].get<std::string>().find("default"), std::string::npos);
+}
+
 // Every shaders/glsl/*.glsl file compiles as GLSL ES 3.00 (WebGL2), the way the page concatenates them (all
 // files, sorted, one fragment shader), with glslangValidator: a check that needs no browser.
 TEST(ViewerShaders, GlslFilesCompileAsGlslEs300) {
