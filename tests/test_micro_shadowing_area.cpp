@@ -1,0 +1,225 @@
+// Area-light micro-shadowing: the exact quadrature reference (reference/micro_shadowing_area_exact.h) against
+// analytic cases and brute-force Monte Carlo written here, then the closed forms and fast forms
+// (occlusion/micro_shadowing_area.h) against the exact reference at off-grid (Sobol) inputs.
+#include <gtest/gtest.h>
+#include <microshadow/math/sampling.h>
+#include <microshadow/occlusion/micro_shadowing_area.h>
+#include <microshadow/reference/micro_shadowing_area_exact.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace msh;
+using namespace msh::area;
+
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180;
+
+Vec3d dir_nl(double nl, double phi = 0) { return spherical_direction(nl, phi); }
+
+PointTerm one() {
+  return {[](const Vec3d&) { return 1.0; }, {}, true};
+}
+
+// Independent Monte Carlo over a cap: uniform directions in the cap (PCG32), weight w(l), value M(l).
+// Returns {ratio, standard error of the ratio}.
+struct Mc {
+  double value, sigma;
+};
+template <class W, class F>
+Mc mc_cap(const Vec3d& c, double rho, const W& weight, const F& M, int n, uint64_t seed) {
+  Pcg32 rng(seed);
+  const Frame<double> f = Frame<double>::from_z(c);
+  double sw = 0, swm = 0, sw2 = 0, swm2 = 0, swwm = 0;
+  for (int i = 0; i < n; ++i) {
+    const double z = 1 - rng.next_double() * (1 - std::cos(rho)), p = 2 * kPi<double> * rng.next_double();
+    const Vec3d l = f.to_world(spherical_direction(z, p));
+    const double w = weight(l), wm = w * M(l);
+    sw += w, swm += wm, sw2 += w * w, swm2 += wm * wm, swwm += w * wm;
+  }
+  const double r = swm / sw;
+  // Delta-method variance of a ratio of means.
+  const double mw = sw / n, mwm = swm / n;
+  const double vw = sw2 / n - mw * mw, vwm = swm2 / n - mwm * mwm, cov = swwm / n - mw * mwm;
+  const double var = (vwm - 2 * r * cov + r * r * vw) / (mw * mw * n);
+  return {r, std::sqrt(std::max(0.0, var))};
+}
+
+// Independent Monte Carlo over a planar emitter: uniform points on the disk / rectangle, dl = |cos θ'| dA /
+// d².
+template <class P, class W, class F>
+Mc mc_planar(const P& point_at, const Vec3d& normal, const W& weight, const F& M, int n, uint64_t seed) {
+  Pcg32 rng(seed);
+  double sw = 0, swm = 0, sw2 = 0, swm2 = 0, swwm = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec3d p = point_at(rng.next_double(), rng.next_double());
+    const double d2 = dot(p, p);
+    const Vec3d l = p / std::sqrt(d2);
+    const double w = weight(l) * std::abs(dot(l, normal)) / d2, wm = w * M(l);
+    sw += w, swm += wm, sw2 += w * w, swm2 += wm * wm, swwm += w * wm;
+  }
+  const double r = swm / sw, mw = sw / n, mwm = swm / n;
+  const double vw = sw2 / n - mw * mw, vwm = swm2 / n - mwm * mwm, cov = swwm / n - mw * mwm;
+  return {r, std::sqrt(std::max(0.0, (vwm - 2 * r * cov + r * r * vw) / (mw * mw * n)))};
+}
+
+}  // namespace
+
+// ---- the exact reference ---------------------------------------------------------------------------------
+
+TEST(AreaExact, ConstantTermIsOne) {
+  const Vec3d v = dir_nl(0.6, 0.3);
+  const std::vector<Shape> shapes = {Cap{dir_nl(0.5, 1.0), 20 * kDeg}, Cap{dir_nl(0.95), 40 * kDeg},
+                                     Cap{dir_nl(0.1, 2.0), 30 * kDeg},
+                                     Disk{dir_nl(0.7, 0.5), normalize(Vec3d(0.3, -0.2, -1)), 0.4},
+                                     rect_facing(dir_nl(0.6, -0.4), 15 * kDeg, 25 * kDeg, 0.3)};
+  for (const Shape& s : shapes)
+    for (const Receiver& r : {Receiver::lambert(), Receiver::ggx(0.3, v)}) {
+      EXPECT_NEAR(area_micro_shadowing_exact(s, r, one()), 1.0, 1e-12);
+    }
+}
+
+TEST(AreaExact, CapProjectedSolidAngleAboveHorizon) {
+  // A cap entirely above the horizon: ∫ (n·l) dl = π sin²ρ cos θc (closed form, no clipping).
+  for (double nl : {0.5, 0.8, 0.99})
+    for (double rho_deg : {1.0, 10.0, 25.0}) {
+      const double rho = rho_deg * kDeg;
+      if (std::acos(nl) + rho >= kPi<double> / 2) continue;
+      const double exact = kPi<double> * sqr(std::sin(rho)) * nl;
+      EXPECT_NEAR(light_weight(Cap{dir_nl(nl, 0.7), rho}, Receiver::lambert()) / exact, 1.0, 1e-9)
+          << nl << " " << rho_deg;
+    }
+}
+
+TEST(AreaExact, StepInsideOutsideCone) {
+  const double V = 0.5;  // cone half-angle 45°
+  // Fully inside the cone: 1; fully outside (but above the horizon): 0.
+  EXPECT_DOUBLE_EQ(area_micro_shadowing_exact(Cap{dir_nl(std::cos(20 * kDeg), 1), 20 * kDeg},
+                                              Receiver::lambert(), reference_step_term(V)),
+                   1.0);
+  EXPECT_DOUBLE_EQ(area_micro_shadowing_exact(Cap{dir_nl(std::cos(70 * kDeg), 1), 20 * kDeg},
+                                              Receiver::lambert(), reference_step_term(V)),
+                   0.0);
+  EXPECT_DOUBLE_EQ(area_micro_shadowing_exact(Cap{dir_nl(std::cos(20 * kDeg), 1), 20 * kDeg},
+                                              Receiver::ggx(0.2, dir_nl(0.7)), reference_step_term(V)),
+                   1.0);
+}
+
+TEST(AreaExact, BelowHorizonIsZero) {
+  EXPECT_EQ(area_micro_shadowing_exact(Cap{dir_nl(-0.5), 10 * kDeg}, Receiver::lambert(), one()), 0.0);
+}
+
+TEST(AreaExact, ZeroSizeIsPointValue) {
+  const double V = 0.4, nl = 0.55;
+  EXPECT_EQ(
+      area_micro_shadowing_exact(Cap{dir_nl(nl), 0.0}, Receiver::lambert(), brinck_maximov_2016_term(V)),
+      ms::brinck_maximov_2016(V, nl));
+  // The limit ρ → 0 of a continuous term is the point value.
+  const Vec3d v = dir_nl(0.8);
+  const double point = ms::generic_vndf_exact(V, 0.3, 0.3, v, dir_nl(nl, 1.0));
+  const double small = area_micro_shadowing_exact(Cap{dir_nl(nl, 1.0), 0.01 * kDeg}, Receiver::lambert(),
+                                                  generic_vndf_term(V, 0.3, 0.3, v));
+  EXPECT_NEAR(small, point, 1e-5);
+  const double bm_small = area_micro_shadowing_exact(Cap{dir_nl(nl), 0.01 * kDeg}, Receiver::lambert(),
+                                                     brinck_maximov_2016_term(V));
+  EXPECT_NEAR(bm_small, ms::brinck_maximov_2016(V, nl), 1e-5);
+}
+
+TEST(AreaExact, CapIntersectionSolidAngleMazonkaAndMonteCarlo) {
+  // Unweighted solid angle of cap ∩ cone through the exact integrator (M = χ_cone / (n·l) with the Lambert
+  // weight n·l), against Mazonka's closed form and a brute-force count.
+  struct Case {
+    double V, nl, rho_deg;
+  };
+  for (const Case& c : {Case{0.5, 0.6, 20}, Case{0.3, 0.9, 35}, Case{0.8, 0.3, 40}, Case{0.2, 0.95, 10}}) {
+    const double ct = std::sqrt(1 - c.V), rho = c.rho_deg * kDeg;
+    const Cap cap{dir_nl(c.nl, 0.4), rho};
+    const PointTerm chi_over_z{[ct](const Vec3d& l) { return l.z > ct ? 1 / l.z : 0.0; }, {ct}, true};
+    const double omega = area_integrals(cap, Receiver::lambert(), chi_over_z).weighted;
+    const double mazonka = ms::cap_intersection_solid_angle(rho, std::acos(ct), std::acos(c.nl));
+    EXPECT_NEAR(omega, mazonka, 1e-9 * (1 + mazonka));
+    Pcg32 rng(7);
+    const int n = 400000;
+    int hits = 0;
+    const Frame<double> f = Frame<double>::from_z(cap.center);
+    for (int i = 0; i < n; ++i) {
+      const double z = 1 - rng.next_double() * (1 - std::cos(rho)), p = 2 * kPi<double> * rng.next_double();
+      hits += f.to_world(spherical_direction(z, p)).z > ct;
+    }
+    const double cap_area = 2 * kPi<double> * (1 - std::cos(rho)), q = double(hits) / n;
+    EXPECT_NEAR(mazonka, cap_area * q, 4 * cap_area * std::sqrt(q * (1 - q) / n) + 1e-12);
+  }
+}
+
+TEST(AreaExact, CapAgainstMonteCarlo) {
+  const Vec3d v = dir_nl(0.7, 0.0);
+  struct Case {
+    double V, nl, phi, rho_deg;
+  };
+  for (const Case& c : {Case{0.5, 0.6, 0.5, 30}, Case{0.3, 0.2, 2.0, 25}, Case{0.7, 0.9, 1.0, 40}}) {
+    const Cap cap{dir_nl(c.nl, c.phi), c.rho_deg * kDeg};
+    for (int which = 0; which < 3; ++which) {
+      const PointTerm t = which == 0 ? reference_step_term(c.V)
+                                     : (which == 1 ? chan_2018_term(c.V) : brinck_maximov_2016_term(c.V));
+      for (const Receiver& r : {Receiver::lambert(), Receiver::ggx(0.4, v)}) {
+        const double ex = area_micro_shadowing_exact(cap, r, t);
+        const Mc mc = mc_cap(
+            cap.center, cap.radius, [&](const Vec3d& l) { return r.weight(l); }, t.M, 200000, 11 + which);
+        EXPECT_NEAR(ex, mc.value, 4.5 * mc.sigma + 1e-9) << which << " " << c.nl;
+      }
+    }
+  }
+}
+
+TEST(AreaExact, GenericTermAgainstMonteCarlo) {
+  const Vec3d v = dir_nl(0.6, 0.0);
+  const double V = 0.45, a = 0.35;
+  const Cap cap{dir_nl(0.5, 1.2), 25 * kDeg};
+  const PointTerm t = generic_vndf_term(V, a, a, v, 1e-6);
+  const double ex = area_micro_shadowing_exact(cap, Receiver::lambert(), t, AreaOptions{1e-6});
+  const Mc mc = mc_cap(
+      cap.center, cap.radius, [](const Vec3d& l) { return std::max(0.0, l.z); }, t.M, 3000, 5);
+  EXPECT_NEAR(ex, mc.value, 4.5 * mc.sigma);
+}
+
+TEST(AreaExact, FacingDiskIsCap) {
+  const Vec3d c = dir_nl(0.4, 0.9);
+  const double R = 0.45;
+  const PointTerm t = reference_step_term(0.6);
+  const double disk = area_micro_shadowing_exact(Disk{c, -1.0 * c, R}, Receiver::lambert(), t);
+  const double cap = area_micro_shadowing_exact(Cap{c, std::atan(R)}, Receiver::lambert(), t);
+  EXPECT_NEAR(disk, cap, 1e-8);
+  EXPECT_NEAR(light_weight(Disk{c, c, R}, Receiver::lambert()),
+              light_weight(Cap{c, std::atan(R)}, Receiver::lambert()), 1e-9);
+}
+
+TEST(AreaExact, TiltedDiskAndRectAgainstMonteCarlo) {
+  const Vec3d v = dir_nl(0.8, 0.2);
+  const double V = 0.55;
+  const PointTerm t = reference_step_term(V);
+  // Disk: centre at distance 1, tilted normal, crossing the cone and the horizon.
+  const Vec3d c = dir_nl(0.35, 0.6), nd = normalize(Vec3d(0.5, 0.1, -0.8));
+  const double R = 0.7;
+  const Frame<double> fd = Frame<double>::from_z(nd);
+  for (const Receiver& r : {Receiver::lambert(), Receiver::ggx(0.5, v)}) {
+    const double ex = area_micro_shadowing_exact(Disk{c, nd, R}, r, t);
+    const Mc mc = mc_planar(
+        [&](double u1, double u2) {
+          const double rr = R * std::sqrt(u1), p = 2 * kPi<double> * u2;
+          return c + rr * (std::cos(p) * fd.s + std::sin(p) * fd.t);
+        },
+        nd, [&](const Vec3d& l) { return r.weight(l); }, t.M, 400000, 3);
+    EXPECT_NEAR(ex, mc.value, 4.5 * mc.sigma + 1e-9);
+  }
+  // Rectangle: corners from rect_light, sampled uniformly on the plane.
+  const Vec3d rc = dir_nl(0.5, -0.5);
+  const Vec3d u = normalize(cross(rc, Vec3d(0.2, 1, 0.1))), w = cross(rc, u);
+  const double hu = 0.6, hw = 0.3;
+  const Quad q = rect_light(rc, u, w, hu, hw);
+  const double ex = area_micro_shadowing_exact(q, Receiver::lambert(), t);
+  const Mc mc =
+      mc_planar([&](double u1, double u2) { return rc + (2 * u1 - 1) * hu * u + (2 * u2 - 1) * hw * w; },
+                cross(u, w), [](const Vec3d& l) { return std::max(0.0, l.z); }, t.M, 400000, 4);
+  EXPECT_NEAR(ex, mc.value, 4.5 * mc.sigma + 1e-9);
+}
