@@ -19,8 +19,8 @@
 //     reference_step_area_cap_solid_angle / _oat_sander: the same ratio with plain solid angles (what an
 //     ambient-aperture style engine computes: the (n·l) weight is dropped inside the light);
 //   * area_cap_lambert: M_area of ANY point term that depends on N·L only (Brinck–Maximov 2016, Chan 2018,
-//     Part 1, the azimuth mean of the generic term through its LUT or ALU fit) by Gauss–Legendre in N·L with
-//     the cap's exact width, split at the term's kinks: a fast form with a light-size "axis" for free.
+//     Part 1, the azimuth mean of the generic term through its LUT or ALU fit): a product rule in N·L whose
+//     weights come from the cap's closed-form CDF, split at the term's kinks; no table, any light size.
 //
 // Inputs: V ∈ [0, 1] (saturated), N·L of the centre ∈ [−1, 1] (clamped), ρ ∈ [0, π/2] (clamped). ρ = 0
 // returns the point value. A light entirely below the horizon returns 0. Every function is finite for any
@@ -29,6 +29,7 @@
 
 #include <microshadow/math/vec.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_fit.h>
 
 #include <algorithm>
 #include <array>
@@ -145,38 +146,36 @@ T reference_step_area_cap_oat_sander(T V, T n_dot_l, T rho) {
   return den > T(0) ? saturate(cap_intersection_solid_angle_oat_sander(rho, t, th) / den) : T(0);
 }
 
-// Width in azimuth about n, 2·acos((cos ρ − z cos θc)/(sin θc sqrt(1 − z²))), of the cap on the circle
-// n·l = z: dl = dz dφ, so ∫_cap g(n·l) dl = ∫ g(z) width(z) dz.
+// A cap light of angular radius ρ centred at N·L = cos θc with a Lambertian receiver, prepared once per
+// light: the z = n·l range it covers above the horizon and its complementary CDF in z,
+//   S(z) = ∫_{cap, n·l > z} (n·l) dl / ∫_{cap, n·l > 0} (n·l) dl
+// (= reference_step_area_cap at cos_t = z), in closed form (cap_cone_projected_solid_angle).
 template <class T>
-T cap_azimuth_width(T z, T cos_rho, T cos_tc, T sin_tc) {
-  const T s = std::sqrt(std::max(T(0), T(1) - z * z));
-  const T d = sin_tc * s;
-  if (!(d > T(0))) return z * cos_tc > cos_rho ? T(2) * kPi<T> : T(0);
-  return T(2) * area_detail::clamp_acos((cos_rho - z * cos_tc) / d);
-}
+struct CapLightLambert {
+  T rho = 0, theta_c = 0, den = 0;
+  T z_lo = 0;  // lowest n·l of the cap above the horizon
+  T z_hi = 0;  // highest n·l (1 when the cap contains n)
+  T z_b = 0;   // cos|θc − ρ|: the top of the cap, or where its circles of constant n·l become full
 
-// Kinks (in N·L) of the point terms, the panel edges of area_cap_lambert.
-template <class T>
-std::array<T, 2> brinck_maximov_2016_kinks(T V) {
-  const T v = saturate(V);
-  return {T(1) - T(2) * v * v, T(2) - T(2) * v * v};
-}
-template <class T>
-std::array<T, 2> chan_2018_kinks(T V) {
-  return {cone_cos_from_visibility(V), T(-1)};
-}
-template <class T>
-std::array<T, 2> part1_analytic_kinks(T V) {
-  const T v = saturate(V);
-  return {std::sqrt(std::max(T(0), T(1) - v * v * v * v * v)), T(-1)};
-}
-// Generic term: exactly 0 below N·L = 1 − 2V (the early-out), smooth above for the azimuth mean.
-template <class T>
-std::array<T, 2> generic_vndf_kinks(T V) {
-  return {T(1) - T(2) * saturate(V), T(-1)};
-}
+  static CapLightLambert make(T n_dot_l, T rho) {
+    using namespace area_detail;
+    CapLightLambert c;
+    c.rho = clean(rho, T(0), kPi<T> / 2);
+    c.theta_c = cap_theta(n_dot_l);
+    c.den = cap_cone_projected_solid_angle(c.rho, c.theta_c, kPi<T> / 2);
+    c.z_lo = std::max(T(0), std::cos(std::min(kPi<T>, c.theta_c + c.rho)));
+    c.z_b = std::cos(std::abs(c.theta_c - c.rho));
+    c.z_hi = c.theta_c < c.rho ? T(1) : c.z_b;
+    return c;
+  }
+  T ccdf(T z) const {
+    if (!(z > z_lo)) return T(1);
+    if (!(z < z_hi) || !(den > T(0))) return T(0);
+    return saturate(cap_cone_projected_solid_angle(rho, theta_c, area_detail::clamp_acos(z)) / den);
+  }
+};
 
-// Gauss–Legendre nodes on [0, 1] for n = 1..4 (ascending) and their weights.
+// Gauss–Legendre rules on [0, 1] for n = 1..4 nodes (ascending) and their weights.
 template <class T>
 struct GaussLegendreSmall {
   static void get(int n, T* x, T* w) {
@@ -201,62 +200,107 @@ struct GaussLegendreSmall {
   }
 };
 
-// M_area over a cap light, Lambertian receiver, of a point term M(N·L) that depends on N·L only: the
-// z-integral ∫ M(z) z width(z) dz / ∫ z width(z) dz over [max(0, cos(θc + ρ)), cos(max(0, θc − ρ))], split at
-// the two kinks (values outside the range are ignored) and at cos(ρ − θc), each panel by n-point
-// Gauss–Legendre (n ∈ [1, 4]) after z = z0 + (z1 − z0)(3s² − 2s³), which removes the square-root ends of
-// width(z). The denominator is the exact projected solid angle (cap_cone_projected_solid_angle). 4·n
-// evaluations of M at most. Measured error against the exact reference: docs/area-lights.md §5. ρ = 0:
-// M(N·L).
+// Kinks (in N·L) of the point terms: the panel edges of area_cap_lambert (−1: none).
+template <class T>
+std::array<T, 2> brinck_maximov_2016_kinks(T V) {
+  const T v = saturate(V);
+  return {T(1) - T(2) * v * v, T(2) - T(2) * v * v};
+}
+template <class T>
+std::array<T, 2> chan_2018_kinks(T V) {
+  return {cone_cos_from_visibility(V), T(-1)};
+}
+template <class T>
+std::array<T, 2> part1_analytic_kinks(T V) {
+  const T v = saturate(V);
+  return {std::sqrt(std::max(T(0), T(1) - v * v * v * v * v)), T(-1)};
+}
+// Generic term: exactly 0 below N·L = 1 − 2V (the early-out), smooth above for the azimuth mean.
+template <class T>
+std::array<T, 2> generic_vndf_kinks(T V) {
+  return {T(1) - T(2) * saturate(V), T(-1)};
+}
+
+// M_area over a cap light, Lambertian receiver, of any point term M(N·L) that depends on N·L only (the
+// closed-form terms; the azimuth mean of the generic term through its LUT or ALU fit: for a Lambertian
+// receiver the azimuth mean of M_area is exactly M_area of the azimuth-mean term, docs/area-lights.md §5).
+// M_area = ∫ M dP, P the distribution of n·l over the cosine-weighted cap. The z range is split at the
+// kinks and at z_b; on each panel [a, b] M is replaced by its interpolating polynomial Σ M(z_i) L_i(z) at
+// the n Gauss–Legendre nodes z_i (n ∈ [1, 4]) and integrated against dP exactly by parts:
+//   ∫_a^b L_i dP = L_i(a) S(a) − L_i(b) S(b) + ∫_a^b L_i'(z) S(z) dz,
+// the last integral by the same n-point rule. So the square-root ends of the cap's density are never
+// sampled: they are inside S, in closed form. Cost per panel: n evaluations of M and n + 1 of S (3 acos).
+// Measured error: docs/area-lights.md §5. ρ = 0: M(N·L).
 template <class T, class F>
-T area_cap_lambert(F&& M, T n_dot_l, T rho, std::array<T, 2> kinks, int n = 3) {
+T area_cap_lambert(F&& M, T n_dot_l, T rho, std::array<T, 2> kinks, int n = 4) {
   using namespace area_detail;
   rho = clean(rho, T(0), kPi<T> / 2);
   const T nl = clean(n_dot_l, T(-1), T(1));
   if (!(rho > T(0))) return M(nl);
-  const T th = cap_theta(nl);
-  const T den = cap_cone_projected_solid_angle(rho, th, kPi<T> / 2);
-  if (!(den > T(0))) return T(0);
-  // z range of the cap above the horizon; above cos(ρ − θc) a cap that contains n is a full circle.
-  const T z_lo = std::max(T(0), std::cos(std::min(kPi<T>, th + rho)));
-  const T z_hi = th < rho ? T(1) : std::cos(th - rho);
-  if (!(z_hi > z_lo)) return T(0);
-  T pts[5] = {z_lo, kinks[0], kinks[1], std::cos(std::abs(th - rho)), z_hi};
+  const CapLightLambert<T> c = CapLightLambert<T>::make(nl, rho);
+  if (!(c.den > T(0)) || !(c.z_hi > c.z_lo)) return T(0);
+  n = std::clamp(n, 1, 4);
+  T x[4], w[4], L0[4], L1[4], D[4][4];
+  GaussLegendreSmall<T>::get(n, x, w);
+  for (int i = 0; i < n; ++i) {  // Lagrange basis at 0 and 1, and its derivative at the nodes
+    L0[i] = L1[i] = T(1);
+    for (int q = 0; q < n; ++q)
+      if (q != i) L0[i] *= (T(0) - x[q]) / (x[i] - x[q]), L1[i] *= (T(1) - x[q]) / (x[i] - x[q]);
+    for (int j = 0; j < n; ++j) {
+      T d = T(0);
+      for (int m = 0; m < n; ++m) {
+        if (m == i) continue;
+        T p = T(1) / (x[i] - x[m]);
+        for (int q = 0; q < n; ++q)
+          if (q != i && q != m) p *= (x[j] - x[q]) / (x[i] - x[q]);
+        d += p;
+      }
+      D[j][i] = d;
+    }
+  }
+  T pts[5] = {c.z_lo, kinks[0], kinks[1], c.z_b, c.z_hi};
   for (int i = 1; i < 4; ++i)  // sort the interior points
     for (int j = i; j > 1 && pts[j - 1] > pts[j]; --j) std::swap(pts[j - 1], pts[j]);
-  const T cos_rho = std::cos(rho), cos_tc = std::cos(th), sin_tc = std::sin(th);
-  T x[4], w[4];
-  n = std::clamp(n, 1, 4);
-  GaussLegendreSmall<T>::get(n, x, w);
-  T num = T(0), a = z_lo;
+  T sum = T(0), a = c.z_lo, Sa = T(1);
   for (int p = 1; p < 5; ++p) {
-    const T b = pts[p] > z_lo ? std::min(pts[p], z_hi) : z_lo;
+    const T b = pts[p] > c.z_lo ? std::min(pts[p], c.z_hi) : c.z_lo;
     if (!(b > a)) continue;
-    const T h = b - a;
+    const T h = b - a, Sb = c.ccdf(b);
+    T Sj[4], Mj[4];
+    for (int j = 0; j < n; ++j) Sj[j] = c.ccdf(a + h * x[j]), Mj[j] = M(a + h * x[j]);
     for (int i = 0; i < n; ++i) {
-      const T s = x[i];
-      const T z = a + h * s * s * (T(3) - T(2) * s);
-      num += w[i] * T(6) * h * s * (T(1) - s) * z * cap_azimuth_width(z, cos_rho, cos_tc, sin_tc) * M(z);
+      T W = L0[i] * Sa - L1[i] * Sb;
+      for (int j = 0; j < n; ++j) W += w[j] * D[j][i] * Sj[j];
+      sum += W * Mj[i];
     }
-    a = b;
+    a = b, Sa = Sb;
   }
-  return saturate(num / den);
+  return saturate(sum);
 }
 
 // The area forms of the closed-form terms of occlusion/micro_shadowing.h (Lambertian receiver, cap light).
 template <class T>
-T brinck_maximov_2016_area_cap(T V, T n_dot_l, T rho, int n = 3) {
+T brinck_maximov_2016_area_cap(T V, T n_dot_l, T rho, int n = 4) {
   return area_cap_lambert([V](T z) { return brinck_maximov_2016(V, z); }, n_dot_l, rho,
                           brinck_maximov_2016_kinks(V), n);
 }
 template <class T>
-T chan_2018_area_cap(T V, T n_dot_l, T rho, int n = 3) {
+T chan_2018_area_cap(T V, T n_dot_l, T rho, int n = 4) {
   return area_cap_lambert([V](T z) { return chan_2018(V, z); }, n_dot_l, rho, chan_2018_kinks(V), n);
 }
 template <class T>
-T part1_analytic_area_cap(T V, T n_dot_l, T rho, int n = 3) {
+T part1_analytic_area_cap(T V, T n_dot_l, T rho, int n = 4) {
   return area_cap_lambert([V](T z) { return part1_analytic(V, z); }, n_dot_l, rho, part1_analytic_kinks(V),
                           n);
+}
+
+// The generic term's azimuth mean through its ALU fit (occlusion/micro_shadowing_fit.h, generic_vndf_alu)
+// over a cap light, Lambertian receiver: n evaluations of the fit per panel (two panels at most: the
+// early-out N·L = 1 − 2V and z_b). Its error against the exact reference: docs/area-lights.md §5.
+template <class T>
+T generic_vndf_alu_area_cap(T V, T n_dot_l, T n_dot_v, T roughness, T rho, int n = 4) {
+  return area_cap_lambert([&](T z) { return generic_vndf_alu(V, z, n_dot_v, roughness); }, n_dot_l, rho,
+                          generic_vndf_kinks(V), n);
 }
 
 }  // namespace msh::ms

@@ -87,17 +87,39 @@ inline Quad rect_light(const Vec3d& center, const Vec3d& u, const Vec3d& w, doub
                normalize(c - half_u * u - half_w * w), normalize(c + half_u * u - half_w * w)}};
 }
 
-// A rectangle facing the shading point (its plane ⟂ center), seen with angular half-extents ang_u, ang_w
-// (< π/2) measured from its centre along its axes; `roll` turns the u axis about the centre direction
-// (roll 0: u in the plane of n and the centre, pointing away from n; u = x at the pole).
-inline Quad rect_facing(const Vec3d& center, double ang_u, double ang_w, double roll = 0) {
+// The frame of a light facing the shading point: u0 ⟂ center in the plane of (n, center), pointing away
+// from n (x at the pole), w0 = center × u0, turned by `roll` about the centre direction.
+inline std::pair<Vec3d, Vec3d> facing_axes(const Vec3d& center, double roll) {
   const Vec3d c = normalize(center);
-  // u0 ⟂ c in the plane of (n, c), pointing away from n; x at the pole.
   const Vec3d p = c.z * c - Vec3d(0, 0, 1);
   const Vec3d u0 = length(p) > 1e-12 ? normalize(p) : Vec3d(1, 0, 0);
   const Vec3d w0 = cross(c, u0);
-  const Vec3d u = std::cos(roll) * u0 + std::sin(roll) * w0, w = cross(c, u);
-  return rect_light(c, u, w, std::tan(ang_u), std::tan(ang_w));
+  const Vec3d u = std::cos(roll) * u0 + std::sin(roll) * w0;
+  return {u, cross(c, u)};
+}
+
+// A rectangle centred at distance 1 along `center` with half-extents tan(ang_u), tan(ang_w) (so seen at
+// angular half-extents ang_u, ang_w < π/2 from its centre when it faces the point), its u axis turned by
+// `roll` about the centre direction (facing_axes), then the plane tilted by `tilt` ∈ (−π/2, π/2) about its
+// w axis (tilt 0: facing the point; positive tilt turns the normal toward n for roll 0).
+inline Quad rect_tilted(const Vec3d& center, double ang_u, double ang_w, double tilt = 0, double roll = 0) {
+  const Vec3d c = normalize(center);
+  const auto [u, w] = facing_axes(c, roll);
+  const Vec3d ut = std::cos(tilt) * u + std::sin(tilt) * c;
+  return rect_light(c, ut, w, std::tan(ang_u), std::tan(ang_w));
+}
+inline Quad rect_facing(const Vec3d& center, double ang_u, double ang_w, double roll = 0) {
+  return rect_tilted(center, ang_u, ang_w, 0, roll);
+}
+
+// A disk centred at distance 1 along `center`, radius tan(edge_angle) (seen at angular radius edge_angle
+// when facing), its normal tilted by `tilt` ∈ (−π/2, π/2) from −center about the w axis of
+// facing_axes(center, roll).
+inline Disk disk_tilted(const Vec3d& center, double edge_angle, double tilt = 0, double roll = 0) {
+  const Vec3d c = normalize(center);
+  const Vec3d u = facing_axes(c, roll).first;
+  const Vec3d ut = std::cos(tilt) * u + std::sin(tilt) * c;
+  return Disk{c, normalize(cross(ut, facing_axes(c, roll).second)), std::tan(edge_angle)};
 }
 
 // ---- receivers -----------------------------------------------------------------------------------------
