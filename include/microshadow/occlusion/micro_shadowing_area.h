@@ -215,10 +215,11 @@ std::array<T, 2> part1_analytic_kinks(T V) {
   const T v = saturate(V);
   return {std::sqrt(std::max(T(0), T(1) - v * v * v * v * v)), T(-1)};
 }
-// Generic term: exactly 0 below N·L = 1 − 2V (the early-out), smooth above for the azimuth mean.
+// Generic term: exactly 0 below N·L = 1 − 2V (the early-out); at low roughness its azimuth mean is a
+// smoothed step at the cone N·L = cos_t (width ~ α), so that is a panel edge too.
 template <class T>
 std::array<T, 2> generic_vndf_kinks(T V) {
-  return {T(1) - T(2) * saturate(V), T(-1)};
+  return {T(1) - T(2) * saturate(V), cone_cos_from_visibility(V)};
 }
 
 // M_area over a cap light, Lambertian receiver, of any point term M(N·L) that depends on N·L only (the
