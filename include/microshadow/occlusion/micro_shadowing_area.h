@@ -46,27 +46,56 @@ template <class T>
 T clean(T x, T lo, T hi) {
   return std::isnan(x) ? lo : clamp(x, lo, hi);
 }
+
+// The spherical triangle with sides a, b, c (angles between three unit vectors), in the forms that stay
+// accurate in float when the triangle is thin (a small light): with σ = (a + b + c)/2 and
+// A = sin σ, B = sin(σ − a), C = sin(σ − b), D = sin(σ − c),
+//   G = 1 − cos²a − cos²b − cos²c + 2 cos a cos b cos c = 4ABCD  (the Gram determinant),
+//   cos a − cos b cos c = AB − CD  (and cyclically),
+// so the angle opposite side a is atan2(√G, AB − CD) (law of cosines without acos near ±1). Requires the
+// triangle inequalities (the crossing case of two circles).
+template <class T>
+struct ThinTriangle {
+  T sqrt_g, a_num, b_num, c_num;  // √G; cos a − cos b cos c; cos b − cos a cos c; cos c − cos a cos b
+  ThinTriangle(T a, T b, T c) {
+    const T s = T(0.5) * (a + b + c);
+    const T A = std::sin(s), B = std::sin(s - a), C = std::sin(s - b), D = std::sin(s - c);
+    sqrt_g = T(2) * std::sqrt(std::max(T(0), A * B * C * D));
+    a_num = A * B - C * D, b_num = A * C - B * D, c_num = A * D - B * C;
+  }
+  // Spherical excess by L'Huilier's theorem: tan(E/4) = sqrt(tan(σ/2) tan((σ−a)/2) tan((σ−b)/2)
+  // tan((σ−c)/2)).
+  static T excess(T a, T b, T c) {
+    const T s = T(0.5) * (a + b + c);
+    const T p = std::tan(T(0.5) * s) * std::tan(T(0.5) * (s - a)) * std::tan(T(0.5) * (s - b)) *
+                std::tan(T(0.5) * (s - c));
+    return T(4) * std::atan(std::sqrt(std::max(T(0), p)));
+  }
+};
 }  // namespace area_detail
 
 // Solid angle of the intersection of two spherical caps of angular radii r1, r2 ∈ [0, π/2] whose axes are
-// `gamma` ∈ [0, π] apart (Mazonka 2012, eq. for two intersecting caps; equivalently Gauss–Bonnet on the lens
-// bounded by two small-circle arcs):
+// `gamma` ∈ [0, π] apart (Mazonka 2012, the result for two intersecting caps; equivalently Gauss–Bonnet on
+// the lens bounded by two small-circle arcs):
 //   Ω = 2(π − ψ) − 2 w1 cos r1 − 2 w2 cos r2,
 //   cos ψ = (cos γ − cos r1 cos r2)/(sin r1 sin r2)   (the lens corner's interior angle is π − ψ),
 //   cos w1 = (cos r2 − cos r1 cos γ)/(sin r1 sin γ),  cos w2 = (cos r1 − cos r2 cos γ)/(sin r2 sin γ)
 //   (w_i: half of the angle, about axis i, of circle i's arc inside the other cap).
-// Nested caps: 2π(1 − cos min(r1, r2)); disjoint: 0.
+// Evaluated as Ω = 4 w1 sin²(r1/2) + 4 w2 sin²(r2/2) − 2 E, E = w1 + w2 + ψ − π the excess of the triangle
+// (axis 1, axis 2, corner) by L'Huilier, and the angles by ThinTriangle: the direct form loses everything
+// to cancellation in float for a light of a few degrees. Nested caps: 4π sin²(min(r1, r2)/2); disjoint: 0.
 template <class T>
 T cap_intersection_solid_angle(T r1, T r2, T gamma) {
   using namespace area_detail;
   r1 = clean(r1, T(0), kPi<T> / 2), r2 = clean(r2, T(0), kPi<T> / 2), gamma = clean(gamma, T(0), kPi<T>);
   if (gamma >= r1 + r2) return T(0);
-  if (gamma <= std::abs(r1 - r2)) return T(2) * kPi<T> * (T(1) - std::cos(std::min(r1, r2)));
-  const T c1 = std::cos(r1), s1 = std::sin(r1), c2 = std::cos(r2), s2 = std::sin(r2);
-  const T cg = std::cos(gamma), sg = std::sin(gamma);
-  const T psi = clamp_acos((cg - c1 * c2) / (s1 * s2));
-  const T w1 = clamp_acos((c2 - c1 * cg) / (s1 * sg)), w2 = clamp_acos((c1 - c2 * cg) / (s2 * sg));
-  return std::max(T(0), T(2) * (kPi<T> - psi) - T(2) * w1 * c1 - T(2) * w2 * c2);
+  const T rm = std::min(r1, r2);
+  if (gamma <= std::abs(r1 - r2)) return T(4) * kPi<T> * sqr(std::sin(T(0.5) * rm));
+  const ThinTriangle<T> tri(r1, r2, gamma);  // sides: r1 (axis 1–corner), r2 (axis 2–corner), γ
+  const T w1 = std::atan2(tri.sqrt_g, tri.b_num), w2 = std::atan2(tri.sqrt_g, tri.a_num);
+  const T ex = ThinTriangle<T>::excess(r1, r2, gamma);
+  const T om = T(4) * w1 * sqr(std::sin(T(0.5) * r1)) + T(4) * w2 * sqr(std::sin(T(0.5) * r2)) - T(2) * ex;
+  return clamp(om, T(0), T(4) * kPi<T> * sqr(std::sin(T(0.5) * rm)));
 }
 
 // Oat & Sander 2007 ("Ambient Aperture Lighting", SphericalCapIntersectionAreaFast): the smaller cap's area
@@ -76,7 +105,7 @@ template <class T>
 T cap_intersection_solid_angle_oat_sander(T r1, T r2, T gamma) {
   using namespace area_detail;
   r1 = clean(r1, T(0), kPi<T> / 2), r2 = clean(r2, T(0), kPi<T> / 2), gamma = clean(gamma, T(0), kPi<T>);
-  const T full = T(2) * kPi<T> * (T(1) - std::cos(std::min(r1, r2)));
+  const T full = T(4) * kPi<T> * sqr(std::sin(T(0.5) * std::min(r1, r2)));
   const T diff = std::abs(r1 - r2);
   if (gamma <= diff) return full;
   if (gamma >= r1 + r2) return T(0);
@@ -89,20 +118,28 @@ T cap_intersection_solid_angle_oat_sander(T r1, T r2, T gamma) {
 // arc of the small circle of radius r about axis a, spanning |τ| < w about the direction e toward the other
 // circle's axis, contributes ½ n·∫ l × dl = (n·a) w sin²r − (n·e) sin w sin r cos r. For the cap (a = c,
 // n·e = sin θc) and the cone (a = n, n·e = 0):
-//   E = cos θc w1 sin²ρ − sin θc sin w1 sinρ cosρ + w2 sin²t,
-// w1, w2 the half-arcs of cap_intersection_solid_angle (γ = θc). Nested: π sin²ρ cos θc (cap in cone) or
-// π sin²t (cone in cap); disjoint: 0.
+//   E = cos θc w1 sin²ρ − cos ρ √G + w2 sin²t     (sin θc sin w1 sin ρ = √G),
+// w1 (at c), w2 (at n) the angles of the triangle (n, c, corner) with sides t, ρ, θc, by ThinTriangle.
+// Nested: π sin²ρ cos θc (cap in cone) or π sin²t (cone in cap); disjoint: 0.
 template <class T>
 T cap_cone_projected_solid_angle(T rho, T theta_c, T t) {
   using namespace area_detail;
   rho = clean(rho, T(0), kPi<T> / 2), t = clean(t, T(0), kPi<T> / 2), theta_c = clean(theta_c, T(0), kPi<T>);
-  const T sr = std::sin(rho), cr = std::cos(rho), st = std::sin(t), ct = std::cos(t);
-  const T cc = std::cos(theta_c), sc = std::sin(theta_c);
+  const T sr = std::sin(rho), st = std::sin(t), cc = std::cos(theta_c);
   if (theta_c >= rho + t) return T(0);
   if (theta_c <= t - rho) return kPi<T> * sr * sr * cc;
   if (theta_c <= rho - t) return kPi<T> * st * st;
-  const T w1 = clamp_acos((ct - cr * cc) / (sr * sc)), w2 = clamp_acos((cr - ct * cc) / (st * sc));
-  return std::max(T(0), cc * w1 * sr * sr - sc * std::sin(w1) * sr * cr + w2 * st * st);
+  const ThinTriangle<T> tri(t, rho, theta_c);      // sides: t (n–corner), ρ (c–corner), θc (n–c)
+  const T w1 = std::atan2(tri.sqrt_g, tri.a_num);  // at c, opposite t
+  const T w2 = std::atan2(tri.sqrt_g, tri.b_num);  // at n, opposite ρ
+  return std::max(T(0), cc * w1 * sr * sr - std::cos(rho) * tri.sqrt_g + w2 * st * st);
+}
+
+// Half-angle of the visibility cone, atan2(√V, √(1 − V)) (accurate at both ends, unlike acos √(1 − V)).
+template <class T>
+T cone_angle(T V) {
+  const T v = saturate(V);
+  return std::atan2(std::sqrt(v), std::sqrt(T(1) - v));
 }
 
 // Angle of the cap centre from n for the inputs N·L ∈ [−1, 1].
@@ -118,7 +155,7 @@ T reference_step_area_cap(T V, T n_dot_l, T rho) {
   using namespace area_detail;
   rho = clean(rho, T(0), kPi<T> / 2);
   if (!(rho > T(0))) return reference_step(V, n_dot_l);
-  const T th = cap_theta(n_dot_l), t = clamp_acos(cone_cos_from_visibility(V));
+  const T th = cap_theta(n_dot_l), t = cone_angle(V);
   const T den = cap_cone_projected_solid_angle(rho, th, kPi<T> / 2);
   return den > T(0) ? saturate(cap_cone_projected_solid_angle(rho, th, t) / den) : T(0);
 }
@@ -130,7 +167,7 @@ T reference_step_area_cap_solid_angle(T V, T n_dot_l, T rho) {
   using namespace area_detail;
   rho = clean(rho, T(0), kPi<T> / 2);
   if (!(rho > T(0))) return reference_step(V, n_dot_l);
-  const T th = cap_theta(n_dot_l), t = clamp_acos(cone_cos_from_visibility(V));
+  const T th = cap_theta(n_dot_l), t = cone_angle(V);
   const T den = cap_intersection_solid_angle(rho, kPi<T> / 2, th);
   return den > T(0) ? saturate(cap_intersection_solid_angle(rho, t, th) / den) : T(0);
 }
@@ -141,7 +178,7 @@ T reference_step_area_cap_oat_sander(T V, T n_dot_l, T rho) {
   using namespace area_detail;
   rho = clean(rho, T(0), kPi<T> / 2);
   if (!(rho > T(0))) return reference_step(V, n_dot_l);
-  const T th = cap_theta(n_dot_l), t = clamp_acos(cone_cos_from_visibility(V));
+  const T th = cap_theta(n_dot_l), t = cone_angle(V);
   const T den = cap_intersection_solid_angle_oat_sander(rho, kPi<T> / 2, th);
   return den > T(0) ? saturate(cap_intersection_solid_angle_oat_sander(rho, t, th) / den) : T(0);
 }
