@@ -134,7 +134,7 @@ std::array<T, 10> cpu_outputs(const Rec& x) {
           // The ALU fit is float code: in T = double only the area rule runs in double.
           ms::area_cap_lambert(
               [&](T z) { return T(ms::generic_vndf_alu(float(vis), float(z), float(nv), float(r))); }, nl,
-              rho, ms::generic_vndf_kinks(vis)),
+              rho, ms::generic_vndf_kinks(vis, r)),
           ms::cap_intersection_solid_angle(rho, t, th),
           ms::cap_intersection_solid_angle_oat_sander(rho, t, th)};
 }
@@ -175,8 +175,8 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
       if (eth > dth) worst = i;
       dt = std::max(dt, et), dth = std::max(dth, eth);
     }
-    std::printf("[ %s ] cone angle max err %.2e rad, cap angle (acos N.L) max err %.2e rad at N.L = %.8g\n", label,
-                dt, dth, double(recs[worst].nl));
+    std::printf("[ %s ] cone angle max err %.2e rad, cap angle (acos N.L) max err %.2e rad at N.L = %.8g\n",
+                label, dt, dth, double(recs[worst].nl));
   }
   for (int k = 0; k < 10; ++k) {
     EXPECT_LE(maxd[k], tol[k]) << label << " " << names[k];

@@ -130,13 +130,19 @@ float msh_ms_area_point_term(int term, float vis, float z, float n_dot_v, float 
   if (term == MSH_MS_AREA_PART1_ANALYTIC) return msh_ms_part1_analytic(vis, z);
   return msh_ms_generic_vndf_alu(vis, z, n_dot_v, roughness);
 }
-// The N.L values where the term kinks (panel edges), -1: none.
-float2 msh_ms_area_term_kinks(int term, float vis) {
+// The N.L values where the term kinks or turns sharply (panel edges), -1: none. Part 1: its kink and where it
+// reaches 0.03; generic: the early-out, the cone and the cone +- 4 max(alpha, 0.02) sin t.
+float4 msh_ms_area_term_kinks(int term, float vis, float roughness) {
   float v = clamp(vis, 0.0, 1.0);
-  if (term == MSH_MS_AREA_BRINCK_MAXIMOV_2016) return float2(1.0 - 2.0 * v * v, 2.0 - 2.0 * v * v);
-  if (term == MSH_MS_AREA_CHAN_2018) return float2(msh_ms_cone_cos(v), -1.0);
-  if (term == MSH_MS_AREA_PART1_ANALYTIC) return float2(sqrt(max(0.0, 1.0 - v * v * v * v * v)), -1.0);
-  return float2(1.0 - 2.0 * v, msh_ms_cone_cos(v));
+  if (term == MSH_MS_AREA_BRINCK_MAXIMOV_2016) return float4(1.0 - 2.0 * v * v, 2.0 - 2.0 * v * v, -1.0, -1.0);
+  if (term == MSH_MS_AREA_CHAN_2018) return float4(msh_ms_cone_cos(v), -1.0, -1.0, -1.0);
+  if (term == MSH_MS_AREA_PART1_ANALYTIC) {
+    float cp = sqrt(max(0.0, 1.0 - v * v * v * v * v));
+    return float4(cp, cp * exp2(log2(0.03) * v / 0.75), -1.0, -1.0);
+  }
+  float c = msh_ms_cone_cos(v), r = clamp(roughness, 0.0, 1.0);
+  float w = max(r * r, 0.02) * sqrt(v);
+  return float4(1.0 - 2.0 * v, c, c - 4.0 * w, c + 4.0 * w);
 }
 
 // Complementary CDF in z = n.l of the cosine-weighted cap: S(z) = E(cap, n.l > z) / E(cap, n.l > 0).
@@ -147,10 +153,10 @@ float msh_ms_cap_ccdf(float z, float rho, float th, float den, float z_lo, float
 }
 
 // M_area of the term (one of MSH_MS_AREA_*) over a cap light, Lambertian receiver: on each N.L panel between
-// the cap's ends, the term's kinks and cos|theta_c - rho|, the term's interpolating polynomial at 4
-// Gauss-Legendre nodes integrated exactly against the cap's closed-form CDF (by parts). n_dot_v and
-// roughness are read by the generic ALU term only. 4 evaluations of the term and 5 of the CDF per panel
-// (at most 4 panels). |diff| vs C++ double <= 2e-3 = 0.5/255 for rho >= 1 degree (9.4e-4 measured);
+// the cap's ends, the term's kinks (msh_ms_area_term_kinks) and cos|theta_c - rho|, the term's interpolating
+// polynomial at 4 Gauss-Legendre nodes integrated exactly against the cap's closed-form CDF (by parts).
+// n_dot_v and roughness are read by the generic ALU term only. 4 evaluations of the term and 5 of the CDF per
+// panel (at most 6 panels). |diff| vs C++ double <= 2e-3 = 0.5/255 for rho >= 1 degree (9.4e-4 measured);
 // accuracy vs the exact quadrature: docs/area-lights.md.
 float msh_ms_area_cap_lambert(int term, float vis, float n_dot_l, float n_dot_v, float roughness, float rho) {
   rho = clamp(rho, 0.0, 0.5 * MSH_MS_PI);
@@ -170,13 +176,13 @@ float msh_ms_area_cap_lambert(int term, float vis, float n_dot_l, float n_dot_v,
                                 -0.4940375280205474, -0.25069398334779586, 0.9590904657302993, -0.21435895436195604,
                                 0.21435895436195612, -0.9590904657302998, 0.2506939833477962, 0.4940375280205473,
                                 -0.20197432186638287, 0.7335501572643869, -1.6906282616122863, 1.1590524262142823};
-  float2 k = msh_ms_area_term_kinks(term, vis);
-  float p1 = min(k.x, k.y), p2 = max(k.x, k.y), p3 = z_b;  // sort the interior points
-  if (p3 < p2) { float tmp = p2; p2 = p3; p3 = tmp; }
-  if (p2 < p1) { float tmp = p1; p1 = p2; p2 = tmp; }
-  float pts[4] = {p1, p2, p3, z_hi};
+  float4 k = msh_ms_area_term_kinks(term, vis, roughness);
+  float pts[6] = {k.x, k.y, k.z, k.w, z_b, z_hi};
+  for (int i = 1; i < 5; ++i)  // insertion sort of the interior points (z_hi stays last)
+    for (int j = i; j > 0; --j)
+      if (pts[j - 1] > pts[j]) { float tmp = pts[j]; pts[j] = pts[j - 1]; pts[j - 1] = tmp; }
   float sum = 0.0, a = z_lo, Sa = 1.0;
-  for (int p = 0; p < 4; ++p) {
+  for (int p = 0; p < 6; ++p) {
     float b = pts[p] > z_lo ? min(pts[p], z_hi) : z_lo;
     if (!(b > a)) continue;
     float h = b - a, Sb = msh_ms_cap_ccdf(b, rho, th, den, z_lo, z_hi);

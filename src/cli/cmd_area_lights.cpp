@@ -155,7 +155,7 @@ void run_verify(const VerifyArgs& a) {
     r[kGenAlu] = double(ms::generic_vndf_alu_area_cap(float(in.V), float(in.nl), float(in.nv), float(in.r),
                                                       float(in.rho))) -
                  ex;
-    r[kGenQuadOnly] = ms::area_cap_lambert(mean, in.nl, in.rho, ms::generic_vndf_kinks(in.V)) - ex;
+    r[kGenQuadOnly] = ms::area_cap_lambert(mean, in.nl, in.rho, ms::generic_vndf_kinks(in.V, in.r)) - ex;
     r[kGenAluPoint] = double(ms::generic_vndf_alu(float(in.V), float(in.nl), float(in.nv), float(in.r))) - ex;
     r[kGenAluPointError] =
         double(ms::generic_vndf_alu(float(in.V), float(in.nl), float(in.nv), float(in.r))) - mean(in.nl);

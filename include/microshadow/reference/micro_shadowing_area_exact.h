@@ -50,6 +50,7 @@
 #include <cmath>
 #include <complex>
 #include <functional>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -660,9 +661,9 @@ inline double area_micro_shadowing_exact(const Shape& shape, const Receiver& rec
 // Any callable M(l) → [0, 1] with the z = n·l values of its jumps and kinks (default: standard_z_breaks of
 // nothing, i.e. none; pass standard_z_breaks(V) for a term of occlusion/micro_shadowing.h).
 template <class F>
-double area_micro_shadowing_exact(const Shape& shape, const Receiver& rec, F&& M,
-                                  std::vector<double> z_breaks, bool z_only = false,
-                                  const AreaOptions& opt = {}) {
+requires(!std::is_same_v<std::decay_t<F>, PointTerm>) double area_micro_shadowing_exact(
+    const Shape& shape, const Receiver& rec, F&& M, std::vector<double> z_breaks, bool z_only = false,
+    const AreaOptions& opt = {}) {
   return area_micro_shadowing_exact(shape, rec, PointTerm{std::forward<F>(M), std::move(z_breaks), z_only},
                                     opt);
 }
