@@ -19,8 +19,8 @@ constexpr double kDeg = 3.14159265358979323846 / 180;
 
 Vec3d dir_nl(double nl, double phi = 0) { return spherical_direction(nl, phi); }
 
-PointTerm one() {
-  return {[](const Vec3d&) { return 1.0; }, {}, true};
+auto one() {
+  return PointTerm{[](const Vec3d&) { return 1.0; }, {}, true};
 }
 
 // Independent Monte Carlo over a cap: uniform directions in the cap (PCG32), weight w(l), value M(l).
@@ -160,16 +160,17 @@ TEST(AreaExact, CapAgainstMonteCarlo) {
   };
   for (const Case& c : {Case{0.5, 0.6, 0.5, 30}, Case{0.3, 0.2, 2.0, 25}, Case{0.7, 0.9, 1.0, 40}}) {
     const Cap cap{dir_nl(c.nl, c.phi), c.rho_deg * kDeg};
-    for (int which = 0; which < 3; ++which) {
-      const PointTerm t = which == 0 ? reference_step_term(c.V)
-                                     : (which == 1 ? chan_2018_term(c.V) : brinck_maximov_2016_term(c.V));
+    auto check = [&](const auto& t, int which) {
       for (const Receiver& r : {Receiver::lambert(), Receiver::ggx(0.4, v)}) {
         const double ex = area_micro_shadowing_exact(cap, r, t);
         const Mc mc = mc_cap(
             cap.center, cap.radius, [&](const Vec3d& l) { return r.weight(l); }, t.M, 200000, 11 + which);
         EXPECT_NEAR(ex, mc.value, 4.5 * mc.sigma + 1e-9) << which << " " << c.nl;
       }
-    }
+    };
+    check(reference_step_term(c.V), 0);
+    check(chan_2018_term(c.V), 1);
+    check(brinck_maximov_2016_term(c.V), 2);
   }
 }
 
@@ -315,7 +316,7 @@ TEST(AreaFast, ProductRuleTermsMatchExactOffGrid) {
     const Vec2d p = sobol_2d<double>(i, 21), q = sobol_2d<double>(i, 22);
     const double V = p.x, nl = p.y, rho = (1 + 39 * q.x) * kDeg;
     const Cap cap{dir_nl(nl, 6 * q.y), rho};
-    auto ex = [&](const PointTerm& t) { return area_micro_shadowing_exact(cap, Receiver::lambert(), t); };
+    auto ex = [&](const auto& t) { return area_micro_shadowing_exact(cap, Receiver::lambert(), t); };
     const double bm = ms::brinck_maximov_2016_area_cap(V, nl, rho);
     e[0] = std::max(e[0], std::abs(bm - ex(brinck_maximov_2016_term(V))));
     e[1] = std::max(e[1], std::abs(ms::chan_2018_area_cap(V, nl, rho) - ex(chan_2018_term(V))));

@@ -2,7 +2,7 @@
 // ρ = 0 is bit-identical to the point value, the value matches the library's closed form / exact quadrature,
 // light shapes and receivers, bad input exits 2 with one line on stderr.
 #include <gtest/gtest.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/occlusion/micro_shadowing_area.h>
 #include <microshadow/reference/micro_shadowing_area_exact.h>
 

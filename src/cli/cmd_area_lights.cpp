@@ -102,7 +102,7 @@ void run_verify(const VerifyArgs& a) {
   tbb::parallel_for(0, a.points, [&](int i) {
     const Input in = input_at(uint32_t(i), a);
     const area::Cap cap{spherical_direction(in.nl, 0.0), in.rho};
-    auto exact = [&](const area::PointTerm& t) {
+    auto exact = [&](const auto& t) {
       return area::area_micro_shadowing_exact(cap, area::Receiver::lambert(), t);
     };
     auto& r = rows[size_t(i)];

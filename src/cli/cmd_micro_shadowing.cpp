@@ -14,7 +14,7 @@
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
-#include <microshadow/occlusion/runtime/micro_shadowing_area_method.h>
+#include <microshadow/reference/runtime/micro_shadowing_area_method.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 

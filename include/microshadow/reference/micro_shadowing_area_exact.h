@@ -49,10 +49,8 @@
 #include <array>
 #include <cmath>
 #include <complex>
-#include <functional>
 #include <type_traits>
 #include <utility>
-#include <variant>
 #include <vector>
 
 namespace msh::area {
@@ -74,7 +72,19 @@ struct Quad {
   std::array<Vec3d, 4> corners{};  // unit corner directions, in order around the edge (either winding)
 };
 
-using Shape = std::variant<Cap, Disk, Quad>;
+// One of the three (a tagged union without <variant>, which the header-only core does not use): built
+// implicitly from a Cap, Disk or Quad.
+struct Shape {
+  enum class Kind { Cap, Disk, Quad };
+  Kind kind = Kind::Cap;
+  Cap cap;
+  Disk disk;
+  Quad quad;
+  Shape() = default;
+  Shape(const Cap& c) : kind(Kind::Cap), cap(c) {}     // NOLINT(google-explicit-constructor)
+  Shape(const Disk& d) : kind(Kind::Disk), disk(d) {}  // NOLINT(google-explicit-constructor)
+  Shape(const Quad& q) : kind(Kind::Quad), quad(q) {}  // NOLINT(google-explicit-constructor)
+};
 
 // A disk facing the shading point (normal = −center) whose edge is seen at angular radius ρ: exactly the
 // spherical cap of radius ρ.
@@ -150,13 +160,17 @@ struct Receiver {
 
 // ---- point-wise terms -----------------------------------------------------------------------------------
 
-// A point term M(l) ∈ [0, 1] with the values of z = n·l where it jumps or kinks (each becomes a panel edge)
-// and whether it depends on z only (then no φ quadrature is needed for a Lambertian receiver).
+// A point term: a callable M(l) → [0, 1] (double(const Vec3d&)), the values of z = n·l where it jumps or
+// kinks (each becomes a panel edge) and whether it depends on z only (then no φ quadrature is needed for a
+// Lambertian receiver). Class template argument deduction: PointTerm{lambda, {breaks...}, z_only}.
+template <class F>
 struct PointTerm {
-  std::function<double(const Vec3d&)> M;
+  F M;
   std::vector<double> z_breaks;
   bool z_only = false;
 };
+template <class F>
+PointTerm(F, std::vector<double>, bool) -> PointTerm<F>;
 
 // The circles of constant n·l where a term of occlusion/micro_shadowing.h is not smooth: the cone
 // cos_t = sqrt(1 − V) (reference step, Chan 2018), the early-out 1 − 2V (generic term), 1 − 2V² (Brinck–
@@ -167,33 +181,33 @@ inline std::vector<double> standard_z_breaks(double V) {
           std::sqrt(std::max(0.0, 1 - std::pow(v, 5)))};
 }
 
-inline PointTerm reference_step_term(double V) {
-  return {[V](const Vec3d& l) { return ms::reference_step(V, l.z); },
-          {ms::cone_cos_from_visibility(saturate(V))},
-          true};
+inline auto reference_step_term(double V) {
+  return PointTerm{[V](const Vec3d& l) { return ms::reference_step(V, l.z); },
+                   {ms::cone_cos_from_visibility(saturate(V))},
+                   true};
 }
-inline PointTerm brinck_maximov_2016_term(double V) {
+inline auto brinck_maximov_2016_term(double V) {
   const double v = saturate(V);
-  return {
+  return PointTerm{
       [V](const Vec3d& l) { return ms::brinck_maximov_2016(V, l.z); }, {1 - 2 * v * v, 2 - 2 * v * v}, true};
 }
-inline PointTerm chan_2018_term(double V) {
-  return {[V](const Vec3d& l) { return ms::chan_2018(V, l.z); },
-          {ms::cone_cos_from_visibility(saturate(V))},
-          true};
+inline auto chan_2018_term(double V) {
+  return PointTerm{[V](const Vec3d& l) { return ms::chan_2018(V, l.z); },
+                   {ms::cone_cos_from_visibility(saturate(V))},
+                   true};
 }
-inline PointTerm part1_analytic_term(double V) {
+inline auto part1_analytic_term(double V) {
   const double v = saturate(V);
-  return {[V](const Vec3d& l) { return ms::part1_analytic(V, l.z); },
-          {std::sqrt(std::max(0.0, 1 - std::pow(v, 5)))},
-          true};
+  return PointTerm{[V](const Vec3d& l) { return ms::part1_analytic(V, l.z); },
+                   {std::sqrt(std::max(0.0, 1 - std::pow(v, 5)))},
+                   true};
 }
 // The generic VNDF term (Zurita 2026b) at the full direction l, exact (ms::generic_vndf_exact), view v.
-inline PointTerm generic_vndf_term(double V, double alpha_x, double alpha_y, const Vec3d& v,
-                                   double rel_tol = 1e-8) {
-  return {[=](const Vec3d& l) { return ms::generic_vndf_exact(V, alpha_x, alpha_y, v, l, rel_tol); },
-          {1 - 2 * saturate(V)},
-          false};
+inline auto generic_vndf_term(double V, double alpha_x, double alpha_y, const Vec3d& v,
+                              double rel_tol = 1e-8) {
+  return PointTerm{[=](const Vec3d& l) { return ms::generic_vndf_exact(V, alpha_x, alpha_y, v, l, rel_tol); },
+                   {1 - 2 * saturate(V)},
+                   false};
 }
 
 struct AreaOptions {
@@ -518,8 +532,8 @@ struct DiskGeom {
   }
 };
 
-template <class G>
-double integrate_shape(const G& geom, const Receiver& rec, const PointTerm* term,
+template <class G, class F>
+double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* term,
                        const std::vector<double>& zb, double rel_tol) {
   const bool lambert = rec.kind == Receiver::Kind::Lambert;
   const bool z_only = term == nullptr || term->z_only;
@@ -567,8 +581,8 @@ double integrate_shape(const G& geom, const Receiver& rec, const PointTerm* term
   return total;
 }
 
-template <class G>
-std::vector<double> all_breaks(const G& geom, const Receiver& rec, const PointTerm* term) {
+template <class G, class F>
+std::vector<double> all_breaks(const G& geom, const Receiver& rec, const PointTerm<F>* term) {
   std::vector<double> zb;
   geom.breaks(zb);
   if (rec.kind == Receiver::Kind::GGX) zb.push_back(rec.v.z);
@@ -584,93 +598,64 @@ struct AreaIntegrals {
   double weighted = 0, total = 0;
 };
 
-inline AreaIntegrals area_integrals(const Shape& shape, const Receiver& rec, const PointTerm& term,
-                                    const AreaOptions& opt = {}) {
-  return std::visit(
-      [&](const auto& s) {
-        using S = std::decay_t<decltype(s)>;
-        using G = std::conditional_t<
-            std::is_same_v<S, Cap>, detail::CapGeom,
-            std::conditional_t<std::is_same_v<S, Disk>, detail::DiskGeom, detail::QuadGeom>>;
-        const G geom(s);
-        AreaIntegrals r;
-        r.total =
-            detail::integrate_shape(geom, rec, nullptr, detail::all_breaks(geom, rec, nullptr), opt.rel_tol);
-        if (r.total > 0)
-          r.weighted =
-              detail::integrate_shape(geom, rec, &term, detail::all_breaks(geom, rec, &term), opt.rel_tol);
-        return r;
-      },
-      shape);
+namespace detail {
+// Calls f(geometry) with the geometry of the shape's kind.
+template <class R, class Fn>
+R with_geom(const Shape& shape, Fn&& f) {
+  switch (shape.kind) {
+    case Shape::Kind::Disk:
+      return f(DiskGeom(shape.disk));
+    case Shape::Kind::Quad:
+      return f(QuadGeom(shape.quad));
+    default:
+      return f(CapGeom(shape.cap));
+  }
+}
+inline double one(const Vec3d&) { return 1.0; }
+}  // namespace detail
+
+template <class F>
+AreaIntegrals area_integrals(const Shape& shape, const Receiver& rec, const PointTerm<F>& term,
+                             const AreaOptions& opt = {}) {
+  return detail::with_geom<AreaIntegrals>(shape, [&](const auto& geom) {
+    const PointTerm<double (*)(const Vec3d&)>* none = nullptr;
+    AreaIntegrals r;
+    r.total = detail::integrate_shape(geom, rec, none, detail::all_breaks(geom, rec, none), opt.rel_tol);
+    if (r.total > 0)
+      r.weighted =
+          detail::integrate_shape(geom, rec, &term, detail::all_breaks(geom, rec, &term), opt.rel_tol);
+    return r;
+  });
 }
 
 // The light's centre direction (cap, disk: their centre; quad: the normalized sum of the corners).
 inline Vec3d shape_center(const Shape& shape) {
-  return std::visit(
-      [](const auto& s) -> Vec3d {
-        using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, Cap>)
-          return detail::CapGeom(s).center();
-        else if constexpr (std::is_same_v<S, Disk>)
-          return detail::DiskGeom(s).center();
-        else
-          return detail::QuadGeom(s).center();
-      },
-      shape);
+  return detail::with_geom<Vec3d>(shape, [](const auto& g) { return g.center(); });
 }
 
 // Whether the shape has zero solid angle (radius 0, coincident corners, a disk seen edge-on).
 inline bool shape_is_point(const Shape& shape) {
-  return std::visit(
-      [](const auto& s) -> bool {
-        using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, Cap>)
-          return detail::CapGeom(s).zero();
-        else if constexpr (std::is_same_v<S, Disk>)
-          return detail::DiskGeom(s).zero();
-        else
-          return detail::QuadGeom(s).zero();
-      },
-      shape);
+  return detail::with_geom<bool>(shape, [](const auto& g) { return g.zero(); });
 }
 
 // Whether the direction l is inside the light.
 inline bool shape_contains(const Shape& shape, const Vec3d& l) {
-  return std::visit(
-      [&](const auto& s) -> bool {
-        using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, Cap>)
-          return detail::CapGeom(s).contains(l);
-        else if constexpr (std::is_same_v<S, Disk>)
-          return detail::DiskGeom(s).contains(l);
-        else
-          return detail::QuadGeom(s).contains(l);
-      },
-      shape);
+  return detail::with_geom<bool>(shape, [&](const auto& g) { return g.contains(l); });
 }
 
 // M_area (definition at the top). Zero-size light: M(center). No weight above the horizon: 0. The value is
 // clamped to [0, 1].
-inline double area_micro_shadowing_exact(const Shape& shape, const Receiver& rec, const PointTerm& term,
-                                         const AreaOptions& opt = {}) {
+template <class F>
+double area_micro_shadowing_exact(const Shape& shape, const Receiver& rec, const PointTerm<F>& term,
+                                  const AreaOptions& opt = {}) {
   if (shape_is_point(shape)) return term.M(shape_center(shape));
   const AreaIntegrals r = area_integrals(shape, rec, term, opt);
   return r.total > 0 ? saturate(r.weighted / r.total) : 0.0;
 }
 
-// Any callable M(l) → [0, 1] with the z = n·l values of its jumps and kinks (default: standard_z_breaks of
-// nothing, i.e. none; pass standard_z_breaks(V) for a term of occlusion/micro_shadowing.h).
-template <class F>
-requires(!std::is_same_v<std::decay_t<F>, PointTerm>) double area_micro_shadowing_exact(
-    const Shape& shape, const Receiver& rec, F&& M, std::vector<double> z_breaks, bool z_only = false,
-    const AreaOptions& opt = {}) {
-  return area_micro_shadowing_exact(shape, rec, PointTerm{std::forward<F>(M), std::move(z_breaks), z_only},
-                                    opt);
-}
-
 // ∫_Ω (n·l)⁺ dl (Lambert) or ∫_Ω f (n·l)⁺ dl (GGX): the light's weight, e.g. irradiance / radiance.
 inline double light_weight(const Shape& shape, const Receiver& rec, const AreaOptions& opt = {}) {
-  return area_integrals(shape, rec, PointTerm{[](const Vec3d&) { return 1.0; }, {}, true}, opt).total;
+  return area_integrals(shape, rec, PointTerm<double (*)(const Vec3d&)>{&detail::one, {}, true}, opt).total;
 }
 
 }  // namespace msh::area

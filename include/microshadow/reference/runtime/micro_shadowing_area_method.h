@@ -2,7 +2,7 @@
 // the method's point value M(l) = MicroShadowingEvaluator::eval at the query with n_dot_l (and φ) set from
 // the direction l, integrated over a light by the exact quadrature of
 // reference/micro_shadowing_area_exact.h. A method added to the table gets its area form for free.
-// Definitions: docs/area-lights.md.
+// Runtime code (std::function): reference/runtime/, compiled users only. Definitions: docs/area-lights.md.
 #pragma once
 
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace msh::occlusion {
 
@@ -17,9 +18,12 @@ namespace msh::occlusion {
 // in docs/micro-shadowing.md): n_dot_l = l.z (clamped to [0, 1]); when q.phi is set (and the method accepts
 // it) φ = the relative azimuth |atan2(l.y, l.x)| ∈ [0, π], else the method's azimuth mean, which depends on
 // l.z only. Breaks: area::standard_z_breaks(V), every circle where a built-in term is not smooth.
-inline area::PointTerm area_point_term(const MicroShadowingEvaluator& m, const MicroShadowingQuery& q) {
+// The point term type of a registered method (type-erased: the method is chosen at run time).
+using AreaPointTerm = area::PointTerm<std::function<double(const Vec3d&)>>;
+
+inline AreaPointTerm area_point_term(const MicroShadowingEvaluator& m, const MicroShadowingQuery& q) {
   const bool uses_phi = q.phi.has_value() && m.info().accepts_phi;
-  area::PointTerm t;
+  AreaPointTerm t;
   t.z_only = !uses_phi;
   t.z_breaks = area::standard_z_breaks(q.visibility);
   t.M = [&m, q, uses_phi](const Vec3d& l) {
