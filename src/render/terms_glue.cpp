@@ -21,6 +21,11 @@ float BumpTerminatorTerm::eval(const Vec3f& ng, const Vec3f& ns, const Vec3f& l)
   return 1.0f;
 }
 
+float MicroShadowingTerm::eval_area(const ShadePoint&, const Vec3f&, const Vec3f&, const Light&, const Vec3f&,
+                                    bool, const std::function<float(const Vec3f&)>&) const {
+  throw InputError("area_ms 'integrated' is not available in this build");
+}
+
 class LutSampler {
  public:
   std::shared_ptr<const lut::MicroShadowingLut> table;
