@@ -3,8 +3,10 @@
 //
 //   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
 //       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
-//   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, generic-vndf-alu,
-//   lut3d, lut2d [--lut FILE])
+//   (methods: the table of occlusion/runtime/micro_shadowing_methods.h, `--help` lists them)
+//   ... --light-radius-deg RHO [--light-shape sphere|disk|rect] [--light-tilt-deg T] [--light-roll-deg R]
+//       [--light-half-height-deg H] [--receiver lambert|ggx]: the term averaged over an area light
+//       (docs/area-lights.md)
 //   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
@@ -12,6 +14,8 @@
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_area_method.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <algorithm>
@@ -29,10 +33,6 @@ namespace {
 
 using ms::G2Form;
 
-const std::vector<std::string> kMethods = {"reference",      "brinck-maximov-2016", "chan-2018",
-                                           "part1-analytic", "generic-vndf",        "lut3d",
-                                           "lut2d",          "generic-vndf-alu"};
-
 struct EvalArgs {
   std::string method = "generic-vndf", g2 = "height-correlated", lut;
   double visibility = 1, roughness = 0.5, ndotl = 1, ndotv = 1, phi = 0, roughness_y = 0;
@@ -40,7 +40,59 @@ struct EvalArgs {
   uint32_t seed = 1;
   bool json = false;
   CLI::Option *phi_opt = nullptr, *ry_opt = nullptr, *samples_opt = nullptr;
+  // Area light (docs/area-lights.md).
+  std::string light_shape = "sphere", receiver = "lambert";
+  double light_radius_deg = 0, light_tilt_deg = 0, light_roll_deg = 0, light_half_height_deg = 0;
+  CLI::Option *radius_opt = nullptr, *shape_opt = nullptr, *tilt_opt = nullptr, *roll_opt = nullptr,
+              *hh_opt = nullptr, *receiver_opt = nullptr;
 };
+
+// The light of the area options, centred on the N.L direction at azimuth phi (v at azimuth 0).
+area::Shape area_light_shape(const EvalArgs& a, double phi) {
+  const double deg = kPi<double> / 180;
+  const Vec3d c = lut::study_light_dir(a.ndotl, phi);
+  const double rho = a.light_radius_deg * deg, tilt = a.light_tilt_deg * deg, roll = a.light_roll_deg * deg;
+  if (a.light_shape == "disk") return area::disk_tilted(c, rho, tilt, roll);
+  if (a.light_shape == "rect") {
+    const double hh = a.hh_opt->count() ? a.light_half_height_deg * deg : rho;
+    return area::rect_tilted(c, rho, hh, tilt, roll);
+  }
+  return area::Cap{c, rho};
+}
+
+// Validates the area options; false when none is given (the point term).
+bool check_area_args(const EvalArgs& a) {
+  const bool any = a.shape_opt->count() || a.tilt_opt->count() || a.roll_opt->count() || a.hh_opt->count() ||
+                   a.receiver_opt->count();
+  if (!a.radius_opt->count()) {
+    if (any)
+      throw UsageError(
+          "--light-shape, --light-tilt-deg, --light-roll-deg, --light-half-height-deg and --receiver need "
+          "--light-radius-deg");
+    return false;
+  }
+  require_range(a.light_radius_deg, 0, 90, "--light-radius-deg");
+  if (a.light_shape != "sphere" && a.light_shape != "disk" && a.light_shape != "rect")
+    throw UsageError(fmt::format("--light-shape must be sphere, disk or rect, got '{}'", a.light_shape));
+  if (a.receiver != "lambert" && a.receiver != "ggx")
+    throw UsageError(fmt::format("--receiver must be lambert or ggx, got '{}'", a.receiver));
+  if (a.light_shape == "sphere" && (a.tilt_opt->count() || a.roll_opt->count() || a.hh_opt->count()))
+    throw UsageError("--light-tilt-deg, --light-roll-deg and --light-half-height-deg apply to disk and rect");
+  if (a.light_shape == "disk" && a.hh_opt->count())
+    throw UsageError("--light-half-height-deg applies to rect only");
+  if (a.light_shape != "sphere") {
+    if (!(a.light_radius_deg < 90))
+      throw UsageError(
+          fmt::format("--light-radius-deg of a {} must be < 90, got {}", a.light_shape, a.light_radius_deg));
+    if (!(std::abs(a.light_tilt_deg) < 90))
+      throw UsageError(fmt::format("--light-tilt-deg must be in (-90, 90), got {}", a.light_tilt_deg));
+    require_range(a.light_roll_deg, -360, 360, "--light-roll-deg");
+    if (a.hh_opt->count() && !(a.light_half_height_deg >= 0 && a.light_half_height_deg < 90))
+      throw UsageError(
+          fmt::format("--light-half-height-deg must be in [0, 90), got {}", a.light_half_height_deg));
+  }
+  return true;
+}
 
 G2Form parse_g2(const std::string& s) {
   if (s == "height-correlated") return G2Form::HeightCorrelated;
@@ -48,138 +100,96 @@ G2Form parse_g2(const std::string& s) {
   throw UsageError(fmt::format("--g2 must be height-correlated or uncorrelated, got '{}'", s));
 }
 
-// v in the xz plane (azimuth 0 = along the tangent), l at relative azimuth phi (the studies' convention).
-using lut::study_light_dir;
-using lut::study_view_dir;
-
-// Number of azimuths (midpoints of equal strata of [0, π]) of the sampled azimuth mean.
-constexpr int kEstimateAzimuths = 32;
-
-// Generic term: exact (no samples) or the Sobol estimator of Zurita 2026b; at one azimuth or the mean over
-// [0, π].
-double eval_generic(double V, double ax, double ay, double nl, double nv, const double* phi, int64_t samples,
-                    G2Form form, uint32_t seed) {
-  const Vec3d v = study_view_dir(nv);
-  if (samples == 0) {
-    if (phi) return ms::generic_vndf_exact(V, ax, ay, v, study_light_dir(nl, *phi));
-    if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv);
-    return ms::generic_vndf_exact_azimuth_mean_anisotropic(V, ax, ay, nl, nv);
+// What the LUT methods report beside the value: which table, its layout and sizes.
+void describe_table(nlohmann::json& out, const lut::MicroShadowingLut& table, const std::string& path,
+                    bool has_phi) {
+  const lut::MicroShadowingLutView view = table.view();
+  out["lut"] = path.empty() ? nlohmann::json("default (baked on first use)") : nlohmann::json(path);
+  out["lut_layout"] = lut::layout_name(view.layout);
+  out["lut_size"] = {view.n_vis, view.n_nl, view.n_nv};
+  if (view.layout == lut::LutLayout::Cone) {
+    out["lut_roughness_slabs"] = view.n_rough;
+    out["lut_roughness_range"] = {lut::short_float(view.cone.roughness_min),
+                                  lut::short_float(view.cone.roughness_max)};
+  } else {
+    out["lut_roughness"] = table.roughness;
   }
-  const GGX<double> ggx(ax, ay);
-  if (phi) return ms::generic_vndf_estimate(V, ggx, v, study_light_dir(nl, *phi), int(samples), form, seed);
-  double sum = 0;
-  for (int k = 0; k < kEstimateAzimuths; ++k) {
-    const double p = kPi<double> * (k + 0.5) / kEstimateAzimuths;
-    sum += ms::generic_vndf_estimate(V, ggx, v, study_light_dir(nl, p), int(samples), form,
-                                     hash_combine(seed, k));
-  }
-  return sum / kEstimateAzimuths;
+  out["harmonics"] = view.harmonics;
+  out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
 }
 
+// Parses, evaluates through the method table (occlusion/runtime/micro_shadowing_methods.h) and prints.
 void run_eval(const EvalArgs& a) {
-  if (std::find(kMethods.begin(), kMethods.end(), a.method) == kMethods.end()) {
-    std::string known;
-    for (const auto& m : kMethods) known += (known.empty() ? "" : ", ") + m;
-    throw UsageError(fmt::format("--method must be one of: {}; got '{}'", known, a.method));
-  }
-  require_range(a.visibility, 0, 1, "--visibility");
-  require_range(a.roughness, 0, 1, "--roughness");
-  require_range(a.ndotl, 0, 1, "--ndotl");
-  require_range(a.ndotv, 0, 1, "--ndotv");
   const bool has_phi = a.phi_opt->count() > 0, has_ry = a.ry_opt->count() > 0;
-  if (has_phi) require_range(a.phi, 0, kPi<double>, "--phi (relative azimuth, radians)");
-  if (has_ry) require_range(a.roughness_y, 0, 1, "--roughness-y");
   if (a.samples_opt->count() && (a.samples < 1 || a.samples > (int64_t(1) << 30)))
     throw UsageError(fmt::format("--samples must be in [1, 2^30], got {}", a.samples));
   const G2Form form = parse_g2(a.g2);
+  const occlusion::MicroShadowingEvaluator method(a.method, {a.samples, a.seed, form, a.lut});
+  const bool area_mode = check_area_args(a);
+  occlusion::MicroShadowingQuery q{a.visibility, a.ndotl, a.ndotv, a.roughness, std::nullopt, std::nullopt};
+  // With a light, --phi is the light's azimuth for every method (a GGX receiver depends on it); the term
+  // itself reads it only if it accepts it.
+  if (has_phi && (!area_mode || method.info().accepts_phi)) q.phi = a.phi;
+  if (has_ry) q.roughness_y = a.roughness_y;
+  if (area_mode && has_phi) require_range(a.phi, 0, kPi<double>, "--phi (relative azimuth, radians)");
+  double value = method.eval(q);  // validates every input first
+  nlohmann::json light;
+  if (area_mode) {
+    const area::Shape shape = area_light_shape(a, has_phi ? a.phi : 0.0);
+    const bool ggx = a.receiver == "ggx";
+    const double axr = roughness_to_alpha(a.roughness),
+                 ayr = roughness_to_alpha(has_ry ? a.roughness_y : a.roughness);
+    const area::Receiver rec =
+        ggx ? area::Receiver::ggx(axr, ayr, lut::study_view_dir(a.ndotv)) : area::Receiver::lambert();
+    light = {{"shape", a.light_shape},
+             {"radius_deg", a.light_radius_deg},
+             {"azimuth", has_phi ? a.phi : 0.0},
+             {"receiver", a.receiver},
+             {"point_value", value}};
+    if (a.light_shape != "sphere") light["tilt_deg"] = a.light_tilt_deg, light["roll_deg"] = a.light_roll_deg;
+    if (a.light_shape == "rect")
+      light["half_height_deg"] = a.hh_opt->count() ? a.light_half_height_deg : a.light_radius_deg;
+    // A zero-size light is the point value itself (bit-identical to the command without a light).
+    if (!area::shape_is_point(shape)) value = occlusion::area_micro_shadowing(method, q, shape, rec);
+    light["estimator"] = area::shape_is_point(shape)
+                             ? "point value (zero-size light)"
+                             : (q.phi || !method.info().accepts_phi
+                                    ? "exact quadrature over the light"
+                                    : "exact quadrature over the light of the term's azimuth mean");
+  }
+
   const double ax = roughness_to_alpha(a.roughness),
                ay = roughness_to_alpha(has_ry ? a.roughness_y : a.roughness);
   const bool early = ms::exact_zero(a.visibility, a.ndotl);
-
   nlohmann::json inputs = {
       {"visibility", a.visibility}, {"roughness", a.roughness}, {"alpha_x", ax}, {"alpha_y", ay},
       {"ndotl", a.ndotl},           {"ndotv", a.ndotv},         {"g2", a.g2}};
   inputs["phi"] = has_phi ? nlohmann::json(a.phi) : nlohmann::json(nullptr);
   nlohmann::json out = {{"method", a.method}, {"inputs", inputs}, {"early_out", early}};
-
-  double value = 0;
   const std::string& m = a.method;
-  if (m == "lut3d" || m == "lut2d") {
-    if (has_ry) throw UsageError("the LUT is isotropic: --roughness-y applies to generic-vndf only");
-    if (a.samples > 0) throw UsageError("--samples applies to generic-vndf only");
-    // --lut FILE (any format the loader reads, with its sidecar) or the default table, baked on first use.
-    // (The default table is not baked for an early-out point: the sampler returns 0 before any fetch.)
-    std::shared_ptr<const lut::MicroShadowingLut> table;
-    if (!a.lut.empty())
-      table = std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(a.lut));
-    else if (!early)
-      table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 3 : 0);
-    if (!table) {
-      out["value"] = 0.0;
+  if (method.info().accepts_lut) {
+    // The default table is not baked for an early-out point: the sampler returns 0 before any fetch.
+    if (!a.lut.empty() || !early)
+      describe_table(out, *method.table(has_phi), a.lut, has_phi);
+    else
       out["lut"] = "default (not needed: early-out)";
-      if (a.json)
-        print_json(out);
-      else
-        fmt::print("0\n");
-      return;
-    }
-    const lut::MicroShadowingLutView view = table->view();
-    if (m == "lut3d" && view.n_nv < 2)
-      throw UsageError("lut3d needs a 3D table (N.V size > 1); use --method lut2d for an N.V = 1 table");
-    // --phi asks for the term at that azimuth: only an azimuth-aware table has it (never the mean silently).
-    if (has_phi && view.harmonics == 0)
-      throw UsageError(
-          "--phi needs an azimuth-aware table (bake micro-shadowing --azimuth); this table holds the azimuth "
-          "mean only (omit --phi for the mean)");
-    // lut2d: the N·V = 1 slice whatever the table (a 2D table has only that slice).
-    const double nv = m == "lut2d" ? 1.0 : a.ndotv;
-    value = has_phi ? lut::sample_micro_shadowing_azimuth(view, a.visibility, a.ndotl, nv, a.roughness,
-                                                          std::cos(a.phi))
-                    : lut::sample_micro_shadowing(view, a.visibility, a.ndotl, nv, a.roughness);
-    out["lut"] = a.lut.empty() ? nlohmann::json("default (baked on first use)") : nlohmann::json(a.lut);
-    out["lut_layout"] = lut::layout_name(view.layout);
-    out["lut_size"] = {view.n_vis, view.n_nl, view.n_nv};
-    if (view.layout == lut::LutLayout::Cone) {
-      out["lut_roughness_slabs"] = view.n_rough;
-      out["lut_roughness_range"] = {lut::short_float(view.cone.roughness_min),
-                                    lut::short_float(view.cone.roughness_max)};
-    } else {
-      out["lut_roughness"] = table->roughness;
-    }
-    out["harmonics"] = view.harmonics;
-    out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
   } else if (m == "generic-vndf-alu") {
-    // ALU-only approximations of the azimuth mean (micro_shadowing_fit.h), in float as a shader runs them:
-    // value = the one-call form, two_stage = the per-pixel + per-light form.
-    if (has_phi || has_ry || a.samples > 0)
-      throw UsageError(
-          "--phi, --roughness-y and --samples do not apply to generic-vndf-alu (isotropic mean)");
-    const float vf = float(a.visibility), lf = float(a.ndotl), nf = float(a.ndotv), rf = float(a.roughness);
-    value = ms::generic_vndf_alu(vf, lf, nf, rf);
-    out["two_stage"] = ms::generic_vndf_alu_two_stage(vf, lf, nf, rf);
+    // value = the one-call form, two_stage = the per-pixel + per-light form (float, as a shader runs them).
+    out["two_stage"] = ms::generic_vndf_alu_two_stage(float(a.visibility), float(a.ndotl), float(a.ndotv),
+                                                      float(a.roughness));
     out["azimuth"] = "mean over [0, pi]";
   } else if (m == "generic-vndf") {
-    value = eval_generic(a.visibility, ax, ay, a.ndotl, a.ndotv, has_phi ? &a.phi : nullptr, a.samples, form,
-                         a.seed);
     out["azimuth"] = has_phi ? "fixed" : "mean over [0, pi]";
     if (a.samples > 0) {
       out["samples"] = a.samples;
       out["seed"] = a.seed;
-      out["estimator"] =
-          has_phi ? "sobol-owen" : fmt::format("sobol-owen, {} azimuth strata", kEstimateAzimuths);
+      out["estimator"] = has_phi ? "sobol-owen" : "sobol-owen, 32 azimuth strata";
     } else {
       out["samples"] = nullptr;
       out["estimator"] = "exact quadrature (|error| < 1e-6)";
     }
-  } else {
-    if (has_phi || has_ry || a.samples > 0)
-      throw UsageError(
-          fmt::format("--phi, --roughness-y and --samples apply to generic-vndf only, not {}", m));
-    if (m == "reference") value = ms::reference_step(a.visibility, a.ndotl);
-    if (m == "brinck-maximov-2016") value = ms::brinck_maximov_2016(a.visibility, a.ndotl);
-    if (m == "chan-2018") value = ms::chan_2018(a.visibility, a.ndotl);
-    if (m == "part1-analytic") value = ms::part1_analytic(a.visibility, a.ndotl);
   }
+  if (area_mode) out["light"] = light;
   out["value"] = value;
   if (a.json)
     print_json(out);
@@ -290,11 +300,7 @@ void add_micro_shadowing(Groups& g) {
                                        "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
                                        "exact term at that azimuth. Without "
                                        "--samples the generic term is the exact quadrature (error < 1e-6).");
-  e->add_option(
-       "--method", ea->method,
-       "reference | brinck-maximov-2016 | chan-2018 | part1-analytic | generic-vndf | lut3d | lut2d | "
-       "generic-vndf-alu")
-      ->capture_default_str();
+  e->add_option("--method", ea->method, occlusion::micro_shadowing_method_names())->capture_default_str();
   e->add_option("--visibility", ea->visibility,
                 "Micro-occlusion visibility V in [0, 1] (projected solid angle)")
       ->check(Finite)
@@ -320,6 +326,30 @@ void add_micro_shadowing(Groups& g) {
       "--lut", ea->lut,
       "LUT file for lut3d / lut2d (from `bake micro-shadowing`; default: the default table, baked on "
       "first use; with --phi an azimuth-aware one)");
+  ea->radius_opt = e->add_option("--light-radius-deg", ea->light_radius_deg,
+                                 "Area light (docs/area-lights.md): angular radius in degrees [0, 90] of a "
+                                 "sphere light centred on the N.L direction (at azimuth --phi, default 0); "
+                                 "value = the term averaged over the light, 0 = the point value. disk: the "
+                                 "edge's angular radius when facing; rect: the half-width's angle")
+                       ->check(Finite);
+  ea->shape_opt =
+      e->add_option("--light-shape", ea->light_shape, "sphere | disk | rect")->capture_default_str();
+  ea->tilt_opt = e->add_option("--light-tilt-deg", ea->light_tilt_deg,
+                               "disk/rect: tilt of the light's plane from facing the point, degrees in "
+                               "(-90, 90) (about its w axis; > 0 turns the normal toward N)")
+                     ->check(Finite);
+  ea->roll_opt = e->add_option("--light-roll-deg", ea->light_roll_deg,
+                               "disk/rect: rotation of the light's u axis about the centre direction, "
+                               "degrees (0: u in the plane of N and the centre)")
+                     ->check(Finite);
+  ea->hh_opt = e->add_option("--light-half-height-deg", ea->light_half_height_deg,
+                             "rect: angle of the half-height (along w), degrees in [0, 90); default: "
+                             "--light-radius-deg (a square)")
+                   ->check(Finite);
+  ea->receiver_opt = e->add_option("--receiver", ea->receiver,
+                                   "Weight over the light: lambert ((n.l)) or ggx (the GGX specular BRDF "
+                                   "at --roughness and --ndotv, F = 1, times (n.l))")
+                         ->capture_default_str();
   e->add_flag("--json", ea->json, "Print one JSON object");
   e->callback([ea] { run_eval(*ea); });
 
