@@ -225,9 +225,14 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
         if (want_d) m_d = term(rd.wc, ts);
         if (want_s) m_s = term(rd.ws, ts);
       } else {
-        auto point_term = [&](const Vec3f& wi) { return term(wi, ts); };
-        if (want_d) m_d = ms.eval_area(sp, wo, h.tangent, light, h.p, false, point_term);
-        if (want_s) m_s = ms.eval_area(sp, wo, h.tangent, light, h.p, true, point_term);
+        const std::function<float(const Vec3f&)> bump = [&](const Vec3f& wi) {
+          return bt.eval(sp.n_smooth, sp.n_shading, wi);
+        };
+        const bool no_bump = set.bump_terminator == BumpTerminator::Off;
+        if (want_d && acc_d.r + acc_d.g + acc_d.b > 0)
+          m_d = ms.eval_area(sp, wo, h.tangent, light, h.p, false, bump, no_bump, ts);
+        if (want_s && acc_s.r + acc_s.g + acc_s.b > 0)
+          m_s = ms.eval_area(sp, wo, h.tangent, light, h.p, true, bump, no_bump, ts);
       }
       L += (acc_d * m_d + acc_s * m_s) / float(set.area_samples);
     }
