@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <microshadow/study/study.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -83,6 +84,47 @@ std::string area_summary_markdown(const json& results) {
                                       c["component"].get<std::string>());
     if (groups.insert(g).second) group_order.push_back({g, c["component"]});
   }
+  // The representative point against the integrated form (or the per-sample term) of the same term.
+  if (results.contains("area_representative")) {
+    const json& rep = results["area_representative"];
+    std::vector<std::string> rep_terms;
+    for (const auto& r : rep)
+      if (std::find(rep_terms.begin(), rep_terms.end(), r["method"].get<std::string>()) == rep_terms.end())
+        rep_terms.push_back(r["method"]);
+    for (const auto& [g, comp] : group_order) {
+      const auto p1 = g.find('|'), p2 = g.rfind('|');
+      const std::string mat = g.substr(0, p1);
+      const int k = std::stoi(g.substr(p1 + 1, p2 - p1 - 1));
+      s += fmt::format(
+          "#### Representative point against integrated (I) / per-sample (S) — {}, k = {}, {}: mean ratio "
+          "R/I, "
+          "footprint RMSE of R − I / GT mean, per-pixel RMSE / GT mean\n\n| light | radius | elev. |",
+          mat, k, comp);
+      std::string sep = "|---|---:|---:|";
+      for (const auto& t : rep_terms) s += " " + t + " |", sep += "---:|";
+      s += "\n" + sep + "\n";
+      std::string last;
+      for (const auto& r : rep) {
+        if (r["material"] != mat || r["scale"] != k || r["component"] != comp) continue;
+        if (r["light"] == last) continue;
+        last = r["light"];
+        s += fmt::format("| {} | {}° | {}° |", r["light_type"].get<std::string>(),
+                         r["light_radius_deg"].get<double>(), r["elevation"].get<double>());
+        for (const auto& t : rep_terms) {
+          std::string v = "–";
+          for (const auto& q : rep)
+            if (q["light"] == last && q["material"] == mat && q["scale"] == k && q["component"] == comp &&
+                q["method"] == t)
+              v = fmt::format("{} / {} / {} ({})", f3(num_or_nan(q["ratio"])),
+                              f3(num_or_nan(q["rmse_footprint_rel"])), f3(num_or_nan(q["rmse_rel"])),
+                              q["against"] == "integrated" ? "I" : "S");
+          s += " " + v + " |";
+        }
+        s += "\n";
+      }
+      s += "\n";
+    }
+  }
   for (const bool rmse : {false, true})
     for (const auto& [g, comp] : group_order) {
       const auto p1 = g.find('|'), p2 = g.rfind('|');
@@ -106,7 +148,7 @@ std::string area_summary_markdown(const json& results) {
               modes += std::string(modes.empty() ? "" : " / ") + kModeShort[i];
               break;
             }
-        s += fmt::format(" {} ({}) |", t, n > 1 ? modes : "");
+        s += fmt::format(" {}{} |", t, n > 1 ? " (" + modes + ")" : "");
         sep += "---:|";
       }
       if (!rmse) s += " ± |", sep += "---:|";

@@ -9,6 +9,7 @@
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -582,6 +583,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
   if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", out.string(), ec.message()));
 
   json gt_rows = json::array(), rows = json::array(), images = json::array();
+  json area_rep = json::array();  // area-light section: representative against integrated / sampled
   json timing = {{"materials", json::object()}};
   double t_gen = 0, t_gt = 0, t_methods = 0;
   std::map<std::string, double> variant_cpu;
@@ -692,6 +694,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
           }
           // Every term on the coarse set, same camera.
           const auto t_m = std::chrono::steady_clock::now();
+          std::map<std::string, std::array<Plane, 3>> area_lum;  // "method/area_ms" → luminance per component
           for (const Variant& v : variants) {
             Scene& sc = coarse[v.rough == CoarseRoughness::Widened ? 1 : 0];
             sc.lights[0] = ls.light;
@@ -746,6 +749,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
               if (area_section(cfg)) {
                 rows.back()["area_ms"] = to_string(v.area_ms);
                 rows.back()["light_radius_deg"] = ls.radius_deg;
+                area_lum[std::string(to_string(v.term)) + "/" + to_string(v.area_ms)][ci] = A;
               }
             }
             if (featured && !v.smooth && v.rough == CoarseRoughness::Base) {
@@ -760,6 +764,33 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
                                 {"method", m},
                                 {"image", "images/" + stem + "_" + m + ".png"},
                                 {"diff", "images/" + stem + "_" + m + "_diff.png"}});
+            }
+          }
+          // The representative point's own error: its image against the integrated (or, without one, the
+          // per-sample) image of the same term, same light samples.
+          for (const std::string& t : cfg.area_terms) {
+            if (!area_lum.count(t + "/representative")) continue;
+            const bool has_int = area_lum.count(t + "/integrated") > 0;
+            if (!has_int && !area_lum.count(t + "/sampled")) continue;
+            const auto& R = area_lum[t + "/representative"];
+            const auto& X = area_lum[t + (has_int ? "/integrated" : "/sampled")];
+            for (int ci = 0; ci < 3; ++ci) {
+              const Plane zero(R[ci].width, R[ci].height, 0.0);
+              const double gm = region_mean(GL[ci], GS[ci], reg.whole).value;
+              area_rep.push_back(
+                  {{"material", kind},
+                   {"scale", k},
+                   {"light", ls.name},
+                   {"light_type", ls.type},
+                   {"light_radius_deg", ls.radius_deg},
+                   {"elevation", ls.elevation},
+                   {"component", kComponentName[ci]},
+                   {"method", t},
+                   {"against", has_int ? "integrated" : "sampled"},
+                   {"ratio", finite_or_null(bias(R[ci], X[ci], zero, reg.whole).value)},
+                   {"rmse_footprint_rel",
+                    finite_or_null(rmse_footprint(R[ci], X[ci], zero, reg.whole, cfg.footprint).value / gm)},
+                   {"rmse_rel", finite_or_null(rmse(R[ci], X[ci], zero, reg.whole).value / gm)}});
             }
           }
           const double tm = secs_since(t_m);
@@ -777,7 +808,11 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
       {"config", config_json_area(cfg)}, {"ground_truth", gt_rows}, {"rows", rows}, {"images", images}};
   scrub(results);
   results["summary"] = summarize(results["rows"], cfg);
-  if (area_section(cfg)) results["area_summary"] = summarize_area(results["rows"]);
+  if (area_section(cfg)) {
+    results["area_summary"] = summarize_area(results["rows"]);
+    results["area_representative"] = area_rep;
+    scrub(results["area_representative"]);
+  }
   std::string csv = csv_header();
   for (const auto& r : results["rows"]) csv += csv_line(r);
   io::write_file_atomic(out / "results.json", results.dump(1) + "\n");
