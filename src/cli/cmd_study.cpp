@@ -1,9 +1,11 @@
 // `microshadow study [--quick] --out DIR`: the multiscale comparison of every micro-shadowing term against a
 // ray-traced fine height field (docs/study.md).
 #include <fmt/format.h>
+#include <microshadow/io/error.h>
 #include <microshadow/study/study.h>
 #include <tbb/global_control.h>
 
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 
@@ -13,7 +15,7 @@ namespace msh::cli {
 namespace {
 
 struct StudyArgs {
-  std::string out, materials, cache, shapes, area_ms;
+  std::string out, materials, cache, shapes, area_ms, scales;
   bool quick = false, quiet = false, area = false;
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
 };
@@ -35,6 +37,7 @@ void add_study(Groups& g) {
   s->add_option("--area-ms", a->area_ms,
                 "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
   s->add_option("--materials", a->materials, "Comma-separated material kinds (default: the study's list)");
+  s->add_option("--scales", a->scales, "Comma-separated scales k (default: the study's list)");
   s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
   s->add_option("--fine-size", a->fine_size, "Fine height field size in texels (default 2048, quick 1024)")
       ->check(CLI::Range(64, 8192));
@@ -68,6 +71,16 @@ void add_study(Groups& g) {
     if (!a->materials.empty()) c.materials = split(a->materials);
     if (!a->shapes.empty()) c.shapes = split(a->shapes);
     if (!a->area_ms.empty()) c.area_ms_modes = split(a->area_ms);
+    if (!a->scales.empty()) {
+      c.scales.clear();
+      for (const std::string& k : split(a->scales)) {
+        char* end = nullptr;
+        const long v = std::strtol(k.c_str(), &end, 10);
+        if (k.empty() || *end != '\0' || v < 1 || v > 4096)
+          throw InputError(fmt::format("--scales: '{}' is not a scale in [1, 4096]", k));
+        c.scales.push_back(int(v));
+      }
+    }
     if (a->fine_size) c.fine_size = a->fine_size;
     if (a->image_size) c.image_size = a->image_size;
     if (a->gt_max_spp) c.gt_max_spp = a->gt_max_spp;
