@@ -5,12 +5,14 @@
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
 #include <tbb/global_control.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string>
 
 namespace fs = std::filesystem;
 using namespace msh::study;
@@ -233,8 +235,10 @@ TEST(Study, TinyAreaLightRun) {
   c.area_radii_deg = {5, 40};
   c.area_elevations = {50};
   c.area_planar_radii_deg = {10};
-  const fs::path d1 = fs::temp_directory_path() / "msh_test_area_study_1",
-                 d2 = fs::temp_directory_path() / "msh_test_area_study_2";
+  // Per-process directories: other checkouts may run this test at the same time.
+  const std::string pid = std::to_string(::getpid());
+  const fs::path d1 = fs::temp_directory_path() / ("msh_test_area_study_1_" + pid),
+                 d2 = fs::temp_directory_path() / ("msh_test_area_study_2_" + pid);
   fs::remove_all(d1), fs::remove_all(d2);
   nlohmann::json r1;
   {
@@ -278,4 +282,5 @@ TEST(Study, TinyAreaLightRun) {
   // The main verdict cells hold each method once per light (the sampled rows only).
   for (const auto& cell : r1["summary"]["cells"])
     for (const auto& [m, e] : cell["methods"].items()) EXPECT_EQ(e["n"].get<int>(), 1) << m;
+  fs::remove_all(d1), fs::remove_all(d2);
 }
