@@ -79,3 +79,35 @@ void write_ltc_table(const std::filesystem::path& path, const LtcTable& t, io::F
 LtcTable load_ltc_table(const std::filesystem::path& path);
 
 }  // namespace msh::bsdf
+
+namespace msh::bsdf {
+
+// As-used accuracy of an LTC table (docs/ltc.md): at `points` (roughness, cos θ_v, light) drawn by a
+// Sobol sequence off the grid — r ∈ [roughness_min, 1], cos θ_v ∈ [cos_min, 1], angular radius σ log-uniform
+// in [sigma_min_deg, sigma_max_deg], light centre elevation uniform in [0°, 90°] and azimuth in [0°, 180°]
+// from the mirror direction's side — the LTC-shaded sphere light (ltc_shade_sphere, N-gon) and square light
+// (half-size tan σ at distance 1, facing the point) with the table fetched bilinearly, against nested
+// Gauss–Kronrod quadrature of f(v,l)(n·l) over the light (reference/light_quadrature.h), F = 1.
+// Values are normalized by the light's form factor at normal incidence (the light scaled so a white Lambert
+// surface facing it reflects 1), so absolute errors read in display units (×255 = 8-bit steps).
+struct LtcVerifyOptions {
+  int points = 256;
+  double roughness_min = 0.1, cos_min = 0.05, sigma_min_deg = 1, sigma_max_deg = 40;
+  int polygon_sides = 16;
+  // Relative errors only where the reference ≥ rel_floor × the highlight's peak (the same light centred on the
+  // mirror direction); the diffuse check: where the reference ≥ rel_floor (normalized units).
+  double rel_floor = 0.1;
+  uint32_t seed = 3;
+};
+struct LtcErrorStats {
+  double rms_rel = 0, max_rel = 0, rms_abs = 0, max_abs = 0;  // abs in normalized units
+  int count_rel = 0, count = 0;
+  double worst_roughness = 0, worst_cos_v = 0, worst_sigma_deg = 0, worst_elevation_deg = 0;  // at max_abs
+};
+struct LtcVerifyReport {
+  LtcErrorStats sphere, rect, sphere_polygon, diffuse_sphere;  // sphere_polygon: N-gon vs the LTC over the cap
+  double seconds = 0;
+};
+LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o);
+
+}  // namespace msh::bsdf
