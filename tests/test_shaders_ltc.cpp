@@ -1,8 +1,8 @@
-// The GLSL and HLSL LTC shaders (shaders/{glsl,hlsl}/ltc.*): they compile (GLSL 450, GLSL ES 320, HLSL), and on a
-// Vulkan device (lavapipe on CI) the table fetch, D, and the sphere and rectangle integrals with their
+// The GLSL and HLSL LTC shaders (shaders/{glsl,hlsl}/ltc.*): they compile (GLSL 450, GLSL ES 320, HLSL), and
+// on a Vulkan device (lavapipe on CI) the table fetch, D, and the sphere and rectangle integrals with their
 // representative directions agree with the C++ double code (bsdf/ltc.h, ltc_shading.h) on random lights over
-// random frames, within the precision the shader files state. The table is fitted in the test (8×8) and uploaded as
-// RGBA32F 2D textures with hardware linear filtering.
+// random frames, within the precision the shader files state. The table is fitted in the test (8×8) and
+// uploaded as RGBA32F 2D textures with hardware linear filtering.
 #include <gtest/gtest.h>
 #include <microshadow/bsdf/ltc.h>
 #include <microshadow/bsdf/ltc_baker.h>
@@ -95,7 +95,9 @@ const LtcTable& table() {
   return t;
 }
 
-void put(float* d, const Vec3d& x, double w = 0) { d[0] = float(x.x), d[1] = float(x.y), d[2] = float(x.z), d[3] = float(w); }
+void put(float* d, const Vec3d& x, double w = 0) {
+  d[0] = float(x.x), d[1] = float(x.y), d[2] = float(x.z), d[3] = float(w);
+}
 Vec3d get(const float* d) { return Vec3d(d[0], d[1], d[2]); }
 
 std::vector<Record> make_records() {
@@ -108,16 +110,19 @@ std::vector<Record> make_records() {
     const Frame<double> f = Frame<double>::from_z(n);
     double mu = i % 64 == 0 ? 1.0 : 0.02 + 0.98 * u();
     const Vec3d v = f.to_world(spherical_direction(mu, 2 * kPi<double> * u()));
-    r.a[0] = float(i % 50 == 0 ? 0.0 : u()), r.a[1] = float(mu), r.a[2] = float(0.3 + u()), r.a[3] = float(0.2 + u());
+    r.a[0] = float(i % 50 == 0 ? 0.0 : u()), r.a[1] = float(mu), r.a[2] = float(0.3 + u()),
+    r.a[3] = float(0.2 + u());
     if (i % 2) r.a[3] = -r.a[3];  // also selects the 8-gon
     put(r.n, n), put(r.v, v);
     const double el = (u() * 100 - 10) * kPi<double> / 180, sig = (1 + 39 * u()) * kPi<double> / 180;
-    const Vec3d l = f.to_world(Vec3d(std::cos(el) * std::cos(6.3 * u()), std::cos(el) * std::sin(6.3 * u()), std::sin(el)));
+    const Vec3d l = f.to_world(
+        Vec3d(std::cos(el) * std::cos(6.3 * u()), std::cos(el) * std::sin(6.3 * u()), std::sin(el)));
     put(r.l, normalize(l), std::sin(sig));
     put(r.w, sample_uniform_sphere(Vec2d(u(), u())), u() - 0.5);
     const double d = 0.5 + 3 * u();
     const Frame<double> lf = Frame<double>::from_z(normalize(l));
-    put(r.c, normalize(l) * d), put(r.ex, lf.s, d * std::tan(sig) * (0.5 + u())), put(r.ey, lf.t, d * std::tan(sig) * (0.5 + u()));
+    put(r.c, normalize(l) * d), put(r.ex, lf.s, d * std::tan(sig) * (0.5 + u())),
+        put(r.ey, lf.t, d * std::tan(sig) * (0.5 + u()));
     rs.push_back(r);
   }
   return rs;
@@ -131,14 +136,16 @@ bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, cons
   std::memcpy(in.data(), recs.data(), in.size());
   const LtcTable& t = table();
   std::vector<float> amp4(size_t(t.size) * t.size * 4, 0.f);
-  for (size_t k = 0; k < size_t(t.size) * t.size; ++k) amp4[k * 4] = t.amp[k * 2], amp4[k * 4 + 1] = t.amp[k * 2 + 1];
+  for (size_t k = 0; k < size_t(t.size) * t.size; ++k)
+    amp4[k * 4] = t.amp[k * 2], amp4[k * 4 + 1] = t.amp[k * 2 + 1];
   const std::vector<vk::Context::Image> images = {{uint32_t(t.size), uint32_t(t.size), 0, t.mat.data()},
                                                   {uint32_t(t.size), uint32_t(t.size), 0, amp4.data()}};
   struct {
     uint32_t n;
     float size;
   } push{uint32_t(recs.size()), float(t.size)};
-  if (!ctx.run(spv, {&in, &res}, images, &push, sizeof push, uint32_t((recs.size() + 63) / 64), why)) return false;
+  if (!ctx.run(spv, {&in, &res}, images, &push, sizeof push, uint32_t((recs.size() + 63) / 64), why))
+    return false;
   out->resize(recs.size() * kOut);
   std::memcpy(out->data(), res.data(), res.size());
   return true;
@@ -146,8 +153,8 @@ bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, cons
 
 void check(const char* lang, const std::vector<Record>& recs, const std::vector<std::array<float, 4>>& o) {
   const LtcTable& t = table();
-  // Filtering bound: lavapipe (like GPUs) quantizes the bilinear weights to 8 bits, so a fetch may differ from
-  // the exact bilinear value by up to 2 · 2⁻⁹ of the largest neighbour difference (both axes).
+  // Filtering bound: lavapipe (like GPUs) quantizes the bilinear weights to 8 bits, so a fetch may differ
+  // from the exact bilinear value by up to 2 · 2⁻⁹ of the largest neighbour difference (both axes).
   double step[6] = {0, 0, 0, 0, 0, 0};
   for (int j = 0; j < t.size; ++j)
     for (int i = 0; i < t.size; ++i)
@@ -183,17 +190,19 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
     const Vec3d p[4] = {c - ex - ey, c + ex - ey, c + ex + ey, c - ex + ey};
     const auto rr = ltc_shade_polygon(g, get(r.n), get(r.v), p, 4);
     e_rect = std::max(e_rect, std::abs(rr.integral - q[3][0]));
-    if (s.integral > 1e-3) e_dir = std::max(e_dir, 1 - dot(s.direction, normalize(Vec3d(q[2][1], q[2][2], q[2][3]))));
+    if (s.integral > 1e-3)
+      e_dir = std::max(e_dir, 1 - dot(s.direction, normalize(Vec3d(q[2][1], q[2][2], q[2][3]))));
     if (rr.integral > 1e-3)
       e_dir = std::max(e_dir, 1 - dot(rr.direction, normalize(Vec3d(q[3][1], q[3][2], q[3][3]))));
   }
-  std::printf("[ %s ] fetch %.3g (of bound), eval rel %.3g, sphere %.3g, rect %.3g, dir 1-cos %.3g, spec %.3g\n", lang,
-              e_fetch, e_eval, e_sph, e_rect, e_dir, e_spec);
+  std::printf(
+      "[ %s ] fetch %.3g (of bound), eval rel %.3g, sphere %.3g, rect %.3g, dir 1-cos %.3g, spec %.3g\n",
+      lang, e_fetch, e_eval, e_sph, e_rect, e_dir, e_spec);
   EXPECT_LE(e_fetch, 1.0) << lang;
   EXPECT_LE(e_eval, 1e-5) << lang;  // ltc.glsl: msh_ltc_eval relative error ≤ 1e-5
   EXPECT_LE(e_sph, 5e-5) << lang;   // ltc.glsl: integrals, absolute ≤ 5e-5 (the edge fit and float)
   EXPECT_LE(e_rect, 5e-5) << lang;
-  EXPECT_LE(e_dir, 1e-6) << lang;   // representative direction: 1 − cos ≤ 1e-6
+  EXPECT_LE(e_dir, 1e-6) << lang;  // representative direction: 1 − cos ≤ 1e-6
   EXPECT_LE(e_spec, 1e-6) << lang;
 }
 
@@ -204,7 +213,8 @@ TEST(ShadersLtc, Compiles) {
   std::vector<uint32_t> spv;
   std::string log;
   for (const char* version : {"450", "320 es"})
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n" << log;
+    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
+                                                                                       << log;
   EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
 }
 

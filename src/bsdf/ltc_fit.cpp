@@ -46,9 +46,9 @@ struct CellProblem {
   double brdf_cos(const Vec3d& l) const { return microfacet_specular(ggx, v, l).f1 * std::max(l.z, 0.0); }
 
   // ∫ |f (n·l) − magnitude · D|³ dl by balance-heuristic MIS of K² LTC and K² BRDF samples (stratified grid).
-  double error(const std::array<double, 3>& p) const {
+  double error(const std::array<double, 3>& p, double* norm3 = nullptr) const {
     const Mat3<double> m = matrix(p), minv = m.inverse();
-    double e = 0;
+    double e = 0, f3 = 0;
     for (int j = 0; j < k; ++j)
       for (int i = 0; i < k; ++i) {
         const Vec2d u((i + 0.5) / k, (j + 0.5) / k);
@@ -57,15 +57,16 @@ struct CellProblem {
           const double d = ltc_eval(minv, l);
           const double f = brdf_cos(l), pb = microfacet_specular_pdf(ggx, v, l);
           const double den = d + pb;
-          if (den > 0) e += std::pow(std::abs(f - magnitude * d), 3.0) / den;
+          if (den > 0) e += std::pow(std::abs(f - magnitude * d), 3.0) / den, f3 += f * f * f / den;
         }
         if (auto s = sample_microfacet_specular(ggx, v, u)) {
           const double d = ltc_eval(minv, s->wi);
           const double f = brdf_cos(s->wi);
           const double den = d + s->pdf;
-          if (den > 0) e += std::pow(std::abs(f - magnitude * d), 3.0) / den;
+          if (den > 0) e += std::pow(std::abs(f - magnitude * d), 3.0) / den, f3 += f * f * f / den;
         }
       }
+    if (norm3) *norm3 = f3 / double(k * k);
     return e / double(k * k);
   }
 };
@@ -175,7 +176,7 @@ LtcCellFit fit_ltc_cell(double roughness, double theta_v, const LtcCellFit& star
     pb.frame_z = normalize(avg, Vec3d(0, 0, 1));
     pb.frame_x = Vec3d(pb.frame_z.z, 0, -pb.frame_z.x);
   }
-  double err = 0;
+  double err = 0;  // the minimum (unused: recomputed with its norm below)
   const std::array<double, 3> best =
       nelder_mead([&](const std::array<double, 3>& p) { return pb.error(p); },
                   {start.m11, isotropic ? start.m11 : start.m22, isotropic ? 0.0 : start.m13},
@@ -183,7 +184,10 @@ LtcCellFit fit_ltc_cell(double roughness, double theta_v, const LtcCellFit& star
   r.m11 = std::max(best[0], kMinScale);
   r.m22 = isotropic ? r.m11 : std::max(best[1], kMinScale);
   r.m13 = isotropic ? 0.0 : best[2];
-  r.error = err / std::max(1e-300, pb.magnitude * pb.magnitude * pb.magnitude);
+  // Relative L3 error ‖f cos − magnitude·D‖₃ / ‖f cos‖₃ (same samples).
+  double f3 = 0;
+  const double e3 = pb.error({r.m11, r.m22, r.m13}, &f3);
+  r.error = f3 > 0 ? std::cbrt(e3 / f3) : 0.0;
   const Mat3<double> minv = pb.matrix({r.m11, r.m22, r.m13}).inverse();
   const double s = minv(1, 1);
   r.coeffs.a = minv(0, 0) / s, r.coeffs.b = minv(0, 2) / s, r.coeffs.c = minv(2, 0) / s,

@@ -65,12 +65,13 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     const Frame<double> fr = ltc_view_frame(n, v);
     const Mat3<double> minv = k.inv_m();
     p.ltc_cap = k.magnitude *
-                reference::integrate_cap([&](const Vec3d& l) { return ltc_eval(minv, fr.to_local(l)); }, axis, sig,
-                                         1e-6, 1e-12) /
+                reference::integrate_cap([&](const Vec3d& l) { return ltc_eval(minv, fr.to_local(l)); }, axis,
+                                         sig, 1e-6, 1e-12) /
                 norm_s;
     p.ref_diff = reference::integrate_cap(lambert, axis, sig, 1e-8, 1e-14) / norm_s;
     p.ltc_diff = ltc_shade_sphere(LtcCoeffs<double>{}, n, v, axis, ss, o.polygon_sides).value(1.0) / norm_s;
-    // Square light of half-size tan σ at distance 1, facing the point, rotated by a Sobol angle about its axis.
+    // Square light of half-size tan σ at distance 1, facing the point, rotated by a Sobol angle about its
+    // axis.
     const double h = std::tan(sig), rot = 2 * kPi<double> * u(5);
     const Frame<double> lf = Frame<double>::from_z(axis);
     const Vec3d ex = lf.s * std::cos(rot) + lf.t * std::sin(rot), ey = cross(axis, ex);

@@ -29,8 +29,10 @@ void run_bake_ltc(const BakeLtcOptions& a) {
   o.moment_samples = a.moment_samples, o.threads = a.threads;
   bsdf::validate(o);
   const fs::path out(a.out);
-  const io::FileFormat ff = a.format.empty() ? io::file_format_from_path(out) : io::file_format_from_name(a.format);
-  if (ff == io::FileFormat::Png) throw UsageError("an LTC table cannot be written as PNG (use dds, ktx2, exr, npy or h)");
+  const io::FileFormat ff =
+      a.format.empty() ? io::file_format_from_path(out) : io::file_format_from_name(a.format);
+  if (ff == io::FileFormat::Png)
+    throw UsageError("an LTC table cannot be written as PNG (use dds, ktx2, exr, npy or h)");
   io::PixelFormat pf4 = io::PixelFormat::RGBA32Float, pf2 = io::PixelFormat::RG32Float;
   if (a.pixel_format == "rgba16f")
     pf4 = io::PixelFormat::RGBA16Float, pf2 = io::PixelFormat::RG16Float;
@@ -49,8 +51,9 @@ void run_bake_ltc(const BakeLtcOptions& a) {
     };
   const bsdf::LtcTable t = bsdf::fit_ltc_table(o);
   bsdf::write_ltc_table(out, t, ff, pf4, pf2);
-  double max_err = 0;
-  for (float e : t.fit_error) max_err = std::max(max_err, double(e));
+  double max_err = 0, mean_err = 0;
+  for (float e : t.fit_error)
+    max_err = std::max(max_err, double(e)), mean_err += e / double(t.fit_error.size());
   nlohmann::json j;
   j["out"] = out.string();
   j["moments"] = bsdf::ltc_moments_path(out).string();
@@ -58,7 +61,8 @@ void run_bake_ltc(const BakeLtcOptions& a) {
   j["size"] = t.size;
   j["pixel_format"] = a.pixel_format;
   j["fit_seconds_wall"] = t.fit_seconds;
-  j["max_relative_l3_error"] = max_err;
+  j["fit_relative_l3_error_max"] = max_err;
+  j["fit_relative_l3_error_mean"] = mean_err;
   print_json(j);
 }
 
@@ -77,10 +81,11 @@ nlohmann::json stats_json(const bsdf::LtcErrorStats& s) {
           {"rms_abs_255", s.rms_abs * 255},
           {"max_abs_255", s.max_abs * 255},
           {"count", s.count},
-          {"worst", {{"roughness", s.worst_roughness},
-                     {"n_dot_v", s.worst_cos_v},
-                     {"sigma_deg", s.worst_sigma_deg},
-                     {"elevation_deg", s.worst_elevation_deg}}}};
+          {"worst",
+           {{"roughness", s.worst_roughness},
+            {"n_dot_v", s.worst_cos_v},
+            {"sigma_deg", s.worst_sigma_deg},
+            {"elevation_deg", s.worst_elevation_deg}}}};
 }
 
 void run_verify_ltc(const VerifyLtcOptions& a) {
@@ -89,14 +94,16 @@ void run_verify_ltc(const VerifyLtcOptions& a) {
   require_range(v.cos_min, 0.0, 1.0, "--cos-min");
   require_range(v.sigma_min_deg, 0.01, 80.0, "--sigma-min");
   require_range(v.sigma_max_deg, v.sigma_min_deg, 80.0, "--sigma-max");
-  if (v.points < 1 || v.points > 1 << 20) throw UsageError(fmt::format("--points must be in [1, 2^20], got {}", v.points));
+  if (v.points < 1 || v.points > 1 << 20)
+    throw UsageError(fmt::format("--points must be in [1, 2^20], got {}", v.points));
   if (v.polygon_sides < 3 || v.polygon_sides > 16)
     throw UsageError(fmt::format("--sides must be in [3, 16], got {}", v.polygon_sides));
   if (a.threads < 0) throw UsageError("--threads must be ≥ 0");
   const bsdf::LtcTable t = bsdf::load_ltc_table(a.file);
   std::unique_ptr<tbb::global_control> gc;
   if (a.threads > 0)
-    gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(a.threads));
+    gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               size_t(a.threads));
   const bsdf::LtcVerifyReport r = bsdf::verify_ltc_table(t, v);
   nlohmann::json j;
   j["file"] = a.file;
@@ -130,7 +137,8 @@ void add_ltc(Groups& g) {
   c->add_option("--size", b->size, "Texels per axis")->capture_default_str();
   c->add_option("--pixel-format", b->pixel_format, "rgba32f or rgba16f (dds/ktx2/exr; npy and h are float32)")
       ->capture_default_str();
-  c->add_option("--error-samples", b->error_samples, "K: the L3 fit error uses 2 K^2 samples")->capture_default_str();
+  c->add_option("--error-samples", b->error_samples, "K: the L3 fit error uses 2 K^2 samples")
+      ->capture_default_str();
   c->add_option("--iterations", b->iterations, "Nelder-Mead iterations per texel")->capture_default_str();
   c->add_option("--moment-samples", b->moment_samples, "QMC samples for magnitude, fresnel, mean direction")
       ->capture_default_str();
@@ -140,17 +148,20 @@ void add_ltc(Groups& g) {
   c->callback([b] { run_bake_ltc(*b); });
 
   auto v = std::make_shared<VerifyLtcOptions>();
-  CLI::App* vc = g.verify->add_subcommand(
-      "ltc",
-      "As-used error of an LTC table (bilinear fetch off the grid): sphere and square lights of angular radius "
-      "1-40 deg at elevations 0-90 deg, LTC shading vs quadrature of GGX x cosine over the light. See docs/ltc.md.");
+  CLI::App* vc = g.verify->add_subcommand("ltc",
+                                          "As-used error of an LTC table (bilinear fetch off the grid): "
+                                          "sphere and square lights of angular radius "
+                                          "1-40 deg at elevations 0-90 deg, LTC shading vs quadrature of GGX "
+                                          "x cosine over the light. See docs/ltc.md.");
   vc->add_option("file", v->file, "The table written by bake ltc (its _amp file beside it)")->required();
   vc->add_option("--points", v->v.points, "Sobol points (roughness, N.V, light size, elevation, azimuth)")
       ->capture_default_str();
   vc->add_option("--roughness-min", v->v.roughness_min, "Lowest roughness measured")->capture_default_str();
   vc->add_option("--cos-min", v->v.cos_min, "Lowest N.V measured")->capture_default_str();
-  vc->add_option("--sigma-min", v->v.sigma_min_deg, "Smallest light angular radius (deg)")->capture_default_str();
-  vc->add_option("--sigma-max", v->v.sigma_max_deg, "Largest light angular radius (deg)")->capture_default_str();
+  vc->add_option("--sigma-min", v->v.sigma_min_deg, "Smallest light angular radius (deg)")
+      ->capture_default_str();
+  vc->add_option("--sigma-max", v->v.sigma_max_deg, "Largest light angular radius (deg)")
+      ->capture_default_str();
   vc->add_option("--sides", v->v.polygon_sides, "Sides of the sphere light's polygon")->capture_default_str();
   vc->add_option("--threads", v->threads, "Worker threads (0 = all); results do not depend on it")
       ->capture_default_str();

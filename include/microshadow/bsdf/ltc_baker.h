@@ -52,7 +52,7 @@ struct LtcTable {
 // Returns the fitted (m11, m22, m13) and fills `out` with the normalized M⁻¹ entries and moments.
 struct LtcCellFit {
   double m11 = 1, m22 = 1, m13 = 0;
-  double error = 0;  // relative L3 error at the fit
+  double error = 0;  // relative L3 error ‖f cos − magnitude·D‖₃ / ‖f cos‖₃ at the fit
   LtcCoeffs<double> coeffs;
 };
 LtcCellFit fit_ltc_cell(double roughness, double theta_v, const LtcCellFit& start, bool isotropic,
@@ -94,8 +94,8 @@ struct LtcVerifyOptions {
   int points = 256;
   double roughness_min = 0.1, cos_min = 0.05, sigma_min_deg = 1, sigma_max_deg = 40;
   int polygon_sides = 16;
-  // Relative errors only where the reference ≥ rel_floor × the highlight's peak (the same light centred on the
-  // mirror direction); the diffuse check: where the reference ≥ rel_floor (normalized units).
+  // Relative errors only where the reference ≥ rel_floor × the highlight's peak (the same light centred on
+  // the mirror direction); the diffuse check: where the reference ≥ rel_floor (normalized units).
   double rel_floor = 0.1;
   uint32_t seed = 3;
 };
@@ -105,7 +105,8 @@ struct LtcErrorStats {
   double worst_roughness = 0, worst_cos_v = 0, worst_sigma_deg = 0, worst_elevation_deg = 0;  // at max_abs
 };
 struct LtcVerifyReport {
-  LtcErrorStats sphere, rect, sphere_polygon, diffuse_sphere;  // sphere_polygon: N-gon vs the LTC over the cap
+  LtcErrorStats sphere, rect, sphere_polygon,
+      diffuse_sphere;  // sphere_polygon: N-gon vs the LTC over the cap
   double seconds = 0;
 };
 LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o);
