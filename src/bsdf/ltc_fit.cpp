@@ -146,10 +146,11 @@ void validate(const LtcFitOptions& o) {
   if (o.size < 2 || o.size > 1024)
     throw InputError(fmt::format("--size must be in [2, 1024], got {}", o.size));
   if (o.error_samples < 4 || o.error_samples > 1024)
-    throw InputError(fmt::format("error samples must be in [4, 1024], got {}", o.error_samples));
-  if (o.max_iterations < 1) throw InputError(fmt::format("iterations must be ≥ 1, got {}", o.max_iterations));
+    throw InputError(fmt::format("--error-samples must be in [4, 1024], got {}", o.error_samples));
+  if (o.max_iterations < 1)
+    throw InputError(fmt::format("--iterations must be ≥ 1, got {}", o.max_iterations));
   if (o.moment_samples < 16)
-    throw InputError(fmt::format("moment samples must be ≥ 16, got {}", o.moment_samples));
+    throw InputError(fmt::format("--moment-samples must be ≥ 16, got {}", o.moment_samples));
   if (o.threads < 0) throw InputError(fmt::format("--threads must be ≥ 0, got {}", o.threads));
 }
 
