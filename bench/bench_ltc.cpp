@@ -4,7 +4,7 @@
 //                      the previous θ_v as in the table; × n² ≈ the bake's CPU time
 //   BM_LtcShadeSphere  ltc_shade_sphere (16-gon, float) per call; BM_LtcShadeRect the same for a quad
 #include <benchmark/benchmark.h>
-#include <microshadow/bsdf/ltc_baker.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/bsdf/ltc_shading.h>
 
 namespace {

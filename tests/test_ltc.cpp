@@ -1,13 +1,14 @@
-// Linearly transformed cosines (bsdf/ltc.h, ltc_shading.h) and the fitted GGX table (bsdf/ltc_baker.h), each
-// against an independent reference: closed-form form factors (Snyder 1996; Howell C-11) for the identity LTC
-// and for the light quadrature itself, nested Gauss–Kronrod quadrature of D over the sphere, a rectangle and
-// a cap, a chi-square test of the sampler against D, and quadrature of the GGX BRDF × cosine over lights for
-// the fitted table at off-grid (roughness, θ_v). A 12×12 table is fitted in the test (seconds).
+// Linearly transformed cosines (bsdf/ltc.h, ltc_shading.h) and the fitted GGX table
+// (bsdf/runtime/ltc_baker.h), each against an independent reference: closed-form form factors (Snyder 1996;
+// Howell C-11) for the identity LTC and for the light quadrature itself, nested Gauss–Kronrod quadrature of D
+// over the sphere, a rectangle and a cap, a chi-square test of the sampler against D, and quadrature of the
+// GGX BRDF × cosine over lights for the fitted table at off-grid (roughness, θ_v). A 12×12 table is fitted in
+// the test (seconds).
 #include <gtest/gtest.h>
 #include <microshadow/bsdf/ltc.h>
-#include <microshadow/bsdf/ltc_baker.h>
 #include <microshadow/bsdf/ltc_shading.h>
 #include <microshadow/bsdf/multiscatter.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/reference/light_quadrature.h>
@@ -213,4 +214,31 @@ TEST(LtcShading, MicroShadowingHookAndRepresentativeDirection) {
   const auto below = ltc_shade_sphere(k, n, v, normalize(Vec3d(0.3, 0, -0.9)), 0.1);
   EXPECT_EQ(below.integral, 0.0);
   EXPECT_TRUE(is_finite(below.direction));
+}
+
+TEST(Ltc, SurfaceClippedPolygonMatchesQuadrature) {
+  // clip_surface: ∫_P D [ω.z ≥ 0] for quads crossing the surface's horizon, against quadrature of the same.
+  const LtcTable& t = small_table();
+  for (const Mat3<double>& m : {general_minv(), t.fetch(0.45, 0.3).inv_m(), t.fetch(0.8, 0.15).inv_m()}) {
+    const Vec3d c(-0.8, 0.2, 0.05), ex = normalize(Vec3d(0, 1, 0.1)), ey = normalize(Vec3d(0.2, 0, 1));
+    const auto p = ltc_rect_polygon(c, ex, ey, 0.5, 0.4);
+    const double a = ltc_integrate_polygon(m, p.data(), 4, true).integral;
+    // Quadrature over the part above the horizon only (the inner rule starts at the horizon line, so the jump
+    // of D [ω.z ≥ 0] is on a panel edge): t ≥ t*(s) = −(c.z + s ex.z) / ey.z (ey.z > 0 here).
+    const Vec3d nl = cross(ex, ey);
+    auto inner = [&](double s) {
+      const double t0 = std::clamp(-(c.z + s * ex.z) / ey.z, -0.4, 0.4);
+      return gauss_kronrod(
+          [&](double tt) {
+            const Vec3d x = c + ex * s + ey * tt;
+            const double d2 = dot(x, x), d = std::sqrt(d2);
+            return ltc_eval(m, x / d) * std::abs(dot(nl, x)) / (d2 * d);
+          },
+          t0, 0.4, 1e-13, 1e-10);
+    };
+    const double q = gauss_kronrod(inner, -0.5, 0.5, 1e-13, 1e-10);
+    EXPECT_NEAR(a, q, 1e-7 * std::max(q, 1e-3));
+    // ... and never more than the unclipped integral.
+    EXPECT_LE(a, ltc_integrate_polygon(m, p.data(), 4).integral + 1e-15);
+  }
 }

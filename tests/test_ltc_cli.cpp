@@ -1,7 +1,7 @@
 // `microshadow bake ltc` and `verify ltc`: the files, sidecar and JSON they write, the round trip through
 // every texture format, and bad input (one line on stderr, exit code 2, nothing written).
 #include <gtest/gtest.h>
-#include <microshadow/bsdf/ltc_baker.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
 
 #include <nlohmann/json.hpp>
 

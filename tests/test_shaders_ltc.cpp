@@ -5,8 +5,8 @@
 // uploaded as RGBA32F 2D textures with hardware linear filtering.
 #include <gtest/gtest.h>
 #include <microshadow/bsdf/ltc.h>
-#include <microshadow/bsdf/ltc_baker.h>
 #include <microshadow/bsdf/ltc_shading.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/math/sampling.h>
 
 #include <array>
@@ -166,6 +166,7 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
         if (j + 1 < t.size) step[c] = std::max(step[c], std::abs(at(i, j + 1) - at(i, j)));
       }
   double e_fetch = 0, e_eval = 0, e_sph = 0, e_rect = 0, e_dir = 0, e_spec = 0;
+  int n_clipped = 0;
   for (size_t i = 0; i < recs.size(); ++i) {
     const Record& r = recs[i];
     const auto* q = &o[i * kOut];
@@ -189,6 +190,9 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
     const Vec3d c = get(r.c), ex = get(r.ex) * double(r.ex[3]), ey = get(r.ey) * double(r.ey[3]);
     const Vec3d p[4] = {c - ex - ey, c + ex - ey, c + ex + ey, c - ex + ey};
     const auto rr = ltc_shade_polygon(g, get(r.n), get(r.v), p, 4);
+    // Lights crossing the surface's horizon: the surface clip changes the integral (the records exercise it).
+    if (std::abs(rr.integral - ltc_shade_polygon(g, get(r.n), get(r.v), p, 4, false).integral) > 1e-3)
+      ++n_clipped;
     e_rect = std::max(e_rect, std::abs(rr.integral - q[3][0]));
     if (s.integral > 1e-3)
       e_dir = std::max(e_dir, 1 - dot(s.direction, normalize(Vec3d(q[2][1], q[2][2], q[2][3]))));
@@ -197,7 +201,8 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
   }
   std::printf(
       "[ %s ] fetch %.3g (of bound), eval rel %.3g, sphere %.3g, rect %.3g, dir 1-cos %.3g, spec %.3g\n",
-      lang, e_fetch, e_eval, e_sph, e_rect, e_dir, e_spec);
+      lang, e_fetch, e_eval, e_sph, e_rect, e_dir, e_spec, n_clipped);
+  EXPECT_GE(n_clipped, 20) << lang;
   EXPECT_LE(e_fetch, 1.0) << lang;
   EXPECT_LE(e_eval, 1e-5) << lang;  // ltc.glsl: msh_ltc_eval relative error ≤ 1e-5
   EXPECT_LE(e_sph, 5e-5) << lang;   // ltc.glsl: integrals, absolute ≤ 5e-5 (the edge fit and float)

@@ -12,6 +12,7 @@
 
 #define MSH_LTC_PI 3.14159265358979323846
 #define MSH_LTC_MAX_SIDES 16
+#define MSH_LTC_MAX_VERTS 17  // a 16-gon clipped by a plane
 
 // Texture coordinate of the table for (perceptual roughness, N.V), with the texel-centre scale and bias for an
 // n x n table (texel i holds i/(n-1)). Exact to float rounding.
@@ -62,8 +63,8 @@ vec3 msh_ltc_edge(vec3 a, vec3 b) {
 }
 
 // Vector form factor (in the cosine's space) of the polygon p[0..count-1] carried by minv and clipped to z >= 0
-// (Sutherland-Hodgman, streamed); .z is the signed integral of D over the polygon. count <= 16.
-vec3 msh_ltc_polygon_vff(mat3 minv, vec3 p[MSH_LTC_MAX_SIDES], int count) {
+// (Sutherland-Hodgman, streamed); .z is the signed integral of D over the polygon. count <= 17.
+vec3 msh_ltc_polygon_vff(mat3 minv, vec3 p[MSH_LTC_MAX_VERTS], int count) {
   vec3 sum = vec3(0.0), first = vec3(0.0), last = vec3(0.0);
   int emitted = 0;
   for (int i = 0; i < count; ++i) {
@@ -87,6 +88,23 @@ vec3 msh_ltc_polygon_vff(mat3 minv, vec3 p[MSH_LTC_MAX_SIDES], int count) {
   if (emitted < 3) return vec3(0.0);
   sum += msh_ltc_edge(last, first);
   return sum;  // msh_ltc_edge already carries 1/(2 pi)
+}
+
+// Clips the polygon p[0..count-1] (shading frame, n = +z) to the surface's horizon z >= 0 into q; returns the new
+// count (ltc.h ltc_integrate_polygon's clip_surface: the LTC's mass below the surface is dropped). Exact.
+int msh_ltc_clip_surface(vec3 p[MSH_LTC_MAX_SIDES], int count, out vec3 q[MSH_LTC_MAX_VERTS]) {
+  for (int k = 0; k < MSH_LTC_MAX_VERTS; ++k) q[k] = vec3(0.0);
+  int m = 0;
+  for (int i = 0; i < count; ++i) {
+    vec3 a = p[i], b = p[(i + 1) % count];
+    if (a.z >= 0.0) q[m++] = a;
+    if ((a.z >= 0.0) != (b.z >= 0.0)) {
+      vec3 c = a + (b - a) * (a.z / (a.z - b.z));
+      c.z = 0.0;
+      q[m++] = c;
+    }
+  }
+  return m;
 }
 
 // The regular N-gon (N <= 16) of the same area as the disk of radius tan(sigma) that subtends a sphere light of
@@ -119,22 +137,28 @@ vec4 msh_ltc_finish(mat3 frame, vec4 t, vec3 f) {
   return vec4(integral, dir);
 }
 
-// Rectangle (any planar quad) light: corners relative to the shading point. t = the ltc_mat texel.
+// Rectangle (any planar quad) light: corners relative to the shading point, clipped to the surface's horizon and
+// to the LTC's (ltc_shade_polygon with clip_surface). t = the ltc_mat texel.
 vec4 msh_ltc_rect(vec4 t, vec3 n, vec3 v, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
   mat3 fr = msh_ltc_view_frame(n, v);
   vec3 p[MSH_LTC_MAX_SIDES];
   for (int k = 0; k < MSH_LTC_MAX_SIDES; ++k) p[k] = vec3(0.0);
   p[0] = fr * p0, p[1] = fr * p1, p[2] = fr * p2, p[3] = fr * p3;
-  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), p, 4));
+  vec3 q[MSH_LTC_MAX_VERTS];
+  int m = msh_ltc_clip_surface(p, 4, q);
+  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), q, m));
 }
 
-// Sphere light: unit centre direction to_light, sin(sigma) = radius / distance, polygon of `sides` (3..16).
+// Sphere light: unit centre direction to_light, sin(sigma) = radius / distance, polygon of `sides` (3..16), clipped
+// to the surface's horizon and to the LTC's (ltc_shade_sphere with clip_surface).
 vec4 msh_ltc_sphere(vec4 t, vec3 n, vec3 v, vec3 to_light, float sin_sigma, int sides) {
   mat3 fr = msh_ltc_view_frame(n, v);
   vec3 p[MSH_LTC_MAX_SIDES];
   sides = clamp(sides, 3, MSH_LTC_MAX_SIDES);
   msh_ltc_sphere_polygon(fr * to_light, sin_sigma, sides, p);
-  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), p, sides));
+  vec3 q[MSH_LTC_MAX_VERTS];
+  int m = msh_ltc_clip_surface(p, sides, q);
+  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), q, m));
 }
 
 // The shaded value per unit radiance (Schlick F0), times the light's micro-shadowing factor ms_area (docs/ltc.md:

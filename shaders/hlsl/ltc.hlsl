@@ -11,6 +11,7 @@
 
 #define MSH_LTC_PI 3.14159265358979323846
 #define MSH_LTC_MAX_SIDES 16
+#define MSH_LTC_MAX_VERTS 17  // a 16-gon clipped by a plane
 
 // Texture coordinate of the table for (perceptual roughness, N.V), with the texel-centre scale and bias for an
 // n x n table (texel i holds i/(n-1)). Exact to float rounding.
@@ -59,8 +60,8 @@ float3 msh_ltc_edge(float3 a, float3 b) {
 }
 
 // Vector form factor (in the cosine's space) of the polygon carried by minv and clipped to z >= 0 (streamed
-// Sutherland-Hodgman); .z is the signed integral of D over the polygon. count <= 16.
-float3 msh_ltc_polygon_vff(float3x3 minv, float3 p[MSH_LTC_MAX_SIDES], int count) {
+// Sutherland-Hodgman); .z is the signed integral of D over the polygon. count <= 17.
+float3 msh_ltc_polygon_vff(float3x3 minv, float3 p[MSH_LTC_MAX_VERTS], int count) {
   float3 sum = float3(0.0, 0.0, 0.0), first = sum, last = sum;
   int emitted = 0;
   for (int i = 0; i < count; ++i) {
@@ -84,6 +85,23 @@ float3 msh_ltc_polygon_vff(float3x3 minv, float3 p[MSH_LTC_MAX_SIDES], int count
   if (emitted < 3) return float3(0.0, 0.0, 0.0);
   sum += msh_ltc_edge(last, first);
   return sum;  // msh_ltc_edge already carries 1/(2 pi)
+}
+
+// Clips the polygon p[0..count-1] (shading frame, n = +z) to the surface's horizon z >= 0 into q; returns the new
+// count (ltc.h ltc_integrate_polygon's clip_surface: the LTC's mass below the surface is dropped). Exact.
+int msh_ltc_clip_surface(float3 p[MSH_LTC_MAX_SIDES], int count, out float3 q[MSH_LTC_MAX_VERTS]) {
+  for (int k = 0; k < MSH_LTC_MAX_VERTS; ++k) q[k] = float3(0.0, 0.0, 0.0);
+  int m = 0;
+  for (int i = 0; i < count; ++i) {
+    float3 a = p[i], b = p[(i + 1) % count];
+    if (a.z >= 0.0) q[m++] = a;
+    if ((a.z >= 0.0) != (b.z >= 0.0)) {
+      float3 c = a + (b - a) * (a.z / (a.z - b.z));
+      c.z = 0.0;
+      q[m++] = c;
+    }
+  }
+  return m;
 }
 
 // The regular N-gon (N <= 16) of the same area as the disk of radius tan(sigma) that subtends a sphere light of
@@ -113,23 +131,29 @@ float4 msh_ltc_finish(float3x3 frame, float4 t, float3 f) {
   return float4(integral, dir);
 }
 
-// Rectangle (any planar quad) light: corners relative to the shading point. t = the ltc_mat texel.
+// Rectangle (any planar quad) light: corners relative to the shading point, clipped to the surface's horizon and
+// to the LTC's (ltc_shade_polygon with clip_surface). t = the ltc_mat texel.
 // Integral: absolute error <= 5e-5 vs the C++ double code (measured max 1.5e-5); direction: 1 - cos <= 1e-6.
 float4 msh_ltc_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3) {
   float3x3 fr = msh_ltc_view_frame(n, v);
   float3 p[MSH_LTC_MAX_SIDES];
   for (int k = 0; k < MSH_LTC_MAX_SIDES; ++k) p[k] = float3(0.0, 0.0, 0.0);
   p[0] = mul(fr, p0); p[1] = mul(fr, p1); p[2] = mul(fr, p2); p[3] = mul(fr, p3);
-  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), p, 4));
+  float3 q[MSH_LTC_MAX_VERTS];
+  int m = msh_ltc_clip_surface(p, 4, q);
+  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), q, m));
 }
 
-// Sphere light: unit centre direction to_light, sin(sigma) = radius / distance, polygon of `sides` (3..16).
+// Sphere light: unit centre direction to_light, sin(sigma) = radius / distance, polygon of `sides` (3..16), clipped
+// to the surface's horizon and to the LTC's (ltc_shade_sphere with clip_surface).
 float4 msh_ltc_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides) {
   float3x3 fr = msh_ltc_view_frame(n, v);
   float3 p[MSH_LTC_MAX_SIDES];
   sides = clamp(sides, 3, MSH_LTC_MAX_SIDES);
   msh_ltc_sphere_polygon(mul(fr, to_light), sin_sigma, sides, p);
-  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), p, sides));
+  float3 q[MSH_LTC_MAX_VERTS];
+  int m = msh_ltc_clip_surface(p, sides, q);
+  return msh_ltc_finish(fr, t, msh_ltc_polygon_vff(msh_ltc_minv(t), q, m));
 }
 
 // The shaded value per unit radiance (Schlick F0), times the light's micro-shadowing factor ms_area (docs/ltc.md).

@@ -1,6 +1,6 @@
-// LTC table fitter (see include/microshadow/bsdf/ltc_baker.h and docs/ltc.md).
+// LTC table fitter (see include/microshadow/bsdf/runtime/ltc_baker.h and docs/ltc.md).
 #include <fmt/format.h>
-#include <microshadow/bsdf/ltc_baker.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/bsdf/ltc_shading.h>
 #include <microshadow/bsdf/multiscatter.h>
 #include <microshadow/bsdf/specular.h>

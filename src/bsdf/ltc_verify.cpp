@@ -1,6 +1,6 @@
 // As-used verification of an LTC table against quadrature of GGX over the light (see ltc_baker.h).
-#include <microshadow/bsdf/ltc_baker.h>
 #include <microshadow/bsdf/ltc_shading.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
@@ -61,12 +61,13 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     p.peak = reference::integrate_cap(f, Vec3d(-v.x, 0, v.z), sig, 1e-6, 1e-12) / norm_s;
     const auto ls = ltc_shade_sphere(k, n, v, axis, ss, o.polygon_sides);
     p.ltc_sphere = ls.value(1.0) / norm_s;
-    // The polygon approximation alone: the same LTC integrated over the exact cap.
+    // The polygon approximation alone: the same LTC over the exact cap (above the surface, as shaded).
     const Frame<double> fr = ltc_view_frame(n, v);
     const Mat3<double> minv = k.inv_m();
     p.ltc_cap = k.magnitude *
-                reference::integrate_cap([&](const Vec3d& l) { return ltc_eval(minv, fr.to_local(l)); }, axis,
-                                         sig, 1e-6, 1e-12) /
+                reference::integrate_cap(
+                    [&](const Vec3d& l) { return l.z >= 0 ? ltc_eval(minv, fr.to_local(l)) : 0.0; }, axis,
+                    sig, 1e-6, 1e-12) /
                 norm_s;
     p.ref_diff = reference::integrate_cap(lambert, axis, sig, 1e-8, 1e-14) / norm_s;
     p.ltc_diff = ltc_shade_sphere(LtcCoeffs<double>{}, n, v, axis, ss, o.polygon_sides).value(1.0) / norm_s;

@@ -1,9 +1,9 @@
-// CLI for the linearly transformed cosines table (include/microshadow/bsdf/ltc_baker.h, docs/ltc.md):
+// CLI for the linearly transformed cosines table (include/microshadow/bsdf/runtime/ltc_baker.h, docs/ltc.md):
 //   microshadow bake ltc --out FILE [--size N] [--format dds|ktx2|exr|npy|h] [--pixel-format rgba32f|rgba16f]
 //   microshadow verify ltc FILE [--points N] [--roughness-min R] [--sides N]
 // bake writes FILE (M⁻¹ entries, RGBA), <stem>_amp<ext> (magnitude, fresnel; RG) and FILE.json atomically.
 #include <fmt/format.h>
-#include <microshadow/bsdf/ltc_baker.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/io/texture.h>
 #include <tbb/global_control.h>
 

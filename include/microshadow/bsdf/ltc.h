@@ -169,12 +169,33 @@ LtcPolygonResult<T> ltc_integrate_polygon_o(const P* p, int n) {
 // ∫_P D(ω) dω for the LTC with inverse matrix minv, P given by vertices relative to the shading point in the
 // shading frame: the polygon is carried to the cosine's space by M⁻¹ and integrated there (Heitz et al.
 // 2016, eq. 6: ∫_P D = ∫_{M⁻¹P} D_o). At most 16 vertices. The vector form factor is in the cosine's space.
+// clip_surface: also clip P to the surface's horizon z ≥ 0 first, i.e. ∫_P D(ω) [ω.z ≥ 0] dω. The LTC puts a
+// little mass below the surface (its support is the tilted half-space (M⁻¹ω).z > 0) where f·cos is 0;
+// dropping it lowers the error for lights crossing the horizon (docs/ltc.md). The paper clips in the cosine's
+// space only.
 template <class T>
-LtcPolygonResult<T> ltc_integrate_polygon(const Mat3<T>& minv, const Vec3<T>* p, int n) {
-  std::array<Vec3<T>, 16> q;
+LtcPolygonResult<T> ltc_integrate_polygon(const Mat3<T>& minv, const Vec3<T>* p, int n,
+                                          bool clip_surface = false) {
+  std::array<Vec3<T>, 17> q;
   n = std::min(n, 16);
-  for (int i = 0; i < n; ++i) q[size_t(i)] = minv * p[i];
-  return ltc_integrate_polygon_o<T>(q.data(), n);
+  int m = 0;
+  if (clip_surface) {
+    // Also clip to the surface's horizon z ≥ 0 first (the BRDF × cosine vanishes below it, the LTC need not).
+    for (int i = 0; i < n; ++i) {
+      const Vec3<T>& a = p[i];
+      const Vec3<T>& b = p[(i + 1) % n];
+      if (a.z >= T(0)) q[size_t(m++)] = minv * a;
+      if ((a.z >= T(0)) != (b.z >= T(0))) {
+        Vec3<T> c = a + (b - a) * (a.z / (a.z - b.z));
+        c.z = T(0);
+        q[size_t(m++)] = minv * c;
+      }
+    }
+  } else {
+    for (int i = 0; i < n; ++i) q[size_t(i)] = minv * p[i];
+    m = n;
+  }
+  return ltc_integrate_polygon_o<T>(q.data(), m);
 }
 
 // The regular N-gon (N ≤ 16) standing in for a spherical cap of axis `axis` (unit) and angular radius σ
@@ -195,11 +216,12 @@ void ltc_sphere_polygon(const Vec3<T>& axis, T sin_sigma, int n, Vec3<T>* out) {
 
 // ∫ D over a spherical cap (sphere light) by its N-gon (ltc_sphere_polygon), horizon-clipped.
 template <class T>
-LtcPolygonResult<T> ltc_integrate_sphere(const Mat3<T>& minv, const Vec3<T>& axis, T sin_sigma, int n = 16) {
+LtcPolygonResult<T> ltc_integrate_sphere(const Mat3<T>& minv, const Vec3<T>& axis, T sin_sigma, int n = 16,
+                                         bool clip_surface = false) {
   std::array<Vec3<T>, 16> p;
   n = std::clamp(n, 3, 16);
   ltc_sphere_polygon(axis, sin_sigma, n, p.data());
-  return ltc_integrate_polygon(minv, p.data(), n);
+  return ltc_integrate_polygon(minv, p.data(), n, clip_surface);
 }
 
 // The four corners of a rectangle light of centre c, unit half-axes ex, ey and half-sizes hx, hy.

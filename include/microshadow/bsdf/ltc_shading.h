@@ -70,26 +70,28 @@ LtcLightResult<T> ltc_finish(const LtcCoeffs<T>& k, const Frame<T>& f, const Mat
 // A sphere light seen from the shading point (all vectors in one frame, n and v unit, v above the surface):
 // centre direction `to_light` (unit), angular radius σ given as sin σ = radius / distance ∈ [0, 1).
 // The LTC `k` (fetched for the receiver's roughness and n·v), or LtcCoeffs<T>{} for Lambert diffuse (identity
-// M⁻¹, magnitude 1, fresnel 0). polygon_sides: the N of the cap's polygon (3..16).
+// M⁻¹, magnitude 1, fresnel 0). polygon_sides: the N of the cap's polygon (3..16). clip_surface: clip the
+// light to the surface's horizon too (ltc_integrate_polygon; the default, measured better in docs/ltc.md).
 template <class T>
 LtcLightResult<T> ltc_shade_sphere(const LtcCoeffs<T>& k, const Vec3<T>& n, const Vec3<T>& v,
-                                   const Vec3<T>& to_light, T sin_sigma, int polygon_sides = 16) {
+                                   const Vec3<T>& to_light, T sin_sigma, int polygon_sides = 16,
+                                   bool clip_surface = true) {
   const Frame<T> f = ltc_view_frame(n, v);
   const Mat3<T> minv = k.inv_m();
-  return detail::ltc_finish(k, f, minv,
-                            ltc_integrate_sphere(minv, f.to_local(to_light), sin_sigma, polygon_sides));
+  return detail::ltc_finish(
+      k, f, minv, ltc_integrate_sphere(minv, f.to_local(to_light), sin_sigma, polygon_sides, clip_surface));
 }
 
 // A rectangle light: corners p[0..3] relative to the shading point (any winding), same frame as n, v.
 template <class T>
 LtcLightResult<T> ltc_shade_polygon(const LtcCoeffs<T>& k, const Vec3<T>& n, const Vec3<T>& v,
-                                    const Vec3<T>* p, int count) {
+                                    const Vec3<T>* p, int count, bool clip_surface = true) {
   const Frame<T> f = ltc_view_frame(n, v);
   const Mat3<T> minv = k.inv_m();
   std::array<Vec3<T>, 16> q;
   count = std::clamp(count, 0, 16);
   for (int i = 0; i < count; ++i) q[size_t(i)] = f.to_local(p[i]);
-  return detail::ltc_finish(k, f, minv, ltc_integrate_polygon(minv, q.data(), count));
+  return detail::ltc_finish(k, f, minv, ltc_integrate_polygon(minv, q.data(), count, clip_surface));
 }
 
 // The stand-in for M_area until the fast forms exist: the point micro-shadowing term (any callable
