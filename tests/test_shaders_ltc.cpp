@@ -200,7 +200,7 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
       e_dir = std::max(e_dir, 1 - dot(rr.direction, normalize(Vec3d(q[3][1], q[3][2], q[3][3]))));
   }
   std::printf(
-      "[ %s ] fetch %.3g (of bound), eval rel %.3g, sphere %.3g, rect %.3g, dir 1-cos %.3g, spec %.3g\n",
+      "[ %s ] fetch %.3g (of bound), eval rel %.3g, sphere %.3g, rect %.3g, dir 1-cos %.3g, spec %.3g, %d clipped\n",
       lang, e_fetch, e_eval, e_sph, e_rect, e_dir, e_spec, n_clipped);
   EXPECT_GE(n_clipped, 20) << lang;
   EXPECT_LE(e_fetch, 1.0) << lang;

@@ -59,15 +59,17 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     // The highlight's peak: the same light centred on the mirror direction (relative errors are taken where
     // the light shows at least rel_floor of it).
     p.peak = reference::integrate_cap(f, Vec3d(-v.x, 0, v.z), sig, 1e-6, 1e-12) / norm_s;
-    const auto ls = ltc_shade_sphere(k, n, v, axis, ss, o.polygon_sides);
+    const auto ls = ltc_shade_sphere(k, n, v, axis, ss, o.polygon_sides, o.clip_surface);
     p.ltc_sphere = ls.value(1.0) / norm_s;
     // The polygon approximation alone: the same LTC over the exact cap (above the surface, as shaded).
     const Frame<double> fr = ltc_view_frame(n, v);
     const Mat3<double> minv = k.inv_m();
     p.ltc_cap = k.magnitude *
                 reference::integrate_cap(
-                    [&](const Vec3d& l) { return l.z >= 0 ? ltc_eval(minv, fr.to_local(l)) : 0.0; }, axis,
-                    sig, 1e-6, 1e-12) /
+                    [&](const Vec3d& l) {
+                      return l.z >= 0 || !o.clip_surface ? ltc_eval(minv, fr.to_local(l)) : 0.0;
+                    },
+                    axis, sig, 1e-6, 1e-12) /
                 norm_s;
     p.ref_diff = reference::integrate_cap(lambert, axis, sig, 1e-8, 1e-14) / norm_s;
     p.ltc_diff = ltc_shade_sphere(LtcCoeffs<double>{}, n, v, axis, ss, o.polygon_sides).value(1.0) / norm_s;
@@ -79,7 +81,7 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     const double norm_r = reference::rect_corner_form_factor(h, h, 1.0) * 4;
     p.ref_rect = reference::integrate_rect(f, axis, ex, ey, h, h, 1e-6, 1e-12) / norm_r;
     const auto corners = ltc_rect_polygon(axis, ex, ey, h, h);
-    p.ltc_rect = ltc_shade_polygon(k, n, v, corners.data(), 4).value(1.0) / norm_r;
+    p.ltc_rect = ltc_shade_polygon(k, n, v, corners.data(), 4, o.clip_surface).value(1.0) / norm_r;
     res[size_t(i)] = p;
   });
   LtcVerifyReport rep;

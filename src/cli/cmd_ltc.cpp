@@ -114,6 +114,7 @@ void run_verify_ltc(const VerifyLtcOptions& a) {
                  {"elevation_deg", {0, 90}},
                  {"points", v.points},
                  {"polygon_sides", v.polygon_sides},
+                 {"surface_clip", v.clip_surface},
                  {"relative_where_reference_at_least_fraction_of_peak", v.rel_floor}};
   j["units"] = "value / light form factor at normal incidence (white Lambert facing the light = 1); F = 1";
   j["sphere_vs_ggx"] = stats_json(r.sphere);
@@ -163,6 +164,9 @@ void add_ltc(Groups& g) {
   vc->add_option("--sigma-max", v->v.sigma_max_deg, "Largest light angular radius (deg)")
       ->capture_default_str();
   vc->add_option("--sides", v->v.polygon_sides, "Sides of the sphere light's polygon")->capture_default_str();
+  vc->add_flag(
+      "--no-surface-clip", [v](int64_t) { v->v.clip_surface = false; },
+      "Clip lights in the LTC's space only (Heitz et al. 2016), not also to the surface's horizon");
   vc->add_option("--threads", v->threads, "Worker threads (0 = all); results do not depend on it")
       ->capture_default_str();
   vc->callback([v] { run_verify_ltc(*v); });

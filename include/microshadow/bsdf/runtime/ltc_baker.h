@@ -94,6 +94,7 @@ struct LtcVerifyOptions {
   int points = 256;
   double roughness_min = 0.1, cos_min = 0.05, sigma_min_deg = 1, sigma_max_deg = 40;
   int polygon_sides = 16;
+  bool clip_surface = true;  // false: clip in the LTC's space only, as Heitz et al. 2016
   // Relative errors only where the reference ≥ rel_floor × the highlight's peak (the same light centred on
   // the mirror direction); the diffuse check: where the reference ≥ rel_floor (normalized units).
   double rel_floor = 0.1;
