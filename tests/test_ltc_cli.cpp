@@ -40,6 +40,7 @@ TEST(LtcCli, BakeWritesTablesSidecarAndVerifyReadsThem) {
   const auto vj = nlohmann::json::parse(v.out);
   EXPECT_EQ(vj["sphere_vs_ggx"]["count"], 6);
   EXPECT_TRUE(vj["rect_vs_ggx"]["rms_abs"].is_number());
+  EXPECT_LE(vj["reference_check_max_relative"].get<double>(), 1e-5);
 }
 
 TEST(LtcCli, BadInputIsOneLineExitTwoNothingWritten) {

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <stdexcept>
 
 namespace msh::bsdf {
 namespace {
@@ -39,6 +40,25 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<PointResult> res(size_t(std::max(o.points, 0)));
   const double deg = kPi<double> / 180;
+  LtcVerifyReport rep;
+  {
+    auto lambert = [](const Vec3d& l) { return std::max(0.0, l.z) * kInvPi<double>; };
+    for (double sd : {1.0, 10.0, 40.0})
+      for (double ed : {90.0, 45.0, 20.0, 5.0, -5.0}) {
+        const Vec3d axis(std::cos(ed * deg), 0, std::sin(ed * deg));
+        const double q = reference::integrate_cap(lambert, axis, sd * deg, 1e-8, 1e-14);
+        const double a = reference::sphere_form_factor(axis.z, std::sin(sd * deg));
+        rep.reference_check = std::max(rep.reference_check, std::abs(q - a) / std::max(a, 1e-4));
+      }
+    for (double h : {0.3, 1.0, 4.0}) {
+      const double q = reference::integrate_rect(lambert, Vec3d(0.6, 0.35, h), Vec3d(1, 0, 0), Vec3d(0, 1, 0),
+                                                 0.6, 0.35, 1e-8, 1e-14);
+      const double a = reference::rect_corner_form_factor(1.2, 0.7, h);
+      rep.reference_check = std::max(rep.reference_check, std::abs(q - a) / a);
+    }
+    if (!(rep.reference_check <= 1e-5))
+      throw std::runtime_error("verify ltc: the light quadrature fails its closed-form check");
+  }
   tbb::parallel_for(0, o.points, [&](int i) {
     auto u = [&](int dim) { return sobol_scrambled<double>(uint32_t(i), dim, o.seed); };
     PointResult p{};
@@ -84,7 +104,6 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     p.ltc_rect = ltc_shade_polygon(k, n, v, corners.data(), 4, o.clip_surface).value(1.0) / norm_r;
     res[size_t(i)] = p;
   });
-  LtcVerifyReport rep;
   for (const PointResult& p : res) {
     const double floor = o.rel_floor * p.peak;
     accumulate(rep.sphere, p, p.ref_sphere, p.ltc_sphere, floor);

@@ -121,6 +121,7 @@ void run_verify_ltc(const VerifyLtcOptions& a) {
   j["rect_vs_ggx"] = stats_json(r.rect);
   j["sphere_polygon_vs_ltc_cap"] = stats_json(r.sphere_polygon);
   j["diffuse_sphere_vs_lambert"] = stats_json(r.diffuse_sphere);
+  j["reference_check_max_relative"] = r.reference_check;
   j["seconds"] = r.seconds;
   print_json(j);
 }

@@ -108,6 +108,10 @@ struct LtcErrorStats {
 struct LtcVerifyReport {
   LtcErrorStats sphere, rect, sphere_polygon,
       diffuse_sphere;  // sphere_polygon: N-gon vs the LTC over the cap
+  // The reference's self-check, run first: the largest relative error of the light quadrature against the
+  // closed forms (Lambert over sphere lights at elevations −5°..90°, clipped or not, Snyder 1996; over a
+  // rectangle, Howell C-11). verify_ltc_table throws if it exceeds 1e-5.
+  double reference_check = 0;
   double seconds = 0;
 };
 LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o);
