@@ -12,6 +12,7 @@
 #include <microshadow/math/vec.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 

@@ -11,7 +11,7 @@
 //     message).
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/micro_shadowing_loader.h>  // lut::MicroShadowingLut (the registry's tables)
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
@@ -57,26 +57,10 @@ std::shared_ptr<const MicroShadowingEvaluator> evaluator(const std::string& meth
   return e;
 }
 
-// The table of a lut method, as the registry's evaluator picks it (--lut file, else the default table of the
-// layout: lut2d the N·V = 1 slice, with phi the azimuth-aware one).
-std::shared_ptr<const lut::MicroShadowingLut> lut_table(const std::string& method, const std::string& path,
-                                                        bool has_phi) {
-  static std::map<std::string, std::shared_ptr<const lut::MicroShadowingLut>> cache;
-  if (path.empty()) return lut::default_micro_shadowing_lut(method == "lut2d", has_phi ? 3 : 0);
-  std::error_code ec;
-  const auto t = std::filesystem::last_write_time(path, ec);
-  const std::string key = fmt::format("{}\n{}", path, ec ? 0 : t.time_since_epoch().count());
-  auto it = cache.find(key);
-  if (it != cache.end()) return it->second;
-  auto table = std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(path));
-  if (cache.size() > 8) cache.clear();
-  cache.emplace(key, table);
-  return table;
-}
-
-enum class Fast { None, Reference, BrinckMaximov, Chan, Part1, Lut };
+enum class Fast { None, Ao, Reference, BrinckMaximov, Chan, Part1, Lut };
 
 Fast fast_kind(const std::string& m) {
+  if (m == "ao") return Fast::Ao;
   if (m == "reference") return Fast::Reference;
   if (m == "brinck-maximov-2016") return Fast::BrinckMaximov;
   if (m == "chan-2018") return Fast::Chan;
@@ -157,6 +141,9 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
     std::size_t bad = 0;
     pyb::object out;
     switch (kind) {
+      case Fast::Ao:
+        out = fast_loop<T>(b, [](const auto&, std::size_t, double v, double, double, double) { return v; }, bad);
+        break;
       case Fast::Reference:
         out = fast_loop<T>(b, [](const auto&, std::size_t, double v, double nl, double, double) {
           return ms::reference_step(v, nl);
@@ -178,9 +165,13 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
         }, bad);
         break;
       default: {
-        const auto table = b.n > 0 ? lut_table(method, o.lut_path, has_phi) : nullptr;
+        // The registry's own table (a file loaded once, or the default table baked on first use).
+        const auto table = b.n > 0 ? ev->table(has_phi) : nullptr;
         if (!table) return make_output<T>(b);
         const lut::MicroShadowingLutView view = table->view();
+        // phi on a mean-only table is an error for every point outside the early-out: the registry reports it.
+        if (has_phi && view.harmonics == 0)
+          return map_scalar(b, [&](const auto& rr, std::size_t i) { return ev->eval(query(rr, i)); });
         const bool two_d = method == "lut2d";
         out = fast_loop<T>(
             b,
