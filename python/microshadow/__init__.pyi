@@ -101,7 +101,9 @@ def bake_micro_shadowing_lut(
     seed: int = 1,
     out: Optional[PathLike] = None,
 ) -> Tuple[npt.NDArray[np.float32], dict[str, Any]]: ...
-def load_micro_shadowing_lut(path: PathLike) -> Tuple[npt.NDArray[np.float32], dict[str, Any]]: ...
+def load_micro_shadowing_lut(
+    path: PathLike, roughness: Optional[Sequence[float]] = None, harmonics: Optional[int] = None
+) -> Tuple[npt.NDArray[np.float32], dict[str, Any]]: ...
 @overload
 def render(
     scene: Union[PathLike, Mapping[str, Any]],

@@ -75,7 +75,6 @@ Broadcast broadcast(const std::vector<ArgSpec>& args, bool force_f64) {
     }
   }
   for (pyb::ssize_t s : b.shape) b.n *= std::size_t(s);
-  const pyb::object dtype = np.attr(b.f32 ? "float32" : "float64");
   for (std::size_t i = 0; i < raw.size(); ++i) {
     const int core = args[i].core;
     const int cd = core > 0 ? 1 : 0;
@@ -97,7 +96,11 @@ Broadcast broadcast(const std::vector<ArgSpec>& args, bool force_f64) {
       b.step.push_back(std::max(1, core));
     }
     // Contiguous in the output dtype (a no-op for a contiguous array of that dtype).
-    b.arrays.push_back(np.attr("ascontiguousarray")(a, dtype));
+    if (b.f32)
+      b.arrays.push_back(pyb::array_t<float, pyb::array::c_style | pyb::array::forcecast>::ensure(a));
+    else
+      b.arrays.push_back(pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(a));
+    if (!b.arrays.back()) throw pyb::value_error(fmt::format("{}: cannot convert to a float array", args[i].name));
     b.core.push_back(core);
   }
   return b;

@@ -77,17 +77,17 @@ pyb::tuple bake(const std::string& layout_name, int harmonics, bool two_d, std::
   return pyb::make_tuple(volume_array(vol), json_to_python(lut::sidecar_json(b)));
 }
 
-pyb::tuple load(pyb::object path_obj) {
+pyb::tuple load(pyb::object path_obj, std::optional<std::vector<double>> roughness, std::optional<int> harmonics) {
   const std::filesystem::path path(pyb::str(path_obj).cast<std::string>());
   lut::MicroShadowingLut t;
   {
     pyb::gil_scoped_release release;
-    t = lut::load_micro_shadowing_lut(path);
+    t = lut::load_micro_shadowing_lut(path, roughness, harmonics);
   }
   pyb::dict meta;
   const auto side = lut::sidecar_path(path);
   std::error_code ec;
-  if (std::filesystem::exists(side, ec)) {
+  if (std::filesystem::exists(side, ec) && !roughness && !harmonics) {
     std::ifstream in(side);
     std::stringstream ss;
     ss << in.rdbuf();
@@ -96,7 +96,7 @@ pyb::tuple load(pyb::object path_obj) {
     meta["layout"] = lut::layout_name(t.layout);
     meta["roughness"] = t.roughness;
     meta["harmonics"] = t.harmonics;
-    meta["sidecar"] = pyb::none();
+    meta["sidecar"] = std::filesystem::exists(side, ec) ? pyb::object(pyb::str(side.string())) : pyb::none();
   }
   return pyb::make_tuple(volume_array(t.volume), meta);
 }
@@ -118,11 +118,12 @@ void register_lut(pyb::module_& m) {
         "load_micro_shadowing_lut, the CLI's --lut and the renderer). Bad options raise ValueError with "
         "the CLI's message. Runs with the GIL released, on oneTBB threads (bit-identical for any thread "
         "count).");
-  m.def("load_micro_shadowing_lut", &load, "path"_a,
+  m.def("load_micro_shadowing_lut", &load, "path"_a, "roughness"_a = pyb::none(), "harmonics"_a = pyb::none(),
         "Loads a baked micro-shadowing LUT (any format the CLI reads: dds, ktx2, exr, npy) and its sidecar "
         "<path>.json. Returns (table, sidecar): table as in bake_micro_shadowing_lut, sidecar the JSON "
         "sidecar as a dict (without a sidecar: the defaults the loader assumes, layout 'seed', roughness "
-        "per channel, harmonics 0, and 'sidecar': None). An unreadable or inconsistent file raises "
+        "per channel, harmonics 0, and 'sidecar': None). roughness / harmonics override the sidecar (seed "
+        "layout only; the dict then holds the values used). An unreadable or inconsistent file raises "
         "ValueError with the CLI's message.");
 }
 

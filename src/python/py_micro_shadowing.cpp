@@ -120,10 +120,16 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
   if (has_ry) args.push_back({roughness_y, "roughness_y"});
   const Broadcast b = broadcast(args);
 
+  // float32(π) rounds above π: a float32 phi equal to it means π (else np.float32(np.pi) would be rejected).
+  const double pi_f32 = double(float(kPiD));
+  auto read_phi = [&](const auto& r, std::size_t i) {
+    const double p = r(iphi, i);
+    return b.f32 && p > kPiD && p <= pi_f32 ? kPiD : p;
+  };
   auto query = [&](const auto& r, std::size_t i) {
     MicroShadowingQuery q;
     q.visibility = r(0, i), q.n_dot_l = r(1, i), q.n_dot_v = r(2, i), q.roughness = r(3, i);
-    if (has_phi) q.phi = r(iphi, i);
+    if (has_phi) q.phi = read_phi(r, i);
     if (has_ry) q.roughness_y = r(iry, i);
     return q;
   };
@@ -178,7 +184,7 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
             [&](const auto& rr, std::size_t i, double v, double nl, double nv, double ro) -> double {
               const double n = two_d ? 1.0 : nv;
               if (!has_phi) return lut::sample_micro_shadowing(view, v, nl, n, ro);
-              const double p = rr(iphi, i);
+              const double p = read_phi(rr, i);
               if (!(p >= 0 && p <= kPiD)) return std::numeric_limits<double>::quiet_NaN();  // reported below
               return lut::sample_micro_shadowing_azimuth(view, v, nl, n, ro, std::cos(p));
             },
@@ -186,7 +192,7 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
         if (has_phi) {
           // A phi out of [0, π] was written as NaN: the first bad element (of any input) is reported.
           for (std::size_t i = 0; i < std::min(bad, b.n); ++i)
-            if (!(r(iphi, i) >= 0 && r(iphi, i) <= kPiD)) {
+            if (!(read_phi(r, i) >= 0 && read_phi(r, i) <= kPiD)) {
               bad = i;
               break;
             }
@@ -232,7 +238,8 @@ void register_micro_shadowing(pyb::module_& m) {
         "micro-shadowing --method METHOD ... --json` prints its 'value', vectorized.\n\n"
         "visibility, ndotl, ndotv, roughness, phi, roughness_y: numbers or arrays, broadcast together like "
         "numpy ufuncs. visibility V in [0, 1] (projected solid angle), N.L and N.V in [0, 1], perceptual "
-        "roughness in [0, 1] (alpha = roughness^2), phi the relative azimuth of l and v in [0, pi] (None: "
+        "roughness in [0, 1] (alpha = roughness^2), phi the relative azimuth of l and v in [0, pi] (a float32 "
+        "phi of float32(pi), just above pi, is read as pi; None: "
         "the mean over the azimuth, what a LUT stores), roughness_y for anisotropic GGX (generic-vndf). "
         "samples: the Sobol estimator with N samples (generic-vndf; None: the exact quadrature), seed its "
         "scrambling seed, g2 'height-correlated' or 'uncorrelated'. lut: a table file for lut3d / lut2d "
