@@ -71,7 +71,8 @@ Broadcast broadcast(const std::vector<ArgSpec>& args, bool force_f64) {
       for (std::size_t j = 0; j < raw.size(); ++j)
         shapes += fmt::format("{}{} {}", shapes.empty() ? "" : ", ", args[j].name,
                               std::string(pyb::str(pyb::tuple(np.attr("shape")(raw[j])))));
-      throw pyb::value_error(fmt::format("shape mismatch: the arguments cannot be broadcast together ({})", shapes));
+      throw pyb::value_error(
+          fmt::format("shape mismatch: the arguments cannot be broadcast together ({})", shapes));
     }
   }
   for (pyb::ssize_t s : b.shape) b.n *= std::size_t(s);
@@ -100,7 +101,8 @@ Broadcast broadcast(const std::vector<ArgSpec>& args, bool force_f64) {
       b.arrays.push_back(pyb::array_t<float, pyb::array::c_style | pyb::array::forcecast>::ensure(a));
     else
       b.arrays.push_back(pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(a));
-    if (!b.arrays.back()) throw pyb::value_error(fmt::format("{}: cannot convert to a float array", args[i].name));
+    if (!b.arrays.back())
+      throw pyb::value_error(fmt::format("{}: cannot convert to a float array", args[i].name));
     b.core.push_back(core);
   }
   return b;

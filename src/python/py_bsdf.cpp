@@ -39,7 +39,8 @@ std::unique_ptr<bsdf::BrdfModel> make_model(const std::string& name, const pyb::
     } else if (PyFloat_Check(v.ptr()) || PyLong_Check(v.ptr())) {
       given.values[key] = {v.cast<double>()};
     } else {
-      given.values[key] = pyb::cast<std::vector<double>>(pyb::module_::import("numpy").attr("ravel")(v).attr("tolist")());
+      given.values[key] =
+          pyb::cast<std::vector<double>>(pyb::module_::import("numpy").attr("ravel")(v).attr("tolist")());
     }
   }
   return info.make(bsdf::complete_params(info, given));
@@ -60,7 +61,8 @@ pyb::list models_list() {
       }
       params.append(d);
     }
-    out.append(pyb::dict("name"_a = m.name, "summary"_a = m.summary, "source"_a = m.source, "params"_a = params));
+    out.append(
+        pyb::dict("name"_a = m.name, "summary"_a = m.summary, "source"_a = m.source, "params"_a = params));
   }
   return out;
 }
@@ -92,7 +94,8 @@ void register_bsdf(pyb::module_& m) {
       [](const std::string& model, pyb::handle wo, pyb::handle wi, const pyb::kwargs& kw) {
         const auto brdf = make_model(model, kw);
         const Broadcast b = broadcast({{wo, "wo", 3}, {wi, "wi", 3}});
-        return map_scalar(b, [&](const auto& r, std::size_t i) { return brdf->pdf(r.vec(0, i), r.vec(1, i)); });
+        return map_scalar(b,
+                          [&](const auto& r, std::size_t i) { return brdf->pdf(r.vec(0, i), r.vec(1, i)); });
       },
       "model"_a, "wo"_a, "wi"_a,
       "Solid-angle pdf of sample_brdf's wi given wo for a model by name (parameters as for eval_brdf).");
@@ -104,7 +107,7 @@ void register_bsdf(pyb::module_& m) {
         pyb::array_t<double> wi = make_output<double>(b, 3), f = make_output<double>(b, 3),
                              pdf = make_output<double>(b);
         double *pw = wi.mutable_data(), *pf = f.mutable_data(), *pp = pdf.mutable_data();
-        const Reader<double> r{&b};
+        const Reader<double> r(&b);
         {
           pyb::gil_scoped_release release;
           parallel_each(b.n, [&](std::size_t i) {

@@ -1,5 +1,6 @@
 // microshadow.bump_terminator / bump_alpha2: the bump-terminator terms of
-// include/microshadow/occlusion/bump_terminator.h (Conty Estevez et al. 2019, Chiang et al. 2019), vectorized.
+// include/microshadow/occlusion/bump_terminator.h (Conty Estevez et al. 2019, Chiang et al. 2019),
+// vectorized.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 #include <microshadow/occlusion/bump_terminator.h>
@@ -32,7 +33,8 @@ void register_bump(pyb::module_& m) {
         bump::Method meth{};
         if (!bump::parse_method(method, meth)) throw InputError(fmt::format("unknown --method '{}'", method));
         const auto test = hemisphere_test ? bump::HemisphereTest::kOn : bump::HemisphereTest::kOff;
-        const Broadcast b = broadcast({{ng, "geometric_normal", 3}, {ns, "shading_normal", 3}, {l, "light", 3}});
+        const Broadcast b =
+            broadcast({{ng, "geometric_normal", 3}, {ns, "shading_normal", 3}, {l, "light", 3}});
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           return bump::term(meth, cli_direction(r.vec(0, i)), cli_direction(r.vec(1, i)),
                             cli_direction(r.vec(2, i)), test);
@@ -56,7 +58,8 @@ void register_bump(pyb::module_& m) {
         });
       },
       "geometric_normal"_a, "shading_normal"_a,
-      "The GGX roughness alpha^2 = clamp(tan^2(theta_d)/8, 0, 1) that Conty Estevez et al. 2019 assign to the "
+      "The GGX roughness alpha^2 = clamp(tan^2(theta_d)/8, 0, 1) that Conty Estevez et al. 2019 assign to "
+      "the "
       "perturbation theta_d = angle(N_g, N_s) (listing 12.1); the CLI's 'alpha2'. Shapes as for "
       "bump_terminator.");
 }

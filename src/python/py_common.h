@@ -39,10 +39,10 @@ struct ArgSpec {
 // Arguments broadcast against each other (core dimensions excluded), converted to one dtype, C-contiguous.
 struct Broadcast {
   bool f32 = false;
-  std::vector<pyb::ssize_t> shape;  // broadcast shape (without core dimensions)
-  std::size_t n = 1;                // elements of the broadcast shape
-  std::vector<pyb::array> arrays;   // per argument: either `core` numbers (broadcast) or n·core numbers
-  std::vector<std::ptrdiff_t> step; // per argument: 0 (broadcast) or core (one per element)
+  std::vector<pyb::ssize_t> shape;   // broadcast shape (without core dimensions)
+  std::size_t n = 1;                 // elements of the broadcast shape
+  std::vector<pyb::array> arrays;    // per argument: either `core` numbers (broadcast) or n·core numbers
+  std::vector<std::ptrdiff_t> step;  // per argument: 0 (broadcast) or core (one per element)
   std::vector<int> core;
   bool all_scalar = true;  // every argument was a 0-d array or a Python scalar (result: a numpy scalar)
 
@@ -108,14 +108,23 @@ inline double at(const Broadcast& b, std::size_t a, std::size_t i, int k = 0) {
   return double(b.data<T>(a)[std::ptrdiff_t(i) * b.step[a] + k]);
 }
 
-// Reads argument a of element i (component k) as double, whatever the array dtype T.
+// Reads argument a of element i (component k) as double, whatever the array dtype T. Holds its own copy of
+// the pointers and steps, so that a copy local to a loop is not reloaded after every opaque call.
 template <class T>
 struct Reader {
-  const Broadcast* b;
-  double operator()(std::size_t a, std::size_t i, int k = 0) const { return at<T>(*b, a, i, k); }
+  static constexpr std::size_t kMaxArgs = 8;
+  const T* p[kMaxArgs] = {};
+  std::ptrdiff_t s[kMaxArgs] = {};
+  explicit Reader(const Broadcast* b) {
+    if (b->arrays.size() > kMaxArgs) throw std::logic_error("Reader: too many arguments");
+    for (std::size_t a = 0; a < b->arrays.size(); ++a) p[a] = b->data<T>(a), s[a] = b->step[a];
+  }
+  double operator()(std::size_t a, std::size_t i, int k = 0) const {
+    return double(p[a][std::ptrdiff_t(i) * s[a] + k]);
+  }
   Vec3d vec(std::size_t a, std::size_t i) const {
-    const T* p = b->data<T>(a) + std::ptrdiff_t(i) * b->step[a];
-    return {double(p[0]), double(p[1]), double(p[2])};
+    const T* q = p[a] + std::ptrdiff_t(i) * s[a];
+    return {double(q[0]), double(q[1]), double(q[2])};
   }
 };
 
@@ -127,7 +136,7 @@ pyb::object map_scalar(const Broadcast& b, F&& f) {
     using T = decltype(tag);
     pyb::array_t<T> out = make_output<T>(b);
     T* o = out.mutable_data();
-    const Reader<T> r{&b};
+    const Reader<T> r(&b);
     {
       pyb::gil_scoped_release release;
       parallel_each(b.n, [&](std::size_t i) { o[i] = T(f(r, i)); });
@@ -144,7 +153,7 @@ pyb::object map_vec3(const Broadcast& b, F&& f) {
     using T = decltype(tag);
     pyb::array_t<T> out = make_output<T>(b, 3);
     T* o = out.mutable_data();
-    const Reader<T> r{&b};
+    const Reader<T> r(&b);
     {
       pyb::gil_scoped_release release;
       parallel_each(b.n, [&](std::size_t i) {

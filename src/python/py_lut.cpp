@@ -22,13 +22,15 @@ using namespace pybind11::literals;
 // The volume as a float32 array of shape (depth, n_nl, n_vis, channels) (z = N·V [+ harmonic/roughness
 // slab], y = N·L, x = Visibility or t), the table's memory layout.
 pyb::array_t<float> volume_array(const io::Volume& v) {
-  pyb::array_t<float> a({pyb::ssize_t(v.depth), pyb::ssize_t(v.height), pyb::ssize_t(v.width),
-                         pyb::ssize_t(v.channels)});
+  pyb::array_t<float> a(
+      {pyb::ssize_t(v.depth), pyb::ssize_t(v.height), pyb::ssize_t(v.width), pyb::ssize_t(v.channels)});
   std::copy(v.data.begin(), v.data.end(), a.mutable_data());
   return a;
 }
 
-pyb::object json_to_python(const std::string& text) { return pyb::module_::import("json").attr("loads")(text); }
+pyb::object json_to_python(const std::string& text) {
+  return pyb::module_::import("json").attr("loads")(text);
+}
 
 pyb::tuple bake(const std::string& layout_name, int harmonics, bool two_d, std::optional<int> n_vis,
                 std::optional<int> n_nl, std::optional<int> n_nv, std::optional<int> n_rough,
@@ -77,7 +79,8 @@ pyb::tuple bake(const std::string& layout_name, int harmonics, bool two_d, std::
   return pyb::make_tuple(volume_array(vol), json_to_python(lut::sidecar_json(b)));
 }
 
-pyb::tuple load(pyb::object path_obj, std::optional<std::vector<double>> roughness, std::optional<int> harmonics) {
+pyb::tuple load(pyb::object path_obj, std::optional<std::vector<double>> roughness,
+                std::optional<int> harmonics) {
   const std::filesystem::path path(pyb::str(path_obj).cast<std::string>());
   lut::MicroShadowingLut t;
   {

@@ -40,7 +40,8 @@ ms::G2Form parse_g2(const std::string& s) {
 
 // Evaluators are cached per (method, options) so that repeated calls do not rebuild them (accessed with the
 // GIL held only).
-std::shared_ptr<const MicroShadowingEvaluator> evaluator(const std::string& method, const MicroShadowingOptions& o,
+std::shared_ptr<const MicroShadowingEvaluator> evaluator(const std::string& method,
+                                                         const MicroShadowingOptions& o,
                                                          const std::string& g2) {
   static std::map<std::string, std::shared_ptr<const MicroShadowingEvaluator>> cache;
   std::string key = fmt::format("{}\n{}\n{}\n{}\n{}", method, o.samples, o.seed, g2, o.lut_path);
@@ -75,13 +76,16 @@ template <class T, class F>
 pyb::object fast_loop(const Broadcast& b, F&& term, std::size_t& first_bad) {
   pyb::array_t<T> out = make_output<T>(b);
   T* o = out.mutable_data();
-  const Reader<T> r{&b};
+  const Reader<T> r(&b);
   std::atomic<std::size_t> bad{std::numeric_limits<std::size_t>::max()};
   {
     pyb::gil_scoped_release release;
     parallel_chunks(b.n, [&](std::size_t begin, std::size_t end) {
+      // Local copies: not reloaded after the terms' (rare) libm calls.
+      const Reader<T> rl = r;
+      T* const out_p = o;
       for (std::size_t i = begin; i < end; ++i) {
-        const double v = r(0, i), nl = r(1, i), nv = r(2, i), ro = r(3, i);
+        const double v = rl(0, i), nl = rl(1, i), nv = rl(2, i), ro = rl(3, i);
         // The CLI's domain: every input in [0, 1] (NaN fails); the registry reports the first bad element.
         if (!(v >= 0 && v <= 1 && nl >= 0 && nl <= 1 && nv >= 0 && nv <= 1 && ro >= 0 && ro <= 1)) {
           std::size_t cur = bad.load();
@@ -89,7 +93,7 @@ pyb::object fast_loop(const Broadcast& b, F&& term, std::size_t& first_bad) {
           }
           return;
         }
-        o[i] = T(term(r, i, v, nl, nv, ro));
+        out_p[i] = T(term(rl, i, v, nl, nv, ro));
       }
     });
   }
@@ -135,7 +139,7 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
   };
   auto run = [&](auto tag) -> pyb::object {
     using T = decltype(tag);
-    const Reader<T> r{&b};
+    const Reader<T> r(&b);
     // Option errors (phi / samples / roughness_y where the method takes none, a LUT without harmonics for
     // phi, ...) come from the registry on the first element, with the CLI's message.
     if (b.n > 0) ev->eval(query(r, 0));
@@ -148,34 +152,48 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
     pyb::object out;
     switch (kind) {
       case Fast::Ao:
-        out = fast_loop<T>(b, [](const auto&, std::size_t, double v, double, double, double) { return v; }, bad);
+        out = fast_loop<T>(
+            b, [](const auto&, std::size_t, double v, double, double, double) { return v; }, bad);
         break;
       case Fast::Reference:
-        out = fast_loop<T>(b, [](const auto&, std::size_t, double v, double nl, double, double) {
-          return ms::reference_step(v, nl);
-        }, bad);
+        out = fast_loop<T>(
+            b,
+            [](const auto&, std::size_t, double v, double nl, double, double) {
+              return ms::reference_step(v, nl);
+            },
+            bad);
         break;
       case Fast::BrinckMaximov:
-        out = fast_loop<T>(b, [](const auto&, std::size_t, double v, double nl, double, double) {
-          return ms::brinck_maximov_2016(v, nl);
-        }, bad);
+        out = fast_loop<T>(
+            b,
+            [](const auto&, std::size_t, double v, double nl, double, double) {
+              return ms::brinck_maximov_2016(v, nl);
+            },
+            bad);
         break;
       case Fast::Chan:
-        out = fast_loop<T>(b, [](const auto&, std::size_t, double v, double nl, double, double) {
-          return ms::chan_2018(v, nl);
-        }, bad);
+        out = fast_loop<T>(
+            b,
+            [](const auto&, std::size_t, double v, double nl, double, double) {
+              return ms::chan_2018(v, nl);
+            },
+            bad);
         break;
       case Fast::Part1:
-        out = fast_loop<T>(b, [](const auto&, std::size_t, double v, double nl, double, double) {
-          return ms::part1_analytic(v, nl);
-        }, bad);
+        out = fast_loop<T>(
+            b,
+            [](const auto&, std::size_t, double v, double nl, double, double) {
+              return ms::part1_analytic(v, nl);
+            },
+            bad);
         break;
       default: {
         // The registry's own table (a file loaded once, or the default table baked on first use).
         const auto table = b.n > 0 ? ev->table(has_phi) : nullptr;
         if (!table) return make_output<T>(b);
         const lut::MicroShadowingLutView view = table->view();
-        // phi on a mean-only table is an error for every point outside the early-out: the registry reports it.
+        // phi on a mean-only table is an error for every point outside the early-out: the registry reports
+        // it.
         if (has_phi && view.harmonics == 0)
           return map_scalar(b, [&](const auto& rr, std::size_t i) { return ev->eval(query(rr, i)); });
         const bool two_d = method == "lut2d";
@@ -220,8 +238,9 @@ void register_micro_shadowing(pyb::module_& m) {
             out.append(i.name);
             continue;
           }
-          out.append(pyb::dict("name"_a = i.name, "summary"_a = i.summary, "uses_roughness"_a = i.uses_roughness,
-                               "uses_ndotv"_a = i.uses_ndotv, "accepts_phi"_a = i.accepts_phi,
+          out.append(pyb::dict("name"_a = i.name, "summary"_a = i.summary,
+                               "uses_roughness"_a = i.uses_roughness, "uses_ndotv"_a = i.uses_ndotv,
+                               "accepts_phi"_a = i.accepts_phi,
                                "accepts_roughness_y"_a = i.accepts_roughness_y,
                                "accepts_samples"_a = i.accepts_samples, "accepts_lut"_a = i.accepts_lut));
         }
@@ -231,25 +250,26 @@ void register_micro_shadowing(pyb::module_& m) {
       "Names of every micro-shadowing method (the CLI's `eval micro-shadowing --method` values), in the "
       "registry's order; details=True returns dicts (name, summary, uses_roughness, uses_ndotv, "
       "accepts_phi, accepts_roughness_y, accepts_samples, accepts_lut).");
-  m.def("eval_micro_shadowing", &eval, "method"_a, "visibility"_a, "ndotl"_a, "ndotv"_a = 1.0,
-        "roughness"_a = 0.5, "phi"_a = pyb::none(), "samples"_a = pyb::none(), "seed"_a = 1,
-        "g2"_a = "height-correlated", "lut"_a = pyb::none(), "roughness_y"_a = pyb::none(), "path"_a = "auto",
-        "Micro-shadowing term (docs/micro-shadowing.md) of any registered method, as `microshadow eval "
-        "micro-shadowing --method METHOD ... --json` prints its 'value', vectorized.\n\n"
-        "visibility, ndotl, ndotv, roughness, phi, roughness_y: numbers or arrays, broadcast together like "
-        "numpy ufuncs. visibility V in [0, 1] (projected solid angle), N.L and N.V in [0, 1], perceptual "
-        "roughness in [0, 1] (alpha = roughness^2), phi the relative azimuth of l and v in [0, pi] (a float32 "
-        "phi of float32(pi), just above pi, is read as pi; None: "
-        "the mean over the azimuth, what a LUT stores), roughness_y for anisotropic GGX (generic-vndf). "
-        "samples: the Sobol estimator with N samples (generic-vndf; None: the exact quadrature), seed its "
-        "scrambling seed, g2 'height-correlated' or 'uncorrelated'. lut: a table file for lut3d / lut2d "
-        "(None: the default table, baked on first use).\n\n"
-        "dtype: float32 arrays give float32 (the CLI's double value, rounded once), anything else float64; "
-        "all-scalar input gives a numpy scalar. Unknown method, options a method does not take, values out "
-        "of their domain (including NaN) and shape mismatches raise ValueError with the CLI's message. "
-        "Computed with the GIL released, in parallel (oneTBB) for large arrays, bit-identical for any "
-        "thread count. path='registry' forces the per-element registry evaluation (for tests; the default "
-        "'auto' runs the closed-form terms and the LUT sampler in a tight loop, same values).");
+  m.def(
+      "eval_micro_shadowing", &eval, "method"_a, "visibility"_a, "ndotl"_a, "ndotv"_a = 1.0,
+      "roughness"_a = 0.5, "phi"_a = pyb::none(), "samples"_a = pyb::none(), "seed"_a = 1,
+      "g2"_a = "height-correlated", "lut"_a = pyb::none(), "roughness_y"_a = pyb::none(), "path"_a = "auto",
+      "Micro-shadowing term (docs/micro-shadowing.md) of any registered method, as `microshadow eval "
+      "micro-shadowing --method METHOD ... --json` prints its 'value', vectorized.\n\n"
+      "visibility, ndotl, ndotv, roughness, phi, roughness_y: numbers or arrays, broadcast together like "
+      "numpy ufuncs. visibility V in [0, 1] (projected solid angle), N.L and N.V in [0, 1], perceptual "
+      "roughness in [0, 1] (alpha = roughness^2), phi the relative azimuth of l and v in [0, pi] (a float32 "
+      "phi of float32(pi), just above pi, is read as pi; None: "
+      "the mean over the azimuth, what a LUT stores), roughness_y for anisotropic GGX (generic-vndf). "
+      "samples: the Sobol estimator with N samples (generic-vndf; None: the exact quadrature), seed its "
+      "scrambling seed, g2 'height-correlated' or 'uncorrelated'. lut: a table file for lut3d / lut2d "
+      "(None: the default table, baked on first use).\n\n"
+      "dtype: float32 arrays give float32 (the CLI's double value, rounded once), anything else float64; "
+      "all-scalar input gives a numpy scalar. Unknown method, options a method does not take, values out "
+      "of their domain (including NaN) and shape mismatches raise ValueError with the CLI's message. "
+      "Computed with the GIL released, in parallel (oneTBB) for large arrays, bit-identical for any "
+      "thread count. path='registry' forces the per-element registry evaluation (for tests; the default "
+      "'auto' runs the closed-form terms and the LUT sampler in a tight loop, same values).");
 }
 
 }  // namespace msh::py

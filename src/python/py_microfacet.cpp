@@ -40,7 +40,8 @@ struct NdfArgs {
 NdfArgs prepare_ndf(const std::string& name, pyb::handle alpha, pyb::handle alpha_y, double gamma) {
   NdfArgs a{parse_ndf(name), !alpha_y.is_none(), nullptr};
   if ((a.ndf == Ndf::BlinnPhong || a.ndf == Ndf::Gtr) && a.has_alpha_y)
-    throw InputError(a.ndf == Ndf::Gtr ? "--alpha-y: GTR is isotropic" : "--alpha-y: Blinn-Phong is isotropic");
+    throw InputError(a.ndf == Ndf::Gtr ? "--alpha-y: GTR is isotropic"
+                                       : "--alpha-y: Blinn-Phong is isotropic");
   if (a.ndf == Ndf::Gtr) {
     if (!(PyFloat_Check(alpha.ptr()) || PyLong_Check(alpha.ptr())))
       throw pyb::value_error("gtr: alpha must be one number per call (its Λ table is built once)");
@@ -69,7 +70,8 @@ double with_ndf(const NdfArgs& a, double ax, double ay, F&& f) {
 
 // Reads α (and α_y) of element i with the CLI's checks.
 template <class R>
-std::pair<double, double> alphas(const NdfArgs& a, const R& r, std::size_t i, std::size_t ia, std::size_t iay) {
+std::pair<double, double> alphas(const NdfArgs& a, const R& r, std::size_t i, std::size_t ia,
+                                 std::size_t iay) {
   const double ax = r(ia, i);
   require_range(ax, 0.0, 4.0, "--alpha");
   double ay = ax;

@@ -49,8 +49,9 @@ std::string label(pyb::handle obj, const char* fallback) {
 }
 
 pyb::object render_scene(pyb::object scene_obj, std::optional<int> width, std::optional<int> height,
-                         std::optional<int> spp, std::optional<std::string> method, std::optional<uint32_t> seed,
-                         std::optional<std::string> lut, pyb::object asset_dir, bool std_error) {
+                         std::optional<int> spp, std::optional<std::string> method,
+                         std::optional<uint32_t> seed, std::optional<std::string> lut, pyb::object asset_dir,
+                         bool std_error) {
   // A dict is serialized to JSON; a string starting with '{' is JSON text; anything else a path.
   std::string text;
   std::filesystem::path path;
@@ -64,14 +65,14 @@ pyb::object render_scene(pyb::object scene_obj, std::optional<int> width, std::o
     else
       path = s;
   }
-  const std::filesystem::path assets =
-      asset_dir.is_none() ? std::filesystem::path() : std::filesystem::path(pyb::str(asset_dir).cast<std::string>());
+  const std::filesystem::path assets = asset_dir.is_none()
+                                           ? std::filesystem::path()
+                                           : std::filesystem::path(pyb::str(asset_dir).cast<std::string>());
   render::RenderResult res;
   {
     pyb::gil_scoped_release release;
-    render::Scene scene = path.empty()
-                              ? render::parse_scene(text, "<scene>", assets.empty() ? "." : assets)
-                              : render::load_scene(path, assets);
+    render::Scene scene = path.empty() ? render::parse_scene(text, "<scene>", assets.empty() ? "." : assets)
+                                       : render::load_scene(path, assets);
     render::Settings& s = scene.settings;
     if (width) s.width = *width;
     if (height) s.height = *height;
@@ -96,7 +97,8 @@ pyb::object render_scene(pyb::object scene_obj, std::optional<int> width, std::o
 pyb::dict compare(pyb::handle a_obj, pyb::handle b_obj, double exposure, int down) {
   if (!(exposure >= -30 && exposure <= 30))
     throw InputError(fmt::format("--exposure: Value {} not in range -30 to 30", exposure));
-  if (down < 1 || down > 64) throw InputError(fmt::format("--downsample: Value {} not in range 1 to 64", down));
+  if (down < 1 || down > 64)
+    throw InputError(fmt::format("--downsample: Value {} not in range 1 to 64", down));
   const render::Image A = to_image(a_obj, "a"), B = to_image(b_obj, "b");
   if (A.width != B.width || A.height != B.height)
     throw InputError(fmt::format("{} is {}x{} but {} is {}x{}", label(a_obj, "a"), A.width, A.height,
