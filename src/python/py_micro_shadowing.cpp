@@ -11,8 +11,8 @@
 //     message).
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_loader.h>  // lut::MicroShadowingLut (the registry's tables)
 #include <microshadow/lut/micro_shadowing_lut.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>  // lut::MicroShadowingLut (the registry's tables)
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 
