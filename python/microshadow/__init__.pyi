@@ -130,5 +130,6 @@ def render(
     std_error: Literal[True],
 ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]: ...
 def compare(
-    a: Union[PathLike, ArrayLike], b: Union[PathLike, ArrayLike], exposure: float = 0.0, downsample: int = 1
+    a: Union[PathLike, ArrayLike], b: Union[PathLike, ArrayLike], exposure: float = 0.0, downsample: int = 1,
+    diff: Optional[PathLike] = None,
 ) -> dict[str, float]: ...

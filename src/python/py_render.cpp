@@ -94,7 +94,7 @@ pyb::object render_scene(pyb::object scene_obj, std::optional<int> width, std::o
   return image_array(res.mean);
 }
 
-pyb::dict compare(pyb::handle a_obj, pyb::handle b_obj, double exposure, int down) {
+pyb::dict compare(pyb::handle a_obj, pyb::handle b_obj, double exposure, int down, pyb::object diff) {
   if (!(exposure >= -30 && exposure <= 30))
     throw InputError(fmt::format("--exposure: Value {} not in range -30 to 30", exposure));
   if (down < 1 || down > 64)
@@ -111,6 +111,11 @@ pyb::dict compare(pyb::handle a_obj, pyb::handle b_obj, double exposure, int dow
       const auto a2 = render::downsample(A, down), b2 = render::downsample(B, down);
       rmse2 = render::rmse(a2, b2), ssim2 = render::ssim(a2, b2, float(exposure));
     }
+  }
+  if (!diff.is_none()) {
+    const std::string path = pyb::str(pyb::module_::import("os").attr("fspath")(diff));
+    pyb::gil_scoped_release release;
+    render::write_png_display(path, render::difference_image(A, B, float(exposure)));
   }
   pyb::dict j("rmse"_a = rmse, "ssim"_a = ssim);
   if (down > 1) j["rmse_downsampled"] = rmse2, j["ssim_downsampled"] = ssim2, j["downsample"] = down;
@@ -131,12 +136,13 @@ void register_render(pyb::module_& m) {
         "current directory for text / dict). std_error=True returns (mean, std_error) from the scene's "
         "error_batches independent batches. Runs with the GIL released, on oneTBB threads (the image is "
         "bit-identical whatever the thread count). Bad scenes raise ValueError with the CLI's message.");
-  m.def("compare", &compare, "a"_a, "b"_a, "exposure"_a = 0.0, "downsample"_a = 1,
+  m.def("compare", &compare, "a"_a, "b"_a, "exposure"_a = 0.0, "downsample"_a = 1, "diff"_a = pyb::none(),
         "Error of image a against the reference b, as `microshadow compare` computes it: a dict with 'rmse' "
         "(root-mean-square over pixels and channels of linear RGB) and 'ssim' (mean SSIM, Wang et al. 2004, "
         "of the luminance of the tone-mapped images at `exposure`); with downsample > 1 also "
         "'rmse_downsampled', 'ssim_downsampled' after box-downsampling. a, b: linear EXR paths or float "
-        "arrays of shape (H, W, 3).");
+        "arrays of shape (H, W, 3). diff: also write the false-colour difference PNG there (red: a brighter, "
+        "blue: a darker), as --diff does.");
 }
 
 }  // namespace msh::py

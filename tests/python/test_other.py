@@ -222,7 +222,8 @@ def test_render_and_compare_equal_cli(cli, tmp_path):
     rc, out, err = cli("compare", tmp_path / "cli.exr", tmp_path / "b.exr", "--downsample", "2")
     assert rc == 0, err
     assert msh.compare(tmp_path / "cli.exr", tmp_path / "b.exr", downsample=2) == {k: out[k] for k in out}
-    assert msh.compare(img, img) == {"rmse": 0.0, "ssim": 1.0}
+    assert msh.compare(img, img, diff=tmp_path / "d.png") == {"rmse": 0.0, "ssim": 1.0}
+    assert (tmp_path / "d.png").stat().st_size > 0
     assert other.shape == img.shape
     with pytest.raises(ValueError):
         msh.compare(img, img[:8])
