@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev
   python3 python3-numpy python3-scipy python3-matplotlib
+  python3-dev python3-pybind11 pybind11-dev python3-pytest
   glslang-tools spirv-tools mesa-vulkan-drivers libvulkan-dev
   libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
   chromium
