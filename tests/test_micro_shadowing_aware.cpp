@@ -4,7 +4,10 @@
 // sampler, no library weight), an angle-based statement of the specular indicator, a midpoint rule of the cap
 // fraction, the 1D quadrature of the specular azimuth mean, and the limits of docs/micro-shadowing-aware.md.
 #include <gtest/gtest.h>
+#include <microshadow/io/error.h>
+#include <microshadow/lut/micro_shadowing_analysis.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 
 #include <cmath>
@@ -205,4 +208,27 @@ TEST(DiffuseAware, AzimuthMeanIsWeightedMean) {
   EXPECT_LE(m, hi + 1e-6);
   EXPECT_NEAR(diffuse_aware_exact_azimuth_mean(V, a, nl, 1.0, DiffuseAwareForm::Flux),
               diffuse_aware_exact(V, a, a, dir(1.0, 0), dir(nl, 0.4), DiffuseAwareForm::Flux), 1e-6);
+}
+
+TEST(AwareMethods, RegistryEntriesEvaluateTheirFunctions) {
+  using namespace msh::occlusion;
+  const MicroShadowingEvaluator sp("specular-aware"), spa("specular-aware-alu"), da("diffuse-aware"),
+      df("diffuse-aware-flux"), est("diffuse-aware", {256, 3, G2Form::HeightCorrelated, ""});
+  Pcg32 rng(5);
+  for (int i = 0; i < 6; ++i) {
+    const double V = rng.next_double(), nl = rng.next_double(), nv = 0.05 + 0.95 * rng.next_double(),
+                 r = 0.1 + 0.9 * rng.next_double(), phi = kPi<double> * rng.next_double(), a = r * r;
+    MicroShadowingQuery q{V, nl, nv, r, std::nullopt, std::nullopt};
+    EXPECT_EQ(sp.eval(q), specular_aware_azimuth_mean(V, a, nl, nv));
+    EXPECT_EQ(spa.eval(q), double(specular_aware_azimuth_mean(float(V), float(a), float(nl), float(nv))));
+    EXPECT_EQ(df.eval(q), diffuse_aware_exact_azimuth_mean(V, a, nl, nv, DiffuseAwareForm::Flux));
+    EXPECT_THROW(est.eval(q), InputError);  // the estimator needs φ
+    q.phi = phi;
+    const Vec3d v = lut::study_view_dir(nv), l = lut::study_light_dir(nl, phi);
+    EXPECT_EQ(sp.eval(q), specular_aware(V, v, l));
+    EXPECT_EQ(da.eval(q), diffuse_aware_exact(V, a, a, v, l, DiffuseAwareForm::Reciprocal));
+    EXPECT_EQ(est.eval(q),
+              diffuse_aware_estimate(V, GGX<double>(a), v, l, 256, DiffuseAwareForm::Reciprocal, 3));
+  }
+  EXPECT_THROW(MicroShadowingEvaluator("specular-aware", {16, 1, G2Form::HeightCorrelated, ""}), InputError);
 }

@@ -1,7 +1,7 @@
 // The GLSL and HLSL ports of the micro-BRDF-aware terms (shaders/{glsl,hlsl}/micro_shadowing_aware.*): they
-// compile with glslangValidator (GLSL 450, GLSL ES 320, HLSL) and, where a Vulkan device is available (lavapipe
-// on CI), agree with the C++ float functions of occlusion/micro_shadowing_aware.h at random inputs over the
-// domain plus degenerate ones, within the precision each shader function states.
+// compile with glslangValidator (GLSL 450, GLSL ES 320, HLSL) and, where a Vulkan device is available
+// (lavapipe on CI), agree with the C++ float functions of occlusion/micro_shadowing_aware.h at random inputs
+// over the domain plus degenerate ones, within the precision each shader function states.
 #include <gtest/gtest.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
@@ -62,13 +62,15 @@ void main(uint3 id : SV_DispatchThreadID) {
 std::string glsl_source(const char* version) {
   std::string head = std::string("#version ") + version + "\n";
   if (std::string(version).find("es") != std::string::npos)
-    head += "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\nprecision highp sampler3D;\n";
+    head +=
+        "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\nprecision highp "
+        "sampler3D;\n";
   return head + read_source("shaders/glsl/micro_shadowing.glsl") +
          read_source("shaders/glsl/micro_shadowing_aware.glsl") + kGlslMain;
 }
 std::string hlsl_source() {
-  return read_source("shaders/hlsl/micro_shadowing.hlsl") + read_source("shaders/hlsl/micro_shadowing_aware.hlsl") +
-         kHlslMain;
+  return read_source("shaders/hlsl/micro_shadowing.hlsl") +
+         read_source("shaders/hlsl/micro_shadowing_aware.hlsl") + kHlslMain;
 }
 
 struct Rec {
@@ -138,12 +140,14 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
       ASSERT_LE(o[k], 1.0f);
     }
     spec_flip += o[0] != ms::specular_aware(x.vis, x.v, x.l);
-    d_mean = std::max(d_mean, double(std::abs(o[1] - ms::specular_aware_azimuth_mean(x.vis, x.alpha, x.nl, x.nv))));
+    d_mean = std::max(d_mean,
+                      double(std::abs(o[1] - ms::specular_aware_azimuth_mean(x.vis, x.alpha, x.nl, x.nv))));
     d_cap = std::max(d_cap, double(std::abs(o[2] - ms::lambert_cap_fraction(x.cos_m, x.c))));
     const GGX<float> g(x.alpha);
     for (int k = 0; k < 2; ++k) {
       const float cpu = ms::diffuse_aware_estimate(
-          x.vis, g, x.v, x.l, kEst, k == 0 ? ms::DiffuseAwareForm::Reciprocal : ms::DiffuseAwareForm::Flux, 1u);
+          x.vis, g, x.v, x.l, kEst, k == 0 ? ms::DiffuseAwareForm::Reciprocal : ms::DiffuseAwareForm::Flux,
+          1u);
       const double d = std::abs(o[k == 0 ? 3 : 4] - cpu);
       if (d > 1e-4) ++est_off;
       d_est_max = std::max(d_est_max, d);
@@ -154,9 +158,10 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
   EXPECT_LE(d_cap, 1e-5) << label;
   EXPECT_LE(est_off, int(recs.size() / 100)) << label;
   EXPECT_LE(d_est_max, 0.25) << label;
-  std::printf("[ %s ] %zu inputs: specular flips %d, |mean diff| %.2e, |cap diff| %.2e, estimator > 1e-4: %d "
-              "(max %.2e)\n",
-              label, recs.size(), spec_flip, d_mean, d_cap, est_off, d_est_max);
+  std::printf(
+      "[ %s ] %zu inputs: specular flips %d, |mean diff| %.2e, |cap diff| %.2e, estimator > 1e-4: %d "
+      "(max %.2e)\n",
+      label, recs.size(), spec_flip, d_mean, d_cap, est_off, d_est_max);
 }
 
 }  // namespace
@@ -166,7 +171,8 @@ TEST(ShadersMicroShadowingAware, Compiles) {
   std::vector<uint32_t> spv;
   std::string log;
   for (const char* version : {"450", "320 es"})
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n" << log;
+    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
+                                                                                       << log;
   EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
   std::string g = glsl_source("450");
   const std::string needle = "float c = msh_ms_cone_cos(V), len = sqrt(len2);";

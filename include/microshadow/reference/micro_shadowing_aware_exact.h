@@ -28,6 +28,11 @@ namespace msh::ms {
 
 namespace detail {
 
+#ifndef MSH_AWARE_INNER_TOL
+#define MSH_AWARE_INNER_TOL 1e-10
+#endif
+inline constexpr double kAwareInnerRelTol = MSH_AWARE_INNER_TOL;
+
 // ∫ w(m) (v·m)⁺ D(m) sin θ dθ over the θ interval of the region at azimuth φ (up to the VNDF's constant
 // G1(v)/v_z, which cancels). cone = false: the hemisphere region m·l > 0 with the hemisphere weight.
 struct AwareIntegrand {
@@ -114,7 +119,7 @@ inline double diffuse_aware_exact(double V, double alpha_x, double alpha_y, cons
   if (vis == 1.0) return 1.0;
   const GGX<double> ggx(std::min(alpha_x, 1e4), std::min(alpha_y, 1e4));
   const double c = cone_cos_from_visibility(vis);
-  const double den = detail::aware_region(ggx, vn, ln, c, false, form, 1e-12);
+  const double den = detail::aware_region(ggx, vn, ln, c, false, form, 1e-9);
   if (!(den > 1e-300)) return 0.0;
   const double num = detail::aware_region(ggx, vn, ln, c, true, form, rel_tol * den);
   return saturate(num / den);
@@ -135,7 +140,7 @@ inline double diffuse_aware_exact_azimuth_mean(double V, double alpha, double n_
   const GGX<double> ggx(std::min(alpha, 1e4));
   const auto nd = [&](double phi) {
     const Vec3d l(sl * std::cos(phi), sl * std::sin(phi), nl);
-    const double den = detail::aware_region(ggx, v, l, c, false, form, 1e-12);
+    const double den = detail::aware_region(ggx, v, l, c, false, form, 1e-9);
     return std::array<double, 2>{detail::aware_region(ggx, v, l, c, true, form, rel_tol * den), den};
   };
   if (nv == 1.0 || sl == 0.0) {
