@@ -5,7 +5,7 @@
 // fraction, the 1D quadrature of the specular azimuth mean, and the limits of docs/micro-shadowing-aware.md.
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>

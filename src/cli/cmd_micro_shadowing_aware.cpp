@@ -3,13 +3,13 @@
 //   K]
 //       [--threads T] [--json]
 //     as-used error of the run-time forms (float) against their exact references at continuous inputs,
-//     through the verify method of lut/micro_shadowing_verify.h (docs/lut.md, Verify);
+//     through the verify method of lut/runtime/micro_shadowing_verify.h (docs/lut.md, Verify);
 //   microshadow plot micro-shadowing-aware --out DIR [--size N] [--threads T]
 //     maps.csv: generic, specular-aware and diffuse-aware azimuth means over (V, N·L) per roughness and N·V
 //     (figures: scripts/plot_micro_shadowing_aware.py).
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
-#include <microshadow/lut/micro_shadowing_verify.h>
+#include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/microfacet/roughness.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
