@@ -156,8 +156,8 @@ inline double diffuse_aware_exact_azimuth_mean(double V, double alpha, double n_
 }
 
 // Reference for specular_aware_azimuth_mean: ∫ S(φ) D(h(φ)) dφ / ∫ D(h(φ)) dφ over [0, π] by adaptive
-// Gauss–Kronrod of D(h) (GGX NDF, microfacet/ggx.h) split at the jumps of S, found on a 4096-point grid and refined by bisection on
-// the indicator itself (not by the closed form's cos φ thresholds).
+// Gauss–Kronrod of D(h) (GGX NDF, microfacet/ggx.h) split at the jumps of S, found on a 4096-point grid and
+// refined by bisection on the indicator itself (not by the closed form's cos φ thresholds).
 inline double specular_aware_azimuth_mean_quadrature(double V, double alpha, double n_dot_l, double n_dot_v,
                                                      double tol = 1e-12) {
   const double cl = detail::clamp_nan(n_dot_l, 0.0, 1.0), cv = detail::clamp_nan(n_dot_v, 0.0, 1.0);
