@@ -154,8 +154,9 @@ void add_render(Groups& g) {
   r->add_option(
       "--method", a->method,
       "Micro-shadowing: none, ao, reference, brinck-maximov-2016, chan-2018, part1, generic-vndf, lut3d, "
-      "lut2d, ground-truth");
-  r->add_option("--vndf-samples", a->vndf_samples, "Samples per light for generic-vndf")
+      "lut2d, aware, aware-flux (micro-BRDF-aware: one term per lobe), ground-truth");
+  r->add_option("--vndf-samples", a->vndf_samples,
+                "Samples per light for generic-vndf and the diffuse lobe of aware, aware-flux")
       ->check(CLI::Range(1, 1 << 20));
   r->add_option("--bump-terminator", a->bump, "off, conty-2019, chiang-2019");
   r->add_option(

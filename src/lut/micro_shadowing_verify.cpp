@@ -99,7 +99,9 @@ std::vector<VerifyInput> make_verify_inputs(const VerifyOptions& o) {
     p.roughness = float(o.roughness_min + (o.roughness_max - o.roughness_min) * u(3));
     p.roughness = std::clamp(p.roughness, float(o.roughness_min), float(o.roughness_max));
     p.cos_phi = float(std::cos(kPi<double> * u(4)));
-    p.exact = verify_reference_value(o.against, p.visibility, p.n_dot_l, p.n_dot_v, p.roughness, p.cos_phi);
+    p.exact = o.reference ? o.reference(p.visibility, p.n_dot_l, p.n_dot_v, p.roughness, p.cos_phi)
+                          : verify_reference_value(o.against, p.visibility, p.n_dot_l, p.n_dot_v, p.roughness,
+                                                   p.cos_phi);
   });
   return in;
 }

@@ -6,9 +6,11 @@
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
+#include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <cmath>
@@ -122,6 +124,39 @@ Impl lut_method(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& 
           table};
 }
 
+// The micro-BRDF-aware terms (docs/micro-shadowing-aware.md). specular-aware: the indicator at φ, the
+// lobe-weighted azimuth mean in closed form (double) without; specular-aware-alu: that closed form in float,
+// as the shaders run it. diffuse-aware(-flux): the exact quadrature (the lobe-weighted mean without φ) or,
+// with samples and φ, the Sobol estimator.
+Impl specular_aware(bool as_float) {
+  return {[as_float](const Point& p) {
+            if (p.phi)
+              return ms::specular_aware(p.V, lut::study_view_dir(p.nv), lut::study_light_dir(p.nl, *p.phi));
+            if (as_float)
+              return double(
+                  ms::specular_aware_azimuth_mean<float>(float(p.V), float(p.ax), float(p.nl), float(p.nv)));
+            return ms::specular_aware_azimuth_mean<double>(p.V, p.ax, p.nl, p.nv);
+          },
+          nullptr};
+}
+Impl diffuse_aware(const MicroShadowingOptions& o, ms::DiffuseAwareForm form) {
+  return {[o, form](const Point& p) {
+            const Vec3d v = lut::study_view_dir(p.nv);
+            if (o.samples != 0) {
+              if (!p.phi)
+                throw InputError(
+                    "--samples needs --phi for the diffuse-aware terms (their azimuth mean is lobe-weighted "
+                    "and exact only)");
+              return ms::diffuse_aware_estimate(p.V, GGX<double>(p.ax), v, lut::study_light_dir(p.nl, *p.phi),
+                                                int(o.samples), form, o.seed);
+            }
+            if (p.phi)
+              return ms::diffuse_aware_exact(p.V, p.ax, p.ax, v, lut::study_light_dir(p.nl, *p.phi), form);
+            return ms::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
+          },
+          nullptr};
+}
+
 MicroShadowingMethodInfo closed(const char* name, const char* summary) {
   return {name, summary, false, false, false, false, false, false};
 }
@@ -153,6 +188,23 @@ const std::vector<Entry>& entries() {
        [](auto& o, auto& i) { return lut_method(o, i, false); }},
       {{"lut2d", "the LUT sampler on the N.V = 1 slice", true, false, true, false, false, true},
        [](auto& o, auto& i) { return lut_method(o, i, true); }},
+      {{"specular-aware",
+        "micro-BRDF-aware, specular lobe: chi(n.h > c) chi(h.l > c); without --phi its GGX-lobe-weighted "
+        "azimuth mean (closed form)",
+        true, true, true, false, false, false},
+       [](auto&, auto&) { return specular_aware(false); }},
+      {{"specular-aware-alu", "the specular-aware azimuth mean's closed form in float, as the shaders run it",
+        true, true, false, false, false, false},
+       [](auto&, auto&) { return specular_aware(true); }},
+      {{"diffuse-aware",
+        "micro-BRDF-aware, Lambertian facets, reciprocal cone tests (exact quadrature; Sobol estimator with "
+        "--samples and --phi)",
+        true, true, true, false, true, false},
+       [](auto& o, auto&) { return diffuse_aware(o, ms::DiffuseAwareForm::Reciprocal); }},
+      {{"diffuse-aware-flux",
+        "micro-BRDF-aware, Lambertian facets, fraction of the reflected flux leaving through the cone", true,
+        true, true, false, true, false},
+       [](auto& o, auto&) { return diffuse_aware(o, ms::DiffuseAwareForm::Flux); }},
   };
   return e;
 }

@@ -145,7 +145,18 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
   auto term = [&](const Vec3f& wi, uint32_t s) {
     // Light reaching the micro-surface: micro-shadowing (V from the map, N·L and N·V with the shading
     // normal) times the bump-terminator term.
-    return ms.eval(sp, wo, wi, h.tangent, s) * bt.eval(sp.n_smooth, sp.n_shading, wi);
+    const float b = bt.eval(sp.n_smooth, sp.n_shading, wi);
+    const LobeTerms t = ms.eval_lobes(sp, wo, wi, h.tangent, s);
+    return LobeTerms{t.diffuse * b, t.specular * b};
+  };
+  // The BRDF times the lobes' terms: one product when both lobes share the term (every method but the aware
+  // ones, bit-identical to the single-term renderer), else each lobe with its own.
+  auto shade = [&](const Vec3f& wi, float spec_scale, bool d, bool sp_, const LobeTerms& k, const Rgbf& E) {
+    if (!ms.per_lobe()) return brdf_cos(sp, wo, wi, spec_scale, d, sp_) * E * k.diffuse;
+    Rgbf r(0.0f);
+    if (d) r += brdf_cos(sp, wo, wi, spec_scale, true, false) * E * k.diffuse;
+    if (sp_) r += brdf_cos(sp, wo, wi, spec_scale, false, true) * E * k.specular;
+    return r;
   };
   // Meshes leave the geometric-hemisphere test to the shadow ray (so that the Hanika offset can light faces
   // whose flat normal already turned away, as a smooth surface would); other shapes test N_g·L.
@@ -166,10 +177,10 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
         E = E / (dist * dist);
       }
       if (!above(wi) || !(dot(sp.n_shading, wi) > 0)) continue;
-      const float k = term(wi, ls);
-      if (!(k > 0)) continue;
+      const LobeTerms k = term(wi, ls);
+      if (!k.any()) continue;
       if (shadow(wi, dist * (1 - 1e-4f))) continue;
-      L += brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * E * k;
+      L += shade(wi, 1.0f, want_d, want_s, k, E);
     } else if (light.type == LightType::Sphere && !set.area_lights) {
       // Representative point (Karis 2013): diffuse toward the centre, specular toward the point of the
       // sphere closest to the reflection ray, with the (α / α')² energy normalization.
@@ -181,11 +192,11 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
       const Rgbf E = light.color / (dist * dist);
       if (shadow(wc, dist - light.radius)) continue;
       if (want_d && above(wc) && dot(sp.n_shading, wc) > 0)
-        L += brdf_cos(sp, wo, wc, 1.0f, true, false) * E * term(wc, ls);
+        L += brdf_cos(sp, wo, wc, 1.0f, true, false) * E * term(wc, ls).diffuse;
       if (want_s && above(ws) && dot(sp.n_shading, ws) > 0) {
         const float a = roughness_to_alpha(std::max(sp.roughness, 0.02f));
         const float a2 = saturate(a + light.radius / (2 * dist));
-        L += brdf_cos(sp, wo, ws, sqr(a / a2), false, true) * E * term(ws, ls);
+        L += brdf_cos(sp, wo, ws, sqr(a / a2), false, true) * E * term(ws, ls).specular;
       }
     } else {
       // Area sampling (the reference): a sphere uniformly in its subtended cone (radiance I / (π r²)), a disk
@@ -204,10 +215,11 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
         const Vec3f wi = smp.wi;
         if (!above(wi) || !(dot(sp.n_shading, wi) > 0)) continue;
         if (per_sample) {
-          const float t = term(wi, hash_combine(ls, uint32_t(k)));
-          if (!(t > 0)) continue;
+          const LobeTerms t = term(wi, hash_combine(ls, uint32_t(k)));
+          if (!t.any()) continue;
           if (shadow(wi, smp.dist * (1 - 1e-4f))) continue;
-          acc += brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * Le * (t * smp.inv_pdf);
+          acc += ms.per_lobe() ? shade(wi, 1.0f, want_d, want_s, t, Le * smp.inv_pdf)
+                               : brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * Le * (t.diffuse * smp.inv_pdf);
         } else {
           if (shadow(wi, smp.dist * (1 - 1e-4f))) continue;
           if (want_d) acc_d += brdf_cos(sp, wo, wi, 1.0f, true, false) * Le * smp.inv_pdf;
@@ -222,8 +234,8 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
       float m_d = 0.0f, m_s = 0.0f;
       if (set.area_ms == AreaMs::Representative) {
         const RepresentativeDirs rd = representative_dirs(light, h.p, reflect(wo, sp.n_shading));
-        if (want_d) m_d = term(rd.wc, ts);
-        if (want_s) m_s = term(rd.ws, ts);
+        if (want_d) m_d = term(rd.wc, ts).diffuse;
+        if (want_s) m_s = term(rd.ws, ts).specular;
       } else {
         const std::function<float(const Vec3f&)> bump = [&](const Vec3f& wi) {
           return bt.eval(sp.n_smooth, sp.n_shading, wi);

@@ -24,6 +24,8 @@ const std::vector<std::pair<MicroShadowing, const char*>> kMsNames = {
     {MicroShadowing::GenericVndf, "generic-vndf"},
     {MicroShadowing::Lut3d, "lut3d"},
     {MicroShadowing::Lut2d, "lut2d"},
+    {MicroShadowing::Aware, "aware"},
+    {MicroShadowing::AwareFlux, "aware-flux"},
     {MicroShadowing::GroundTruth, "ground-truth"}};
 const std::vector<std::pair<Component, const char*>> kComponentNames = {
     {Component::Total, "total"}, {Component::Diffuse, "diffuse"}, {Component::Specular, "specular"}};

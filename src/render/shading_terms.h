@@ -6,6 +6,7 @@
 #include <microshadow/io/error.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/render/renderer.h>
 
 #include <functional>
@@ -21,7 +22,13 @@ float sample_lut(const LutSampler& lut, float V, float n_dot_l, float n_dot_v, f
 
 // The micro-shadowing term: V from the micro-occlusion map; N·L and N·V with the shading (normal-mapped)
 // normal, as the shaders of Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2" do.
-// Multiplies diffuse and specular of one light.
+// Multiplies diffuse and specular of one light, except the micro-BRDF-aware methods, which have one term per
+// lobe (eval_lobes; docs/micro-shadowing-aware.md).
+struct LobeTerms {
+  float diffuse, specular;
+  bool any() const { return diffuse > 0.0f || specular > 0.0f; }
+};
+
 class MicroShadowingTerm {
  public:
   explicit MicroShadowingTerm(const Settings& s)
@@ -29,6 +36,27 @@ class MicroShadowingTerm {
     if (mode_ == MicroShadowing::Lut3d || mode_ == MicroShadowing::Lut2d) {
       lut_ = load_lut_sampler(s.lut_path, mode_ == MicroShadowing::Lut2d);
     }
+  }
+  bool per_lobe() const { return mode_ == MicroShadowing::Aware || mode_ == MicroShadowing::AwareFlux; }
+  // Both lobes' terms; equal for every method but the aware ones.
+  LobeTerms eval_lobes(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, const Vec3f& tangent,
+                       uint32_t seed) const {
+    if (!per_lobe()) {
+      const float t = eval(sp, wo, wi, tangent, seed);
+      return {t, t};
+    }
+    const Vec3f& n = smooth_ ? sp.n_smooth : sp.n_shading;
+    const float V = sp.visibility;
+    if (ms::exact_zero(V, dot(n, wi))) return {0.0f, 0.0f};
+    const Framef fr = Framef::from_zx(n, tangent);
+    Vec3f v = fr.to_local(wo);
+    v.z = std::max(v.z, 1e-4f);
+    v = normalize(v);
+    const Vec3f l = fr.to_local(wi);
+    const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
+    const auto form =
+        mode_ == MicroShadowing::Aware ? ms::DiffuseAwareForm::Reciprocal : ms::DiffuseAwareForm::Flux;
+    return {ms::diffuse_aware_estimate(V, ggx, v, l, n_, form, seed | 1u), ms::specular_aware(V, v, l)};
   }
   // Settings::area_ms == Integrated: the term averaged over the solid angle of light l (sphere, disk or
   // rect) seen from p, weighted by the receiver — Lambert (specular = false) or the GGX lobe for wo
@@ -44,6 +72,10 @@ class MicroShadowingTerm {
     const Vec3f& n = smooth_ ? sp.n_smooth : sp.n_shading;
     const float V = sp.visibility, nl = dot(n, wi);
     switch (mode_) {
+      case MicroShadowing::Aware:
+      case MicroShadowing::AwareFlux: {  // one value for callers that want one: the diffuse lobe's
+        return eval_lobes(sp, wo, wi, tangent, seed).diffuse;
+      }
       case MicroShadowing::None:
       case MicroShadowing::GroundTruth:
         return 1.0f;

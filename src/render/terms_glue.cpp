@@ -1,6 +1,6 @@
 // Glue between the renderer and the other areas' headers: bump-terminator terms and the micro-shadowing LUT.
-#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/reference/micro_shadowing_area_exact.h>
 
@@ -95,11 +95,18 @@ float MicroShadowingTerm::eval_area(const ShadePoint& sp, const Vec3f& wo, const
   } else {
     // Every other term through the renderer's own evaluation at the world direction; all but an
     // azimuth-aware LUT depend on N·L only (and N·V, fixed here).
-    term.M = [&, seed](const Vec3d& ld) {
-      return double(eval(sp, wo, fr.to_world(Vec3f(ld)), tangent, seed));
+    // The aware methods: the lobe's own term, which depends on the full direction (not N·L only).
+    const bool lobe = per_lobe();
+    term.M = [&, seed, lobe, specular](const Vec3d& ld) {
+      const Vec3f w = fr.to_world(Vec3f(ld));
+      if (lobe) {
+        const LobeTerms t = eval_lobes(sp, wo, w, tangent, seed);
+        return double(specular ? t.specular : t.diffuse);
+      }
+      return double(eval(sp, wo, w, tangent, seed));
     };
     term.z_breaks = area::standard_z_breaks(V);
-    term.z_only = !(lut_ && lut_->view.harmonics > 0);
+    term.z_only = !(lut_ && lut_->view.harmonics > 0) && !lobe;
   }
   if (!extra_is_one) {
     term.M = [m = term.M, &extra, &fr](const Vec3d& ld) {

@@ -166,12 +166,11 @@ inline int region_breakpoints(const Vec3d& v, const Vec3d& l, double c, double* 
   return n;
 }
 
-// ∫_0^{2π} RegionIntegrand dφ: panels between the breakpoints (none wider than π/2), each integrated by
-// adaptive Gauss–Kronrod after the substitution φ = a + (b − a)(3s² − 2s³), which turns square-root endpoints
-// into smooth ones. abs_tol is the total absolute tolerance.
-inline double integrate_region(const RegionIntegrand& f, double abs_tol) {
-  double bp[24];
-  const int nb = region_breakpoints(f.v, f.l, f.c, bp);
+// ∫_0^{2π} f dφ: panels between the nb breakpoints bp (bp[0] is the origin; none wider than π/2), each
+// integrated by adaptive Gauss–Kronrod after the substitution φ = a + (b − a)(3s² − 2s³), which turns
+// square-root endpoints into smooth ones. abs_tol is the total absolute tolerance. nb ≤ 62.
+template <class F>
+double integrate_panels(const F& f, const double* bp, int nb, double abs_tol) {
   const double two_pi = 2 * kPi<double>;
   const double origin = bp[0];  // φ_l: every other breakpoint is mapped into [origin, origin + 2π)
   double pts[64];
@@ -198,6 +197,13 @@ inline double integrate_region(const RegionIntegrand& f, double abs_tol) {
     }
   }
   return sum;
+}
+
+// ∫_0^{2π} RegionIntegrand dφ, panels between its closed-form breakpoints.
+inline double integrate_region(const RegionIntegrand& f, double abs_tol) {
+  double bp[24];
+  const int nb = region_breakpoints(f.v, f.l, f.c, bp);
+  return integrate_panels(f, bp, nb, abs_tol);
 }
 
 // ∫ (w·m) dm over {m·w > 0 ∧ m·n1 > 0 ∧ m·n2 > 0} (unit w, n1, n2): a spherical triangle (or lune, or

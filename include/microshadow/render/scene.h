@@ -139,6 +139,9 @@ enum class MicroShadowing {
   GenericVndf,    // Zurita 2026, Monte Carlo over visible normals (vndf_samples per light)
   Lut3d,          // Zurita 2026 3D LUT
   Lut2d,          // Zurita 2026 2D LUT (N·V = 1 slice)
+  Aware,          // micro-BRDF-aware (docs/micro-shadowing-aware.md): specular-aware on the specular lobe,
+                  // diffuse-aware (reciprocal form, vndf_samples per light) on the diffuse lobe
+  AwareFlux,      // the same with the diffuse-aware flux form (Lambertian cap fraction)
   GroundTruth     // height map rendered as real ray-traced micro-geometry, no normal or visibility map
 };
 const char* to_string(MicroShadowing m);

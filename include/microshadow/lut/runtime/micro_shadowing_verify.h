@@ -43,6 +43,9 @@ struct VerifyOptions {
   // one closed.
   std::vector<double> roughness_bands = {0.1, 0.25, 0.55, 1.0};
   std::vector<double> n_dot_v_bands = {0.0, 0.25, 0.5, 0.75, 1.0};
+  // When set, the exact reference of another term (V, N·L, N·V, roughness, cos φ) in place of the generic
+  // term's (`against` then only names it): the micro-BRDF-aware terms (docs/micro-shadowing-aware.md).
+  std::function<double(double, double, double, double, double)> reference;
 };
 
 // Throws msh::InputError naming the first bad field.
