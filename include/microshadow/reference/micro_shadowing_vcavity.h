@@ -60,7 +60,8 @@ struct VCavityIntegrand {
     int np = 2;
     for (const double sw : {a > 0 ? sk * b / a : -1.0, p > 0 ? sk * q / p : -1.0})
       if (sw > s_lo && sw < s_hi) pts[np++] = sw;
-    std::sort(pts, pts + np);
+    for (int i = 1; i < np; ++i)  // insertion sort of ≤ 4 values
+      for (int j = i; j > 0 && pts[j] < pts[j - 1]; --j) std::swap(pts[j], pts[j - 1]);
     const double inv_sk = 1 / sk;
     const auto g = [&](double s) {
       const double t = s * inv_sk;
