@@ -1,8 +1,9 @@
 // The V-cavity microsurface profile (Torrance & Sparrow 1967; Cook & Torrance 1982, "A Reflectance Model for
 // Computer Graphics") over a symmetric NDF, by default Beckmann (the Beckmann–Spizzichino + V-cavity
 // microsurface). Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs" (JCGT
-// 3(2)), in its V-cavity section, derives its masking from the microsurface made of symmetric V-shaped grooves and shows that it
-// is an exact masking function for that profile: the visible normals it defines integrate to one.
+// 3(2)), in its V-cavity section, derives its masking from the microsurface made of symmetric V-shaped
+// grooves and shows that it is an exact masking function for that profile: the visible normals it defines
+// integrate to one.
 //
 // Unlike the Smith profile, the masking of a direction depends on the microfacet normal m:
 //   G1(w, m) = χ⁺(w·m) min(1, 2 (n·m)(n·w) / (w·m))                   (Heitz 2014, V-cavity masking; n = +z)
@@ -49,7 +50,9 @@ class VCavity {
     return std::min(T(1), T(2) * m.z * w.z / wm);
   }
   // Cook–Torrance G = min(G1(wo, m), G1(wi, m)).
-  T G2(const Vec3<T>& wo, const Vec3<T>& wi, const Vec3<T>& m) const { return std::min(G1(wo, m), G1(wi, m)); }
+  T G2(const Vec3<T>& wo, const Vec3<T>& wi, const Vec3<T>& m) const {
+    return std::min(G1(wo, m), G1(wi, m));
+  }
   T G2_uncorrelated(const Vec3<T>& wo, const Vec3<T>& wi, const Vec3<T>& m) const {
     return G1(wo, m) * G1(wi, m);
   }

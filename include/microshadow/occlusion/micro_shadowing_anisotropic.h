@@ -45,10 +45,14 @@ T micro_shadowing_isotropic_alpha(T alpha_x, T alpha_y, const Vec3<T>& v, const 
                                   ProjectedAlphaCombine how = ProjectedAlphaCombine::Rms) {
   const T av = projected_alpha(alpha_x, alpha_y, v), al = projected_alpha(alpha_x, alpha_y, l);
   switch (how) {
-    case ProjectedAlphaCombine::View: return av;
-    case ProjectedAlphaCombine::Light: return al;
-    case ProjectedAlphaCombine::Geometric: return std::sqrt(av * al);
-    case ProjectedAlphaCombine::Rms: break;
+    case ProjectedAlphaCombine::View:
+      return av;
+    case ProjectedAlphaCombine::Light:
+      return al;
+    case ProjectedAlphaCombine::Geometric:
+      return std::sqrt(av * al);
+    case ProjectedAlphaCombine::Rms:
+      break;
   }
   return std::sqrt(T(0.5) * (av * av + al * al));
 }

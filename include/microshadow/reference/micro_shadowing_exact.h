@@ -113,7 +113,8 @@ inline double beckmann_theta_F(double theta, double a, double b, double k, doubl
   if (!(c > 1e-300)) return b / (2 * k) + a * kSqrtPi / (4 * k * sk);
   const double t = s / c, kt2 = k * t * t;
   const double e = std::exp(-kt2);
-  return -b * std::expm1(-kt2) / (2 * k) + a * (kSqrtPi * std::erf(sk * t) / (4 * k * sk) - (e > 0 ? t * e : 0.0) / (2 * k));
+  return -b * std::expm1(-kt2) / (2 * k) +
+         a * (kSqrtPi * std::erf(sk * t) / (4 * k * sk) - (e > 0 ? t * e : 0.0) / (2 * k));
 }
 
 // The θ antiderivative of (v·m) D(m) sinθ at one azimuth, per shape-invariant Smith NDF: D(m) is
@@ -152,7 +153,8 @@ struct RegionIntegrandT {
     if (a < 0) hi = std::min(hi, std::atan2(b, -a));  // (v·m)⁺ clip
     if (!(hi > lo)) return 0.0;
     const double k = pc * pc * inv_ax2 + ps * ps * inv_ay2, sk = std::sqrt(k);
-    const double r = ThetaMass<Dist>::F(hi, a, b, k, sk) - (lo > 0 ? ThetaMass<Dist>::F(lo, a, b, k, sk) : 0.0);
+    const double r =
+        ThetaMass<Dist>::F(hi, a, b, k, sk) - (lo > 0 ? ThetaMass<Dist>::F(lo, a, b, k, sk) : 0.0);
     return std::max(0.0, r);
   }
 };
@@ -289,8 +291,22 @@ double vndf_region_probability(const Dist& dist, const Vec3d& v, const Vec3d& l,
 inline double vndf_hemisphere_mass(const GGX<double>& ggx, const Vec3d& v, const Vec3d& l, double) {
   return vndf_hemisphere_probability(ggx, v, l);
 }
-inline double vndf_hemisphere_mass(const Beckmann<double>& b, const Vec3d& v, const Vec3d& l, double abs_tol) {
+inline double vndf_hemisphere_mass(const Beckmann<double>& b, const Vec3d& v, const Vec3d& l,
+                                   double abs_tol) {
   return std::min(1.0, vndf_region_probability(b, v, l, 0.0, abs_tol));
+}
+
+// Mean over the relative azimuth φ of at(φ): over [0, π] in two panels when the term is symmetric in
+// φ → −φ, else over [0, 2π] in four; each panel an adaptive Gauss–Kronrod with error estimate ≤ abs_tol per
+// unit of φ.
+template <class F>
+double azimuth_mean(const F& at, bool symmetric, double abs_tol) {
+  const auto f = [&](double phi) { return std::array<double, 1>{at(phi)}; };
+  const double h = 0.5 * kPi<double>;
+  const int panels = symmetric ? 2 : 4;
+  double s = 0;
+  for (int i = 0; i < panels; ++i) s += gk_adaptive<GK15, 1>(f, i * h, (i + 1) * h, abs_tol * h)[0];
+  return saturate(s / (panels * h));
 }
 
 }  // namespace detail
@@ -303,7 +319,7 @@ inline double vndf_hemisphere_mass(const Beckmann<double>& b, const Vec3d& v, co
 // the measured error is far below, see docs/micro-shadowing.md). v.z < 0 is mirrored (as the VNDF samplers
 // do); non-unit vectors are normalized; NaN or Inf inputs give 0.
 template <class Dist>
-  requires SmithDistribution<Dist>
+requires SmithDistribution<Dist>
 double generic_vndf_exact(double V, const Dist& dist, const Vec3d& v, const Vec3d& l, double rel_tol = 1e-7) {
   if (!is_finite(v) || !is_finite(l) || std::isnan(dist.alpha_x()) || std::isnan(dist.alpha_y())) return 0.0;
   const double vis = saturate(V);
@@ -356,15 +372,15 @@ inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_d
 }
 
 // Anisotropic Smith NDF (GGX<double> or Beckmann<double>, αx along x, αy along y): mean over the relative
-// azimuth φ (uniform) of generic_vndf_exact with v = (sin θv cos φv, sin θv sin φv, N·V) at tangent azimuth φv
-// and l = (sin θl cos(φv + φ), sin θl sin(φv + φ), N·L): the anisotropic counterpart of what a LUT texel
+// azimuth φ (uniform) of generic_vndf_exact with v = (sin θv cos φv, sin θv sin φv, N·V) at tangent azimuth
+// φv and l = (sin θl cos(φv + φ), sin θl sin(φv + φ), N·L): the anisotropic counterpart of what a LUT texel
 // stores. For φv a multiple of π/2 the term is symmetric in φ → −φ (mirror about the plane of v and the
 // axis it lies on), so the mean over [0, π] is the whole circle's and takes two panels as the isotropic
 // mean; otherwise the mean is over [0, 2π] in four panels. Each panel is an adaptive Gauss–Kronrod whose
 // error estimate is bounded by abs_tol (per unit of φ); rel_tol goes to generic_vndf_exact. N·L ∈ [−1, 1],
 // N·V ∈ [0, 1] (|N·V| is used); the early-out, V ∈ {0, 1} and N·L = ±1 take one evaluation or none.
 template <class Dist>
-  requires SmithDistribution<Dist>
+requires SmithDistribution<Dist>
 double generic_vndf_exact_azimuth_mean(double V, const Dist& dist, double n_dot_l, double n_dot_v,
                                        double phi_v = 0.0, double abs_tol = 1e-5, double rel_tol = 1e-5) {
   if (std::isnan(dist.alpha_x()) || std::isnan(dist.alpha_y()) || !std::isfinite(phi_v)) return 0.0;
@@ -380,14 +396,8 @@ double generic_vndf_exact_azimuth_mean(double V, const Dist& dist, double n_dot_
                               rel_tol);
   };
   if (sl == 0.0 || vis == 1.0) return at(0.0);
-  const auto f = [&](double phi) { return std::array<double, 1>{at(phi)}; };
-  const double h = 0.5 * kPi<double>;
-  const double q = phi_v / h;
-  const bool symmetric = dist.is_isotropic() || std::abs(q - std::round(q)) < 1e-12;
-  const int panels = symmetric ? 2 : 4;
-  double s = 0;
-  for (int i = 0; i < panels; ++i) s += detail::gk_adaptive<detail::GK15, 1>(f, i * h, (i + 1) * h, abs_tol * h)[0];
-  return saturate(s / (panels * h));
+  const double q = phi_v / (0.5 * kPi<double>);
+  return detail::azimuth_mean(at, dist.is_isotropic() || std::abs(q - std::round(q)) < 1e-12, abs_tol);
 }
 
 // Anisotropic GGX with v along the tangent (φv = 0): the mean over φ ∈ [0, π] (the form the CLI's

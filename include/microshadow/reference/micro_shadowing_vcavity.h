@@ -7,7 +7,8 @@
 //              = ∫_{n·m > c, m·l > c} (v·m)⁺ D(m) G2(v,l,m) dm / ∫_{m·l > 0} (v·m)⁺ D(m) G2(v,l,m) dm,
 // since D_v(m) = G1(v,m)(v·m)⁺D(m)/(n·v). In spherical coordinates (θ, φ) of m, with t = tanθ and
 // a_w = w_t·(cos φ, sin φ):
-//   (v·m) D(m) sinθ dθ = (a_v t² + z_v t) e^{−k t²} dt / (π αx αy),   G1(w, m) = min(1, 2 z_w / (a_w t + z_w))
+//   (v·m) D(m) sinθ dθ = (a_v t² + z_v t) e^{−k t²} dt / (π αx αy),   G1(w, m) = min(1, 2 z_w / (a_w t +
+//   z_w))
 // (k = cos²φ/αx² + sin²φ/αy²), so at a fixed φ the θ range is the same as for the Smith term (the region and
 // the (v·m)⁺ clip of reference/micro_shadowing_exact.h) and the integrand is smooth between the points
 // t = z_w / a_w where a G1 leaves 1. That inner integral is an adaptive Gauss–Kronrod in s = √k t (s ≤ 9:
@@ -92,8 +93,8 @@ struct VCavityIntegrand {
 inline double vcavity_region_mass(const BeckmannVCavity<double>& vc, const Vec3d& v, const Vec3d& l, double c,
                                   bool uncorrelated, double abs_tol) {
   // The inner tolerance is a small share of the outer one (the φ range is 2π).
-  const VCavityIntegrand f{v, l, 1 / sqr(vc.alpha_x()), 1 / sqr(vc.alpha_y()), c, std::acos(c), abs_tol * 0.02,
-                           uncorrelated};
+  const VCavityIntegrand f{
+      v, l, 1 / sqr(vc.alpha_x()), 1 / sqr(vc.alpha_y()), c, std::acos(c), abs_tol * 0.02, uncorrelated};
   return integrate_region(f, abs_tol);
 }
 
@@ -102,18 +103,21 @@ inline double vcavity_region_mass(const BeckmannVCavity<double>& vc, const Vec3d
 // Exact GenericM_g for the Beckmann–Spizzichino + V-cavity microsurface (αx along x, αy along y) at full
 // vectors, with the weight G2/G1 of `form`: G2Form::HeightCorrelated uses the V-cavity's own (correlated)
 // G2 = min(G1(v,m), G1(l,m)) (Cook–Torrance), G2Form::Uncorrelated G1(v,m)G1(l,m). rel_tol bounds the
-// quadrature's error estimate relative to the denominator. v.z < 0 is mirrored (as the sampler does);
+// quadrature's error estimate relative to the denominator. v.z < 0 is mirrored (as the sampler does), n·v <
+// 1e-7 is raised to 1e-7 (the grazing limit);
 // l.z ≤ 0 gives 0 (the V-cavity shadows every facet from a light below the horizon); non-unit vectors are
 // normalized; NaN or Inf inputs give 0.
-inline double generic_vcavity_exact(double V, const BeckmannVCavity<double>& vc, const Vec3d& v, const Vec3d& l,
-                                    G2Form form = G2Form::HeightCorrelated, double rel_tol = 1e-7) {
+inline double generic_vcavity_exact(double V, const BeckmannVCavity<double>& vc, const Vec3d& v,
+                                    const Vec3d& l, G2Form form = G2Form::HeightCorrelated,
+                                    double rel_tol = 1e-7) {
   if (!is_finite(v) || !is_finite(l) || std::isnan(vc.alpha_x()) || std::isnan(vc.alpha_y())) return 0.0;
   const double vis = saturate(V);
   Vec3d vn = normalize(v), ln = normalize(l);
   if (vn.z < 0) vn = -vn;
-  if (exact_zero(vis, ln.z) || vis == 0.0 || !(ln.z > 0) || !(vn.z > 0)) return 0.0;
-  const BeckmannVCavity<double> d(
-      Beckmann<double>(std::min(vc.alpha_x(), 1e4), std::min(vc.alpha_y(), 1e4)));
+  if (exact_zero(vis, ln.z) || vis == 0.0 || !(ln.z > 0)) return 0.0;
+  // Grazing v: both masses vanish like n·v and the ratio has a limit; n·v is raised to 1e-7 to reach it.
+  if (!(vn.z >= 1e-7)) vn = normalize(Vec3d(vn.x, vn.y, 1e-7), Vec3d(0, 0, 1));
+  const BeckmannVCavity<double> d(Beckmann<double>(std::min(vc.alpha_x(), 1e4), std::min(vc.alpha_y(), 1e4)));
   // The unnormalized mass is at most π αx αy z_v (the VNDF's normalization): tolerances relative to it.
   const bool unc = form == G2Form::Uncorrelated;
   const double scale = kPi<double> * d.alpha_x() * d.alpha_y() * vn.z;
@@ -123,6 +127,31 @@ inline double generic_vcavity_exact(double V, const BeckmannVCavity<double>& vc,
   const double c = cone_cos_from_visibility(vis);
   const double num = detail::vcavity_region_mass(d, vn, ln, c, unc, rel_tol * den);
   return saturate(num / den);
+}
+
+// Mean over the relative azimuth φ (uniform) of generic_vcavity_exact with v = (sin θv cos φv, sin θv sin φv,
+// N·V) and l at azimuth φv + φ, as generic_vndf_exact_azimuth_mean does for the Smith NDFs (the same panels
+// and symmetry). N·L ∈ [−1, 1], N·V ∈ [0, 1] (|N·V| is used).
+inline double generic_vcavity_exact_azimuth_mean(double V, const BeckmannVCavity<double>& vc, double n_dot_l,
+                                                 double n_dot_v, double phi_v = 0.0,
+                                                 G2Form form = G2Form::HeightCorrelated,
+                                                 double abs_tol = 1e-5, double rel_tol = 1e-6) {
+  if (std::isnan(vc.alpha_x()) || std::isnan(vc.alpha_y()) || !std::isfinite(phi_v)) return 0.0;
+  const double vis = saturate(V);
+  const double nl = detail::clamp_nan(n_dot_l, -1.0, 1.0);
+  const double nv = detail::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
+  if (exact_zero(vis, nl) || vis == 0.0 || !(nl > 0)) return 0.0;
+  const double sv = std::sqrt(std::max(0.0, 1 - nv * nv)), sl = std::sqrt(std::max(0.0, 1 - nl * nl));
+  if (sv == 0.0) phi_v = 0.0;
+  const Vec3d v(sv * std::cos(phi_v), sv * std::sin(phi_v), nv);
+  const auto at = [&](double phi) {
+    return generic_vcavity_exact(
+        vis, vc, v, Vec3d(sl * std::cos(phi_v + phi), sl * std::sin(phi_v + phi), nl), form, rel_tol);
+  };
+  if (sl == 0.0 || vis == 1.0) return at(0.0);
+  const double q = phi_v / (0.5 * kPi<double>);
+  const bool symmetric = vc.ndf().is_isotropic() || std::abs(q - std::round(q)) < 1e-12;
+  return detail::azimuth_mean(at, symmetric, abs_tol);
 }
 
 }  // namespace msh::ms
