@@ -132,6 +132,29 @@ struct ThetaMass<Beckmann<double>> {
   }
 };
 
+// The θ interval of the region {θ < theta_max ∧ m·l > c ∧ v·m > 0} at the azimuth φ of m, with the
+// azimuth's projections a = v_t·(cos φ, sin φ) (v·m = a sinθ + b cosθ, b = v_z), p = l_t·(cos φ, sin φ)
+// (m·l = p sinθ + q cosθ, q = l_z) and k = cos²φ/αx² + sin²φ/αy². empty when the interval is.
+struct AzimuthSlice {
+  double lo, hi, a, b, p, q, k;
+  bool empty;
+};
+inline AzimuthSlice azimuth_slice(const Vec3d& v, const Vec3d& l, double inv_ax2, double inv_ay2, double c,
+                                  double theta_max, double phi) {
+  const double pc = std::cos(phi), ps = std::sin(phi);
+  AzimuthSlice z{
+      0, 0, v.x * pc + v.y * ps, v.z, l.x * pc + l.y * ps, l.z, pc * pc * inv_ax2 + ps * ps * inv_ay2, true};
+  const double R = std::sqrt(z.p * z.p + z.q * z.q);  // m·l = R cos(θ − δ)
+  if (!(R > c)) return z;
+  const double delta = std::atan2(z.p, z.q);
+  const double beta = std::acos(std::min(1.0, c / R));
+  z.lo = std::max(0.0, delta - beta);
+  z.hi = std::min(theta_max, delta + beta);
+  if (z.a < 0) z.hi = std::min(z.hi, std::atan2(z.b, -z.a));  // (v·m)⁺ clip
+  z.empty = !(z.hi > z.lo);
+  return z;
+}
+
 // Integrand over the azimuth φ of m: ∫ (v·m)⁺ D(m) sinθ dθ over {θ < acos c ∧ m·l > c}, up to the constant
 // 1/(π αx αy) and the VNDF's G1(v)/v_z, which cancel in the ratio. c = cos_t for the cone, 0 for the
 // hemisphere. v.z ≥ 0, v and l unit. Dist: GGX<double> (the default) or Beckmann<double>.
@@ -141,20 +164,11 @@ struct RegionIntegrandT {
   double inv_ax2, inv_ay2, c, theta_max;
 
   double operator()(double phi) const {
-    const double pc = std::cos(phi), ps = std::sin(phi);
-    const double p = l.x * pc + l.y * ps, q = l.z;  // m·l = R cos(θ − δ)
-    const double R = std::sqrt(p * p + q * q);
-    if (!(R > c)) return 0.0;
-    const double delta = std::atan2(p, q);
-    const double beta = std::acos(std::min(1.0, c / R));
-    const double lo = std::max(0.0, delta - beta);
-    double hi = std::min(theta_max, delta + beta);
-    const double a = v.x * pc + v.y * ps, b = v.z;    // v·m = a sinθ + b cosθ
-    if (a < 0) hi = std::min(hi, std::atan2(b, -a));  // (v·m)⁺ clip
-    if (!(hi > lo)) return 0.0;
-    const double k = pc * pc * inv_ax2 + ps * ps * inv_ay2, sk = std::sqrt(k);
-    const double r =
-        ThetaMass<Dist>::F(hi, a, b, k, sk) - (lo > 0 ? ThetaMass<Dist>::F(lo, a, b, k, sk) : 0.0);
+    const AzimuthSlice z = azimuth_slice(v, l, inv_ax2, inv_ay2, c, theta_max, phi);
+    if (z.empty) return 0.0;
+    const double sk = std::sqrt(z.k);
+    const double r = ThetaMass<Dist>::F(z.hi, z.a, z.b, z.k, sk) -
+                     (z.lo > 0 ? ThetaMass<Dist>::F(z.lo, z.a, z.b, z.k, sk) : 0.0);
     return std::max(0.0, r);
   }
 };

@@ -37,18 +37,9 @@ struct VCavityIntegrand {
   bool uncorrelated = false;  // weight G1(v,m)G1(l,m) instead of min(G1(v,m), G1(l,m))
 
   double operator()(double phi) const {
-    const double pc = std::cos(phi), ps = std::sin(phi);
-    const double p = l.x * pc + l.y * ps, q = l.z;  // m·l = R cos(θ − δ)
-    const double R = std::sqrt(p * p + q * q);
-    if (!(R > c)) return 0.0;
-    const double delta = std::atan2(p, q);
-    const double beta = std::acos(std::min(1.0, c / R));
-    const double lo = std::max(0.0, delta - beta);
-    double hi = std::min(theta_max, delta + beta);
-    const double a = v.x * pc + v.y * ps, b = v.z;  // v·m = a sinθ + b cosθ
-    if (a < 0) hi = std::min(hi, std::atan2(b, -a));
-    if (!(hi > lo)) return 0.0;
-    const double k = pc * pc * inv_ax2 + ps * ps * inv_ay2, sk = std::sqrt(k);
+    const AzimuthSlice z = azimuth_slice(v, l, inv_ax2, inv_ay2, c, theta_max, phi);
+    if (z.empty) return 0.0;
+    const double a = z.a, b = z.b, p = z.p, q = z.q, lo = z.lo, hi = z.hi, sk = std::sqrt(z.k);
     constexpr double kSMax = 9.0;
     const auto s_of = [&](double th) {
       const double ct = std::cos(th);
