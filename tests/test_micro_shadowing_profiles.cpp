@@ -5,9 +5,9 @@
 // a chi-square test of the V-cavity VNDF sampler; the anisotropic azimuth mean against a brute-force
 // midpoint rule and against the isotropic mean at αx = αy.
 #include <gtest/gtest.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/microfacet/vcavity.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>

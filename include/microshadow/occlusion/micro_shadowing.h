@@ -25,7 +25,7 @@
 namespace msh::ms {
 
 // Form of the Smith masking-shadowing function used for the per-sample weight G2/G1 (Zurita 2026b).
-enum class G2Form { HeightCorrelated, Uncorrelated };
+using msh::G2Form;  // microfacet/smith.h: HeightCorrelated, Uncorrelated (= Separable)
 
 namespace detail {
 // x clamped to [lo, hi]; NaN maps to `nan_value`.
@@ -90,10 +90,7 @@ struct GenericSample {
 // roughness, which is what the distributions' G1 does. Depends on (v, l) only. Any Smith NDF (GGX, Beckmann).
 template <SmithDistribution Dist, class T>
 T smith_g2_over_g1(const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, G2Form form) {
-  const T gl = dist.G1(l), gv = dist.G1(v);
-  if (form == G2Form::Uncorrelated) return gl;
-  const T den = gl + gv - gl * gv;
-  return den > T(0) ? gl / den : T(0);
+  return smith_g2_over_g1o(dist.G1(v), dist.G1(l), form);
 }
 
 // G2(v,l,m)/G1(v,m) for any microsurface profile, given m·l > 0 (Zurita 2026b). Smith: smith_g2_over_g1 (no
