@@ -257,7 +257,7 @@ TEST(ProfilesVCavity, WeightedEstimatorConvergesAndWeightMatters) {
       const double c = cone_cos_from_visibility(p.V);
       double cone = 0, hemi = 0;
       for (uint32_t i = 0; i < 4096; ++i) {
-        const Vec3d m = estimator_visible_normal<BeckmannVCavity<double>, double>(vc, p.v, i, s);
+        const Vec3d m = estimator_visible_normal(vc, p.v, i, s);
         if (m.z > 0 && dot(m, p.l) > 0) hemi += 1;
         if (m.z > c && dot(m, p.l) > c) cone += 1;
       }
@@ -540,7 +540,7 @@ TEST(ProfilesMeasure, ProfileDifferences) {
     const double c = cone_cos_from_visibility(a.V);
     if (!exact_zero(a.V, a.l.z))
       for (uint32_t i = 0; i < (1u << 14); ++i) {
-        const Vec3d m = estimator_visible_normal<BeckmannVCavity<double>, double>(vc, a.v, i, 3);
+        const Vec3d m = estimator_visible_normal(vc, a.v, i, 3);
         if (m.z > 0 && dot(m, a.l) > 0) hemi += 1;
         if (m.z > c && dot(m, a.l) > c) cone += 1;
       }

@@ -88,7 +88,7 @@ struct GenericSample {
 // G2(v,l,m)/G1(v,m) for the Smith profile given m·l > 0 and m·v > 0 (Zurita 2026b, table of weights):
 // uncorrelated G1(l), height-correlated G1(l)/(G1(l) + G1(v) − G1(l)G1(v)). Anisotropy via the projected
 // roughness, which is what the distributions' G1 does. Depends on (v, l) only. Any Smith NDF (GGX, Beckmann).
-template <SmithDistribution Dist, class T>
+template <class T, SmithDistribution Dist>
 T smith_g2_over_g1(const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, G2Form form) {
   return smith_g2_over_g1o(dist.G1(v), dist.G1(l), form);
 }
@@ -97,7 +97,7 @@ T smith_g2_over_g1(const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, G2Form 
 // m dependence). A profile whose masking depends on m (the V-cavity, microfacet/vcavity.h): its own
 // G2(v, l, m) (Cook–Torrance min) for G2Form::HeightCorrelated — the correlated form of that profile — and
 // G1(v, m) G1(l, m) for G2Form::Uncorrelated, both divided by G1(v, m); 0 where G1(v, m) = 0.
-template <class Dist, class T>
+template <class T, class Dist>
 T profile_g2_over_g1(const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, const Vec3<T>& m, G2Form form) {
   if constexpr (SmithDistribution<Dist>) {
     (void)m;
@@ -112,7 +112,7 @@ T profile_g2_over_g1(const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, const
 
 // The per-microfacet function GenericM_m (Zurita 2026b, MicroShadowingTermPZGenericVNDFBased) at a given
 // visible normal m of v, weight G2/G1 in the chosen form. cos_t ∈ [0,1].
-template <class Dist, class T>
+template <class T, class Dist>
 GenericSample<T> generic_vndf_at(T cos_t, const Dist& dist, const Vec3<T>& v, const Vec3<T>& l,
                                  const Vec3<T>& m, G2Form form) {
   const T n_dot_m = saturate(m.z);
@@ -127,7 +127,7 @@ GenericSample<T> generic_vndf_at(T cos_t, const Dist& dist, const Vec3<T>& v, co
 
 // GenericM_m with m from the distribution's VNDF sampler of v (GGX: Dupuy–Benyoub 2023; Beckmann: Heitz &
 // d'Eon 2014).
-template <class Dist, class T>
+template <class T, class Dist>
 GenericSample<T> generic_vndf_sample(T cos_t, const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, Vec2<T> u,
                                      G2Form form) {
   return generic_vndf_at(cos_t, dist, v, l, dist.Sample_wm(v, u), form);
@@ -135,7 +135,7 @@ GenericSample<T> generic_vndf_sample(T cos_t, const Dist& dist, const Vec3<T>& v
 
 // Visible normal number i of v for the estimator: Sample_wm(v, u) with the 2D Owen-scrambled Sobol point, or,
 // for a sampler that takes a third uniform (the V-cavity's groove choice), Sobol dimension 2 as that number.
-template <class Dist, class T>
+template <class T, class Dist>
 Vec3<T> estimator_visible_normal(const Dist& dist, const Vec3<T>& v, uint32_t i, uint32_t seed) {
   const Vec2<T> u = sobol_2d<T>(i, seed);
   if constexpr (requires { dist.Sample_wm(v, u, T(0)); }) {
@@ -149,7 +149,7 @@ Vec3<T> estimator_visible_normal(const Dist& dist, const Vec3<T>& v, uint32_t i,
 // GenericM_g (Zurita 2026b) estimated with n Owen-scrambled Sobol samples (seed 0: plain Sobol), Σcone /
 // Σhemisphere; 0 when no sample reaches the hemisphere or when exact_zero holds (exact, no samples taken).
 // Dist: GGX, Beckmann (Smith: the weight cancels) or VCavity (the weight depends on m: it does not cancel).
-template <class Dist, class T>
+template <class T, class Dist>
 T generic_vndf_estimate(T V, const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, int n, G2Form form,
                         uint32_t seed = 1) {
   const T vis = saturate(V);
@@ -157,7 +157,7 @@ T generic_vndf_estimate(T V, const Dist& dist, const Vec3<T>& v, const Vec3<T>& 
   const T c = cone_cos_from_visibility(vis);
   T cone = 0, hemi = 0;
   for (int i = 0; i < n; ++i) {
-    const Vec3<T> m = estimator_visible_normal<Dist, T>(dist, v, uint32_t(i), seed);
+    const Vec3<T> m = estimator_visible_normal<T>(dist, v, uint32_t(i), seed);
     const GenericSample<T> s = generic_vndf_at(c, dist, v, l, m, form);
     cone += s.cone;
     hemi += s.hemisphere;
