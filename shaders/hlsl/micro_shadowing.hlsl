@@ -109,6 +109,15 @@ float msh_ggx_projected_alpha(float3 w, float2 alpha) {
   return sqrt(dot(p, p) / s2);
 }
 
+// Perceptual roughness for the isotropic LUT at anisotropic GGX alpha = (alpha_x, alpha_y): the rms of the
+// roughness projected along v and along l, r = sqrt(sqrt((alpha(v)^2 + alpha(l)^2) / 2)). Port of
+// ms::micro_shadowing_isotropic_roughness (include/microshadow/occlusion/micro_shadowing_anisotropic.h); its
+// as-used error against the exact anisotropic term is in docs/micro-shadowing.md. |err| <= 1e-6 relative.
+float msh_ms_lut_roughness_anisotropic(float3 v, float3 l, float2 alpha) {
+  float av = msh_ggx_projected_alpha(v, alpha), al = msh_ggx_projected_alpha(l, alpha);
+  return sqrt(sqrt(0.5 * (av * av + al * al)));
+}
+
 // Smith GGX G1(w) = 1 / (1 + Lambda(w)) (RTR4 9.24, 9.37) from the projected roughness, written as
 // 2|z| / (|z| + sqrt(z^2 + alpha^2 (x^2 + y^2))): finite and exact at grazing. |err| <= 5e-7.
 float msh_ggx_g1_projected(float3 w, float projected_alpha) {

@@ -178,7 +178,8 @@ void run_eval(const EvalArgs& a) {
     out["two_stage"] = ms::generic_vndf_alu_two_stage(float(a.visibility), float(a.ndotl), float(a.ndotv),
                                                       float(a.roughness));
     out["azimuth"] = "mean over [0, pi]";
-  } else if (m == "generic-vndf") {
+  } else if (m == "generic-vndf" || m == "generic-vndf-beckmann" || m == "generic-vcavity") {
+    // The generic term of a microsurface profile (GGX, Smith-Beckmann, Beckmann-Spizzichino + V-cavity).
     out["azimuth"] = has_phi ? "fixed" : "mean over [0, pi]";
     if (a.samples > 0) {
       out["samples"] = a.samples;

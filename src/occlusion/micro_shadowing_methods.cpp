@@ -5,13 +5,17 @@
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
+#include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/microfacet/vcavity.h>
+#include <microshadow/occlusion/micro_shadowing_anisotropic.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
+#include <microshadow/reference/micro_shadowing_vcavity.h>
 
 #include <cmath>
 #include <mutex>
@@ -153,8 +157,89 @@ Impl diffuse_aware(const MicroShadowingOptions& o, ms::DiffuseAwareForm form) {
             if (p.phi)
               return ms::diffuse_aware_exact(p.V, p.ax, p.ax, v, lut::study_light_dir(p.nl, *p.phi), form);
             return ms::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
+// The generic term for another microsurface (docs/micro-shadowing.md, "Other microsurface profiles and
+// anisotropy"): the exact quadrature at φ or its mean over [0, π], or with samples the Sobol estimator (at φ,
+// or averaged over kEstimateAzimuths azimuths as generic-vndf does). exact(V, v, l) and exact_mean(p) give
+// the reference; make(p) the distribution the estimator samples.
+template <class Make, class Exact, class ExactMean>
+Impl generic_profile(const MicroShadowingOptions& o, Make make, Exact exact, ExactMean exact_mean) {
+  return {[o, make, exact, exact_mean](const Point& p) {
+            const Vec3d v = lut::study_view_dir(p.nv);
+            if (o.samples == 0)
+              return p.phi ? exact(p, v, lut::study_light_dir(p.nl, *p.phi)) : exact_mean(p);
+            const auto dist = make(p);
+            const int n = int(o.samples);
+            if (p.phi)
+              return ms::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, *p.phi), n, o.g2,
+                                               o.seed);
+            double sum = 0;
+            for (int k = 0; k < kEstimateAzimuths; ++k) {
+              const double phi = kPi<double> * (k + 0.5) / kEstimateAzimuths;
+              sum += ms::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, phi), n, o.g2,
+                                               hash_combine(o.seed, uint32_t(k)));
+            }
+            return sum / kEstimateAzimuths;
           },
           nullptr};
+}
+
+// Smith–Beckmann (α = r², as GGX): the weight G2/G1 cancels, so --g2 changes only the estimator's weights.
+Impl generic_vndf_beckmann(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
+  return generic_profile(
+      o, [](const Point& p) { return Beckmann<double>(p.ax, p.ay); },
+      [](const Point& p, const Vec3d& v, const Vec3d& l) {
+        return ms::generic_vndf_exact(p.V, Beckmann<double>(p.ax, p.ay), v, l);
+      },
+      [](const Point& p) {
+        return ms::generic_vndf_exact_azimuth_mean(p.V, Beckmann<double>(p.ax, p.ay), p.nl, p.nv);
+      });
+}
+
+// Beckmann–Spizzichino + V-cavity: the weight depends on m and does not cancel; --g2 selects it for the exact
+// term too (height-correlated: the V-cavity's own min(G1(v,m), G1(l,m)); uncorrelated: the product).
+Impl generic_vcavity(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
+  const ms::G2Form form = o.g2;
+  const auto vc = [](const Point& p) { return BeckmannVCavity<double>(Beckmann<double>(p.ax, p.ay)); };
+  return generic_profile(
+      o, vc,
+      [vc, form](const Point& p, const Vec3d& v, const Vec3d& l) {
+        return ms::generic_vcavity_exact(p.V, vc(p), v, l, form);
+      },
+      [vc, form](const Point& p) {
+        return ms::generic_vcavity_exact_azimuth_mean(p.V, vc(p), p.nl, p.nv, 0.0, form);
+      });
+}
+
+// The isotropic 3D LUT at anisotropic GGX through the projected roughness
+// (occlusion/micro_shadowing_anisotropic.h): v along the tangent, l at φ. At φ the azimuth-aware table
+// (as lut3d); without φ the mean over kEstimateAzimuths azimuths of the plain table at each azimuth's
+// projected roughness (what the term gives on average over the light's azimuth).
+Impl lut3d_projected_anisotropic(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& info) {
+  Impl base = lut_method(o, info, false);
+  auto table = base.table;
+  return {
+      [table](const Point& p) {
+        if (ms::exact_zero(p.V, p.nl)) return 0.0;
+        const Vec3d v = lut::study_view_dir(p.nv);
+        const auto rough = [&](double phi) {
+          return ms::micro_shadowing_isotropic_roughness(p.ax, p.ay, v, lut::study_light_dir(p.nl, phi));
+        };
+        if (p.phi) {
+          const lut::MicroShadowingLutView view = table(true)->view();
+          if (view.harmonics == 0)
+            throw InputError(
+                "--phi needs an azimuth-aware table (bake micro-shadowing --azimuth); this table holds the "
+                "azimuth mean only (omit --phi for the mean)");
+          return lut::sample_micro_shadowing_azimuth(view, p.V, p.nl, p.nv, rough(*p.phi), std::cos(*p.phi));
+        }
+        const lut::MicroShadowingLutView view = table(false)->view();
+        double sum = 0;
+        for (int k = 0; k < kEstimateAzimuths; ++k)
+          sum += lut::sample_micro_shadowing(view, p.V, p.nl, p.nv,
+                                             rough(kPi<double> * (k + 0.5) / kEstimateAzimuths));
+        return sum / kEstimateAzimuths;
+      },
+      table};
 }
 
 MicroShadowingMethodInfo closed(const char* name, const char* summary) {
@@ -205,6 +290,19 @@ const std::vector<Entry>& entries() {
         "micro-BRDF-aware, Lambertian facets, fraction of the reflected flux leaving through the cone", true,
         true, true, false, true, false},
        [](auto& o, auto&) { return diffuse_aware(o, ms::DiffuseAwareForm::Flux); }},
+      {{"generic-vndf-beckmann",
+        "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)", true, true,
+        true, true, true, false},
+       generic_vndf_beckmann},
+      {{"generic-vcavity",
+        "generic term for Beckmann-Spizzichino + V-cavity, weight G2/G1 depends on m (exact quadrature, or "
+        "the weighted Sobol estimator with samples)",
+        true, true, true, true, true, false},
+       generic_vcavity},
+      {{"lut3d-projected-anisotropic",
+        "the 3D LUT at anisotropic GGX through the rms of the roughness projected along l and v", true, true,
+        true, true, false, true},
+       lut3d_projected_anisotropic},
   };
   return e;
 }

@@ -13,6 +13,7 @@
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
+#include <microshadow/microfacet/smith.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 
 #include <algorithm>
@@ -86,39 +87,78 @@ struct GenericSample {
 
 // G2(v,l,m)/G1(v,m) for the Smith profile given m·l > 0 and m·v > 0 (Zurita 2026b, table of weights):
 // uncorrelated G1(l), height-correlated G1(l)/(G1(l) + G1(v) − G1(l)G1(v)). Anisotropy via the projected
-// roughness, which is what GGX::G1 does. Depends on (v, l) only.
-template <class T>
-T smith_g2_over_g1(const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, G2Form form) {
-  return smith_g2_over_g1o(ggx.G1(v), ggx.G1(l), form);
+// roughness, which is what the distributions' G1 does. Depends on (v, l) only. Any Smith NDF (GGX, Beckmann).
+template <class T, SmithDistribution Dist>
+T smith_g2_over_g1(const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, G2Form form) {
+  return smith_g2_over_g1o(dist.G1(v), dist.G1(l), form);
 }
 
-// The per-microfacet function GenericM_m (Zurita 2026b, MicroShadowingTermPZGenericVNDFBased): m from the
-// Dupuy–Benyoub 2023 VNDF sampler of v, weight G2/G1 in the chosen form. cos_t ∈ [0,1].
-template <class T>
-GenericSample<T> generic_vndf_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l,
-                                     Vec2<T> u, G2Form form) {
-  const Vec3<T> m = ggx.Sample_wm(v, u);
+// G2(v,l,m)/G1(v,m) for any microsurface profile, given m·l > 0 (Zurita 2026b). Smith: smith_g2_over_g1 (no
+// m dependence). A profile whose masking depends on m (the V-cavity, microfacet/vcavity.h): its own
+// G2(v, l, m) (Cook–Torrance min) for G2Form::HeightCorrelated — the correlated form of that profile — and
+// G1(v, m) G1(l, m) for G2Form::Uncorrelated, both divided by G1(v, m); 0 where G1(v, m) = 0.
+template <class T, class Dist>
+T profile_g2_over_g1(const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, const Vec3<T>& m, G2Form form) {
+  if constexpr (SmithDistribution<Dist>) {
+    (void)m;
+    return smith_g2_over_g1(dist, v, l, form);
+  } else {
+    const T gv = dist.G1(v, m);
+    if (!(gv > T(0))) return T(0);
+    const T g2 = form == G2Form::Uncorrelated ? gv * dist.G1(l, m) : dist.G2(v, l, m);
+    return g2 / gv;
+  }
+}
+
+// The per-microfacet function GenericM_m (Zurita 2026b, MicroShadowingTermPZGenericVNDFBased) at a given
+// visible normal m of v, weight G2/G1 in the chosen form. cos_t ∈ [0,1].
+template <class T, class Dist>
+GenericSample<T> generic_vndf_at(T cos_t, const Dist& dist, const Vec3<T>& v, const Vec3<T>& l,
+                                 const Vec3<T>& m, G2Form form) {
   const T n_dot_m = saturate(m.z);
   const T m_dot_l = saturate(dot(m, l));
   const T c = detail::clamp_nan(cos_t, T(0), T(1), T(1));
   GenericSample<T> s;
-  s.weight = m_dot_l > T(0) ? smith_g2_over_g1(ggx, v, l, form) : T(0);
+  s.weight = m_dot_l > T(0) ? profile_g2_over_g1(dist, v, l, m, form) : T(0);
   s.hemisphere = (n_dot_m > T(0) && m_dot_l > T(0)) ? s.weight : T(0);
   s.cone = (n_dot_m - c > T(0) && m_dot_l - c > T(0)) ? s.weight : T(0);
   return s;
 }
 
+// GenericM_m with m from the distribution's VNDF sampler of v (GGX: Dupuy–Benyoub 2023; Beckmann: Heitz &
+// d'Eon 2014).
+template <class T, class Dist>
+GenericSample<T> generic_vndf_sample(T cos_t, const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, Vec2<T> u,
+                                     G2Form form) {
+  return generic_vndf_at(cos_t, dist, v, l, dist.Sample_wm(v, u), form);
+}
+
+// Visible normal number i of v for the estimator: Sample_wm(v, u) with the 2D Owen-scrambled Sobol point, or,
+// for a sampler that takes a third uniform (the V-cavity's groove choice), Sobol dimension 2 as that number.
+template <class T, class Dist>
+Vec3<T> estimator_visible_normal(const Dist& dist, const Vec3<T>& v, uint32_t i, uint32_t seed) {
+  const Vec2<T> u = sobol_2d<T>(i, seed);
+  if constexpr (requires { dist.Sample_wm(v, u, T(0)); }) {
+    const T u3 = seed == 0 ? u32_to_unit<T>(sobol_u32(i, 2)) : sobol_scrambled<T>(i, 2, seed);
+    return dist.Sample_wm(v, u, u3);
+  } else {
+    return dist.Sample_wm(v, u);
+  }
+}
+
 // GenericM_g (Zurita 2026b) estimated with n Owen-scrambled Sobol samples (seed 0: plain Sobol), Σcone /
 // Σhemisphere; 0 when no sample reaches the hemisphere or when exact_zero holds (exact, no samples taken).
-template <class T>
-T generic_vndf_estimate(T V, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, int n, G2Form form,
+// Dist: GGX, Beckmann (Smith: the weight cancels) or VCavity (the weight depends on m: it does not cancel).
+template <class T, class Dist>
+T generic_vndf_estimate(T V, const Dist& dist, const Vec3<T>& v, const Vec3<T>& l, int n, G2Form form,
                         uint32_t seed = 1) {
   const T vis = saturate(V);
   if (exact_zero(vis, l.z)) return T(0);
   const T c = cone_cos_from_visibility(vis);
   T cone = 0, hemi = 0;
   for (int i = 0; i < n; ++i) {
-    const GenericSample<T> s = generic_vndf_sample(c, ggx, v, l, sobol_2d<T>(uint32_t(i), seed), form);
+    const Vec3<T> m = estimator_visible_normal<T>(dist, v, uint32_t(i), seed);
+    const GenericSample<T> s = generic_vndf_at(c, dist, v, l, m, form);
     cone += s.cone;
     hemi += s.hemisphere;
   }

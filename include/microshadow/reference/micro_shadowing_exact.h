@@ -22,6 +22,7 @@
 #pragma once
 
 #include <microshadow/math/vec.h>
+#include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 
@@ -103,30 +104,75 @@ inline double gv_F(double theta, double a, double b, double k, double sk) {
   return a * (std::atan2(sk * s, c) - sk * s * c / q) / (2.0 * k * sk) + b * s * s / (2.0 * q);
 }
 
+// Beckmann (RTR4 9.52): with t = tanθ, D(m) sinθ dθ (v·m) = (a t² + b t) e^{−k t²} dt / (π αx αy), so
+// ∫_0^t (a u² + b u) e^{−k u²} du = b (1 − e^{−k t²})/(2k) + a (√π erf(√k t)/(4 k^{3/2}) − t e^{−k t²}/(2k)),
+// finite at θ = π/2 (t = ∞).
+inline double beckmann_theta_F(double theta, double a, double b, double k, double sk) {
+  const double s = std::sin(theta), c = std::cos(theta);
+  constexpr double kSqrtPi = 1.7724538509055160;
+  if (!(c > 1e-300)) return b / (2 * k) + a * kSqrtPi / (4 * k * sk);
+  const double t = s / c, kt2 = k * t * t;
+  const double e = std::exp(-kt2);
+  return -b * std::expm1(-kt2) / (2 * k) +
+         a * (kSqrtPi * std::erf(sk * t) / (4 * k * sk) - (e > 0 ? t * e : 0.0) / (2 * k));
+}
+
+// The θ antiderivative of (v·m) D(m) sinθ at one azimuth, per shape-invariant Smith NDF: D(m) is
+// f(k tan²θ)/(π αx αy cos⁴θ) with k = cos²φ/αx² + sin²φ/αy² for both.
+template <class Dist>
+struct ThetaMass;
+template <>
+struct ThetaMass<GGX<double>> {
+  static double F(double theta, double a, double b, double k, double sk) { return gv_F(theta, a, b, k, sk); }
+};
+template <>
+struct ThetaMass<Beckmann<double>> {
+  static double F(double theta, double a, double b, double k, double sk) {
+    return beckmann_theta_F(theta, a, b, k, sk);
+  }
+};
+
+// The θ interval of the region {θ < theta_max ∧ m·l > c ∧ v·m > 0} at the azimuth φ of m, with the
+// azimuth's projections a = v_t·(cos φ, sin φ) (v·m = a sinθ + b cosθ, b = v_z), p = l_t·(cos φ, sin φ)
+// (m·l = p sinθ + q cosθ, q = l_z) and k = cos²φ/αx² + sin²φ/αy². empty when the interval is.
+struct AzimuthSlice {
+  double lo, hi, a, b, p, q, k;
+  bool empty;
+};
+inline AzimuthSlice azimuth_slice(const Vec3d& v, const Vec3d& l, double inv_ax2, double inv_ay2, double c,
+                                  double theta_max, double phi) {
+  const double pc = std::cos(phi), ps = std::sin(phi);
+  AzimuthSlice z{
+      0, 0, v.x * pc + v.y * ps, v.z, l.x * pc + l.y * ps, l.z, pc * pc * inv_ax2 + ps * ps * inv_ay2, true};
+  const double R = std::sqrt(z.p * z.p + z.q * z.q);  // m·l = R cos(θ − δ)
+  if (!(R > c)) return z;
+  const double delta = std::atan2(z.p, z.q);
+  const double beta = std::acos(std::min(1.0, c / R));
+  z.lo = std::max(0.0, delta - beta);
+  z.hi = std::min(theta_max, delta + beta);
+  if (z.a < 0) z.hi = std::min(z.hi, std::atan2(z.b, -z.a));  // (v·m)⁺ clip
+  z.empty = !(z.hi > z.lo);
+  return z;
+}
+
 // Integrand over the azimuth φ of m: ∫ (v·m)⁺ D(m) sinθ dθ over {θ < acos c ∧ m·l > c}, up to the constant
 // 1/(π αx αy) and the VNDF's G1(v)/v_z, which cancel in the ratio. c = cos_t for the cone, 0 for the
-// hemisphere. v.z ≥ 0, v and l unit.
-struct RegionIntegrand {
+// hemisphere. v.z ≥ 0, v and l unit. Dist: GGX<double> (the default) or Beckmann<double>.
+template <class Dist>
+struct RegionIntegrandT {
   Vec3d v, l;
   double inv_ax2, inv_ay2, c, theta_max;
 
   double operator()(double phi) const {
-    const double pc = std::cos(phi), ps = std::sin(phi);
-    const double p = l.x * pc + l.y * ps, q = l.z;  // m·l = R cos(θ − δ)
-    const double R = std::sqrt(p * p + q * q);
-    if (!(R > c)) return 0.0;
-    const double delta = std::atan2(p, q);
-    const double beta = std::acos(std::min(1.0, c / R));
-    const double lo = std::max(0.0, delta - beta);
-    double hi = std::min(theta_max, delta + beta);
-    const double a = v.x * pc + v.y * ps, b = v.z;    // v·m = a sinθ + b cosθ
-    if (a < 0) hi = std::min(hi, std::atan2(b, -a));  // (v·m)⁺ clip
-    if (!(hi > lo)) return 0.0;
-    const double k = pc * pc * inv_ax2 + ps * ps * inv_ay2, sk = std::sqrt(k);
-    const double r = gv_F(hi, a, b, k, sk) - (lo > 0 ? gv_F(lo, a, b, k, sk) : 0.0);
+    const AzimuthSlice z = azimuth_slice(v, l, inv_ax2, inv_ay2, c, theta_max, phi);
+    if (z.empty) return 0.0;
+    const double sk = std::sqrt(z.k);
+    const double r = ThetaMass<Dist>::F(z.hi, z.a, z.b, z.k, sk) -
+                     (z.lo > 0 ? ThetaMass<Dist>::F(z.lo, z.a, z.b, z.k, sk) : 0.0);
     return std::max(0.0, r);
   }
 };
+using RegionIntegrand = RegionIntegrandT<GGX<double>>;
 
 // Azimuths where the θ interval of RegionIntegrand changes form (kinks) or vanishes like a square root, all
 // in closed form: the l-cone meets the n-cone; the l-cone is tangent to a meridian (R = c, support ends); the
@@ -168,12 +214,12 @@ inline int region_breakpoints(const Vec3d& v, const Vec3d& l, double c, double* 
 
 // ∫_0^{2π} f dφ: panels between the nb breakpoints bp (bp[0] is the origin; none wider than π/2), each
 // integrated by adaptive Gauss–Kronrod after the substitution φ = a + (b − a)(3s² − 2s³), which turns
-// square-root endpoints into smooth ones. abs_tol is the total absolute tolerance. nb ≤ 62.
+// square-root endpoints into smooth ones. abs_tol is the total absolute tolerance. nb ≤ 70.
 template <class F>
 double integrate_panels(const F& f, const double* bp, int nb, double abs_tol) {
   const double two_pi = 2 * kPi<double>;
   const double origin = bp[0];  // φ_l: every other breakpoint is mapped into [origin, origin + 2π)
-  double pts[64];
+  double pts[72];
   int np = 0;
   pts[np++] = 0.0;
   for (int i = 1; i < nb; ++i) {
@@ -199,10 +245,14 @@ double integrate_panels(const F& f, const double* bp, int nb, double abs_tol) {
   return sum;
 }
 
-// ∫_0^{2π} RegionIntegrand dφ, panels between its closed-form breakpoints.
-inline double integrate_region(const RegionIntegrand& f, double abs_tol) {
-  double bp[24];
-  const int nb = region_breakpoints(f.v, f.l, f.c, bp);
+// ∫_0^{2π} f dφ, panels between the closed-form breakpoints of the region. F: any integrand over φ with
+// members v, l, c (RegionIntegrandT; the V-cavity's in micro_shadowing_vcavity.h, which adds its own
+// breakpoints through an optional member extra_breakpoints(double* out) → count).
+template <class F>
+double integrate_region(const F& f, double abs_tol) {
+  double bp[32];
+  int nb = region_breakpoints(f.v, f.l, f.c, bp);
+  if constexpr (requires { f.extra_breakpoints(bp); }) nb += f.extra_breakpoints(bp + nb);
   return integrate_panels(f, bp, nb, abs_tol);
 }
 
@@ -248,37 +298,68 @@ inline double vndf_hemisphere_probability(const GGX<double>& ggx, const Vec3d& v
 
 // P[n·m > c ∧ m·l > c] for m ~ VNDF of v (v.z ≥ 0) by the azimuthal quadrature (c = 0: the hemisphere, used
 // to cross-check the closed form). abs_tol is on the probability.
-inline double vndf_region_probability(const GGX<double>& ggx, const Vec3d& v, const Vec3d& l, double c,
-                                      double abs_tol) {
-  // D_v(m) dm = G1(v)/v_z · (v·m)⁺ · sinθ dθ dφ / (π αx αy (k sin²θ + cos²θ)²); the integrand drops the
-  // constant.
-  const double pre = ggx.G1_over_cos(v) / (kPi<double> * ggx.alpha_x() * ggx.alpha_y());
-  const RegionIntegrand f{v, l, 1 / sqr(ggx.alpha_x()), 1 / sqr(ggx.alpha_y()), c, std::acos(c)};
+template <class Dist>
+double vndf_region_probability(const Dist& dist, const Vec3d& v, const Vec3d& l, double c, double abs_tol) {
+  // D_v(m) dm = G1(v)/v_z · (v·m)⁺ · D(m) sinθ dθ dφ, D(m) sinθ dθ in t = tanθ as in ThetaMass; the
+  // integrand drops the constant 1/(π αx αy).
+  const double pre = dist.G1_over_cos(v) / (kPi<double> * dist.alpha_x() * dist.alpha_y());
+  const RegionIntegrandT<Dist> f{v, l, 1 / sqr(dist.alpha_x()), 1 / sqr(dist.alpha_y()), c, std::acos(c)};
   return pre * integrate_region(f, abs_tol / pre);
+}
+
+// P[m·l > 0] for m ~ VNDF of v: closed form for GGX, the c = 0 quadrature for Beckmann (no closed form).
+inline double vndf_hemisphere_mass(const GGX<double>& ggx, const Vec3d& v, const Vec3d& l, double) {
+  return vndf_hemisphere_probability(ggx, v, l);
+}
+inline double vndf_hemisphere_mass(const Beckmann<double>& b, const Vec3d& v, const Vec3d& l,
+                                   double abs_tol) {
+  return std::min(1.0, vndf_region_probability(b, v, l, 0.0, abs_tol));
+}
+
+// Mean over the relative azimuth φ of at(φ): over [0, π] in two panels when the term is symmetric in
+// φ → −φ, else over [0, 2π] in four; each panel an adaptive Gauss–Kronrod with error estimate ≤ abs_tol per
+// unit of φ.
+template <class F>
+double azimuth_mean(const F& at, bool symmetric, double abs_tol) {
+  const auto f = [&](double phi) { return std::array<double, 1>{at(phi)}; };
+  const double h = 0.5 * kPi<double>;
+  const int panels = symmetric ? 2 : 4;
+  double s = 0;
+  for (int i = 0; i < panels; ++i) s += gk_adaptive<GK15, 1>(f, i * h, (i + 1) * h, abs_tol * h)[0];
+  return saturate(s / (panels * h));
 }
 
 }  // namespace detail
 
-// Exact GenericM_g (Zurita 2026b) at full vectors, anisotropic GGX (αx along t = x, αy along b = y). It takes
-// no G2 form: for the Smith profile the weight G2/G1 depends on (v, l) only and cancels in the ratio, so both
-// forms give the same value. Numerator by azimuthal quadrature, denominator in closed form. rel_tol bounds
-// the quadrature's error estimate relative to the denominator (default 1e-7; the measured error is far below,
-// see docs/micro-shadowing.md). v.z < 0 is mirrored (as the VNDF sampler does); non-unit vectors are
-// normalized; NaN or Inf inputs give 0.
-inline double generic_vndf_exact(double V, double alpha_x, double alpha_y, const Vec3d& v, const Vec3d& l,
-                                 double rel_tol = 1e-7) {
-  if (!is_finite(v) || !is_finite(l) || std::isnan(alpha_x) || std::isnan(alpha_y)) return 0.0;
+// Exact GenericM_g (Zurita 2026b) at full vectors for an anisotropic shape-invariant Smith NDF: GGX<double>
+// or Beckmann<double> (αx along t = x, αy along b = y). It takes no G2 form: for the Smith profile the weight
+// G2/G1 depends on (v, l) only and cancels in the ratio, so both forms give the same value. Numerator by
+// azimuthal quadrature, denominator in closed form (GGX) or by the same quadrature at c = 0 (Beckmann, to
+// 1e-3·rel_tol). rel_tol bounds the quadrature's error estimate relative to the denominator (default 1e-7;
+// the measured error is far below, see docs/micro-shadowing.md). v.z < 0 is mirrored (as the VNDF samplers
+// do); non-unit vectors are normalized; NaN or Inf inputs give 0.
+template <class Dist>
+requires SmithDistribution<Dist>
+double generic_vndf_exact(double V, const Dist& dist, const Vec3d& v, const Vec3d& l, double rel_tol = 1e-7) {
+  if (!is_finite(v) || !is_finite(l) || std::isnan(dist.alpha_x()) || std::isnan(dist.alpha_y())) return 0.0;
   const double vis = saturate(V);
   Vec3d vn = normalize(v), ln = normalize(l);
   if (vn.z < 0) vn = -vn;
   if (exact_zero(vis, ln.z) || vis == 0.0) return 0.0;
-  const GGX<double> ggx(std::min(alpha_x, 1e4), std::min(alpha_y, 1e4));  // α ∈ [kMinAlpha, 1e4]
-  const double den = detail::vndf_hemisphere_probability(ggx, vn, ln);
+  const Dist d(std::min(dist.alpha_x(), 1e4), std::min(dist.alpha_y(), 1e4));  // α ∈ [kMinAlpha, 1e4]
+  const double den = detail::vndf_hemisphere_mass(d, vn, ln, 1e-3 * rel_tol);
   if (!(den > 0)) return 0.0;
   if (vis == 1.0) return 1.0;
   const double c = cone_cos_from_visibility(vis);
-  const double num = detail::vndf_region_probability(ggx, vn, ln, c, rel_tol * den);
+  const double num = detail::vndf_region_probability(d, vn, ln, c, rel_tol * den);
   return saturate(num / den);
+}
+
+// The same for anisotropic GGX given by its two roughnesses (αx, αy).
+inline double generic_vndf_exact(double V, double alpha_x, double alpha_y, const Vec3d& v, const Vec3d& l,
+                                 double rel_tol = 1e-7) {
+  if (std::isnan(alpha_x) || std::isnan(alpha_y)) return 0.0;
+  return generic_vndf_exact(V, GGX<double>(alpha_x, alpha_y), v, l, rel_tol);
 }
 
 // Isotropic GGX (α), mean over the relative azimuth φ ∈ [0, π] (uniform) of the exact term with
@@ -310,23 +391,43 @@ inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_d
   return saturate(s / kPi<double>);
 }
 
-// Anisotropic GGX (αx along x, αy along y): mean over the relative azimuth φ ∈ [0, π] (uniform) of
-// generic_vndf_exact with v = (sin θv, 0, N·V), l = (sin θl cos φ, sin θl sin φ, N·L), by the same two-panel
-// adaptive Gauss–Kronrod as generic_vndf_exact_azimuth_mean (the term is symmetric in φ → −φ for axis-aligned
-// α, so [0, π] is the whole circle's mean). N·L, N·V ∈ [0, 1]; abs_tol bounds the error estimate.
+// Anisotropic Smith NDF (GGX<double> or Beckmann<double>, αx along x, αy along y): mean over the relative
+// azimuth φ (uniform) of generic_vndf_exact with v = (sin θv cos φv, sin θv sin φv, N·V) at tangent azimuth
+// φv and l = (sin θl cos(φv + φ), sin θl sin(φv + φ), N·L): the anisotropic counterpart of what a LUT texel
+// stores. For φv a multiple of π/2 the term is symmetric in φ → −φ (mirror about the plane of v and the
+// axis it lies on), so the mean over [0, π] is the whole circle's and takes two panels as the isotropic
+// mean; otherwise the mean is over [0, 2π] in four panels. Each panel is an adaptive Gauss–Kronrod whose
+// error estimate is bounded by abs_tol (per unit of φ); rel_tol goes to generic_vndf_exact. N·L ∈ [−1, 1],
+// N·V ∈ [0, 1] (|N·V| is used); the early-out, V ∈ {0, 1} and N·L = ±1 take one evaluation or none.
+template <class Dist>
+requires SmithDistribution<Dist>
+double generic_vndf_exact_azimuth_mean(double V, const Dist& dist, double n_dot_l, double n_dot_v,
+                                       double phi_v = 0.0, double abs_tol = 1e-5, double rel_tol = 1e-5) {
+  if (std::isnan(dist.alpha_x()) || std::isnan(dist.alpha_y()) || !std::isfinite(phi_v)) return 0.0;
+  const double vis = saturate(V);
+  const double nl = detail::clamp_nan(n_dot_l, -1.0, 1.0);
+  const double nv = detail::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
+  if (exact_zero(vis, nl) || vis == 0.0) return 0.0;
+  const double sv = std::sqrt(std::max(0.0, 1 - nv * nv)), sl = std::sqrt(std::max(0.0, 1 - nl * nl));
+  if (sv == 0.0) phi_v = 0.0;  // v = n: its azimuth is arbitrary
+  const Vec3d v(sv * std::cos(phi_v), sv * std::sin(phi_v), nv);
+  auto at = [&](double phi) {
+    return generic_vndf_exact(vis, dist, v, Vec3d(sl * std::cos(phi_v + phi), sl * std::sin(phi_v + phi), nl),
+                              rel_tol);
+  };
+  if (sl == 0.0 || vis == 1.0) return at(0.0);
+  const double q = phi_v / (0.5 * kPi<double>);
+  return detail::azimuth_mean(at, dist.is_isotropic() || std::abs(q - std::round(q)) < 1e-12, abs_tol);
+}
+
+// Anisotropic GGX with v along the tangent (φv = 0): the mean over φ ∈ [0, π] (the form the CLI's
+// generic-vndf method reports without --phi).
 inline double generic_vndf_exact_azimuth_mean_anisotropic(double V, double alpha_x, double alpha_y,
                                                           double n_dot_l, double n_dot_v,
                                                           double abs_tol = 1e-5) {
-  const Vec3d v(safe_sqrt(1 - n_dot_v * n_dot_v), 0.0, n_dot_v);
-  const double sl = safe_sqrt(1 - n_dot_l * n_dot_l);
-  const auto f = [&](double p) {
-    return std::array<double, 1>{
-        generic_vndf_exact(V, alpha_x, alpha_y, v, Vec3d(sl * std::cos(p), sl * std::sin(p), n_dot_l))};
-  };
-  const double h = 0.5 * kPi<double>;
-  return (detail::gk_adaptive<detail::GK15, 1>(f, 0, h, abs_tol * h)[0] +
-          detail::gk_adaptive<detail::GK15, 1>(f, h, 2 * h, abs_tol * h)[0]) /
-         kPi<double>;
+  if (std::isnan(alpha_x) || std::isnan(alpha_y)) return 0.0;
+  return generic_vndf_exact_azimuth_mean(V, GGX<double>(alpha_x, alpha_y), n_dot_l, n_dot_v, 0.0, abs_tol,
+                                         1e-7);
 }
 
 }  // namespace msh::ms
