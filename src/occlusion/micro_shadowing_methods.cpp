@@ -157,6 +157,10 @@ Impl diffuse_aware(const MicroShadowingOptions& o, ms::DiffuseAwareForm form) {
             if (p.phi)
               return ms::diffuse_aware_exact(p.V, p.ax, p.ax, v, lut::study_light_dir(p.nl, *p.phi), form);
             return ms::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
+          },
+          nullptr};
+}
+
 // The generic term for another microsurface (docs/micro-shadowing.md, "Other microsurface profiles and
 // anisotropy"): the exact quadrature at φ or its mean over [0, π], or with samples the Sobol estimator (at φ,
 // or averaged over kEstimateAzimuths azimuths as generic-vndf does). exact(V, v, l) and exact_mean(p) give
