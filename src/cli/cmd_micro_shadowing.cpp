@@ -3,8 +3,7 @@
 //
 //   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
 //       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
-//   (methods: reference, brinck-maximov-2016, chan-2018, part1-analytic, generic-vndf, generic-vndf-alu,
-//   lut3d, lut2d [--lut FILE])
+//   (methods: the table of occlusion/runtime/micro_shadowing_methods.h, `--help` lists them)
 //   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
@@ -12,6 +11,7 @@
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <algorithm>
@@ -29,10 +29,6 @@ namespace {
 
 using ms::G2Form;
 
-const std::vector<std::string> kMethods = {"reference",      "brinck-maximov-2016", "chan-2018",
-                                           "part1-analytic", "generic-vndf",        "lut3d",
-                                           "lut2d",          "generic-vndf-alu"};
-
 struct EvalArgs {
   std::string method = "generic-vndf", g2 = "height-correlated", lut;
   double visibility = 1, roughness = 0.5, ndotl = 1, ndotv = 1, phi = 0, roughness_y = 0;
@@ -48,137 +44,66 @@ G2Form parse_g2(const std::string& s) {
   throw UsageError(fmt::format("--g2 must be height-correlated or uncorrelated, got '{}'", s));
 }
 
-// v in the xz plane (azimuth 0 = along the tangent), l at relative azimuth phi (the studies' convention).
-using lut::study_light_dir;
-using lut::study_view_dir;
-
-// Number of azimuths (midpoints of equal strata of [0, π]) of the sampled azimuth mean.
-constexpr int kEstimateAzimuths = 32;
-
-// Generic term: exact (no samples) or the Sobol estimator of Zurita 2026b; at one azimuth or the mean over
-// [0, π].
-double eval_generic(double V, double ax, double ay, double nl, double nv, const double* phi, int64_t samples,
-                    G2Form form, uint32_t seed) {
-  const Vec3d v = study_view_dir(nv);
-  if (samples == 0) {
-    if (phi) return ms::generic_vndf_exact(V, ax, ay, v, study_light_dir(nl, *phi));
-    if (ax == ay) return ms::generic_vndf_exact_azimuth_mean(V, ax, nl, nv);
-    return ms::generic_vndf_exact_azimuth_mean_anisotropic(V, ax, ay, nl, nv);
+// What the LUT methods report beside the value: which table, its layout and sizes.
+void describe_table(nlohmann::json& out, const lut::MicroShadowingLut& table, const std::string& path,
+                    bool has_phi) {
+  const lut::MicroShadowingLutView view = table.view();
+  out["lut"] = path.empty() ? nlohmann::json("default (baked on first use)") : nlohmann::json(path);
+  out["lut_layout"] = lut::layout_name(view.layout);
+  out["lut_size"] = {view.n_vis, view.n_nl, view.n_nv};
+  if (view.layout == lut::LutLayout::Cone) {
+    out["lut_roughness_slabs"] = view.n_rough;
+    out["lut_roughness_range"] = {lut::short_float(view.cone.roughness_min),
+                                  lut::short_float(view.cone.roughness_max)};
+  } else {
+    out["lut_roughness"] = table.roughness;
   }
-  const GGX<double> ggx(ax, ay);
-  if (phi) return ms::generic_vndf_estimate(V, ggx, v, study_light_dir(nl, *phi), int(samples), form, seed);
-  double sum = 0;
-  for (int k = 0; k < kEstimateAzimuths; ++k) {
-    const double p = kPi<double> * (k + 0.5) / kEstimateAzimuths;
-    sum += ms::generic_vndf_estimate(V, ggx, v, study_light_dir(nl, p), int(samples), form,
-                                     hash_combine(seed, k));
-  }
-  return sum / kEstimateAzimuths;
+  out["harmonics"] = view.harmonics;
+  out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
 }
 
+// Parses, evaluates through the method table (occlusion/runtime/micro_shadowing_methods.h) and prints.
 void run_eval(const EvalArgs& a) {
-  if (std::find(kMethods.begin(), kMethods.end(), a.method) == kMethods.end()) {
-    std::string known;
-    for (const auto& m : kMethods) known += (known.empty() ? "" : ", ") + m;
-    throw UsageError(fmt::format("--method must be one of: {}; got '{}'", known, a.method));
-  }
-  require_range(a.visibility, 0, 1, "--visibility");
-  require_range(a.roughness, 0, 1, "--roughness");
-  require_range(a.ndotl, 0, 1, "--ndotl");
-  require_range(a.ndotv, 0, 1, "--ndotv");
   const bool has_phi = a.phi_opt->count() > 0, has_ry = a.ry_opt->count() > 0;
-  if (has_phi) require_range(a.phi, 0, kPi<double>, "--phi (relative azimuth, radians)");
-  if (has_ry) require_range(a.roughness_y, 0, 1, "--roughness-y");
   if (a.samples_opt->count() && (a.samples < 1 || a.samples > (int64_t(1) << 30)))
     throw UsageError(fmt::format("--samples must be in [1, 2^30], got {}", a.samples));
   const G2Form form = parse_g2(a.g2);
+  const occlusion::MicroShadowingEvaluator method(a.method, {a.samples, a.seed, form, a.lut});
+  occlusion::MicroShadowingQuery q{a.visibility, a.ndotl, a.ndotv, a.roughness, std::nullopt, std::nullopt};
+  if (has_phi) q.phi = a.phi;
+  if (has_ry) q.roughness_y = a.roughness_y;
+  const double value = method.eval(q);  // validates every input first
+
   const double ax = roughness_to_alpha(a.roughness),
                ay = roughness_to_alpha(has_ry ? a.roughness_y : a.roughness);
   const bool early = ms::exact_zero(a.visibility, a.ndotl);
-
   nlohmann::json inputs = {
       {"visibility", a.visibility}, {"roughness", a.roughness}, {"alpha_x", ax}, {"alpha_y", ay},
       {"ndotl", a.ndotl},           {"ndotv", a.ndotv},         {"g2", a.g2}};
   inputs["phi"] = has_phi ? nlohmann::json(a.phi) : nlohmann::json(nullptr);
   nlohmann::json out = {{"method", a.method}, {"inputs", inputs}, {"early_out", early}};
-
-  double value = 0;
   const std::string& m = a.method;
-  if (m == "lut3d" || m == "lut2d") {
-    if (has_ry) throw UsageError("the LUT is isotropic: --roughness-y applies to generic-vndf only");
-    if (a.samples > 0) throw UsageError("--samples applies to generic-vndf only");
-    // --lut FILE (any format the loader reads, with its sidecar) or the default table, baked on first use.
-    // (The default table is not baked for an early-out point: the sampler returns 0 before any fetch.)
-    std::shared_ptr<const lut::MicroShadowingLut> table;
-    if (!a.lut.empty())
-      table = std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(a.lut));
-    else if (!early)
-      table = lut::default_micro_shadowing_lut(m == "lut2d", has_phi ? 3 : 0);
-    if (!table) {
-      out["value"] = 0.0;
+  if (method.info().accepts_lut) {
+    // The default table is not baked for an early-out point: the sampler returns 0 before any fetch.
+    if (!a.lut.empty() || !early)
+      describe_table(out, *method.table(has_phi), a.lut, has_phi);
+    else
       out["lut"] = "default (not needed: early-out)";
-      if (a.json)
-        print_json(out);
-      else
-        fmt::print("0\n");
-      return;
-    }
-    const lut::MicroShadowingLutView view = table->view();
-    if (m == "lut3d" && view.n_nv < 2)
-      throw UsageError("lut3d needs a 3D table (N.V size > 1); use --method lut2d for an N.V = 1 table");
-    // --phi asks for the term at that azimuth: only an azimuth-aware table has it (never the mean silently).
-    if (has_phi && view.harmonics == 0)
-      throw UsageError(
-          "--phi needs an azimuth-aware table (bake micro-shadowing --azimuth); this table holds the azimuth "
-          "mean only (omit --phi for the mean)");
-    // lut2d: the N·V = 1 slice whatever the table (a 2D table has only that slice).
-    const double nv = m == "lut2d" ? 1.0 : a.ndotv;
-    value = has_phi ? lut::sample_micro_shadowing_azimuth(view, a.visibility, a.ndotl, nv, a.roughness,
-                                                          std::cos(a.phi))
-                    : lut::sample_micro_shadowing(view, a.visibility, a.ndotl, nv, a.roughness);
-    out["lut"] = a.lut.empty() ? nlohmann::json("default (baked on first use)") : nlohmann::json(a.lut);
-    out["lut_layout"] = lut::layout_name(view.layout);
-    out["lut_size"] = {view.n_vis, view.n_nl, view.n_nv};
-    if (view.layout == lut::LutLayout::Cone) {
-      out["lut_roughness_slabs"] = view.n_rough;
-      out["lut_roughness_range"] = {lut::short_float(view.cone.roughness_min),
-                                    lut::short_float(view.cone.roughness_max)};
-    } else {
-      out["lut_roughness"] = table->roughness;
-    }
-    out["harmonics"] = view.harmonics;
-    out["azimuth"] = has_phi && view.harmonics > 0 ? "fixed (Fourier harmonics)" : "mean over [0, pi]";
   } else if (m == "generic-vndf-alu") {
-    // ALU-only approximations of the azimuth mean (micro_shadowing_fit.h), in float as a shader runs them:
-    // value = the one-call form, two_stage = the per-pixel + per-light form.
-    if (has_phi || has_ry || a.samples > 0)
-      throw UsageError(
-          "--phi, --roughness-y and --samples do not apply to generic-vndf-alu (isotropic mean)");
-    const float vf = float(a.visibility), lf = float(a.ndotl), nf = float(a.ndotv), rf = float(a.roughness);
-    value = ms::generic_vndf_alu(vf, lf, nf, rf);
-    out["two_stage"] = ms::generic_vndf_alu_two_stage(vf, lf, nf, rf);
+    // value = the one-call form, two_stage = the per-pixel + per-light form (float, as a shader runs them).
+    out["two_stage"] = ms::generic_vndf_alu_two_stage(float(a.visibility), float(a.ndotl), float(a.ndotv),
+                                                      float(a.roughness));
     out["azimuth"] = "mean over [0, pi]";
   } else if (m == "generic-vndf") {
-    value = eval_generic(a.visibility, ax, ay, a.ndotl, a.ndotv, has_phi ? &a.phi : nullptr, a.samples, form,
-                         a.seed);
     out["azimuth"] = has_phi ? "fixed" : "mean over [0, pi]";
     if (a.samples > 0) {
       out["samples"] = a.samples;
       out["seed"] = a.seed;
-      out["estimator"] =
-          has_phi ? "sobol-owen" : fmt::format("sobol-owen, {} azimuth strata", kEstimateAzimuths);
+      out["estimator"] = has_phi ? "sobol-owen" : "sobol-owen, 32 azimuth strata";
     } else {
       out["samples"] = nullptr;
       out["estimator"] = "exact quadrature (|error| < 1e-6)";
     }
-  } else {
-    if (has_phi || has_ry || a.samples > 0)
-      throw UsageError(
-          fmt::format("--phi, --roughness-y and --samples apply to generic-vndf only, not {}", m));
-    if (m == "reference") value = ms::reference_step(a.visibility, a.ndotl);
-    if (m == "brinck-maximov-2016") value = ms::brinck_maximov_2016(a.visibility, a.ndotl);
-    if (m == "chan-2018") value = ms::chan_2018(a.visibility, a.ndotl);
-    if (m == "part1-analytic") value = ms::part1_analytic(a.visibility, a.ndotl);
   }
   out["value"] = value;
   if (a.json)
@@ -290,11 +215,7 @@ void add_micro_shadowing(Groups& g) {
                                        "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
                                        "exact term at that azimuth. Without "
                                        "--samples the generic term is the exact quadrature (error < 1e-6).");
-  e->add_option(
-       "--method", ea->method,
-       "reference | brinck-maximov-2016 | chan-2018 | part1-analytic | generic-vndf | lut3d | lut2d | "
-       "generic-vndf-alu")
-      ->capture_default_str();
+  e->add_option("--method", ea->method, occlusion::micro_shadowing_method_names())->capture_default_str();
   e->add_option("--visibility", ea->visibility,
                 "Micro-occlusion visibility V in [0, 1] (projected solid angle)")
       ->check(Finite)

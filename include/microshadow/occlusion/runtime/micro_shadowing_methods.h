@@ -1,0 +1,82 @@
+// The micro-shadowing methods by name: one table that `eval micro-shadowing`, the Python module, the viewer's
+// method list and the area-light integrator share, so a new term is added in one place
+// (src/occlusion/micro_shadowing_methods.cpp: one entry = its info and a factory).
+//
+// Runtime code (std::function, a table, table loading through lut/micro_shadowing_loader.h): not part of the
+// header-only core. Each method's math lives in the core headers the entry names (occlusion/, lut/,
+// reference/); docs/micro-shadowing.md describes the terms.
+#pragma once
+
+#include <microshadow/occlusion/micro_shadowing.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace msh::lut {
+struct MicroShadowingLut;
+}
+
+namespace msh::occlusion {
+
+// One evaluation point, in the convention of docs/micro-shadowing.md: v = (sin θv, 0, N·V), l at relative
+// azimuth φ ∈ [0, π] about the normal. Without phi a method that depends on the azimuth gives its mean over
+// φ ∈ [0, π] (what a LUT texel stores). roughness is perceptual (α = r²); roughness_y makes GGX anisotropic
+// (roughness along the tangent x, roughness_y along y) for the methods that accept it.
+struct MicroShadowingQuery {
+  double visibility = 1, n_dot_l = 1, n_dot_v = 1, roughness = 0.5;
+  std::optional<double> phi;
+  std::optional<double> roughness_y;
+};
+
+// Options fixed for an evaluator: samples > 0 asks for the Sobol estimator where a method has one (else the
+// exact value); seed scrambles it; g2 is the Smith form of the estimator's weight; lut_path a table file for
+// the LUT methods (empty: the default table, baked on first use).
+struct MicroShadowingOptions {
+  int64_t samples = 0;
+  uint32_t seed = 1;
+  ms::G2Form g2 = ms::G2Form::HeightCorrelated;
+  std::string lut_path;
+};
+
+// What a method reads and accepts (the CLI, the Python module and the viewer use it to reject options that do
+// not apply, never to ignore them silently).
+struct MicroShadowingMethodInfo {
+  std::string name, summary;
+  bool uses_roughness = false, uses_ndotv = false;
+  bool accepts_phi = false, accepts_roughness_y = false, accepts_samples = false, accepts_lut = false;
+};
+
+// Every method, in a fixed order.
+const std::vector<MicroShadowingMethodInfo>& micro_shadowing_methods();
+// nullptr when there is no method of that name.
+const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& name);
+// "a, b, c" of every method name (for error messages and --help).
+std::string micro_shadowing_method_names();
+
+// A method bound to its options. eval() is const and thread-safe. Errors (an unknown method, an option the
+// method does not accept, an input outside [0, 1] or φ outside [0, π], an unreadable table) throw
+// msh::InputError with the message the CLI prints.
+class MicroShadowingEvaluator {
+ public:
+  explicit MicroShadowingEvaluator(const std::string& method, MicroShadowingOptions options = {});
+  double eval(const MicroShadowingQuery& q) const;
+  const MicroShadowingMethodInfo& info() const { return *info_; }
+  const MicroShadowingOptions& options() const { return options_; }
+  // LUT methods: the table eval() reads for a query with or without φ (baked or loaded on first use; the
+  // default table is not baked for an early-out query). nullptr for the other methods.
+  std::shared_ptr<const lut::MicroShadowingLut> table(bool with_phi) const;
+
+  // The bound evaluation of one method (validated inputs; α already from roughness). Public for the table.
+  struct Impl;
+
+ private:
+  const MicroShadowingMethodInfo* info_;
+  MicroShadowingOptions options_;
+  std::shared_ptr<const Impl> impl_;
+};
+
+}  // namespace msh::occlusion
