@@ -11,6 +11,7 @@ shift 2 2>/dev/null || shift $#
 TARGETS=${*:-"read_dds read_ktx2 read_exr read_npy read_png obj scene_json lut"}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 CXX=${FUZZ_CXX:-clang++-14}
+bash "$ROOT/scripts/install-deps.sh" --fuzz || exit 2
 command -v "$CXX" >/dev/null || { echo "fuzz: $CXX not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 2; }
 
 cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$CXX" \

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages microshadow needs, only those that are missing.
-# Non-interactive; safe to run repeatedly. Used by `make demo`, `make test`, `make build`.
+# Non-interactive; safe to run repeatedly. Used by `make demo`, `make test`, `make build`; `--fuzz` (used by
+# `make fuzz`) adds clang and its libFuzzer runtime.
 set -euo pipefail
 
 PACKAGES=(
@@ -12,6 +13,7 @@ PACKAGES=(
   python3 python3-numpy python3-scipy python3-matplotlib
   glslang-tools spirv-tools mesa-vulkan-drivers libvulkan-dev
 )
+if [ "${1:-}" = "--fuzz" ]; then PACKAGES+=(clang-14 libclang-rt-14-dev); fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do
