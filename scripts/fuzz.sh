@@ -16,13 +16,14 @@ command -v "$CXX" >/dev/null || { echo "fuzz: $CXX not found (apt-get install cl
 
 cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$CXX" \
   -DMSH_FUZZ=ON -DMSH_BUILD_TESTS=OFF -DMSH_BUILD_BENCH=OFF >/dev/null || exit 2
+BUILD=$(cd "$BUILD" && pwd)
 targets=()
 for t in $TARGETS; do targets+=("fuzz_$t"); done
 nice -n 19 cmake --build "$BUILD" -j "${JOBS:-2}" --target "${targets[@]}" msh_fuzz_seeds || exit 2
 
 # Seeds: the committed ones, or regenerated when fuzz/corpus/ is absent.
 SEEDS="$ROOT/fuzz/corpus"
-if [ ! -d "$SEEDS" ]; then SEEDS="$BUILD/seeds"; "$BUILD/fuzz/msh_fuzz_seeds" "$SEEDS" || exit 2; fi
+if [ ! -d "$SEEDS" ]; then SEEDS="$BUILD/seeds"; "$BUILD/bin/msh_fuzz_seeds" "$SEEDS" || exit 2; fi
 
 status=0
 printf '%-12s %8s %12s %8s %8s %s\n' target seconds execs cov ft findings
@@ -30,7 +31,7 @@ for t in $TARGETS; do
   corpus="$BUILD/corpus/$t" findings="$BUILD/findings/$t" log="$BUILD/logs/$t.log"
   mkdir -p "$corpus" "$findings" "$(dirname "$log")"
   cp -n "$SEEDS/$t"/* "$corpus/" 2>/dev/null
-  ( cd "$BUILD" && nice -n 19 "fuzz/fuzz_$t" -max_total_time="$SECS" -timeout=10 -rss_limit_mb=2048 \
+  ( cd "$BUILD" && nice -n 19 "bin/fuzz_$t" -max_total_time="$SECS" -timeout=10 -rss_limit_mb=2048 \
       -max_len=65536 -print_final_stats=1 -artifact_prefix="$findings/" "$corpus" ) >"$log" 2>&1
   rc=$?
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
