@@ -10,14 +10,30 @@
 #include <microshadow/lut/micro_shadowing_loader.h>
 #include <microshadow/render/scene.h>
 
+#include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <string>
 
 #include "support/cli_test_util.h"
 
 namespace fs = std::filesystem;
 using namespace msh;
+
+// The largest single allocation since the last reset: a reader must check sizes against the file before it
+// allocates (docs/formats.md), so reading a few-KB corrupt file must never allocate tens of MB.
+static std::atomic<std::size_t> g_max_alloc{0};
+void* operator new(std::size_t n) {
+  std::size_t m = g_max_alloc.load();
+  while (n > m && !g_max_alloc.compare_exchange_weak(m, n)) {
+  }
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 const fs::path kDir = fs::path(MSH_SOURCE_DIR) / "tests" / "data" / "fuzz";
@@ -52,6 +68,7 @@ TEST(FuzzRegressions, EveryFileGivesInputError) {
     ++n;
     SCOPED_TRACE(e.path().filename().string());
     bool input_error = false;
+    g_max_alloc = 0;
     try {
       read_through(e.path(), scratch);
     } catch (const InputError& err) {
@@ -59,6 +76,8 @@ TEST(FuzzRegressions, EveryFileGivesInputError) {
       EXPECT_NE(std::string(err.what()), "");
     }
     EXPECT_TRUE(input_error) << e.path() << " was accepted";
+    EXPECT_LT(g_max_alloc.load(), std::size_t(16) << 20)
+        << "largest allocation while reading a " << fs::file_size(e.path()) << "-byte file";
   }
   EXPECT_GE(n, 3);  // the directory is found and holds the committed findings
   fs::remove_all(scratch);

@@ -122,6 +122,23 @@ Volume read_exr(const fs::path& path, bool as_volume) {
       }
     }
     check_dimensions(path, W, H, D, (long long)use.size());
+    // A corrupt header can claim a data window far larger than the file encodes, and OpenEXR then fills the
+    // missing rows with zeros: a 1.4 KB file claiming 65535×512 read as a 134 MB volume (fuzzing: the EXR
+    // target peaked at 271 MB RSS on ≤ 521-byte inputs). Bound the raw size by the file size times a ratio no
+    // lossless EXR codec reaches (zlib < 1032:1, RLE 64:1, PIZ < 1000:1; B44 21:1) before allocating. DWA
+    // (lossy DCT) has no such bound; the 2^28-value limit still applies.
+    if (h.compression() != Imf::DWAA_COMPRESSION && h.compression() != Imf::DWAB_COMPRESSION) {
+      double raw = 0;
+      for (const auto& n : use) {
+        const Imf::Channel& ch = *cl.findChannel(n);
+        raw += double(W) * double(Htot) * (ch.type == Imf::HALF ? 2 : 4) /
+               (double(std::max(1, ch.xSampling)) * double(std::max(1, ch.ySampling)));
+      }
+      const double size = double(fs::file_size(path, ec));
+      if (!ec && raw > 4096.0 * size + 65536.0)
+        fail(path, fmt::format("EXR data window {}x{} cannot be held in a file of {} bytes (corrupt header)",
+                               W, Htot, size));
+    }
     Volume v(int(W), int(H), int(D), int(use.size()));
     const std::size_t xs = sizeof(float) * v.channels, ys = xs * v.width;
     Imf::FrameBuffer fb;
