@@ -4,7 +4,7 @@
 #include <microshadow/bsdf/cloth.h>
 #include <microshadow/bsdf/layered.h>
 #include <microshadow/bsdf/thin_film.h>
-#include <microshadow/filter/mip_chain.h>
+#include <microshadow/filter/runtime/mip_chain.h>
 #include <microshadow/filter/toksvig.h>
 #include <microshadow/math/sampling.h>
 

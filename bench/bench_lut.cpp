@@ -9,8 +9,8 @@
 //   BM_LutAzimuthError        what ignoring the azimuth costs at random (v, l), and the azimuth-aware table
 //   BM_LutSample*             runtime sampler throughput
 #include <benchmark/benchmark.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>

@@ -1,9 +1,9 @@
-// Cost of the as-used accuracy measurement (lut/micro_shadowing_verify.h; docs/lut.md "Verify" quotes it):
+// Cost of the as-used accuracy measurement (lut/runtime/micro_shadowing_verify.h; docs/lut.md "Verify" quotes it):
 //   BM_VerifyInputs/0   N inputs and their exact azimuth means (the expensive reference), one thread
 //   BM_VerifyInputs/1   the same against the exact term at the input's azimuth
 //   BM_VerifyMeasure    the statistics of one cheap callable on 10⁴ precomputed inputs
 #include <benchmark/benchmark.h>
-#include <microshadow/lut/micro_shadowing_verify.h>
+#include <microshadow/lut/runtime/micro_shadowing_verify.h>
 
 namespace {
 

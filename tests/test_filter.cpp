@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 #include <microshadow/filter/blend.h>
 #include <microshadow/filter/lean.h>
-#include <microshadow/filter/mip_chain.h>
+#include <microshadow/filter/runtime/mip_chain.h>
 #include <microshadow/filter/toksvig.h>
 #include <microshadow/filter/variance_mapping.h>
 #include <microshadow/io/error.h>

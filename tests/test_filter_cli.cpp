@@ -1,7 +1,7 @@
 // `microshadow filter` end to end: PNG in, per-mip roughness PNGs out matching the library; bad input → exit
 // 2 and no output file.
 #include <gtest/gtest.h>
-#include <microshadow/filter/mip_chain.h>
+#include <microshadow/filter/runtime/mip_chain.h>
 #include <microshadow/io/texture.h>
 
 #include <cstdlib>

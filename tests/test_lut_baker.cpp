@@ -5,8 +5,8 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/reference/micro_shadowing_exact.h>

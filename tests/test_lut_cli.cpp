@@ -4,8 +4,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
 #include <support/cli_test_util.h>
 #include <sys/wait.h>

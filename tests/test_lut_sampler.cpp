@@ -2,8 +2,8 @@
 // roughness interpolation, the early-out, the azimuth-aware reconstruction, and the accuracy of the default
 // tables against the exact term (occlusion/micro_shadowing.h) at random off-grid configurations.
 #include <gtest/gtest.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>

@@ -1,11 +1,11 @@
-// The as-used accuracy measurement (lut/micro_shadowing_verify.h) and `microshadow verify`: statistics on
+// The as-used accuracy measurement (lut/runtime/micro_shadowing_verify.h) and `microshadow verify`: statistics on
 // hand-computable cases, the inputs (domain, stratification, off texels and off channel roughness,
 // determinism), the reference against the independent semi-analytic term, hardware weight quantisation
 // through the real sampler, and the CLI (finite, reproducible, thread-independent, bad input → exit 2).
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
-#include <microshadow/lut/micro_shadowing_verify.h>
+#include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/reference/micro_shadowing_ring.h>
 #include <support/cli_test_util.h>

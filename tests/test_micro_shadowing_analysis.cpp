@@ -1,9 +1,9 @@
-// The studies behind `plot micro-shadowing` (lut/micro_shadowing_analysis.h), each against an independent
+// The studies behind `plot micro-shadowing` (lut/runtime/micro_shadowing_analysis.h), each against an independent
 // computation: the Fourier coefficients against a midpoint rule of the exact term and against the adaptive
 // azimuth mean, the Monte Carlo check against its own binomial error, the error table against hand-built
 // cells.
 #include <gtest/gtest.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/reference/micro_shadowing_exact.h>

@@ -3,8 +3,8 @@
 // inputs outside the domain throw InputError, and eval is deterministic across threads.
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>

@@ -5,7 +5,7 @@
 // the precision each shader file states. The LUT functions read a table baked in the test by the library,
 // uploaded as RGBA32F 2D/3D textures with hardware linear filtering.
 #include <gtest/gtest.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>

@@ -7,7 +7,7 @@
 // '/'), else PREFIX_mip<k>.<ext>. Normal maps: PNG stores n = 2c − 1 (tangent space, any Y convention: the
 // variance does not depend on it); EXR stores n as-is; 2-channel maps get n_z = sqrt(1 − x² − y²).
 #include <fmt/format.h>
-#include <microshadow/filter/mip_chain.h>
+#include <microshadow/filter/runtime/mip_chain.h>
 #include <microshadow/filter/variance_mapping.h>
 #include <microshadow/io/texture.h>
 

@@ -6,8 +6,8 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/reference/micro_shadowing_ring.h>
 #include <tbb/parallel_for.h>
 

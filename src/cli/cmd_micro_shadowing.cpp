@@ -7,8 +7,8 @@
 //   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>

@@ -1,4 +1,4 @@
-// CLI for the as-used accuracy measurement (include/microshadow/lut/micro_shadowing_verify.h, docs/lut.md):
+// CLI for the as-used accuracy measurement (include/microshadow/lut/runtime/micro_shadowing_verify.h, docs/lut.md):
 //   microshadow verify micro-shadowing-lut FILE [--samples N] [--seed S] [--against mean|azimuth]
 //       [--sampler auto|plain|azimuth] [--gpu-weights BITS] [--json]
 //   microshadow verify micro-shadowing-term --method NAME|all [--samples N] [--against mean|azimuth] [--json]
@@ -7,9 +7,9 @@
 // occlusion/micro_shadowing*.h.
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
-#include <microshadow/lut/micro_shadowing_verify.h>
+#include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 

@@ -1,6 +1,6 @@
 #include <fmt/format.h>
 #include <microshadow/filter/lean.h>
-#include <microshadow/filter/mip_chain.h>
+#include <microshadow/filter/runtime/mip_chain.h>
 #include <microshadow/filter/toksvig.h>
 #include <microshadow/filter/variance_mapping.h>
 #include <microshadow/io/error.h>

@@ -1,5 +1,5 @@
-// Studies of the generic micro-shadowing term (include/microshadow/lut/micro_shadowing_analysis.h).
-#include <microshadow/lut/micro_shadowing_analysis.h>
+// Studies of the generic micro-shadowing term (include/microshadow/lut/runtime/micro_shadowing_analysis.h).
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/math/quadrature.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>

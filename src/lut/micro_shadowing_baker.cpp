@@ -1,7 +1,7 @@
 // Binned quasi-Monte Carlo baker for the micro-shadowing LUT; see micro_shadowing_baker.h and docs/lut.md.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
 #include <tbb/blocked_range.h>

@@ -1,7 +1,7 @@
 // Table loading, JSON sidecar, and the cached default tables. See micro_shadowing_loader.h.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 
 #include <fstream>
 #include <map>

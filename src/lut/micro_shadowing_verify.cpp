@@ -1,7 +1,7 @@
 // As-used accuracy measurement of micro-shadowing approximations. See micro_shadowing_verify.h.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_verify.h>
+#include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>

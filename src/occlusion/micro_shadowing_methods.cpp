@@ -2,8 +2,8 @@
 // method is one entry of kEntries: its info and a factory that binds the options and returns the evaluation.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_analysis.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_analysis.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>

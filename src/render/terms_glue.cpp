@@ -1,5 +1,5 @@
 // Glue between the renderer and the other areas' headers: bump-terminator terms and the micro-shadowing LUT.
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/occlusion/bump_terminator.h>
 

@@ -16,28 +16,10 @@
 
 namespace msh::bsdf {
 
-// Which Smith masking-shadowing form G2 to use (RTR4 §9.7).
-enum class G2Form {
-  HeightCorrelated,  // 9.31: 1 / (1 + Λ(v) + Λ(l)), recommended by Heitz 2014
-  Separable,         // 9.27: G1(v) G1(l)
-};
-
-// Smith G2 from the two G1 values (no χ⁺: the half vector never sees a back facet, RTR4 §9.8).
-// Height-correlated written as G1o G1i / (G1o + G1i − G1o G1i) = 1/(1 + Λo + Λi): finite at grazing.
-template <class T>
-T smith_g2(T g1o, T g1i, G2Form form) {
-  if (form == G2Form::Separable) return g1o * g1i;
-  const T den = g1o + g1i - g1o * g1i;
-  return den > T(0) ? g1o * g1i / den : T(0);
-}
-// G2 / G1(wo): the estimator weight of VNDF sampling. Height-correlated: G1i / (G1o + G1i − G1o G1i), which
-// is 1 at G1o = 0 (grazing view), so the weight stays finite where both G2 and G1(wo) vanish.
-template <class T>
-T smith_g2_over_g1o(T g1o, T g1i, G2Form form) {
-  if (form == G2Form::Separable) return g1i;
-  const T den = g1o + g1i - g1o * g1i;
-  return den > T(0) ? g1i / den : T(0);
-}
+// G2Form, smith_g2 and smith_g2_over_g1o: microfacet/smith.h (one definition for the library).
+using msh::G2Form;
+using msh::smith_g2;
+using msh::smith_g2_over_g1o;
 
 // The value of 9.34 without Fresnel, and the cosine its Fresnel factor takes.
 template <class T>

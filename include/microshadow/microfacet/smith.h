@@ -146,4 +146,32 @@ class AnisotropicAlpha {
   T ax_ = T(0.5), ay_ = T(0.5);
 };
 
+// The two Smith masking-shadowing forms G2 (Real-Time Rendering 4th ed., §9.7; Heitz 2014, "Understanding the
+// Masking-Shadowing Function in Microfacet-Based BRDFs"): height-correlated, eq. 9.31, 1 / (1 + Λ(v) + Λ(l));
+// separable (also called uncorrelated), eq. 9.27, G1(v) G1(l). The one enum of the library.
+enum class G2Form {
+  HeightCorrelated,
+  Separable,
+  Uncorrelated = Separable,  // Zurita 2026's name for the same form
+};
+
+// Smith G2 from the two G1 values (no χ⁺: the caller has checked the facet's sidedness). Height-correlated
+// written as G1o G1i / (G1o + G1i − G1o G1i) = 1/(1 + Λo + Λi): finite at grazing.
+template <class T>
+T smith_g2(T g1o, T g1i, G2Form form) {
+  if (form == G2Form::Separable) return g1o * g1i;
+  const T den = g1o + g1i - g1o * g1i;
+  return den > T(0) ? g1o * g1i / den : T(0);
+}
+
+// G2 / G1(wo): the weight of an estimator that samples the VNDF of wo. Height-correlated:
+// G1i / (G1o + G1i − G1o G1i), which is 1 at G1o = 0 (grazing view), so the weight stays finite where both G2
+// and G1(wo) vanish.
+template <class T>
+T smith_g2_over_g1o(T g1o, T g1i, G2Form form) {
+  if (form == G2Form::Separable) return g1i;
+  const T den = g1o + g1i - g1o * g1i;
+  return den > T(0) ? g1i / den : T(0);
+}
+
 }  // namespace msh

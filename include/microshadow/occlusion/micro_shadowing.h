@@ -24,7 +24,7 @@
 namespace msh::ms {
 
 // Form of the Smith masking-shadowing function used for the per-sample weight G2/G1 (Zurita 2026b).
-enum class G2Form { HeightCorrelated, Uncorrelated };
+using msh::G2Form;  // microfacet/smith.h: HeightCorrelated, Uncorrelated (= Separable)
 
 namespace detail {
 // x clamped to [lo, hi]; NaN maps to `nan_value`.
@@ -89,10 +89,7 @@ struct GenericSample {
 // roughness, which is what GGX::G1 does. Depends on (v, l) only.
 template <class T>
 T smith_g2_over_g1(const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, G2Form form) {
-  const T gl = ggx.G1(l), gv = ggx.G1(v);
-  if (form == G2Form::Uncorrelated) return gl;
-  const T den = gl + gv - gl * gv;
-  return den > T(0) ? gl / den : T(0);
+  return smith_g2_over_g1o(ggx.G1(v), ggx.G1(l), form);
 }
 
 // The per-microfacet function GenericM_m (Zurita 2026b, MicroShadowingTermPZGenericVNDFBased): m from the

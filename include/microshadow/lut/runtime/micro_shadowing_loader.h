@@ -9,7 +9,7 @@
 #pragma once
 
 #include <microshadow/io/texture.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 
 #include <filesystem>
