@@ -9,18 +9,16 @@ set(MSH_INSTALL_SHADERDIR ${CMAKE_INSTALL_DATADIR}/microshadow/shaders)
 set(MSH_INSTALL_TABLEDIR ${CMAKE_INSTALL_DATADIR}/microshadow/tables)
 
 # --- The header-only core --------------------------------------------------------------------------------
-# The rule is by path: the top level of math/, microfacet/, occlusion/, bsdf/, reference/, filter/ and the
-# LUT sampler; runtime/ subfolders (registries) and filter/mip_chain.h are implemented in src/ and belong to
-# the library. tests/package/check_core_headers.cmake proves that every one of these headers includes only
-# the standard library and other core headers, and that the umbrella header includes exactly this set.
+# The rule is by path (docs/architecture.md): the top level of math/, microfacet/, occlusion/, bsdf/, lut/,
+# reference/ and filter/; runtime/ subfolders are compiled into the library. tests/package/
+# check_core_headers.cmake proves that each of these headers, preprocessed, pulls in only the standard library
+# and other core headers, and that the umbrella header includes exactly this set.
 set(MSH_CORE_HEADERS)
-foreach(area math microfacet occlusion bsdf reference filter)
+foreach(area math microfacet occlusion bsdf lut reference filter)
   file(GLOB hs RELATIVE ${CMAKE_SOURCE_DIR}/include CONFIGURE_DEPENDS
        ${CMAKE_SOURCE_DIR}/include/microshadow/${area}/*.h)
   list(APPEND MSH_CORE_HEADERS ${hs})
 endforeach()
-list(REMOVE_ITEM MSH_CORE_HEADERS microshadow/filter/mip_chain.h)
-list(APPEND MSH_CORE_HEADERS microshadow/lut/micro_shadowing_lut.h)
 list(SORT MSH_CORE_HEADERS)
 
 target_include_directories(microshadow_core INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
@@ -46,7 +44,8 @@ foreach(spec "micro_shadowing" "micro_shadowing_2d|--2d" "micro_shadowing_azimut
        --out ${out} --threads 2 --quiet)
 endforeach()
 file(GLOB MSH_TABLE_DEPENDS CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/lut/*.cpp
-     ${CMAKE_SOURCE_DIR}/include/microshadow/lut/*.h ${CMAKE_SOURCE_DIR}/include/microshadow/reference/*.h
+     ${CMAKE_SOURCE_DIR}/include/microshadow/lut/*.h ${CMAKE_SOURCE_DIR}/include/microshadow/lut/runtime/*.h
+     ${CMAKE_SOURCE_DIR}/include/microshadow/reference/*.h
      ${CMAKE_SOURCE_DIR}/include/microshadow/occlusion/*.h ${CMAKE_SOURCE_DIR}/src/io/ktx2.cpp)
 add_custom_command(OUTPUT ${MSH_TABLES}
   COMMAND ${CMAKE_COMMAND} -E make_directory ${MSH_TABLE_BUILD_DIR} ${MSH_TABLE_COMMANDS}

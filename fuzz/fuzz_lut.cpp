@@ -2,7 +2,7 @@
 // view. Input: the sidecar's text, a NUL byte, then the table as an .npy file (no NUL: no sidecar, whole
 // input is the table). A table or msh::InputError; a loaded table must give finite lookups in [0, 1].
 #include <microshadow/io/error.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 
 #include <cmath>
 #include <cstdlib>

@@ -2,8 +2,8 @@
 // format of every format, a baked table with its sidecar (both layouts), OBJ text and the example scenes.
 // Usage: msh_fuzz_seeds OUT_DIR   (creates OUT_DIR/<target>/...)
 #include <microshadow/io/texture.h>
-#include <microshadow/lut/micro_shadowing_baker.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 
 #include <cstdio>
 #include <filesystem>

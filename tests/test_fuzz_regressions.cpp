@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/render/scene.h>
 
 #include <atomic>

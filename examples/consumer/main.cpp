@@ -2,7 +2,7 @@
 // table through the library's loader, against the exact term. Prints one line per value; exits 1 if the
 // table disagrees with the exact term by more than its documented accuracy allows (docs/lut.md).
 #include <microshadow/io/error.h>  // microshadow::microshadow
-#include <microshadow/lut/micro_shadowing_loader.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/microshadow.h>  // microshadow::core
 
 #include <cmath>
