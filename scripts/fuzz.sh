@@ -31,14 +31,16 @@ for t in $TARGETS; do
   corpus="$BUILD/corpus/$t" findings="$BUILD/findings/$t" log="$BUILD/logs/$t.log"
   mkdir -p "$corpus" "$findings" "$(dirname "$log")"
   cp -n "$SEEDS/$t"/* "$corpus/" 2>/dev/null
+  t0=$(date +%s)
   ( cd "$BUILD" && nice -n 19 "bin/fuzz_$t" -max_total_time="$SECS" -timeout=10 -rss_limit_mb=2048 \
       -max_len=65536 -print_final_stats=1 -artifact_prefix="$findings/" "$corpus" ) >"$log" 2>&1
   rc=$?
+  elapsed=$(($(date +%s) - t0))
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*')
   ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*')
   n=$(find "$findings" -type f | wc -l)
-  printf '%-12s %8s %12s %8s %8s %s\n' "$t" "$SECS" "${execs:-?}" "${cov:-?}" "${ft:-?}" \
+  printf '%-12s %8s %12s %8s %8s %s\n' "$t" "$elapsed" "${execs:-?}" "${cov:-?}" "${ft:-?}" \
     "$n$([ $rc -ne 0 ] && echo " (exit $rc, see $log)")"
   [ $rc -ne 0 ] || [ "$n" -ne 0 ] && status=1
 done
