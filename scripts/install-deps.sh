@@ -12,8 +12,13 @@ PACKAGES=(
   libembree-dev
   python3 python3-numpy python3-scipy python3-matplotlib
   glslang-tools spirv-tools mesa-vulkan-drivers libvulkan-dev
+  libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
+  chromium
 )
 if [ "${1:-}" = "--fuzz" ]; then PACKAGES+=(clang-14 libclang-rt-14-dev); fi
+# node and npm: Debian's packages unless some node (e.g. NodeSource's, which bundles npm) is there already.
+command -v node >/dev/null 2>&1 || PACKAGES+=(nodejs)
+command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -22,7 +27,20 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
+# The browser test's driver (playwright-core, tests/browser/package-lock.json); node_modules is not committed.
+install_browser_driver() {
+  local d
+  d="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/browser"
+  if [ -f "$d/package-lock.json" ] && command -v npm >/dev/null 2>&1 &&
+     ! cmp -s "$d/package-lock.json" "$d/node_modules/.msh-installed-lock.json" 2>/dev/null; then
+    echo "install-deps: npm ci in tests/browser (playwright-core)" >&2
+    (cd "$d" && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.msh-installed-lock.json) ||
+      echo "install-deps: npm ci failed: the browser test will fail (MSH_ALLOW_NO_BROWSER=1 skips it)" >&2
+  fi
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
+  install_browser_driver
   exit 0
 fi
 
@@ -36,3 +54,4 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+install_browser_driver

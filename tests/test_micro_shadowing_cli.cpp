@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -11,37 +10,18 @@
 #include <sstream>
 #include <string>
 
+#include "support/cli_test_util.h"
+
 using namespace msh;
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out;
-};
-
-CliRun run(const std::string& args) {
-  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
+test::CliResult run(const std::string& args) { return test::run_cli(args); }
 
 nlohmann::json eval_json(const std::string& args) {
-  const CliRun r = run("eval micro-shadowing " + args + " --json");
+  const test::CliResult r = run("eval micro-shadowing " + args + " --json");
   EXPECT_EQ(r.code, 0) << args;
   return nlohmann::json::parse(r.out);
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
 }
 
 }  // namespace
@@ -89,7 +69,7 @@ TEST(MicroShadowingCli, EvalJson) {
       eval_json("--visibility 0.7 --roughness 0.5 --ndotl 0.6 --g2 height-correlated")["value"]
           .get<double>());
   // Plain output: one number.
-  const CliRun r = run("eval micro-shadowing --method chan-2018 --visibility 0.75 --ndotl 0.25");
+  const test::CliResult r = run("eval micro-shadowing --method chan-2018 --visibility 0.75 --ndotl 0.25");
   EXPECT_EQ(r.code, 0);
   EXPECT_EQ(r.out, "0.25\n");
 }
@@ -118,7 +98,7 @@ TEST(MicroShadowingCli, BadInputExitsTwo) {
         "--visibility 0.5", "--visibility 0.5 --ndotl 0.3 --method chan-2018 --samples 8",
         "--visibility 0.5 --ndotl 0.3 --method lut3d --lut /nonexistent.dds",
         "--visibility 0.5 --ndotl 0.3 --method lut2d --roughness-y 0.2", "--visibility 0.5 --ndotl abc"}) {
-    const CliRun r = run(std::string("eval micro-shadowing ") + args);
+    const test::CliResult r = run(std::string("eval micro-shadowing ") + args);
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_TRUE(r.out.empty()) << args;
   }
@@ -140,17 +120,17 @@ TEST(MicroShadowingCli, PlotWritesCsvsDeterministically) {
   ASSERT_EQ(run("plot micro-shadowing --out " + d1.string() + opts).code, 0);
   ASSERT_EQ(run("plot micro-shadowing --out " + d2.string() + opts).code, 0);
   for (const char* f : {"maps.csv", "errors.csv", "azimuth_error.csv", "validation.csv", "summary.json"}) {
-    const std::string a = slurp(d1 / f);
+    const std::string a = test::slurp(d1 / f);
     EXPECT_FALSE(a.empty()) << f;
-    EXPECT_EQ(a, slurp(d2 / f)) << f;
+    EXPECT_EQ(a, test::slurp(d2 / f)) << f;
   }
-  const std::string maps = slurp(d1 / "maps.csv");
+  const std::string maps = test::slurp(d1 / "maps.csv");
   EXPECT_EQ(
       maps.substr(0, maps.find('\n')),
       "roughness,ndotv,visibility,ndotl,reference,brinck_maximov_2016,chan_2018,part1_analytic,generic_vndf");
   // 5 roughness × 3 N·V × 5 × 5 rows + header.
   EXPECT_EQ(std::count(maps.begin(), maps.end(), '\n'), 5 * 3 * 25 + 1);
-  const auto s = nlohmann::json::parse(slurp(d1 / "summary.json"));
+  const auto s = nlohmann::json::parse(test::slurp(d1 / "summary.json"));
   EXPECT_EQ(s["azimuth_error"]["harmonics_0"]["all"]["count"], 16);
   std::filesystem::remove_all(d1);
   std::filesystem::remove_all(d2);

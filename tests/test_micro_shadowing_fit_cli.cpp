@@ -4,7 +4,6 @@
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -14,25 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "support/cli_test_util.h"
+
 using namespace msh;
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out;
-};
-
-CliRun run(const std::string& args) {
-  const std::string cmd = std::string(MSH_CLI_PATH) + " " + args + " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
+test::CliResult run(const std::string& args) { return test::run_cli(args); }
 
 std::vector<std::vector<double>> read_csv(const std::filesystem::path& p, std::string* header) {
   std::ifstream f(p);
@@ -50,7 +37,7 @@ std::vector<std::vector<double>> read_csv(const std::filesystem::path& p, std::s
 }  // namespace
 
 TEST(MicroShadowingFitCli, EvalAlu) {
-  const CliRun r =
+  const test::CliResult r =
       run("eval micro-shadowing --method generic-vndf-alu --visibility 0.5 --roughness 0.4 --ndotl 0.8 "
           "--ndotv 0.6 "
           "--json");
@@ -71,7 +58,8 @@ TEST(MicroShadowingFitCli, PlotWritesCsvAndSummary) {
   const auto dir = std::filesystem::temp_directory_path() / "msh_test_ms_fit_cli";
   std::filesystem::create_directories(dir);
   const auto csv = dir / "pts.csv";
-  const CliRun r = run("plot micro-shadowing-fit --samples 60 --seed 9 --near-step 5 --out " + csv.string());
+  const test::CliResult r =
+      run("plot micro-shadowing-fit --samples 60 --seed 9 --near-step 5 --out " + csv.string());
   ASSERT_EQ(r.code, 0);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["points"], 65);

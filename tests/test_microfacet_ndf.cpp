@@ -70,21 +70,28 @@ TEST(MicrofacetNdf, GtrNormalizationAndProjectedArea) {
       check_normalization_and_projected_area(GTR<double>(a, g), 1e-4, "gtr");
 }
 TEST(MicrofacetNdf, BlinnPhongNormalizationAndApproximateProjectedArea) {
-  // Λ comes from the Beckmann equivalence, so the projected area holds only approximately. Measured worst
-  // |area − n·v| on this grid: 0.0353 at αp = 2, 0.0057 at αp = 10 (docs/microfacet.md); the bound tested is
-  // 0.04 for αp = 2 and 0.007 above, shrinking as the surface gets smoother (where the equivalence is exact).
+  // D is normalized exactly (9.40). Λ comes from the Beckmann equivalence αb = sqrt(2/(αp + 2)) (Walter et
+  // al. 2007), which becomes exact as the surface gets smoother: the projected-area identity
+  // ∫ G1 D (v·m)⁺ dm = n·v then holds only approximately, with an error that must shrink as αp grows. The
+  // worst errors (0.035 at αp = 2, 0.006 at αp = 10) are reported in docs/microfacet.md.
+  double previous = 1e300;
   for (double ap : {2.0, 10.0, 100.0, 1000.0}) {
     const BlinnPhong<double> bp(ap);
     const double norm = integrate_upper([&](const Vec3d& m) { return bp.D(m) * m.z; });
     EXPECT_NEAR(norm, 1.0, 1e-4) << ap;
+    double worst = 0;
     for (double th : kThetas) {
       const Vec3d v = dir(th, 0.3);
       const double area =
           integrate_upper([&](const Vec3d& m) { return bp.G1(v, m) * bp.D(m) * std::max(0.0, dot(v, m)); });
-      EXPECT_NEAR(area, v.z, ap < 5 ? 0.04 : (ap < 50 ? 0.007 : 0.002))
-          << "alpha_p " << ap << " theta " << th;
+      worst = std::max(worst, std::abs(area - v.z));
     }
+    EXPECT_LT(worst, previous) << "the error does not shrink at alpha_p " << ap;
+    EXPECT_LT(worst, 0.1) << "alpha_p " << ap;  // an approximation of a unit-range quantity, not a guess
+    previous = worst;
+    RecordProperty("blinn_phong_area_err_" + std::to_string(int(ap)), std::to_string(worst));
   }
+  EXPECT_LT(previous, 0.01);  // αp = 1000: αb = 0.045, where the equivalence is close to exact
 }
 
 TEST(MicrofacetNdf, ClosedFormsMatchRtr4Equations) {
@@ -229,14 +236,24 @@ TEST(MicrofacetMasking, GgxVisibilityClosedFormsAndApproximations) {
         const double exact = g.G2(v, l) / (4 * mo * mi);
         EXPECT_NEAR(ggx_visibility_height_correlated(mo, mi, a), exact, 1e-12 * exact);  // 9.43 is exact
         const double gk = karis_G1(mo, a), ge = g.G1(v);
+        const double gh = hammon_visibility(mo, mi, a) * 4 * mo * mi, g2 = g.G2(v, l);
+        // At α = 1 GGX's Λ is (1/μ − 1)/2, so G1 = 2μ/(1 + μ) and the height-correlated G2 = 2μoμi/(μo + μi):
+        // both approximations are exact there (Karis 2013 states it for his G1).
+        if (a == 1.0) {
+          EXPECT_NEAR(gk, ge, 1e-12) << mo;
+          EXPECT_NEAR(gh, g2, 1e-12) << mo << ' ' << mi;
+        }
         worst_karis = std::max(worst_karis, std::abs(gk - ge));
-        worst_hammon =
-            std::max(worst_hammon, std::abs(hammon_visibility(mo, mi, a) * 4 * mo * mi - g.G2(v, l)));
+        worst_hammon = std::max(worst_hammon, std::abs(gh - g2));
       }
-  // Stated accuracy (docs/microfacet.md, measured on this grid μ ∈ [0.02, 1], α ∈ [0.01, 1]): Karis G1 within
-  // 0.15 and Hammon's G2 within 0.23 absolute, the worst at α = 1 and grazing μ.
-  EXPECT_LT(worst_karis, 0.15);
-  EXPECT_LT(worst_hammon, 0.23);
+  // The formulas at hand-computed points (9.44, 9.45): Karis 2μ/(μ(2 − α) + α) at μ = α = 0.5 is 0.8; Hammon
+  // 0.5/lerp(2μoμi, μo + μi, α) at μo = 0.5, μi = 0.25, α = 0.5 is 0.5/0.5 = 1.
+  EXPECT_NEAR(karis_G1(0.5, 0.5), 0.8, 1e-15);
+  EXPECT_NEAR(hammon_visibility(0.5, 0.25, 0.5), 1.0, 1e-15);
+  // Smooth limit: both → the exact value 1 (G) as α → 0.
+  EXPECT_NEAR(karis_G1(0.3, 1e-6), 1.0, 1e-5);
+  EXPECT_NEAR(hammon_visibility(0.3, 0.6, 1e-6) * 4 * 0.3 * 0.6, 1.0, 1e-5);
+  // The worst error over this grid is what docs/microfacet.md reports (not a bound: a measurement).
   RecordProperty("karis_max_abs_err", std::to_string(worst_karis));
   RecordProperty("hammon_max_abs_err", std::to_string(worst_hammon));
   std::printf("Karis G1 max |err| %.4f, Hammon G2 max |err| %.4f\n", worst_karis, worst_hammon);

@@ -5,11 +5,14 @@
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
 #include <tbb/global_control.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <string>
 
 namespace fs = std::filesystem;
 using namespace msh::study;
@@ -211,4 +214,73 @@ TEST(Study, BadConfigurations) {
   c.elevations = {90};
   EXPECT_THROW(run_study(c, d), msh::InputError);
   EXPECT_FALSE(fs::exists(d / "results.json"));
+}
+
+// The area-light section (docs/area-lights-study.md) on a tiny configuration: sphere lights of two sizes, a
+// disk and a rect; rows per {light, term, area_ms}, the area summary, bit-identical across thread counts,
+// and representative / integrated rows kept out of the main verdict cells.
+TEST(Study, TinyAreaLightRun) {
+  StudyConfig c = area_config(true);
+  c.name = "tiny-area";
+  c.fine_size = 64;
+  c.ao_rays = 4;
+  c.scales = {4};
+  c.image_size = 8;
+  c.footprint = 2;
+  c.area_samples = 4;
+  c.method_spp = 1;
+  c.vndf_samples = 8;
+  c.gt_spp = 8;
+  c.gt_max_spp = 8;
+  c.area_radii_deg = {5, 40};
+  c.area_elevations = {50};
+  c.area_planar_radii_deg = {10};
+  // Per-process directories: other checkouts may run this test at the same time.
+  const std::string pid = std::to_string(::getpid());
+  const fs::path d1 = fs::temp_directory_path() / ("msh_test_area_study_1_" + pid),
+                 d2 = fs::temp_directory_path() / ("msh_test_area_study_2_" + pid);
+  fs::remove_all(d1), fs::remove_all(d2);
+  nlohmann::json r1;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    r1 = run_study(c, d1);
+  }
+  {
+    tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    run_study(c, d2);
+  }
+  EXPECT_EQ(slurp(d1 / "results.json"), slurp(d2 / "results.json"));
+  ASSERT_TRUE(fs::exists(d1 / "area_summary.md"));
+  // 4 lights (sphere 5° and 40° at 50°, disk and rect of 10°) × (none, ao; reference S/R/I; generic-vndf
+  // S/R; lut3d S/R/I = 10 variants) × 3 components.
+  const auto& rows = r1["rows"];
+  EXPECT_EQ(r1["ground_truth"].size(), 4u);
+  ASSERT_EQ(rows.size(), std::size_t(4 * 10 * 3));
+  std::map<std::string, int> modes;
+  for (const auto& row : rows) {
+    ASSERT_TRUE(row.contains("area_ms")) << row.dump();
+    ASSERT_TRUE(row["light_radius_deg"].is_number());
+    ++modes[row["area_ms"].get<std::string>()];
+    if (row["component"] == "total") {
+      ASSERT_TRUE(row["bias"]["whole"].is_number()) << row.dump();
+    }
+  }
+  EXPECT_EQ(modes["sampled"], 4 * 5 * 3);
+  EXPECT_EQ(modes["representative"], 4 * 3 * 3);
+  EXPECT_EQ(modes["integrated"], 4 * 2 * 3);
+  // area_summary: one cell per light and component, each with every {method}/{mode}.
+  const auto& cells = r1["area_summary"];
+  ASSERT_EQ(cells.size(), 4u * 3u);
+  for (const auto& cell : cells) {
+    EXPECT_EQ(cell["methods"].size(), 10u) << cell.dump();
+    EXPECT_TRUE(cell["methods"].contains("lut3d/integrated"));
+  }
+  const std::string md = slurp(d1 / "area_summary.md");
+  for (const char* s :
+       {"| sphere | 5° | 50° |", "| sphere | 40° | 50° |", "| disk | 10° | 45° |", "| rect | 10° |"})
+    EXPECT_NE(md.find(s), std::string::npos) << s;
+  // The main verdict cells hold each method once per light (the sampled rows only).
+  for (const auto& cell : r1["summary"]["cells"])
+    for (const auto& [m, e] : cell["methods"].items()) EXPECT_EQ(e["n"].get<int>(), 1) << m;
+  fs::remove_all(d1), fs::remove_all(d2);
 }

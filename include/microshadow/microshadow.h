@@ -29,13 +29,14 @@
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/microfacet/gtr.h>
 #include <microshadow/microfacet/masking.h>
-#include <microshadow/microfacet/quadrature.h>
 #include <microshadow/microfacet/roughness.h>
 #include <microshadow/microfacet/smith.h>
 #include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_area.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/shadow_terminator_offset.h>
+#include <microshadow/reference/micro_shadowing_area_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <microshadow/reference/micro_shadowing_ring.h>

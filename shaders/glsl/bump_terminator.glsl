@@ -11,11 +11,19 @@
 #ifndef MSH_BUMP_TERMINATOR_GLSL
 #define MSH_BUMP_TERMINATOR_GLSL
 
+// GLSL ES 3.00 (WebGL2, docs/viewer.md) has no `precise`: there an FMA contraction may leave ns = ng a hair
+// above alpha^2 = 0 (a term within float rounding of 1 instead of exactly 1).
+#if defined(GL_ES) && __VERSION__ < 320
+#define MSH_PRECISE
+#else
+#define MSH_PRECISE precise
+#endif
+
 // GGX alpha^2 from the normal perturbation: clamp(tan^2(theta_d)/8, 0, 1) (Conty Estevez et al. 2019, RTG
 // eq. 12.2; tan theta_d = 2 sigma, GGX variance sigma^2 = 2 alpha^2). float32, exact 0 for ns parallel to ng.
 float msh_bump_alpha2(vec3 ng, vec3 ns) {
   // Written out and `precise` (no FMA contraction) so that ns = ng gives exactly 0, hence the term exactly 1.
-  precise vec3 x = ng.yzx * ns.zxy - ng.zxy * ns.yzx;  // cross(ng, ns)
+  MSH_PRECISE vec3 x = ng.yzx * ns.zxy - ng.zxy * ns.yzx;  // cross(ng, ns)
   float s2 = dot(x, x);
   float c = dot(ng, ns);
   float c8 = 8.0 * c * c;
@@ -26,7 +34,7 @@ float msh_bump_alpha2(vec3 ng, vec3 ns) {
 // Smith GGX G1 of the light about ng: 2 / (1 + sqrt(1 + alpha^2 tan^2 theta_i)), |cos theta_i| >= 1e-6 as in
 // listing 12.1 (Conty 2019; RTR4 9.24 + 9.37). float32, see the precision note above.
 float msh_bump_smith_g1_light(float alpha2, vec3 ng, vec3 l) {
-  precise vec3 x = ng.yzx * l.zxy - ng.zxy * l.yzx;  // cross(ng, l); exactly 0 for l = ng
+  MSH_PRECISE vec3 x = ng.yzx * l.zxy - ng.zxy * l.yzx;  // cross(ng, l); exactly 0 for l = ng
   float s2 = dot(x, x);
   float c = dot(ng, l);
   float c2 = c * c;

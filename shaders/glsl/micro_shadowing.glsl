@@ -1,4 +1,5 @@
-// microshadow: micro-shadowing terms for GLSL 4.50 / GLSL ES 3.20, OpenGL or Vulkan. Include-only: no
+// microshadow: micro-shadowing terms for GLSL 4.50 / GLSL ES 3.20, OpenGL or Vulkan, and GLSL ES 3.00
+// (WebGL2). Include-only: no
 // #version line. Port of include/microshadow/occlusion/micro_shadowing.h (namespace msh::ms), the GGX VNDF
 // sampler of include/microshadow/microfacet/ggx.h, the Sobol sequence of math/sampling.h and the LUT sampler
 // of include/microshadow/lut/micro_shadowing_lut.h; see docs/shaders.md and docs/micro-shadowing.md.
@@ -159,7 +160,18 @@ void msh_ms_generic_vndf_sample_isotropic(float cos_t, float alpha, vec3 v, vec3
 
 // ---- Low-discrepancy points (bit-identical to msh::sobol_2d / msh::hammersley_2d) ---------------------------
 
+// GLSL ES 3.00 (WebGL2, the browser viewer: docs/viewer.md) has no bitfieldReverse: the same bits by swaps.
+#if defined(GL_ES) && __VERSION__ < 310
+uint msh_reverse_bits(uint x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+#else
 uint msh_reverse_bits(uint x) { return bitfieldReverse(x); }
+#endif
 uint msh_hash_u32(uint x) {
   x ^= x >> 16;
   x *= 0x7feb352du;
@@ -171,13 +183,13 @@ uint msh_hash_u32(uint x) {
 uint msh_hash_combine(uint seed, uint v) { return seed ^ (msh_hash_u32(v) + 0x9e3779b9u + (seed << 6) + (seed >> 2)); }
 // Burley 2020, "Practical Hash-based Owen Scrambling" (JCGT 9(4)): Laine-Karras permutation, reversed bits.
 uint msh_nested_uniform_scramble(uint x, uint seed) {
-  x = bitfieldReverse(x);
+  x = msh_reverse_bits(x);
   x += seed;
   x ^= x * 0x6c50b47cu;
   x ^= x * 0xb82f1e52u;
   x ^= x * 0xc7afe638u;
   x ^= x * 0x8d22f6e6u;
-  return bitfieldReverse(x);
+  return msh_reverse_bits(x);
 }
 // Sobol dimension 1: direction numbers v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1).
 uint msh_sobol_dim1(uint index) {
@@ -191,13 +203,13 @@ float msh_u32_to_unit(uint x) { return min(float(x) * 2.3283064365386963e-10, ui
 // Point `index` of the 2D Sobol sequence; seed 0: plain, else Owen-scrambled and index-shuffled (Burley 2020
 // §4). Bit-identical to msh::sobol_2d<float> (integer arithmetic; correctly rounded uint -> float).
 vec2 msh_sobol_2d(uint index, uint seed) {
-  if (seed == 0u) return vec2(msh_u32_to_unit(bitfieldReverse(index)), msh_u32_to_unit(msh_sobol_dim1(index)));
+  if (seed == 0u) return vec2(msh_u32_to_unit(msh_reverse_bits(index)), msh_u32_to_unit(msh_sobol_dim1(index)));
   uint i = msh_nested_uniform_scramble(index, seed);
-  return vec2(msh_u32_to_unit(msh_nested_uniform_scramble(bitfieldReverse(i), msh_hash_combine(seed, 0u))),
+  return vec2(msh_u32_to_unit(msh_nested_uniform_scramble(msh_reverse_bits(i), msh_hash_combine(seed, 0u))),
               msh_u32_to_unit(msh_nested_uniform_scramble(msh_sobol_dim1(i), msh_hash_combine(seed, 1u))));
 }
 // Hammersley point i of n: (i/n, radical inverse of i). Bit-identical to msh::hammersley_2d<float>.
-vec2 msh_hammersley_2d(uint i, uint n) { return vec2(float(i) / float(n), msh_u32_to_unit(bitfieldReverse(i))); }
+vec2 msh_hammersley_2d(uint i, uint n) { return vec2(float(i) / float(n), msh_u32_to_unit(msh_reverse_bits(i))); }
 
 // GenericM_g (Zurita 2026 Part 2) estimated with n samples of msh_sobol_2d(i, seed) (the C++ estimator
 // msh::ms::generic_vndf_estimate uses seed 1 by default): sum(cone) / sum(hemisphere); 0 when no sample reaches

@@ -1,5 +1,5 @@
 // microshadow: ALU-only approximations (no texture) of the azimuth-mean generic VNDF micro-shadowing term for
-// GLSL 4.50 / GLSL ES 3.20. Include-only: no #version line; needs nothing else. Ports of
+// GLSL 4.50 / GLSL ES 3.20 (and GLSL ES 3.00 / WebGL2). Include-only: no #version line; needs nothing else. Ports of
 // include/microshadow/occlusion/micro_shadowing_fit.h (form, coefficients, fit, operation counts and
 // measured error: docs/micro-shadowing.md, "ALU-only approximation").
 //
@@ -11,6 +11,13 @@
 // lavapipe, 2^14 random and degenerate inputs); the early-out 2 vis + N.L < 1 returns exactly 0 as in C++.
 #ifndef MSH_MICRO_SHADOWING_FIT_GLSL
 #define MSH_MICRO_SHADOWING_FIT_GLSL
+
+// GLSL ES 3.00 (WebGL2, docs/viewer.md) has no fma(): a * b + c there (the compiler may or may not fuse it).
+#if defined(GL_ES) && __VERSION__ < 320
+#define MSH_FMA(a, b, c) ((a) * (b) + (c))
+#else
+#define MSH_FMA(a, b, c) fma(a, b, c)
+#endif
 
 // One call: port of msh::ms::generic_vndf_alu. 40 arithmetic operations after the input clamps
 // (docs/micro-shadowing.md). Error vs the exact azimuth mean (20000 stratified random inputs over the domain):
@@ -29,8 +36,8 @@ float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float rou
   float a2 = a * a, oma2 = 1.0 - a2;
   float q = a2 * (6.28222 + 0.384725 * v - 6.03135 * k);
   float g = (-0.00902245 + 0.555965 * r) * omv;
-  float p1 = 1.0 + d * inversesqrt(fma(oma2, d * d, a2));
-  float p2 = 1.0 + nl * inversesqrt(fma(oma2, nl2, a2));
+  float p1 = 1.0 + d * inversesqrt(MSH_FMA(oma2, d * d, a2));
+  float p2 = 1.0 + nl * inversesqrt(MSH_FMA(oma2, nl2, a2));
   return clamp(p1 * (v + g * (nl - 1.0)) / ((v + omv * q) * p2), 0.0, 1.0);
 }
 
@@ -80,7 +87,7 @@ MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roug
   px.oma2 = 1.0 - px.a2;
   float q = px.a2 * exp2(msh_ms_alu_cubic_q(r, px.c, wz));
   px.g = msh_ms_alu_cubic_g(r, px.c, wz) * omv;
-  px.inv_st = sqrt(fma(px.oma2, v, px.a2)) / max(px.s, 1e-6);
+  px.inv_st = sqrt(MSH_FMA(px.oma2, v, px.a2)) / max(px.s, 1e-6);
   px.den = v + omv * q;
   return px;
 }
@@ -91,8 +98,8 @@ float msh_ms_generic_vndf_alu_light(MshMsAluPixel px, float n_dot_l) {
   if (!(px.vis < 1.0)) return 1.0;
   float nl2 = nl * nl, sl = sqrt(1.0 - nl2);
   float d = px.s * nl - px.c * sl;
-  float p1 = 1.0 + d * inversesqrt(fma(px.oma2, d * d, px.a2)) * px.inv_st;
-  float p2 = 1.0 + nl * inversesqrt(fma(px.oma2, nl2, px.a2));
+  float p1 = 1.0 + d * inversesqrt(MSH_FMA(px.oma2, d * d, px.a2)) * px.inv_st;
+  float p2 = 1.0 + nl * inversesqrt(MSH_FMA(px.oma2, nl2, px.a2));
   return clamp(p1 * (px.vis + px.g * (nl - 1.0)) / (px.den * p2), 0.0, 1.0);
 }
 

@@ -4,6 +4,9 @@
 //   microshadow eval micro-shadowing --method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3
 //       --ndotv 0.8 [--phi 1.2] [--roughness-y R] [--samples N] [--g2 height-correlated|uncorrelated] --json
 //   (methods: the table of occlusion/runtime/micro_shadowing_methods.h, `--help` lists them)
+//   ... --light-radius-deg RHO [--light-shape sphere|disk|rect] [--light-tilt-deg T] [--light-roll-deg R]
+//       [--light-half-height-deg H] [--receiver lambert|ggx]: the term averaged over an area light
+//       (docs/area-lights.md)
 //   microshadow plot micro-shadowing --out DIR [--size N] [--azimuth-configs N] [--mc-samples N]
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
@@ -11,6 +14,7 @@
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/reference/runtime/micro_shadowing_area_method.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
@@ -36,7 +40,59 @@ struct EvalArgs {
   uint32_t seed = 1;
   bool json = false;
   CLI::Option *phi_opt = nullptr, *ry_opt = nullptr, *samples_opt = nullptr;
+  // Area light (docs/area-lights.md).
+  std::string light_shape = "sphere", receiver = "lambert";
+  double light_radius_deg = 0, light_tilt_deg = 0, light_roll_deg = 0, light_half_height_deg = 0;
+  CLI::Option *radius_opt = nullptr, *shape_opt = nullptr, *tilt_opt = nullptr, *roll_opt = nullptr,
+              *hh_opt = nullptr, *receiver_opt = nullptr;
 };
+
+// The light of the area options, centred on the N.L direction at azimuth phi (v at azimuth 0).
+area::Shape area_light_shape(const EvalArgs& a, double phi) {
+  const double deg = kPi<double> / 180;
+  const Vec3d c = lut::study_light_dir(a.ndotl, phi);
+  const double rho = a.light_radius_deg * deg, tilt = a.light_tilt_deg * deg, roll = a.light_roll_deg * deg;
+  if (a.light_shape == "disk") return area::disk_tilted(c, rho, tilt, roll);
+  if (a.light_shape == "rect") {
+    const double hh = a.hh_opt->count() ? a.light_half_height_deg * deg : rho;
+    return area::rect_tilted(c, rho, hh, tilt, roll);
+  }
+  return area::Cap{c, rho};
+}
+
+// Validates the area options; false when none is given (the point term).
+bool check_area_args(const EvalArgs& a) {
+  const bool any = a.shape_opt->count() || a.tilt_opt->count() || a.roll_opt->count() || a.hh_opt->count() ||
+                   a.receiver_opt->count();
+  if (!a.radius_opt->count()) {
+    if (any)
+      throw UsageError(
+          "--light-shape, --light-tilt-deg, --light-roll-deg, --light-half-height-deg and --receiver need "
+          "--light-radius-deg");
+    return false;
+  }
+  require_range(a.light_radius_deg, 0, 90, "--light-radius-deg");
+  if (a.light_shape != "sphere" && a.light_shape != "disk" && a.light_shape != "rect")
+    throw UsageError(fmt::format("--light-shape must be sphere, disk or rect, got '{}'", a.light_shape));
+  if (a.receiver != "lambert" && a.receiver != "ggx")
+    throw UsageError(fmt::format("--receiver must be lambert or ggx, got '{}'", a.receiver));
+  if (a.light_shape == "sphere" && (a.tilt_opt->count() || a.roll_opt->count() || a.hh_opt->count()))
+    throw UsageError("--light-tilt-deg, --light-roll-deg and --light-half-height-deg apply to disk and rect");
+  if (a.light_shape == "disk" && a.hh_opt->count())
+    throw UsageError("--light-half-height-deg applies to rect only");
+  if (a.light_shape != "sphere") {
+    if (!(a.light_radius_deg < 90))
+      throw UsageError(
+          fmt::format("--light-radius-deg of a {} must be < 90, got {}", a.light_shape, a.light_radius_deg));
+    if (!(std::abs(a.light_tilt_deg) < 90))
+      throw UsageError(fmt::format("--light-tilt-deg must be in (-90, 90), got {}", a.light_tilt_deg));
+    require_range(a.light_roll_deg, -360, 360, "--light-roll-deg");
+    if (a.hh_opt->count() && !(a.light_half_height_deg >= 0 && a.light_half_height_deg < 90))
+      throw UsageError(
+          fmt::format("--light-half-height-deg must be in [0, 90), got {}", a.light_half_height_deg));
+  }
+  return true;
+}
 
 G2Form parse_g2(const std::string& s) {
   if (s == "height-correlated") return G2Form::HeightCorrelated;
@@ -69,10 +125,38 @@ void run_eval(const EvalArgs& a) {
     throw UsageError(fmt::format("--samples must be in [1, 2^30], got {}", a.samples));
   const G2Form form = parse_g2(a.g2);
   const occlusion::MicroShadowingEvaluator method(a.method, {a.samples, a.seed, form, a.lut});
+  const bool area_mode = check_area_args(a);
   occlusion::MicroShadowingQuery q{a.visibility, a.ndotl, a.ndotv, a.roughness, std::nullopt, std::nullopt};
-  if (has_phi) q.phi = a.phi;
+  // With a light, --phi is the light's azimuth for every method (a GGX receiver depends on it); the term
+  // itself reads it only if it accepts it.
+  if (has_phi && (!area_mode || method.info().accepts_phi)) q.phi = a.phi;
   if (has_ry) q.roughness_y = a.roughness_y;
-  const double value = method.eval(q);  // validates every input first
+  if (area_mode && has_phi) require_range(a.phi, 0, kPi<double>, "--phi (relative azimuth, radians)");
+  double value = method.eval(q);  // validates every input first
+  nlohmann::json light;
+  if (area_mode) {
+    const area::Shape shape = area_light_shape(a, has_phi ? a.phi : 0.0);
+    const bool ggx = a.receiver == "ggx";
+    const double axr = roughness_to_alpha(a.roughness),
+                 ayr = roughness_to_alpha(has_ry ? a.roughness_y : a.roughness);
+    const area::Receiver rec =
+        ggx ? area::Receiver::ggx(axr, ayr, lut::study_view_dir(a.ndotv)) : area::Receiver::lambert();
+    light = {{"shape", a.light_shape},
+             {"radius_deg", a.light_radius_deg},
+             {"azimuth", has_phi ? a.phi : 0.0},
+             {"receiver", a.receiver},
+             {"point_value", value}};
+    if (a.light_shape != "sphere") light["tilt_deg"] = a.light_tilt_deg, light["roll_deg"] = a.light_roll_deg;
+    if (a.light_shape == "rect")
+      light["half_height_deg"] = a.hh_opt->count() ? a.light_half_height_deg : a.light_radius_deg;
+    // A zero-size light is the point value itself (bit-identical to the command without a light).
+    if (!area::shape_is_point(shape)) value = occlusion::area_micro_shadowing(method, q, shape, rec);
+    light["estimator"] = area::shape_is_point(shape)
+                             ? "point value (zero-size light)"
+                             : (q.phi || !method.info().accepts_phi
+                                    ? "exact quadrature over the light"
+                                    : "exact quadrature over the light of the term's azimuth mean");
+  }
 
   const double ax = roughness_to_alpha(a.roughness),
                ay = roughness_to_alpha(has_ry ? a.roughness_y : a.roughness);
@@ -105,6 +189,7 @@ void run_eval(const EvalArgs& a) {
       out["estimator"] = "exact quadrature (|error| < 1e-6)";
     }
   }
+  if (area_mode) out["light"] = light;
   out["value"] = value;
   if (a.json)
     print_json(out);
@@ -241,6 +326,30 @@ void add_micro_shadowing(Groups& g) {
       "--lut", ea->lut,
       "LUT file for lut3d / lut2d (from `bake micro-shadowing`; default: the default table, baked on "
       "first use; with --phi an azimuth-aware one)");
+  ea->radius_opt = e->add_option("--light-radius-deg", ea->light_radius_deg,
+                                 "Area light (docs/area-lights.md): angular radius in degrees [0, 90] of a "
+                                 "sphere light centred on the N.L direction (at azimuth --phi, default 0); "
+                                 "value = the term averaged over the light, 0 = the point value. disk: the "
+                                 "edge's angular radius when facing; rect: the half-width's angle")
+                       ->check(Finite);
+  ea->shape_opt =
+      e->add_option("--light-shape", ea->light_shape, "sphere | disk | rect")->capture_default_str();
+  ea->tilt_opt = e->add_option("--light-tilt-deg", ea->light_tilt_deg,
+                               "disk/rect: tilt of the light's plane from facing the point, degrees in "
+                               "(-90, 90) (about its w axis; > 0 turns the normal toward N)")
+                     ->check(Finite);
+  ea->roll_opt = e->add_option("--light-roll-deg", ea->light_roll_deg,
+                               "disk/rect: rotation of the light's u axis about the centre direction, "
+                               "degrees (0: u in the plane of N and the centre)")
+                     ->check(Finite);
+  ea->hh_opt = e->add_option("--light-half-height-deg", ea->light_half_height_deg,
+                             "rect: angle of the half-height (along w), degrees in [0, 90); default: "
+                             "--light-radius-deg (a square)")
+                   ->check(Finite);
+  ea->receiver_opt = e->add_option("--receiver", ea->receiver,
+                                   "Weight over the light: lambert ((n.l)) or ggx (the GGX specular BRDF "
+                                   "at --roughness and --ndotv, F = 1, times (n.l))")
+                         ->capture_default_str();
   e->add_flag("--json", ea->json, "Print one JSON object");
   e->callback([ea] { run_eval(*ea); });
 

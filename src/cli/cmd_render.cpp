@@ -23,7 +23,7 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
 }
 
 struct RenderArgs {
-  std::string scene, out, method, bump, lut, assets, ms_normal, component, gt_intersector;
+  std::string scene, out, method, bump, lut, assets, ms_normal, component, gt_intersector, area_ms;
   int width = 0, height = 0, spp = 0, threads = 0, vndf_samples = 0, area_samples = 0;
   double elevation = -1000, azimuth = -1000, exposure = -1000;
   bool hanika = false, no_hanika = false, area = false, quiet = false, std_error = false;
@@ -49,6 +49,7 @@ void run_render(const RenderArgs& a) {
   if (a.hanika) s.hanika_offset = true;
   if (a.no_hanika) s.hanika_offset = false;
   if (a.area) s.area_lights = true;
+  if (!a.area_ms.empty()) s.area_ms = area_ms_from_string(a.area_ms);
   if (!a.lut.empty()) s.lut_path = a.lut;
   if (a.exposure > -1000) s.exposure = float(a.exposure);
   if (a.elevation > -1000 || a.azimuth > -1000) {
@@ -172,7 +173,12 @@ void add_render(Groups& g) {
   r->add_flag("--no-hanika", a->no_hanika, "Disable the Hanika offset");
   r->add_flag("--area-lights", a->area,
               "Sphere lights by area sampling (reference) instead of a representative point");
-  r->add_option("--area-samples", a->area_samples, "Samples per sphere light")->check(CLI::Range(1, 1 << 16));
+  r->add_option("--area-samples", a->area_samples, "Samples per area-sampled sphere, disk or rect light")
+      ->check(CLI::Range(1, 1 << 16));
+  r->add_option("--area-ms", a->area_ms,
+                "Micro-shadowing under area-sampled lights: sampled (per light sample), representative "
+                "(once at Karis's representative point), integrated (averaged over the light)")
+      ->check(CLI::IsMember({"sampled", "representative", "integrated"}));
   r->add_option("--lut", a->lut, "Micro-shadowing LUT file for lut3d/lut2d");
   r->add_option("--assets", a->assets,
                 "Resolve relative texture/OBJ paths against DIR (default: the scene's directory)");

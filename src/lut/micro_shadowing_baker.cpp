@@ -182,20 +182,15 @@ struct NodePoints {
 
 void draw_samples(const NodePoints& pts, std::size_t n, double alpha, double zv, double cos_phi,
                   double sin_phi, NodeSamples& out) {
-  // GGX::Sample_wm (Dupuy & Benyoub 2023) for v = (sv, 0, zv), with cos 2πu1 and sin 2πu1 precomputed once
-  // per φ node instead of per (roughness, N·V) task. Calling GGX::Sample_wm here gives a bit-identical bake
-  // (checked with cmp on the default cone and seed bakes) but costs 0.70 → 1.08 s user CPU for the default
-  // bake (--threads 1), above the 1 s budget (docs/lut.md), so this loop stays until the sampler takes
-  // precomputed (cos, sin).
+  // GGX::Sample_wm (Dupuy & Benyoub 2023) for v = (sv, 0, zv), through its hoisted form: the stretched v
+  // once per task and cos 2πu1, sin 2πu1 once per φ node (pts.c, pts.s).
+  const GGX<double> ggx(alpha);
   const double sv = safe_sqrt(1.0 - zv * zv);
   const Vec3d wi = normalize(Vec3d(alpha * sv, 0.0, zv));
   out.mz.resize(n);
   out.p.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
-    const double z = (1.0 - pts.u2[j]) * (1.0 + wi.z) - wi.z;
-    const double s = safe_sqrt(1.0 - z * z);
-    const double hx = s * pts.c[j] + wi.x, hy = s * pts.s[j], hz = std::max(0.0, z + wi.z);
-    const Vec3d m = normalize(Vec3d(alpha * hx, alpha * hy, hz));
+    const Vec3d m = ggx.sample_vndf_spherical_caps_stretched(wi, pts.u2[j], pts.c[j], pts.s[j]);
     out.mz[j] = float(m.z);
     out.p[j] = float(m.x * cos_phi + m.y * sin_phi);
   }
@@ -449,7 +444,8 @@ double monte_carlo_texel(double alpha, double visibility, double n_dot_l, double
     for (int j = 0; j < per; ++j) {
       const Vec3f m = ggx.Sample_wm(v, {rng.next_float(), rng.next_float()});
       const float ml = dot(m, l);
-      // Zurita 2026b, MicroShadowingTermPZGenericVNDFBased: the Smith weight G2/G1 is constant here and cancels.
+      // Zurita 2026b, MicroShadowingTermPZGenericVNDFBased: the Smith weight G2/G1 is constant here and
+      // cancels.
       hemi += (m.z > 0.0f && ml > 0.0f) ? 1.0 : 0.0;
       cone += (m.z > c && ml > c) ? 1.0 : 0.0;
     }

@@ -1,6 +1,7 @@
-// Direct lighting at a hit: directional, point and sphere lights (representative point or area sampling),
-// shadow rays with the offset policy of docs/renderer.md, the per-light terms, and the BRDF through the
-// library's BRDF code.
+// Direct lighting at a hit: directional, point, sphere (representative point or area sampling), disk and rect
+// lights (area sampling), shadow rays with the offset policy of docs/renderer.md, the per-light terms (per
+// light sample, at the representative point or integrated over the light: Settings::area_ms), and the BRDF
+// through the library's BRDF code.
 #include <microshadow/bsdf/diffuse.h>
 #include <microshadow/bsdf/fresnel.h>
 #include <microshadow/bsdf/specular.h>
@@ -15,6 +16,67 @@
 namespace msh::render {
 
 using detail::kInf;
+
+RepresentativeDirs representative_dirs(const Light& l, const Vec3f& p, const Vec3f& r) {
+  const Vec3f dl = l.position - p;
+  const float dist = length(dl);
+  const Vec3f wc = dl / dist;
+  if (l.type == LightType::Sphere) {
+    const Vec3f to_ray = r * dot(dl, r) - dl;
+    const Vec3f cp = dl + to_ray * saturate(l.radius / std::max(length(to_ray), 1e-12f));
+    return {wc, normalize(cp)};
+  }
+  // Disk / rect: the reflection ray's hit on the light's plane or, when the ray runs parallel to or away
+  // from it, the point of the plane nearest to the ray's point at the centre's distance; then clamped to
+  // the shape (Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", §4.7.2).
+  const float rn = dot(r, l.normal), h = -dot(dl, l.normal);   // h > 0: p in front of the emitter
+  Vec3f q = rn < -1e-6f ? r * (h / -rn) - dl : r * dist - dl;  // offset from the centre
+  q = q - l.normal * dot(q, l.normal);
+  if (l.type == LightType::Disk) {
+    const float lq = length(q);
+    if (lq > l.radius) q = q * (l.radius / lq);
+  } else {
+    const Vec3f b = cross(l.normal, l.tangent);
+    q = l.tangent * clamp(dot(q, l.tangent), -l.half_size.x, l.half_size.x) +
+        b * clamp(dot(q, b), -l.half_size.y, l.half_size.y);
+  }
+  return {wc, normalize(dl + q)};
+}
+
+AreaSample sample_area_light(const Light& l, const Vec3f& p, const Vec2f& u) {
+  AreaSample s;
+  const Vec3f dl = l.position - p;
+  if (l.type == LightType::Sphere) {
+    const float dist = length(dl);
+    const float sin2 = sqr(l.radius / dist), cos_max = safe_sqrt(1 - sin2);
+    const Framef fr = Framef::from_z(dl / dist);
+    s.wi = fr.to_world(sample_uniform_cone(u, cos_max));
+    s.inv_pdf = 2 * kPi<float> * (1 - cos_max);
+    // Distance to the sphere's near surface along wi.
+    const float b = dot(dl, s.wi), c = dot(dl, dl) - sqr(l.radius);
+    s.dist = b - safe_sqrt(b * b - c);
+    s.valid = true;
+    return s;
+  }
+  // Uniform in area: pdf_ω = d² / (A cos θ_light).
+  Vec3f q;
+  const Vec3f b = cross(l.normal, l.tangent);
+  if (l.type == LightType::Disk) {
+    const Vec2f d = sample_uniform_disk_concentric(u);
+    q = dl + l.tangent * (l.radius * d.x) + b * (l.radius * d.y);
+  } else {
+    q = dl + l.tangent * ((2 * u.x - 1) * l.half_size.x) + b * ((2 * u.y - 1) * l.half_size.y);
+  }
+  const float d2 = dot(q, q), d = std::sqrt(d2);
+  if (!(d > 0)) return s;
+  s.wi = q / d;
+  const float cos_l = -dot(s.wi, l.normal);
+  if (!(cos_l > 0)) return s;  // one-sided emitter seen from behind
+  s.dist = d;
+  s.inv_pdf = light_area(l) * cos_l / d2;
+  s.valid = true;
+  return s;
+}
 
 Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec_scale, bool diffuse,
               bool specular) {
@@ -108,48 +170,71 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
       if (!(k > 0)) continue;
       if (shadow(wi, dist * (1 - 1e-4f))) continue;
       L += brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * E * k;
-    } else if (!set.area_lights) {
+    } else if (light.type == LightType::Sphere && !set.area_lights) {
       // Representative point (Karis 2013): diffuse toward the centre, specular toward the point of the
       // sphere closest to the reflection ray, with the (α / α')² energy normalization.
       const Vec3f dl = light.position - h.p;
       const float dist = length(dl);
       if (!(dist > light.radius)) continue;
-      const Vec3f wc = dl / dist;
+      const RepresentativeDirs rd = representative_dirs(light, h.p, reflect(wo, sp.n_shading));
+      const Vec3f wc = rd.wc, ws = rd.ws;
       const Rgbf E = light.color / (dist * dist);
       if (shadow(wc, dist - light.radius)) continue;
       if (want_d && above(wc) && dot(sp.n_shading, wc) > 0)
         L += brdf_cos(sp, wo, wc, 1.0f, true, false) * E * term(wc, ls);
-      const Vec3f r = reflect(wo, sp.n_shading);
-      const Vec3f to_ray = r * dot(dl, r) - dl;
-      const Vec3f cp = dl + to_ray * saturate(light.radius / std::max(length(to_ray), 1e-12f));
-      const Vec3f ws = normalize(cp);
       if (want_s && above(ws) && dot(sp.n_shading, ws) > 0) {
         const float a = roughness_to_alpha(std::max(sp.roughness, 0.02f));
         const float a2 = saturate(a + light.radius / (2 * dist));
         L += brdf_cos(sp, wo, ws, sqr(a / a2), false, true) * E * term(ws, ls);
       }
     } else {
-      // Reference: uniform sampling of the cone subtended by the sphere; radiance Le = I / (π r²).
+      // Area sampling (the reference): a sphere uniformly in its subtended cone (radiance I / (π r²)), a disk
+      // or rect uniformly in area (radiance I / area, one-sided), one shadow ray per sample.
       const Vec3f dl = light.position - h.p;
       const float dist = length(dl);
-      if (!(dist > light.radius)) continue;
-      const float sin2 = sqr(light.radius / dist), cos_max = safe_sqrt(1 - sin2);
-      const Framef fr = Framef::from_z(dl / dist);
-      const Rgbf Le = light.color / (kPi<float> * sqr(light.radius));
-      const float inv_pdf = 2 * kPi<float> * (1 - cos_max);
-      Rgbf acc(0.0f);
+      if (light.type == LightType::Sphere ? !(dist > light.radius) : !(dot(dl, light.normal) < 0)) continue;
+      const Rgbf Le = light.type == LightType::Sphere ? light.color / (kPi<float> * sqr(light.radius))
+                                                      : light.color / light_area(light);
+      // AreaMs::Sampled: the term per sample; otherwise one term per lobe after the loop (docs/renderer.md).
+      const bool per_sample = set.area_ms == AreaMs::Sampled;
+      Rgbf acc(0.0f), acc_d(0.0f), acc_s(0.0f);
       for (int k = 0; k < set.area_samples; ++k) {
-        const Vec3f wi = fr.to_world(sample_uniform_cone(sobol_2d<float>(uint32_t(k), ls + 1), cos_max));
+        const AreaSample smp = sample_area_light(light, h.p, sobol_2d<float>(uint32_t(k), ls + 1));
+        if (!smp.valid) continue;
+        const Vec3f wi = smp.wi;
         if (!above(wi) || !(dot(sp.n_shading, wi) > 0)) continue;
-        const float t = term(wi, hash_combine(ls, uint32_t(k)));
-        if (!(t > 0)) continue;
-        // Distance to the sphere's near surface along wi.
-        const float b = dot(dl, wi), c = dot(dl, dl) - sqr(light.radius);
-        const float tl = b - safe_sqrt(b * b - c);
-        if (shadow(wi, tl * (1 - 1e-4f))) continue;
-        acc += brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * Le * (t * inv_pdf);
+        if (per_sample) {
+          const float t = term(wi, hash_combine(ls, uint32_t(k)));
+          if (!(t > 0)) continue;
+          if (shadow(wi, smp.dist * (1 - 1e-4f))) continue;
+          acc += brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * Le * (t * smp.inv_pdf);
+        } else {
+          if (shadow(wi, smp.dist * (1 - 1e-4f))) continue;
+          if (want_d) acc_d += brdf_cos(sp, wo, wi, 1.0f, true, false) * Le * smp.inv_pdf;
+          if (want_s) acc_s += brdf_cos(sp, wo, wi, 1.0f, false, true) * Le * smp.inv_pdf;
+        }
       }
-      L += acc / float(set.area_samples);
+      if (per_sample) {
+        L += acc / float(set.area_samples);
+        continue;
+      }
+      const uint32_t ts = hash_combine(ls, 0x52455052u);  // the one term's random stream (generic-vndf)
+      float m_d = 0.0f, m_s = 0.0f;
+      if (set.area_ms == AreaMs::Representative) {
+        const RepresentativeDirs rd = representative_dirs(light, h.p, reflect(wo, sp.n_shading));
+        if (want_d) m_d = term(rd.wc, ts);
+        if (want_s) m_s = term(rd.ws, ts);
+      } else {
+        const std::function<float(const Vec3f&)> bump = [&](const Vec3f& wi) {
+          return bt.eval(sp.n_smooth, sp.n_shading, wi);
+        };
+        const bool no_bump = set.bump_terminator == BumpTerminator::Off;
+        if (want_d && acc_d.r + acc_d.g + acc_d.b > 0)
+          m_d = ms.eval_area(sp, wo, h.tangent, light, h.p, false, bump, no_bump, ts);
+        if (want_s && acc_s.r + acc_s.g + acc_s.b > 0)
+          m_s = ms.eval_area(sp, wo, h.tangent, light, h.p, true, bump, no_bump, ts);
+      }
+      L += (acc_d * m_d + acc_s * m_s) / float(set.area_samples);
     }
   }
   return L;

@@ -47,6 +47,25 @@ struct PlaneHF {
 
 }  // namespace detail
 
+// Representative directions of an area light seen from p (Karis 2013, "Real Shading in Unreal Engine 4"):
+// wc toward the centre (the diffuse lobe's), ws toward the point of the light closest to the reflection ray r
+// (the specular lobe's). Sphere: Karis's closest point; disk / rect: Lagarde & de Rousiers 2014.
+struct RepresentativeDirs {
+  Vec3f wc, ws;
+};
+RepresentativeDirs representative_dirs(const Light& l, const Vec3f& p, const Vec3f& r);
+
+// One sample of a sphere, disk or rect light from p for the uniform variate u: the direction wi, the distance
+// to the emitting surface along it, and 1 / pdf in solid angle. A sphere is sampled uniformly in the cone it
+// subtends (pdf 1 / (2π (1 − cos θmax))), a disk or rect uniformly in area (pdf d² / (A cos θ_light)).
+// valid = false when the sample sees the back of a one-sided disk or rect.
+struct AreaSample {
+  Vec3f wi{0, 0, 1};
+  float dist = 0, inv_pdf = 0;
+  bool valid = false;
+};
+AreaSample sample_area_light(const Light& l, const Vec3f& p, const Vec2f& u);
+
 struct Renderer::Impl {
   using Hit = detail::Hit;
   using PlaneHF = detail::PlaneHF;

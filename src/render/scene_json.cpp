@@ -32,6 +32,10 @@ const std::vector<std::pair<BumpTerminator, const char*>> kBtNames = {
     {BumpTerminator::Conty2019, "conty-2019"},
     {BumpTerminator::Chiang2019, "chiang-2019"}};
 
+const std::vector<std::pair<AreaMs, const char*>> kAreaMsNames = {{AreaMs::Sampled, "sampled"},
+                                                                  {AreaMs::Representative, "representative"},
+                                                                  {AreaMs::Integrated, "integrated"}};
+
 struct Ctx {
   std::string file;
   std::filesystem::path assets;
@@ -242,12 +246,16 @@ Object parse_object(const Ctx& c, const json& j, const std::string& w,
 
 Light parse_light(const Ctx& c, const json& j, const std::string& w) {
   c.keys(j, w,
-         {"type", "direction", "elevation_deg", "azimuth_deg", "position", "radius", "color", "intensity"});
-  if (!j.contains("type")) c.fail(w, "missing 'type' (directional, point, sphere)");
+         {"type", "direction", "elevation_deg", "azimuth_deg", "position", "radius", "color", "intensity",
+          "normal", "tangent", "size"});
+  if (!j.contains("type")) c.fail(w, "missing 'type' (directional, point, sphere, disk, rect)");
   const std::string type = c.str(j["type"], w + ".type");
   Light l;
   const float scale = j.contains("intensity") ? c.num(j["intensity"], w + ".intensity", 0, 1e9) : 1.0f;
   l.color = (j.contains("color") ? c.rgb(j["color"], w + ".color", 1e9) : Rgbf(1.0f)) * scale;
+  const bool planar = type == "disk" || type == "rect";
+  if (!planar && (j.contains("normal") || j.contains("tangent") || j.contains("size")))
+    c.fail(w, "'normal', 'tangent' and 'size' apply to disk and rect lights only");
   if (type == "directional") {
     l.type = LightType::Directional;
     if (j.contains("position") || j.contains("radius"))
@@ -262,20 +270,41 @@ Light parse_light(const Ctx& c, const json& j, const std::string& w) {
       const float az = j.contains("azimuth_deg") ? c.num(j["azimuth_deg"], w + ".azimuth_deg", -360, 360) : 0;
       l.direction = direction_from_angles(el, az);
     }
-  } else if (type == "point" || type == "sphere") {
+  } else if (type == "point" || type == "sphere" || planar) {
     if (j.contains("direction") || j.contains("elevation_deg") || j.contains("azimuth_deg"))
-      c.fail(w, "a point or sphere light has a 'position', not a direction");
+      c.fail(w, fmt::format("a {} light has a 'position', not a direction", type));
     if (!j.contains("position")) c.fail(w, "missing 'position'");
     l.position = c.vec3(j["position"], w + ".position");
-    l.type = type == "point" ? LightType::Point : LightType::Sphere;
-    if (type == "sphere") {
+    if (type == "point") {
+      l.type = LightType::Point;
+      if (j.contains("radius")) c.fail(w, "a point light has no radius (use type 'sphere')");
+    } else if (type == "sphere" || type == "disk") {
+      l.type = type == "sphere" ? LightType::Sphere : LightType::Disk;
       if (!j.contains("radius")) c.fail(w, "missing 'radius'");
       l.radius = c.num(j["radius"], w + ".radius", 1e-6, 1e6);
-    } else if (j.contains("radius")) {
-      c.fail(w, "a point light has no radius (use type 'sphere')");
+      if (j.contains("size")) c.fail(w, "a disk light has a 'radius', not a size");
+    } else {
+      l.type = LightType::Rect;
+      if (j.contains("radius")) c.fail(w, "a rect light has a 'size', not a radius");
+      if (!j.contains("size")) c.fail(w, "missing 'size' ([width, height])");
+      const json& s = j["size"];
+      if (!s.is_array() || s.size() != 2) c.fail(w + ".size", "expected [width, height]");
+      l.half_size = {0.5f * c.num(s[0], w + ".size", 1e-6, 1e6), 0.5f * c.num(s[1], w + ".size", 1e-6, 1e6)};
+    }
+    if (planar) {
+      // Default: facing down (a ceiling light).
+      if (j.contains("normal")) l.normal = c.unit(j["normal"], w + ".normal");
+      if (j.contains("tangent")) l.tangent = c.unit(j["tangent"], w + ".tangent");
+      Vec3f t = l.tangent - l.normal * dot(l.tangent, l.normal);
+      if (!(length(t) > 1e-3f)) {
+        if (j.contains("tangent")) c.fail(w + ".tangent", "must not be parallel to the normal");
+        t = Framef::from_z(l.normal).s;  // the default tangent is parallel to the given normal
+      }
+      l.tangent = normalize(t);
     }
   } else {
-    c.fail(w + ".type", fmt::format("unknown light type '{}' (directional, point, sphere)", type));
+    c.fail(w + ".type",
+           fmt::format("unknown light type '{}' (directional, point, sphere, disk, rect)", type));
   }
   return l;
 }
@@ -285,7 +314,7 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   c.keys(j, w,
          {"width", "height", "spp", "micro_shadowing", "vndf_samples", "bump_terminator", "hanika_offset",
           "area_lights", "area_samples", "exposure", "background", "ambient", "lut", "seed",
-          "micro_shadowing_normal", "component", "error_batches", "ground_truth_intersector"});
+          "micro_shadowing_normal", "component", "error_batches", "ground_truth_intersector", "area_ms"});
   if (j.contains("width")) s.width = c.integer(j["width"], w + ".width", 1, 16384);
   if (j.contains("height")) s.height = c.integer(j["height"], w + ".height", 1, 16384);
   if (j.contains("spp")) s.spp = c.integer(j["spp"], w + ".spp", 1, 65536);
@@ -328,6 +357,13 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   }
   if (j.contains("hanika_offset")) s.hanika_offset = c.boolean(j["hanika_offset"], w + ".hanika_offset");
   if (j.contains("area_lights")) s.area_lights = c.boolean(j["area_lights"], w + ".area_lights");
+  if (j.contains("area_ms")) {
+    try {
+      s.area_ms = area_ms_from_string(c.str(j["area_ms"], w + ".area_ms"));
+    } catch (const InputError& e) {
+      c.fail(w + ".area_ms", e.what());
+    }
+  }
   if (j.contains("area_samples"))
     s.area_samples = c.integer(j["area_samples"], w + ".area_samples", 1, 1 << 16);
   if (j.contains("exposure")) s.exposure = c.num(j["exposure"], w + ".exposure", -30, 30);
@@ -365,6 +401,22 @@ Component component_from_string(const std::string& s) {
   for (const auto& [k, n] : kComponentNames)
     if (s == n) return k;
   throw InputError(fmt::format("unknown component '{}' (known: total, diffuse, specular)", s));
+}
+const char* to_string(AreaMs a) {
+  for (const auto& [k, n] : kAreaMsNames)
+    if (k == a) return n;
+  return "?";
+}
+AreaMs area_ms_from_string(const std::string& s) {
+  for (const auto& [k, n] : kAreaMsNames)
+    if (s == n) return k;
+  throw InputError(fmt::format(
+      "unknown area-light micro-shadowing mode '{}' (known: sampled, representative, integrated)", s));
+}
+float light_area(const Light& l) {
+  if (l.type == LightType::Disk) return kPi<float> * l.radius * l.radius;
+  if (l.type == LightType::Rect) return 4 * l.half_size.x * l.half_size.y;
+  return 0.0f;
 }
 const char* to_string(BumpTerminator b) {
   for (const auto& [k, n] : kBtNames)

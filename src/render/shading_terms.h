@@ -8,6 +8,7 @@
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/render/renderer.h>
 
+#include <functional>
 #include <memory>
 
 namespace msh::render {
@@ -29,6 +30,15 @@ class MicroShadowingTerm {
       lut_ = load_lut_sampler(s.lut_path, mode_ == MicroShadowing::Lut2d);
     }
   }
+  // Settings::area_ms == Integrated: the term averaged over the solid angle of light l (sphere, disk or
+  // rect) seen from p, weighted by the receiver — Lambert (specular = false) or the GGX lobe for wo
+  // (specular = true): M_area = ∫ M(l) f(v, l) (n·l)⁺ dl / ∫ f(v, l) (n·l)⁺ dl, by the exact deterministic
+  // quadrature of reference/micro_shadowing_area_exact.h (n: the term's normal). extra(wi) multiplies the
+  // term inside the integral (the bump-terminator term; extra_is_one skips it); seed: the stream of a Monte
+  // Carlo term (unused: generic-vndf takes the exact term). In terms_glue.cpp.
+  float eval_area(const ShadePoint& sp, const Vec3f& wo, const Vec3f& tangent, const Light& l, const Vec3f& p,
+                  bool specular, const std::function<float(const Vec3f&)>& extra, bool extra_is_one,
+                  uint32_t seed) const;
   float eval(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, const Vec3f& tangent,
              uint32_t seed) const {
     const Vec3f& n = smooth_ ? sp.n_smooth : sp.n_shading;

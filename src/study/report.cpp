@@ -64,6 +64,8 @@ json summarize(const json& rows, const StudyConfig& cfg) {
   std::map<std::string, json> abl_info;
   for (const auto& r : rows) {
     if (!usable(r)) continue;
+    // The area-light section's representative / integrated rows are compared in area_summary only.
+    if (r.contains("area_ms") && r["area_ms"] != "sampled") continue;
     const double b = r["bias"]["whole"].get<double>(), gm = r["gt_mean"]["whole"].get<double>();
     const double dev = std::abs(b - 1);
     const double fp =

@@ -9,6 +9,7 @@
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -35,6 +36,25 @@ StudyConfig quick_config() {
   c.gt_spp = 32;
   c.gt_max_spp = 256;
   c.featured_lights = {"dir-el10-az0"};
+  return c;
+}
+
+StudyConfig area_config(bool quick) {
+  StudyConfig c;
+  c.name = quick ? "area-quick" : "area";
+  c.materials = {"plaster"};
+  c.shapes = {"plane"};
+  c.fine_size = quick ? 1024 : 2048;
+  c.scales = quick ? std::vector<int>{4} : std::vector<int>{4, 16};
+  c.elevations = {};
+  c.point_light = c.sphere_light = false;
+  c.area_radii_deg = {1, 5, 10, 20, 40};
+  c.area_elevations = {25, 50};
+  c.area_planar_radii_deg = {10, 20};
+  c.widened = c.normal_ablation = false;
+  c.featured_lights = {};
+  c.image_size = quick ? 32 : 64;
+  if (quick) c.gt_spp = 32, c.gt_max_spp = 256;
   return c;
 }
 
@@ -111,7 +131,14 @@ struct LightSpec {
   std::string name, type;
   Light light;
   double elevation = 0, azimuth = 0;  // of the direction to the light at the view's centre
+  double radius_deg = 0;              // area-light section: angular radius seen from the view's centre
 };
+bool area_sampled(const Light& l) {
+  return l.type == LightType::Sphere || l.type == LightType::Disk || l.type == LightType::Rect;
+}
+bool area_section(const StudyConfig& c) {
+  return !c.area_radii_deg.empty() || !c.area_planar_radii_deg.empty();
+}
 
 std::string num(double x) { return fmt::format("{:g}", x); }
 
@@ -161,6 +188,44 @@ std::vector<LightSpec> make_lights(const StudyConfig& c, const Frame& fr) {
   };
   if (c.point_light) positional("point", LightType::Point, {-2.0f, -1.0f, 1.5f}, 0.0f);
   if (c.sphere_light) positional("sphere", LightType::Sphere, {1.5f, 1.0f, 2.0f}, 0.5f);
+  // Area-light section: at the sphere light's distance from the view's centre, intensity 3 d² (irradiance
+  // about 3 at normal incidence, as the directional lights). A sphere's cone must stay 5° above the tangent
+  // plane (the height field's slab is open below it).
+  const float dist = std::sqrt(1.5f * 1.5f + 1.0f * 1.0f + 2.0f * 2.0f);
+  auto area = [&](const std::string& type, double rho, double el) {
+    LightSpec s;
+    s.name = fmt::format("{}-r{}-el{}", type, num(rho), num(el));
+    s.type = type;
+    s.elevation = el, s.azimuth = c.area_azimuth, s.radius_deg = rho;
+    const Vec3f w = local_dir(fr, el, c.area_azimuth);
+    const float r = float(rho * kPi<double> / 180);
+    s.light.position = fr.P0 + w * dist;
+    s.light.color = Rgbf(3.0f * dist * dist);
+    if (type == "sphere") {
+      s.light.type = LightType::Sphere;
+      s.light.radius = dist * std::sin(r);
+    } else {
+      // Facing the view's centre; a disk of angular radius ρ, a 2:1 rect of angular half-widths ρ and
+      // atan(tan ρ / 2), its long side along the view's u.
+      s.light.normal = -w;
+      s.light.tangent = normalize(fr.T - w * dot(fr.T, w));
+      if (type == "disk") {
+        s.light.type = LightType::Disk;
+        s.light.radius = dist * std::tan(r);
+      } else {
+        s.light.type = LightType::Rect;
+        s.light.half_size = {dist * std::tan(r), 0.5f * dist * std::tan(r)};
+      }
+    }
+    out.push_back(s);
+  };
+  for (double el : c.area_elevations)
+    for (double rho : c.area_radii_deg)
+      if (el - rho >= 5) area("sphere", rho, el);
+  for (double rho : c.area_planar_radii_deg) {
+    area("disk", rho, c.area_planar_elevation);
+    area("rect", rho, c.area_planar_elevation);
+  }
   return out;
 }
 
@@ -168,6 +233,7 @@ struct Variant {
   MicroShadowing term;
   bool smooth = false;
   CoarseRoughness rough = CoarseRoughness::Base;
+  AreaMs area_ms = AreaMs::Sampled;
 };
 const MicroShadowing kTerms[] = {
     MicroShadowing::None,          MicroShadowing::AO,    MicroShadowing::Reference,
@@ -177,6 +243,20 @@ bool uses_nl(MicroShadowing m) { return m != MicroShadowing::None && m != MicroS
 
 std::vector<Variant> make_variants(const StudyConfig& c, int k) {
   std::vector<Variant> v;
+  if (area_section(c)) {
+    for (const std::string& name : c.area_terms) {
+      const MicroShadowing t = micro_shadowing_from_string(name);
+      for (const std::string& mode : c.area_ms_modes) {
+        const AreaMs a = area_ms_from_string(mode);
+        if (!uses_nl(t) && a != AreaMs::Sampled) continue;  // a constant term: every mode is the same
+        // The exact generic term inside the area quadrature costs 40–190 ms per shading point: not rendered
+        // (lut3d, its tabulation, stands for it).
+        if (t == MicroShadowing::GenericVndf && a == AreaMs::Integrated) continue;
+        v.push_back({t, false, CoarseRoughness::Base, a});
+      }
+    }
+    return v;
+  }
   for (auto t : kTerms) v.push_back({t, false, CoarseRoughness::Base});
   if (c.normal_ablation)
     for (auto t : kTerms)
@@ -437,6 +517,18 @@ json config_json(const StudyConfig& c) {
           {"normal_ablation", c.normal_ablation},
           {"seed", c.seed}};
 }
+json config_json_area(const StudyConfig& c) {
+  json j = config_json(c);
+  if (area_section(c))
+    j["area"] = {{"radii_deg", c.area_radii_deg},
+                 {"elevations", c.area_elevations},
+                 {"planar_radii_deg", c.area_planar_radii_deg},
+                 {"planar_elevation", c.area_planar_elevation},
+                 {"azimuth", c.area_azimuth},
+                 {"terms", c.area_terms},
+                 {"area_ms", c.area_ms_modes}};
+  return j;
+}
 
 void validate(const StudyConfig& c) {
   auto bad = [](const std::string& what) { throw InputError("study: " + what); };
@@ -447,7 +539,23 @@ void validate(const StudyConfig& c) {
       bad(fmt::format("scale {} does not divide the fine size {}", k, c.fine_size));
   for (const auto& s : c.shapes)
     if (s != "plane" && s != "cylinder") bad(fmt::format("unknown shape '{}' (plane, cylinder)", s));
-  if (c.elevations.empty() && !c.point_light && !c.sphere_light) bad("no lights");
+  if (c.elevations.empty() && !c.point_light && !c.sphere_light && !area_section(c)) bad("no lights");
+  for (double r : c.area_radii_deg)
+    if (!(r > 0 && r <= 60)) bad(fmt::format("area-light angular radius must be in (0, 60], got {}", r));
+  for (double r : c.area_planar_radii_deg)
+    if (!(r > 0 && r <= 60)) bad(fmt::format("area-light angular radius must be in (0, 60], got {}", r));
+  for (double e : c.area_elevations)
+    if (!(e > 5 && e < 90)) bad(fmt::format("area-light elevation must be in (5, 90), got {}", e));
+  if (area_section(c) && !(c.area_planar_elevation - 5 >= 0 && c.area_planar_elevation < 90))
+    bad("area_planar_elevation must be in [5, 90)");
+  try {
+    for (const auto& t : c.area_terms) micro_shadowing_from_string(t);
+    for (const auto& m : c.area_ms_modes) area_ms_from_string(m);
+  } catch (const InputError& e) {
+    bad(e.what());
+  }
+  if (area_section(c) && make_lights(c, frame_of("plane")).empty())
+    bad("no area light keeps its cone 5 degrees above the horizon");
   for (double e : c.elevations)
     if (!(e > 0 && e < 90)) bad(fmt::format("light elevation must be in (0, 90), got {}", e));
   if (c.image_size < 8 || c.image_size > 4096) bad("image size must be in [8, 4096]");
@@ -475,6 +583,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
   if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", out.string(), ec.message()));
 
   json gt_rows = json::array(), rows = json::array(), images = json::array();
+  json area_rep = json::array();  // area-light section: representative against integrated / sampled
   json timing = {{"materials", json::object()}};
   double t_gen = 0, t_gt = 0, t_methods = 0;
   std::map<std::string, double> variant_cpu;
@@ -585,14 +694,16 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
           }
           // Every term on the coarse set, same camera.
           const auto t_m = std::chrono::steady_clock::now();
+          std::map<std::string, std::array<Plane, 3>> area_lum;  // "method/area_ms" → luminance per component
           for (const Variant& v : variants) {
             Scene& sc = coarse[v.rough == CoarseRoughness::Widened ? 1 : 0];
             sc.lights[0] = ls.light;
             sc.settings.micro_shadowing = v.term;
             sc.settings.ms_smooth_normal = v.smooth;
+            sc.settings.area_ms = v.area_ms;
             sc.settings.spp = cfg.method_spp;
-            // generic-vndf: vndf_samples per light; a sphere light spreads them over its area samples.
-            sc.settings.vndf_samples = ls.light.type == LightType::Sphere
+            // generic-vndf: vndf_samples per light; evaluated per area sample, they are spread over them.
+            sc.settings.vndf_samples = area_sampled(ls.light) && v.area_ms != AreaMs::Representative
                                            ? std::max(1, cfg.vndf_samples / cfg.area_samples)
                                            : cfg.vndf_samples;
             sc.settings.seed = cfg.seed;
@@ -605,8 +716,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
             }
             add_total(M);
             const std::string label = variant_label(v);
-            variant_cpu[label + (ls.light.type == LightType::Sphere ? " (sphere)" : "")] +=
-                cpu_seconds() - cpu_v;
+            variant_cpu[label + (area_sampled(ls.light) ? " (area light)" : "")] += cpu_seconds() - cpu_v;
             for (int ci = 0; ci < 3; ++ci) {
               const Plane A = luminance(M.img[ci]);
               Measure b[3], f[3], e[3], gm[3];
@@ -636,6 +746,11 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
                    {"rmse", region_json(e, false)},
                    {"rmse_stderr", region_json(e, true)},
                    {"ssim", finite_or_null(ssim(M.img[ci], G.img[ci], display_exposure(GL[ci])))}});
+              if (area_section(cfg)) {
+                rows.back()["area_ms"] = to_string(v.area_ms);
+                rows.back()["light_radius_deg"] = ls.radius_deg;
+                area_lum[std::string(to_string(v.term)) + "/" + to_string(v.area_ms)][ci] = A;
+              }
             }
             if (featured && !v.smooth && v.rough == CoarseRoughness::Base) {
               const std::string m = to_string(v.term);
@@ -651,6 +766,33 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
                                 {"diff", "images/" + stem + "_" + m + "_diff.png"}});
             }
           }
+          // The representative point's own error: its image against the integrated (or, without one, the
+          // per-sample) image of the same term, same light samples.
+          for (const std::string& t : cfg.area_terms) {
+            if (!area_lum.count(t + "/representative")) continue;
+            const bool has_int = area_lum.count(t + "/integrated") > 0;
+            if (!has_int && !area_lum.count(t + "/sampled")) continue;
+            const auto& R = area_lum[t + "/representative"];
+            const auto& X = area_lum[t + (has_int ? "/integrated" : "/sampled")];
+            for (int ci = 0; ci < 3; ++ci) {
+              const Plane zero(R[ci].width, R[ci].height, 0.0);
+              const double gm = region_mean(GL[ci], GS[ci], reg.whole).value;
+              area_rep.push_back(
+                  {{"material", kind},
+                   {"scale", k},
+                   {"light", ls.name},
+                   {"light_type", ls.type},
+                   {"light_radius_deg", ls.radius_deg},
+                   {"elevation", ls.elevation},
+                   {"component", kComponentName[ci]},
+                   {"method", t},
+                   {"against", has_int ? "integrated" : "sampled"},
+                   {"ratio", finite_or_null(bias(R[ci], X[ci], zero, reg.whole).value)},
+                   {"rmse_footprint_rel",
+                    finite_or_null(rmse_footprint(R[ci], X[ci], zero, reg.whole, cfg.footprint).value / gm)},
+                   {"rmse_rel", finite_or_null(rmse(R[ci], X[ci], zero, reg.whole).value / gm)}});
+            }
+          }
           const double tm = secs_since(t_m);
           t_methods += tm;
           log(fmt::format(
@@ -663,14 +805,20 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
   }
 
   json results = {
-      {"config", config_json(cfg)}, {"ground_truth", gt_rows}, {"rows", rows}, {"images", images}};
+      {"config", config_json_area(cfg)}, {"ground_truth", gt_rows}, {"rows", rows}, {"images", images}};
   scrub(results);
   results["summary"] = summarize(results["rows"], cfg);
+  if (area_section(cfg)) {
+    results["area_summary"] = summarize_area(results["rows"]);
+    results["area_representative"] = area_rep;
+    scrub(results["area_representative"]);
+  }
   std::string csv = csv_header();
   for (const auto& r : results["rows"]) csv += csv_line(r);
   io::write_file_atomic(out / "results.json", results.dump(1) + "\n");
   io::write_file_atomic(out / "results.csv", csv);
   io::write_file_atomic(out / "summary.md", summary_markdown(results));
+  if (area_section(cfg)) io::write_file_atomic(out / "area_summary.md", area_summary_markdown(results));
   write_study_html(results, out);
   timing["generate_seconds"] = t_gen;
   timing["ground_truth_seconds"] = t_gt;

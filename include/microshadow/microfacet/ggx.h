@@ -73,13 +73,20 @@ class GGX : public SmithMicrofacet<GGX<T>, T>, public AnisotropicAlpha<T> {
     Vec3<T> wi = normalize(Vec3<T>(this->ax_ * w.x, this->ay_ * w.y, w.z));
     if (wi.z < T(0)) wi = -wi;
     const T phi = T(2) * kPi<T> * u.x;
+    return sample_vndf_spherical_caps_stretched(wi, u.y, std::cos(phi), std::sin(phi));
+  }
+
+  // The same sampler for a caller that hoists the per-direction and per-azimuth work out of a loop (the LUT
+  // baker): wi = the stretched, normalized w with wi.z ≥ 0; (cos_phi, sin_phi) = the cosine and sine of 2π
+  // u.x.
+  Vec3<T> sample_vndf_spherical_caps_stretched(const Vec3<T>& wi, T u_y, T cos_phi, T sin_phi) const {
     // z = (1 − u.y)(1 + wi.z) − wi.z. sin² = 1 − z² = (1 − z)(1 + z) with 1 − z = u.y(1 + wi.z) and
     // 1 + z = (1 − u.y)(1 + wi.z) + (1 − wi.z): no cancellation at either pole (1 − z² lost ~1e-4 in float).
-    const T one_minus_z = u.y * (T(1) + wi.z);
-    const T one_plus_z = (T(1) - u.y) * (T(1) + wi.z) + (T(1) - wi.z);
-    const T z = (T(1) - u.y) * (T(1) + wi.z) - wi.z;
+    const T one_minus_z = u_y * (T(1) + wi.z);
+    const T one_plus_z = (T(1) - u_y) * (T(1) + wi.z) + (T(1) - wi.z);
+    const T z = (T(1) - u_y) * (T(1) + wi.z) - wi.z;
     const T s = safe_sqrt(one_minus_z * one_plus_z);
-    const Vec3<T> h = Vec3<T>(s * std::cos(phi), s * std::sin(phi), z) + wi;
+    const Vec3<T> h = Vec3<T>(s * cos_phi, s * sin_phi, z) + wi;
     return normalize(Vec3<T>(this->ax_ * h.x, this->ay_ * h.y, std::max(T(0), h.z)));
   }
 

@@ -12,6 +12,7 @@
 // piece is integrated with Gauss-Legendre after a cosine map that smooths the square-root end points.
 #pragma once
 
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/vec.h>
 
 #include <algorithm>
@@ -22,13 +23,18 @@ namespace msh::lut {
 
 namespace exact_detail {
 
-// 16-point Gauss-Legendre nodes/weights on [-1, 1] (positive half; symmetric).
-inline constexpr std::array<double, 8> kGLx = {0.0950125098376374, 0.2816035507792589, 0.4580167776572274,
-                                               0.6178762444026438, 0.7554044083550030, 0.8656312023878318,
-                                               0.9445750230732326, 0.9894009349916499};
-inline constexpr std::array<double, 8> kGLw = {0.1894506104550685, 0.1826034150449236, 0.1691565193950025,
-                                               0.1495959888165767, 0.1246289712555339, 0.0951585116824928,
-                                               0.0622535239386479, 0.0271524594117541};
+// The 16-point Gauss-Legendre rule of math/quadrature.h, its positive half ascending: kGLx[i] = x, kGLw[i] =
+// w of the i-th positive node (the rule is symmetric).
+struct PositiveHalfGL16 {
+  std::array<double, 8> x{}, w{};
+  PositiveHalfGL16() {
+    const GaussLegendre r(16);  // nodes descending from near +1
+    for (int i = 0; i < 8; ++i) x[size_t(i)] = r.x[size_t(7 - i)], w[size_t(i)] = r.w[size_t(7 - i)];
+  }
+};
+inline const PositiveHalfGL16 kGL16;
+inline const std::array<double, 8>& kGLx = kGL16.x;
+inline const std::array<double, 8>& kGLw = kGL16.w;
 
 // ∫ over [lo, hi] of (A cos x + B) dx.
 inline double cos_affine_integral(double lo, double hi, double A, double B) {

@@ -101,15 +101,23 @@ struct Object {
   float cyl_radius = 1.0f, cyl_height = 2.0f, cyl_rotate_z = 0.0f;  // rotation about z in radians
 };
 
-enum class LightType { Directional, Point, Sphere };
+enum class LightType { Directional, Point, Sphere, Disk, Rect };
 
 struct Light {
   LightType type = LightType::Directional;
   Vec3f direction{0, 0, 1};  // directional: unit vector towards the light
-  Vec3f position{0, 0, 0};   // point / sphere
-  float radius = 0.0f;       // sphere
-  Rgbf color{1, 1, 1};       // directional: irradiance at normal incidence; point/sphere: intensity (W/sr)
+  Vec3f position{0, 0, 0};   // point / sphere / disk / rect: centre
+  float radius = 0.0f;       // sphere / disk
+  // Disk / rect: one-sided emitters lighting the half-space in front of `normal` (unit); a rect spans
+  // ±half_size.x along `tangent` (unit, orthogonal to normal) and ±half_size.y along normal × tangent.
+  Vec3f normal{0, 0, -1}, tangent{1, 0, 0};
+  Vec2f half_size{0.5f, 0.5f};
+  // Directional: irradiance at normal incidence; point / sphere: intensity (W/sr; a sphere's radiance is
+  // I / (π r²)); disk / rect: intensity along the normal (W/sr; radiance I / area, Lambertian emitter).
+  Rgbf color{1, 1, 1};
 };
+// Area of a disk or rect light's emitting face (0 for other types).
+float light_area(const Light& l);
 
 struct Camera {
   Vec3f eye{0, -4, 2}, target{0, 0, 0}, up{0, 0, 1};
@@ -145,6 +153,18 @@ const char* to_string(Component c);
 Component component_from_string(const std::string& s);  // InputError listing total, diffuse, specular
 
 enum class BumpTerminator { Off, Conty2019, Chiang2019 };
+
+// Micro-shadowing under an area light (an area-sampled sphere, disk or rect; docs/renderer.md):
+//  Sampled        — the term evaluated per light sample (the estimator of ∫ M f cos L dω);
+//  Representative — the term evaluated once, at the representative point's direction (Karis 2013: the
+//                   centre for the diffuse lobe, the point of the light closest to the reflection ray for
+//                   the specular lobe), multiplying the area-sampled diffuse and specular;
+//  Integrated     — the term averaged over the light's solid angle, weighted by the receiver (Lambert for
+//                   the diffuse lobe, GGX for the specular), by deterministic quadrature, multiplying the
+//                   area-sampled diffuse and specular.
+enum class AreaMs { Sampled, Representative, Integrated };
+const char* to_string(AreaMs a);
+AreaMs area_ms_from_string(const std::string& s);  // InputError listing sampled, representative, integrated
 const char* to_string(BumpTerminator b);
 BumpTerminator bump_terminator_from_string(const std::string& s);
 
@@ -168,8 +188,11 @@ struct Settings {
   BumpTerminator bump_terminator = BumpTerminator::Off;
   bool hanika_offset = false;
   GtIntersector gt_intersector = GtIntersector::HeightField;
-  bool area_lights = false;  // sphere lights: true = area sampling (reference), false = representative point
+  // Sphere lights: true = area sampling (reference), false = representative point. Disk and rect lights are
+  // always area-sampled.
+  bool area_lights = false;
   int area_samples = 16;
+  AreaMs area_ms = AreaMs::Sampled;  // micro-shadowing under area-sampled lights (see AreaMs)
   float exposure = 0.0f;
   Rgbf background{0, 0, 0};
   Rgbf ambient{0, 0, 0};  // constant ambient radiance times base colour (unshadowed; 0 in comparisons)

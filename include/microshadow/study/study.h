@@ -39,6 +39,20 @@ struct StudyConfig {
   bool normal_ablation = true;  // also render the N·L terms with the unperturbed normal
   std::vector<std::string> featured_lights{"dir-el10-az0", "dir-el45-az0"};  // lights shown as images
   std::string lut_path;  // lut3d / lut2d table (empty: the LUT module's default)
+  // Area-light section (docs/area-lights-study.md; `microshadow study --area-lights`): sphere lights of
+  // angular radius area_radii_deg at each elevation of area_elevations (a sphere whose cone would reach below
+  // 5° above the tangent plane is skipped), disk and rect lights of angular radius area_planar_radii_deg at
+  // area_planar_elevation facing the view's centre, all at azimuth area_azimuth; every term of area_terms
+  // rendered with each mode of area_ms_modes (render::AreaMs; none and ao with "sampled" only: their term
+  // does not depend on the direction). Rows carry "area_ms" and "light_radius_deg"; results.json gains
+  // "area_summary" and the run writes area_summary.md. Empty area_radii_deg and area_planar_radii_deg: off.
+  std::vector<double> area_radii_deg;
+  std::vector<double> area_elevations;
+  std::vector<double> area_planar_radii_deg;
+  double area_planar_elevation = 45;
+  double area_azimuth = 90;
+  std::vector<std::string> area_terms{"none", "ao", "reference", "generic-vndf", "lut3d"};
+  std::vector<std::string> area_ms_modes{"sampled", "representative", "integrated"};
   // When set, fine texture sets are cached there (float32 NPY, keyed by kind, size, bake azimuths, seed) and
   // reused by later runs; results are identical either way.
   std::filesystem::path material_cache;
@@ -48,6 +62,9 @@ struct StudyConfig {
 // `--quick` (make demo) and the full study.
 StudyConfig quick_config();
 StudyConfig full_config();
+// The area-light study (docs/area-lights-study.md): plaster, plane, k >= 4, no directional lights; sphere
+// lights of 1–40° angular radius, a disk and a rect; representative vs integrated vs sampled micro-shadowing.
+StudyConfig area_config(bool quick);
 
 // Progress lines (stderr in the CLI).
 using Log = std::function<void(const std::string&)>;
@@ -65,5 +82,11 @@ nlohmann::json summarize(const nlohmann::json& rows, const StudyConfig& cfg);
 void write_study_html(const nlohmann::json& results, const std::filesystem::path& out_dir);
 // Markdown verdict tables (summary.md).
 std::string summary_markdown(const nlohmann::json& results);
+
+// The area-light section (src/study/area_report.cpp): per {material, scale, light, component}, every
+// {method, area_ms} with its bias, bias standard error, footprint RMSE / GT mean and its floor (rows without
+// "area_ms" are skipped); and its markdown tables (area_summary.md).
+nlohmann::json summarize_area(const nlohmann::json& rows);
+std::string area_summary_markdown(const nlohmann::json& results);
 
 }  // namespace msh::study

@@ -1,0 +1,449 @@
+// The browser viewer's content and HTTP server (docs/viewer.md). cpp-httplib (header-only) serves it.
+#include "viewer_server.h"
+
+#include <Imath/half.h>
+#include <fmt/format.h>
+#include <httplib.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
+#include <microshadow/render/texture_gen.h>
+#include <pthread.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace msh::view {
+namespace {
+
+// The built-in texture set: gen-material --kind plaster --size 512 (other options default).
+constexpr int kPlasterSize = 512;
+
+struct Blob {
+  std::string bytes, type;
+};
+
+std::string read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw InputError(fmt::format("cannot read '{}'", p.string()));
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string mime_type(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".js" || ext == ".mjs") return "text/javascript; charset=utf-8";
+  if (ext == ".css") return "text/css; charset=utf-8";
+  if (ext == ".json") return "application/json";
+  if (ext == ".png") return "image/png";
+  if (ext == ".glsl" || ext == ".txt" || ext == ".md") return "text/plain; charset=utf-8";
+  return "application/octet-stream";
+}
+
+// A request path whose every component is a plain name (no "..", no hidden files, no odd characters).
+bool safe_relative_path(const std::string& p) {
+  static const std::regex component("[A-Za-z0-9_][A-Za-z0-9_.-]*");
+  if (p.empty()) return false;
+  std::size_t start = 0;
+  while (start <= p.size()) {
+    const std::size_t end = std::min(p.find('/', start), p.size());
+    if (!std::regex_match(p.substr(start, end - start), component)) return false;
+    if (p.compare(start, end - start, "..") == 0) return false;
+    start = end + 1;
+  }
+  return true;
+}
+
+// The built-in plaster, generated once into cache/viewer-plaster-512 (written beside it, then renamed).
+fs::path ensure_plaster(const fs::path& cache) {
+  const fs::path dir = cache / fmt::format("viewer-plaster-{}", kPlasterSize);
+  if (fs::exists(dir / "material.json")) return dir;
+  std::error_code ec;
+  fs::create_directories(cache, ec);
+  if (ec)
+    throw InputError(fmt::format("cannot create the cache directory '{}': {}", cache.string(), ec.message()));
+  fmt::print(stderr, "microshadow view: generating the built-in plaster texture set ({}x{}, once) in '{}'\n",
+             kPlasterSize, kPlasterSize, dir.string());
+  render::GenOptions g;
+  g.kind = "plaster";
+  g.size = kPlasterSize;
+  const render::TextureSet set = render::generate_texture_set(g);
+  const fs::path tmp = cache / fmt::format("viewer-plaster-{}.tmp-{}", kPlasterSize, ::getpid());
+  fs::remove_all(tmp, ec);
+  render::write_texture_set(tmp, set);
+  fs::rename(tmp, dir, ec);
+  if (ec) {  // another process won the race: keep its copy
+    fs::remove_all(tmp, ec);
+    if (!fs::exists(dir / "material.json"))
+      throw InputError(fmt::format("cannot write the built-in plaster into '{}'", dir.string()));
+  }
+  return dir;
+}
+
+// The texture set's PNG files, validated (each decodes; the browser reads PNG only).
+void add_material(const fs::path& dir, bool builtin, std::map<std::string, Blob>& data, nlohmann::json& man) {
+  const fs::path mj = dir / "material.json";
+  if (!fs::is_regular_file(mj))
+    throw InputError(
+        fmt::format("'{}' is not a texture set: no material.json (make one with microshadow "
+                    "gen-material --out DIR)",
+                    dir.string()));
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(read_bytes(mj));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("'{}': not valid JSON ({})", mj.string(), e.what()));
+  }
+  nlohmann::json m = {
+      {"name", builtin ? fmt::format("plaster (built-in, {}²)", kPlasterSize) : dir.string()}};
+  for (const char* key : {"base_color", "normal", "roughness", "metallic", "micro_occlusion"}) {
+    const bool optional = std::string(key) == "metallic";
+    if (!j.contains(key) || !j[key].is_string()) {
+      if (optional) continue;
+      throw InputError(fmt::format("'{}' has no \"{}\" texture", mj.string(), key));
+    }
+    const fs::path f = dir / j[key].get<std::string>();
+    if (!fs::is_regular_file(f))
+      throw InputError(fmt::format("'{}': the {} texture '{}' is missing", mj.string(), key, f.string()));
+    std::string ext = f.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != ".png")
+      throw InputError(
+          fmt::format("'{}': the viewer reads PNG textures only (browsers decode no EXR)", f.string()));
+    (void)io::read_image(f);  // InputError naming the file if it does not decode
+    const std::string url = fmt::format("data/material/{}.png", key);
+    data[url] = {read_bytes(f), "image/png"};
+    m[key] = url;
+  }
+  if (j.contains("height_texels") && j["height_texels"].is_number()) m["height_texels"] = j["height_texels"];
+  man["material"] = m;
+}
+
+// Raw little-endian half floats (IEEE binary16), x fastest, channels interleaved.
+std::string to_half_bytes(const io::Volume& v) {
+  std::string out(v.data.size() * 2, '\0');
+  for (std::size_t i = 0; i < v.data.size(); ++i) {
+    const uint16_t b = Imath::half(v.data[i]).bits();
+    out[2 * i] = char(b & 0xff);
+    out[2 * i + 1] = char(b >> 8);
+  }
+  return out;
+}
+
+// The GLSL cone sampler (shaders/glsl/micro_shadowing.glsl) has the baker's default warps as constants.
+bool default_cone_params(const lut::ConeLayoutParams& c) {
+  const lut::ConeLayoutParams d;
+  return c.roughness_min == d.roughness_min && c.roughness_max == d.roughness_max &&
+         c.roughness_power == d.roughness_power && c.warp_scale == d.warp_scale && c.nl_warp == d.nl_warp &&
+         c.nv_warp == d.nv_warp && c.nv_scale == d.nv_scale && c.top_scale == d.top_scale;
+}
+
+void add_lut(const std::string& name, const lut::MicroShadowingLut& t, const std::string& sidecar,
+             const std::string& source, std::map<std::string, Blob>& data, nlohmann::json& man) {
+  const std::string url = fmt::format("data/{}.f16", name), side = fmt::format("data/{}.json", name);
+  data[url] = {to_half_bytes(t.volume), "application/octet-stream"};
+  data[side] = {sidecar, "application/json"};
+  const auto& v = t.volume;
+  man["luts"][name] = {{"url", url},
+                       {"sidecar", side},
+                       {"source", source},
+                       {"layout", lut::layout_name(t.layout)},
+                       {"size", {v.width, v.height, v.depth}},
+                       {"channels", v.channels},
+                       {"roughness_slabs", t.n_rough},
+                       {"n_dot_v_size", t.n_rough > 0 ? v.depth / t.n_rough : v.depth},
+                       {"harmonics", t.harmonics},
+                       {"encoding", "float16-le"}};
+}
+
+// The three default tables (cone layout: 3D, the 2D N·V = 1 slice, azimuth-aware with 3 harmonics); --lut
+// replaces the one of its kind.
+void add_luts(const ViewerOptions& o, std::map<std::string, Blob>& data, nlohmann::json& man) {
+  struct Slot {
+    const char* name;
+    bool two_d;
+    int harmonics;
+  };
+  std::string user_slot;
+  std::unique_ptr<lut::MicroShadowingLut> user;
+  if (!o.lut.empty()) {
+    user = std::make_unique<lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(o.lut));
+    if (user->layout != lut::LutLayout::Cone)
+      throw InputError(
+          fmt::format("'{}' is a seed-layout table; the viewer samples cone-layout tables "
+                      "(bake micro-shadowing --layout cone, the default)",
+                      o.lut.string()));
+    if (!default_cone_params(user->cone))
+      throw InputError(
+          fmt::format("'{}' was baked with non-default cone warps or roughness range; the "
+                      "viewer's GLSL (shaders/glsl/micro_shadowing.glsl) has the defaults as "
+                      "constants",
+                      o.lut.string()));
+    const int n_nv = user->volume.depth / std::max(1, user->n_rough);
+    user_slot = user->harmonics > 0 ? "lut_azimuth" : n_nv == 1 ? "lut2d" : "lut3d";
+    if (user_slot == "lut_azimuth" && n_nv == 1)
+      throw InputError(
+          fmt::format("'{}': a 2D azimuth-aware table is not supported by the viewer", o.lut.string()));
+  }
+  for (const Slot s : {Slot{"lut3d", false, 0}, Slot{"lut2d", true, 0}, Slot{"lut_azimuth", false, 3}}) {
+    if (s.name == user_slot) {
+      add_lut(s.name, *user, read_bytes(lut::sidecar_path(o.lut)), o.lut.string(), data, man);
+      continue;
+    }
+    lut::BakeOptions b = lut::default_bake_options(lut::LutLayout::Cone, s.harmonics);
+    b.two_d = s.two_d;
+    add_lut(s.name, *lut::default_micro_shadowing_lut(s.two_d, s.harmonics), lut::sidecar_json(b),
+            "default (baked at start-up)", data, man);
+  }
+}
+
+// *.glsl in dir, sorted (the page concatenates them in this order; each file has include guards).
+std::vector<std::string> glsl_files(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.is_regular_file() && e.path().extension() == ".glsl") names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+struct Content {
+  std::map<std::string, Blob> data;  // "data/..." in memory
+  nlohmann::json manifest;           // without "glsl" (listed per request)
+};
+
+void check_assets(const fs::path& assets) {
+  if (!fs::is_regular_file(assets / "web" / "index.html") || !fs::is_directory(assets / "shaders" / "glsl"))
+    throw InputError(fmt::format("the viewer's files (web/index.html, shaders/glsl/) are not under '{}'",
+                                 assets.string()));
+}
+
+Content build_content(const ViewerOptions& o) {
+  check_assets(o.assets);
+  Content c;
+  c.manifest = {{"version", MSH_VERSION}};
+  const bool builtin = o.material.empty();
+  if (!builtin) add_material(o.material, false, c.data, c.manifest);  // cheap checks first
+  add_luts(o, c.data, c.manifest);
+  if (builtin)
+    add_material(ensure_plaster(o.cache.empty() ? default_cache_dir() : o.cache), true, c.data, c.manifest);
+  return c;
+}
+
+void check_host(const std::string& host) {
+  if (!is_loopback_host(host))
+    throw InputError(
+        fmt::format("--host must be a loopback address (127.0.0.1, ::1 or localhost): the viewer "
+                    "serves this machine only; got '{}'",
+                    host));
+}
+
+}  // namespace
+
+bool is_loopback_host(const std::string& host) {
+  if (host == "localhost" || host == "::1" || host == "[::1]") return true;
+  static const std::regex v4("127\\.([0-9]{1,3})\\.([0-9]{1,3})\\.([0-9]{1,3})");
+  std::smatch m;
+  if (!std::regex_match(host, m, v4)) return false;
+  for (int i = 1; i <= 3; ++i)
+    if (std::stoi(m[i].str()) > 255) return false;
+  return true;
+}
+
+fs::path default_cache_dir() {
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "microshadow";
+  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "microshadow";
+  return fs::temp_directory_path() / "microshadow";
+}
+
+void export_viewer(const ViewerOptions& o, const fs::path& out) {
+  if (!o.root.empty())
+    throw InputError("--export writes a static copy from the source files; not with --root");
+  Content c = build_content(o);
+  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  const fs::path tmp = parent / fmt::format(".{}.tmp-{}", out.filename().string(), ::getpid());
+  fs::remove_all(tmp, ec);
+  try {
+    fs::create_directories(tmp / "shaders" / "glsl");
+    fs::create_directories(tmp / "data" / "material");
+    for (const auto& e : fs::recursive_directory_iterator(o.assets / "web")) {
+      const fs::path rel = fs::relative(e.path(), o.assets / "web");
+      if (e.is_directory())
+        fs::create_directories(tmp / rel);
+      else if (e.is_regular_file())
+        fs::copy_file(e.path(), tmp / rel, fs::copy_options::overwrite_existing);
+    }
+    nlohmann::json man = c.manifest;
+    man["glsl"] = glsl_files(o.assets / "shaders" / "glsl");
+    for (const auto& g : man["glsl"])
+      fs::copy_file(o.assets / "shaders" / "glsl" / g.get<std::string>(),
+                    tmp / "shaders" / "glsl" / g.get<std::string>());
+    for (const auto& [path, blob] : c.data) {
+      std::ofstream f(tmp / path, std::ios::binary);
+      f.write(blob.bytes.data(), std::streamsize(blob.bytes.size()));
+      if (!f) throw InputError(fmt::format("cannot write '{}'", (tmp / path).string()));
+    }
+    std::ofstream(tmp / "data" / "manifest.json") << man.dump(1) << "\n";
+    std::ofstream(tmp / "README.txt")
+        << "microshadow viewer, static copy (docs/viewer.md). Serve it over HTTP on this machine, then open "
+           "the URL:\n"
+           "  microshadow view --root "
+        << out.string()
+        << "\n"
+           "  or any static server, e.g. python3 -m http.server --bind 127.0.0.1 -d "
+        << out.string()
+        << " 8080\n"
+           "Opening index.html from file:// does not work: browsers refuse fetch() of file URLs.\n";
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(tmp, ec);
+    throw InputError(fmt::format("cannot write the viewer copy '{}': {}", out.string(), e.what()));
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+  fs::remove_all(out, ec);
+  fs::rename(tmp, out, ec);
+  if (ec) {
+    fs::remove_all(tmp);
+    throw InputError(fmt::format("cannot write the viewer copy '{}': {}", out.string(), ec.message()));
+  }
+}
+
+void block_stop_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+}
+
+void serve(const ViewerOptions& o, const std::function<void(const std::string& url)>& on_ready) {
+  check_host(o.host);
+  if (o.port < 0 || o.port > 65535)
+    throw InputError(fmt::format("--port must be in [0, 65535], got {}", o.port));
+  const std::string host = o.host == "localhost" ? "127.0.0.1" : o.host == "[::1]" ? "::1" : o.host;
+  const bool static_root = !o.root.empty();
+  Content content;
+  httplib::Server svr;
+  // Only SO_REUSEADDR: httplib's default SO_REUSEPORT would let a second server share a port in use.
+  svr.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
+  svr.new_task_queue = [] { return new httplib::ThreadPool(4); };
+  svr.Get("/(.*)", [&](const httplib::Request& req, httplib::Response& res) {
+    std::string p = req.matches[1].str();
+    if (p.empty() || p.back() == '/') p += "index.html";
+    res.set_header("Cache-Control", "no-store");
+    if (!safe_relative_path(p)) {
+      res.status = 404;
+      return;
+    }
+    if (!static_root && p == "data/manifest.json") {
+      nlohmann::json man = content.manifest;
+      man["glsl"] = glsl_files(o.assets / "shaders" / "glsl");
+      res.set_content(man.dump(1), "application/json");
+      return;
+    }
+    if (!static_root) {
+      if (auto it = content.data.find(p); it != content.data.end()) {
+        res.set_content(it->second.bytes, it->second.type.c_str());
+        return;
+      }
+    }
+    const fs::path file = static_root                        ? o.root / p
+                          : p.rfind("shaders/glsl/", 0) == 0 ? o.assets / p
+                                                             : o.assets / "web" / p;
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) {
+      res.status = 404;
+      res.set_content(fmt::format("not found: /{}\n", p), "text/plain");
+      return;
+    }
+    try {
+      res.set_content(read_bytes(file), mime_type(p).c_str());
+    } catch (const InputError&) {
+      res.status = 500;
+    }
+  });
+
+  errno = 0;
+  int port = o.port;
+  bool bound = false;
+  if (port == 0) {
+    port = svr.bind_to_any_port(host);
+    bound = port > 0;
+  } else {
+    bound = svr.bind_to_port(host, port);
+  }
+  if (!bound) {
+    const int err = errno;
+    if (err == EADDRINUSE)
+      throw InputError(fmt::format(
+          "port {} on {} is in use (choose another with --port, or 0 for any free port)", o.port, host));
+    throw InputError(fmt::format("cannot listen on {} port {}: {}", host, o.port,
+                                 err ? std::strerror(err) : "bind failed"));
+  }
+  // Bound first (a port in use fails at once), then the content (the tables take a few seconds).
+  if (static_root) {
+    if (!o.material.empty() || !o.lut.empty())
+      throw InputError("--root serves a static copy as is: --material and --lut do not apply");
+    if (!fs::is_regular_file(o.root / "index.html") ||
+        !fs::is_regular_file(o.root / "data" / "manifest.json"))
+      throw InputError(
+          fmt::format("'{}' is not a viewer copy (no index.html, data/manifest.json; write one with "
+                      "microshadow view --export DIR)",
+                      o.root.string()));
+  } else {
+    content = build_content(o);
+  }
+
+  const std::string url = host.find(':') != std::string::npos ? fmt::format("http://[{}]:{}/", host, port)
+                                                              : fmt::format("http://{}:{}/", host, port);
+  on_ready(url);
+
+  // SIGINT / SIGTERM (blocked in every thread) are taken here and stop the server: a clean return.
+  std::atomic<bool> done{false};
+  std::thread stopper([&] {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    int sig = 0;
+    sigwait(&set, &sig);
+    // stop() before listen_after_bind() has started would be lost: repeat until the server returned.
+    while (!done.load()) {
+      svr.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  });
+  const bool ok = svr.listen_after_bind();
+  done = true;
+  pthread_kill(stopper.native_handle(), SIGTERM);  // wakes sigwait if no signal came (harmless otherwise)
+  stopper.join();
+  if (!ok) throw std::runtime_error("the HTTP server stopped with an error");
+}
+
+}  // namespace msh::view

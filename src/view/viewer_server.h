@@ -1,0 +1,43 @@
+// The browser viewer's HTTP server (`microshadow view`, docs/viewer.md): serves the page (web/), the GLSL
+// files (shaders/glsl/*.glsl, read from disk on every request: the page includes them at load time), a
+// texture set (a gen-material folder) and the baked micro-shadowing tables as raw half floats with their
+// sidecar JSON. Loopback only. I/O and threads: not part of the embeddable core.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace msh::view {
+
+struct ViewerOptions {
+  std::string host = "127.0.0.1";  // a loopback address only (is_loopback_host)
+  int port = 8080;                 // 0: any free port
+  std::filesystem::path assets;    // directory holding web/ and shaders/glsl/ (the source tree or share dir)
+  std::filesystem::path material;  // gen-material folder; empty: the built-in plaster (cached, see below)
+  std::filesystem::path lut;       // a cone-layout table (bake micro-shadowing) replacing its default
+  std::filesystem::path root;      // serve this static copy (export_viewer output) as is; the rest unused
+  std::filesystem::path cache;     // where the built-in plaster is generated on first use
+};
+
+// 127.0.0.1 (any 127.x.y.z), ::1 and "localhost".
+bool is_loopback_host(const std::string& host);
+
+// The default cache directory: $XDG_CACHE_HOME/microshadow, else $HOME/.cache/microshadow, else the
+// system temporary directory.
+std::filesystem::path default_cache_dir();
+
+// Writes a static copy of the viewer (page, GLSL files, texture set, tables, manifest) to `out` (replaced
+// atomically: written beside it, then renamed). Any static HTTP server can serve it. InputError on bad input.
+void export_viewer(const ViewerOptions& o, const std::filesystem::path& out);
+
+// Prepares the content (InputError with one line on bad input: a non-loopback host, missing textures, a
+// table the shaders cannot sample, a port in use), binds, calls on_ready(url) and serves until SIGINT or
+// SIGTERM, then returns. The caller must have blocked SIGINT and SIGTERM in every thread
+// (block_stop_signals() before any thread starts): a dedicated thread waits for them.
+void serve(const ViewerOptions& o, const std::function<void(const std::string& url)>& on_ready);
+
+// Blocks SIGINT and SIGTERM in the calling thread (inherited by the threads it starts later).
+void block_stop_signals();
+
+}  // namespace msh::view
