@@ -216,7 +216,7 @@ TEST(Study, BadConfigurations) {
   EXPECT_FALSE(fs::exists(d / "results.json"));
 }
 
-// The area-light section (docs/area-lights-study.md) on a tiny configuration: sphere lights of two sizes, a
+// The area-light section (docs/area-lights.md) on a tiny configuration: sphere lights of two sizes, a
 // disk and a rect; rows per {light, term, area_ms}, the area summary, bit-identical across thread counts,
 // and representative / integrated rows kept out of the main verdict cells.
 TEST(Study, TinyAreaLightRun) {

@@ -31,7 +31,7 @@ void add_study(Groups& g) {
               "Reduced study for make demo (one material, three lights, smaller images)");
   s->add_flag(
       "--area-lights", a->area,
-      "Area-light section instead (docs/area-lights-study.md): sphere lights of 1-40 degrees angular "
+      "Area-light section instead (docs/area-lights.md): sphere lights of 1-40 degrees angular "
       "radius, a disk and a rect; micro-shadowing per sample, at the representative point, integrated; "
       "also writes DIR/area_summary.md");
   s->add_option("--area-ms", a->area_ms,

@@ -1,4 +1,4 @@
-// The study's area-light section (docs/area-lights-study.md): per light and scale, each term's mean-radiance
+// The study's area-light section (docs/area-lights.md): per light and scale, each term's mean-radiance
 // ratio and footprint RMSE with micro-shadowing per light sample, at the representative point and integrated
 // over the light (study/study.h: summarize_area, area_summary_markdown).
 #include <fmt/format.h>

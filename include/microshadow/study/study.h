@@ -39,7 +39,7 @@ struct StudyConfig {
   bool normal_ablation = true;  // also render the N·L terms with the unperturbed normal
   std::vector<std::string> featured_lights{"dir-el10-az0", "dir-el45-az0"};  // lights shown as images
   std::string lut_path;  // lut3d / lut2d table (empty: the LUT module's default)
-  // Area-light section (docs/area-lights-study.md; `microshadow study --area-lights`): sphere lights of
+  // Area-light section (docs/area-lights.md §8; `microshadow study --area-lights`): sphere lights of
   // angular radius area_radii_deg at each elevation of area_elevations (a sphere whose cone would reach below
   // 5° above the tangent plane is skipped), disk and rect lights of angular radius area_planar_radii_deg at
   // area_planar_elevation facing the view's centre, all at azimuth area_azimuth; every term of area_terms
@@ -62,7 +62,7 @@ struct StudyConfig {
 // `--quick` (make demo) and the full study.
 StudyConfig quick_config();
 StudyConfig full_config();
-// The area-light study (docs/area-lights-study.md): plaster, plane, k >= 4, no directional lights; sphere
+// The area-light study (docs/area-lights.md): plaster, plane, k >= 4, no directional lights; sphere
 // lights of 1–40° angular radius, a disk and a rect; representative vs integrated vs sampled micro-shadowing.
 StudyConfig area_config(bool quick);
 

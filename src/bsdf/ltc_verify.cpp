@@ -1,0 +1,119 @@
+// As-used verification of an LTC table against quadrature of GGX over the light (see ltc_baker.h).
+#include <microshadow/bsdf/ltc_shading.h>
+#include <microshadow/bsdf/runtime/ltc_baker.h>
+#include <microshadow/bsdf/specular.h>
+#include <microshadow/math/sampling.h>
+#include <microshadow/microfacet/ggx.h>
+#include <microshadow/reference/light_quadrature.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <stdexcept>
+
+namespace msh::bsdf {
+namespace {
+
+struct PointResult {
+  double r, mu, sigma_deg, elev_deg;
+  double peak, ref_sphere, ltc_sphere, ref_rect, ltc_rect, ltc_cap, ref_diff, ltc_diff;
+};
+
+void accumulate(LtcErrorStats& s, const PointResult& p, double ref, double val, double floor) {
+  const double a = std::abs(val - ref);
+  s.rms_abs += a * a, ++s.count;
+  if (a > s.max_abs)
+    s.max_abs = a, s.worst_roughness = p.r, s.worst_cos_v = p.mu, s.worst_sigma_deg = p.sigma_deg,
+    s.worst_elevation_deg = p.elev_deg;
+  if (ref >= floor && ref > 0) {
+    const double e = a / ref;
+    s.rms_rel += e * e, ++s.count_rel, s.max_rel = std::max(s.max_rel, e);
+  }
+}
+void finish(LtcErrorStats& s) {
+  s.rms_abs = std::sqrt(s.rms_abs / std::max(1, s.count));
+  s.rms_rel = std::sqrt(s.rms_rel / std::max(1, s.count_rel));
+}
+
+}  // namespace
+
+LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<PointResult> res(size_t(std::max(o.points, 0)));
+  const double deg = kPi<double> / 180;
+  LtcVerifyReport rep;
+  {
+    auto lambert = [](const Vec3d& l) { return std::max(0.0, l.z) * kInvPi<double>; };
+    for (double sd : {1.0, 10.0, 40.0})
+      for (double ed : {90.0, 45.0, 20.0, 5.0, -5.0}) {
+        const Vec3d axis(std::cos(ed * deg), 0, std::sin(ed * deg));
+        const double q = reference::integrate_cap(lambert, axis, sd * deg, 1e-8, 1e-14);
+        const double a = reference::sphere_form_factor(axis.z, std::sin(sd * deg));
+        rep.reference_check = std::max(rep.reference_check, std::abs(q - a) / std::max(a, 1e-4));
+      }
+    for (double h : {0.3, 1.0, 4.0}) {
+      const double q = reference::integrate_rect(lambert, Vec3d(0.6, 0.35, h), Vec3d(1, 0, 0), Vec3d(0, 1, 0),
+                                                 0.6, 0.35, 1e-8, 1e-14);
+      const double a = reference::rect_corner_form_factor(1.2, 0.7, h);
+      rep.reference_check = std::max(rep.reference_check, std::abs(q - a) / a);
+    }
+    if (!(rep.reference_check <= 1e-5))
+      throw std::runtime_error("verify ltc: the light quadrature fails its closed-form check");
+  }
+  tbb::parallel_for(0, o.points, [&](int i) {
+    auto u = [&](int dim) { return sobol_scrambled<double>(uint32_t(i), dim, o.seed); };
+    PointResult p{};
+    p.r = o.roughness_min + (1 - o.roughness_min) * u(0);
+    p.mu = o.cos_min + (1 - o.cos_min) * u(1);
+    p.sigma_deg = o.sigma_min_deg * std::pow(o.sigma_max_deg / o.sigma_min_deg, u(2));
+    p.elev_deg = 90 * u(3);
+    const double az = kPi<double> * u(4), sig = p.sigma_deg * deg, el = p.elev_deg * deg;
+    const Vec3d n(0, 0, 1), v(std::sqrt(1 - p.mu * p.mu), 0, p.mu);
+    // Azimuth 0 = the mirror side (−x).
+    const Vec3d axis(-std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    const GGX<double> g(roughness_to_alpha(p.r));
+    auto f = [&](const Vec3d& l) { return microfacet_specular(g, v, l).f1 * std::max(0.0, l.z); };
+    auto lambert = [](const Vec3d& l) { return std::max(0.0, l.z) * kInvPi<double>; };
+    const LtcCoeffs<double> k = t.fetch(p.r, p.mu);
+    const double ss = std::sin(sig), norm_s = ss * ss;  // sphere form factor at normal incidence
+    p.ref_sphere = reference::integrate_cap(f, axis, sig, 1e-6, 1e-12) / norm_s;
+    // The highlight's peak: the same light centred on the mirror direction (relative errors are taken where
+    // the light shows at least rel_floor of it).
+    p.peak = reference::integrate_cap(f, Vec3d(-v.x, 0, v.z), sig, 1e-6, 1e-12) / norm_s;
+    const auto ls = ltc_shade_sphere(k, n, v, axis, ss, o.polygon_sides, o.clip_surface);
+    p.ltc_sphere = ls.value(1.0) / norm_s;
+    // The polygon approximation alone: the same LTC over the exact cap (above the surface, as shaded).
+    const Frame<double> fr = ltc_view_frame(n, v);
+    const Mat3<double> minv = k.inv_m();
+    p.ltc_cap = k.magnitude *
+                reference::integrate_cap(
+                    [&](const Vec3d& l) {
+                      return l.z >= 0 || !o.clip_surface ? ltc_eval(minv, fr.to_local(l)) : 0.0;
+                    },
+                    axis, sig, 1e-6, 1e-12) /
+                norm_s;
+    p.ref_diff = reference::integrate_cap(lambert, axis, sig, 1e-8, 1e-14) / norm_s;
+    p.ltc_diff = ltc_shade_sphere(LtcCoeffs<double>{}, n, v, axis, ss, o.polygon_sides).value(1.0) / norm_s;
+    // Square light of half-size tan σ at distance 1, facing the point, rotated by a Sobol angle about its
+    // axis.
+    const double h = std::tan(sig), rot = 2 * kPi<double> * u(5);
+    const Frame<double> lf = Frame<double>::from_z(axis);
+    const Vec3d ex = lf.s * std::cos(rot) + lf.t * std::sin(rot), ey = cross(axis, ex);
+    const double norm_r = reference::rect_corner_form_factor(h, h, 1.0) * 4;
+    p.ref_rect = reference::integrate_rect(f, axis, ex, ey, h, h, 1e-6, 1e-12) / norm_r;
+    const auto corners = ltc_rect_polygon(axis, ex, ey, h, h);
+    p.ltc_rect = ltc_shade_polygon(k, n, v, corners.data(), 4, o.clip_surface).value(1.0) / norm_r;
+    res[size_t(i)] = p;
+  });
+  for (const PointResult& p : res) {
+    const double floor = o.rel_floor * p.peak;
+    accumulate(rep.sphere, p, p.ref_sphere, p.ltc_sphere, floor);
+    accumulate(rep.rect, p, p.ref_rect, p.ltc_rect, floor);
+    accumulate(rep.sphere_polygon, p, p.ltc_cap, p.ltc_sphere, floor);
+    accumulate(rep.diffuse_sphere, p, p.ref_diff, p.ltc_diff, o.rel_floor);
+  }
+  finish(rep.sphere), finish(rep.rect), finish(rep.sphere_polygon), finish(rep.diffuse_sphere);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
+}  // namespace msh::bsdf
