@@ -8,6 +8,8 @@
 #include <microshadow/bsdf/diffuse.h>
 #include <microshadow/bsdf/fresnel.h>
 #include <microshadow/bsdf/layered.h>
+#include <microshadow/bsdf/ltc.h>
+#include <microshadow/bsdf/ltc_shading.h>
 #include <microshadow/bsdf/multiscatter.h>
 #include <microshadow/bsdf/qmc.h>
 #include <microshadow/bsdf/specular.h>
@@ -37,6 +39,7 @@
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/shadow_terminator_offset.h>
+#include <microshadow/reference/light_quadrature.h>
 #include <microshadow/reference/micro_shadowing_area_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <microshadow/reference/micro_shadowing_ring.h>

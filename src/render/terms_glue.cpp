@@ -85,10 +85,11 @@ float MicroShadowingTerm::eval_area(const ShadePoint& sp, const Vec3f& wo, const
   area::AreaOptions opt;
   opt.rel_tol = 1e-4;
   const double V = sp.visibility;
-  area::PointTerm term;
+  area::PointTerm<std::function<double(const Vec3d&)>> term;
   if (mode_ == MicroShadowing::GenericVndf) {
     // The exact generic term (the renderer's per-direction estimate is Monte Carlo: not for quadrature).
-    term = area::generic_vndf_term(V, alpha, alpha, v, 1e-4);
+    auto g = area::generic_vndf_term(V, alpha, alpha, v, 1e-4);
+    term.M = g.M, term.z_breaks = g.z_breaks, term.z_only = g.z_only;
   } else {
     // Every other term through the renderer's own evaluation at the world direction; all but an
     // azimuth-aware LUT depend on N·L only (and N·V, fixed here).
