@@ -5,7 +5,9 @@ JOBS ?= $(shell nproc)
 OUT ?= out
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo bench asan format clean help
+.PHONY: all deps configure build test demo bench asan fuzz install format clean help
+SECONDS ?= 60
+PREFIX ?= /usr/local
 
 all: build
 
@@ -15,6 +17,8 @@ help:
 	@echo "make build  - configure and build into $(BUILD_DIR)/ (CLI: $(BUILD_DIR)/bin/microshadow)"
 	@echo "make bench  - build and run the Google Benchmark suite"
 	@echo "make asan   - build with ASan+UBSan into build-asan/ and run the test suite there"
+	@echo "make install PREFIX=P - build, then cmake --install into P (default /usr/local; docs/packaging.md)"
+	@echo "make fuzz SECONDS=N - build the libFuzzer targets with clang into build-fuzz/, run each N s (default 60)"
 	@echo "make format - clang-format every C++ source"
 
 deps:
@@ -38,8 +42,14 @@ bench: build
 asan:
 	@$(MAKE) --no-print-directory test BUILD_DIR=build-asan BUILD_TYPE=RelWithDebInfo CMAKE_FLAGS="-DMSH_SANITIZE=ON -DMSH_BUILD_BENCH=OFF"
 
+install: build
+	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
+
+fuzz:
+	@bash scripts/fuzz.sh $(SECONDS) build-fuzz
+
 format:
 	@find include src tests bench -name '*.h' -o -name '*.cpp' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD_DIR) build-asan $(OUT)
+	rm -rf $(BUILD_DIR) build-asan build-fuzz $(OUT)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages microshadow needs, only those that are missing.
-# Non-interactive; safe to run repeatedly. Used by `make demo`, `make test`, `make build`.
+# Non-interactive; safe to run repeatedly. Used by `make demo`, `make test`, `make build`; `--fuzz` (used by
+# `make fuzz`) adds clang and its libFuzzer runtime.
 set -euo pipefail
 
 PACKAGES=(
@@ -15,6 +16,7 @@ PACKAGES=(
   libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
   chromium
 )
+if [ "${1:-}" = "--fuzz" ]; then PACKAGES+=(clang-14 libclang-rt-14-dev); fi
 # node and npm: Debian's packages unless some node (e.g. NodeSource's, which bundles npm) is there already.
 command -v node >/dev/null 2>&1 || PACKAGES+=(nodejs)
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)

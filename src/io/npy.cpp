@@ -111,10 +111,11 @@ Volume read_npy(const fs::path& path) {
     fail(path, fmt::format("NPY shape {} must have 2, 3 or 4 axes ((H,W), (H,W,C) or (D,H,W,C))", shape));
   check_dimensions(path, W, H, D, C);
 
-  Volume v{int(W), int(H), int(D), int(C)};
-  const std::size_t n = v.data.size();
+  // Size check before the allocation (docs/formats.md): a 100-byte header must not allocate a 1 GiB volume.
+  const std::size_t n = std::size_t(W) * std::size_t(H) * std::size_t(D) * std::size_t(C);
   r.require(data_start, n * elem);
   if (bytes.size() != data_start + n * elem) fail(path, "NPY file size does not match its shape");
+  Volume v{int(W), int(H), int(D), int(C)};
   if (elem == 4) {
     std::memcpy(v.data.data(), bytes.data() + data_start, n * 4);
   } else {

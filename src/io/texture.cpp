@@ -100,7 +100,8 @@ void write_volume(const fs::path& path, const Volume& v, FileFormat ff, PixelFor
   throw InputError("write_volume: invalid file format");
 }
 
-Volume read_volume(const fs::path& path) {
+namespace {
+Volume read_volume_any(const fs::path& path) {
   switch (file_format_from_path(path)) {
     case FileFormat::Dds:
       return detail::read_dds(path);
@@ -117,6 +118,15 @@ Volume read_volume(const fs::path& path) {
   }
   throw InputError(
       fmt::format("'{}': reading C headers is not supported (use .npy for a readable copy)", path.string()));
+}
+}  // namespace
+
+Volume read_volume(const fs::path& path) {
+  Volume v = read_volume_any(path);
+  // The writers refuse non-finite values; a file holding one (half or float Inf/NaN bit patterns, '<f8'
+  // beyond float range) is corrupt for us, and would otherwise reach a sampler as NaN.
+  detail::validate_volume(v, path);
+  return v;
 }
 
 Volume read_image(const fs::path& path) {

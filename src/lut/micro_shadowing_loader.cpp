@@ -3,7 +3,10 @@
 #include <microshadow/io/error.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 
+#include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -63,6 +66,27 @@ std::string sidecar_json(const BakeOptions& o) {
   return j.dump(2) + "\n";
 }
 
+namespace {
+// Sidecar fields, strictly typed. nlohmann's get<int>() of a floating-point value converts it with a cast,
+// undefined beyond int's range (fuzzing: "harmonics": 4e45); get<float>() of 1e300 gives infinity.
+int sidecar_int(const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = j.at(key);
+  if (!v.is_number_integer()) throw InputError(fmt::format("{} must be an integer", key));
+  const std::int64_t x = v.get<std::int64_t>();
+  if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("{} = {} is out of range", key, x));
+  return int(x);
+}
+float finite_float(const nlohmann::json& v, const char* key) {
+  if (!v.is_number()) throw InputError(fmt::format("{} must be a number", key));
+  const double x = v.get<double>();
+  if (!(std::abs(x) <= double(std::numeric_limits<float>::max())))
+    throw InputError(fmt::format("{} = {} is not a finite float", key, x));
+  return float(x);
+}
+float sidecar_float(const nlohmann::json& j, const char* key) { return finite_float(j.at(key), key); }
+}  // namespace
+
 MicroShadowingLut load_micro_shadowing_lut(const std::filesystem::path& path,
                                            std::optional<std::vector<double>> roughness,
                                            std::optional<int> harmonics) {
@@ -80,18 +104,19 @@ MicroShadowingLut load_micro_shadowing_lut(const std::filesystem::path& path,
       // Sidecars written before the cone layout hold a description string under "layout": the seed layout.
       const std::string name = j.value("layout", std::string("seed"));
       lut.layout = name.rfind("x = Visibility", 0) == 0 ? LutLayout::Seed : layout_from_name(name);
-      h = j.at("harmonics").get<int>();
+      h = sidecar_int(j, "harmonics");
       if (lut.layout == LutLayout::Cone) {
-        lut.n_rough = j.at("roughness_slabs").get<int>();
-        const auto range = j.at("roughness_range").get<std::vector<float>>();
-        if (range.size() != 2) throw InputError("roughness_range must hold 2 values");
-        lut.cone.roughness_min = range[0], lut.cone.roughness_max = range[1];
-        lut.cone.roughness_power = j.at("roughness_power").get<float>();
-        lut.cone.warp_scale = j.at("warp_scale").get<float>();
-        lut.cone.nl_warp = j.at("nl_warp").get<int>();
-        lut.cone.nv_warp = j.at("nv_warp").get<int>();
-        lut.cone.nv_scale = j.at("nv_scale").get<float>();
-        lut.cone.top_scale = j.at("top_scale").get<float>();
+        lut.n_rough = sidecar_int(j, "roughness_slabs");
+        const nlohmann::json& range = j.at("roughness_range");
+        if (!range.is_array() || range.size() != 2) throw InputError("roughness_range must hold 2 values");
+        lut.cone.roughness_min = finite_float(range[0], "roughness_range");
+        lut.cone.roughness_max = finite_float(range[1], "roughness_range");
+        lut.cone.roughness_power = sidecar_float(j, "roughness_power");
+        lut.cone.warp_scale = sidecar_float(j, "warp_scale");
+        lut.cone.nl_warp = sidecar_int(j, "nl_warp");
+        lut.cone.nv_warp = sidecar_int(j, "nv_warp");
+        lut.cone.nv_scale = sidecar_float(j, "nv_scale");
+        lut.cone.top_scale = sidecar_float(j, "top_scale");
       } else {
         r = j.at("roughness").get<std::vector<double>>();
       }
@@ -100,9 +125,9 @@ MicroShadowingLut load_micro_shadowing_lut(const std::filesystem::path& path,
     }
     // Sizes recorded by the baker must match the file (a sidecar next to another table is an error).
     auto check = [&](const char* key, int actual) {
-      if (j.contains(key) && j[key].is_number_integer() && j[key].get<int>() != actual)
+      if (j.contains(key) && j[key].is_number_integer() && j[key].get<std::int64_t>() != actual)
         throw InputError(fmt::format("'{}': sidecar {} = {} but '{}' has {}", side.string(), key,
-                                     j[key].get<int>(), path.string(), actual));
+                                     j[key].get<std::int64_t>(), path.string(), actual));
     };
     check(lut.layout == LutLayout::Cone ? "size_t" : "size_visibility", vol.width);
     check("size_n_dot_l", vol.height);

@@ -80,11 +80,12 @@ class SmithMicrofacet {
     const T d = self().D(wm);
     return d > T(0) ? self().G1_over_cos(wu) * std::max(T(0), dot(wu, wm)) * d : T(0);
   }
-  // pdf (solid angle, over m) of Sample_wm: the visible-normal distribution.
-  T PDF(const Vec3<T>& w, const Vec3<T>& wm) const requires requires(const Derived& d) {
-    d.Sample_wm(w, Vec2<T>());
-  }
-  { return D(w, wm); }
+  // pdf (solid angle, over m) of Sample_wm: the visible-normal distribution. (The constraint is on a
+  // defaulted template parameter so that it is checked where Derived is complete: clang 14 checks it too
+  // early otherwise.)
+  template <class Self = Derived>
+  requires requires(const Self& d, const Vec3<T>& v) { d.Sample_wm(v, Vec2<T>()); }
+  T PDF(const Vec3<T>& w, const Vec3<T>& wm) const { return D(w, wm); }
   // pdf of sample_ndf (solid angle): D(m) (n·m)⁺.
   T pdf_ndf(const Vec3<T>& wm) const { return self().D(wm) * std::max(T(0), wm.z); }
 

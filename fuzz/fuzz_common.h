@@ -1,0 +1,28 @@
+// Shared by the libFuzzer targets: the readers take a path, so each input is written to a per-process scratch
+// file (in RAM under /dev/shm when it exists) and read back through the same entry point a user calls.
+#pragma once
+
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace msh::fuzz {
+
+// A scratch path "<dir>/msh_fuzz_<pid>_<tag><ext>", stable for the process.
+inline std::filesystem::path scratch_path(const std::string& tag, const std::string& ext) {
+  static const std::filesystem::path dir = std::filesystem::exists("/dev/shm")
+                                               ? std::filesystem::path("/dev/shm")
+                                               : std::filesystem::temp_directory_path();
+  return dir / ("msh_fuzz_" + std::to_string(::getpid()) + "_" + tag + ext);
+}
+
+inline void write_bytes(const std::filesystem::path& p, const std::uint8_t* data, std::size_t size) {
+  std::ofstream f(p, std::ios::binary | std::ios::trunc);
+  f.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+}
+
+}  // namespace msh::fuzz

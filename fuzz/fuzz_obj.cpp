@@ -1,0 +1,17 @@
+// libFuzzer target: render::load_obj (Wavefront OBJ). A Mesh or msh::InputError; nothing else.
+#include <microshadow/io/error.h>
+#include <microshadow/render/scene.h>
+
+#include <cstdlib>
+
+#include "fuzz_common.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const auto path = msh::fuzz::scratch_path("mesh", ".obj");
+  msh::fuzz::write_bytes(path, data, size);
+  try {
+    (void)msh::render::load_obj(path);
+  } catch (const msh::InputError&) {
+  }
+  return 0;
+}
