@@ -13,6 +13,10 @@
 #ifndef MSH_MICRO_SHADOWING_AREA_GLSL
 #define MSH_MICRO_SHADOWING_AREA_GLSL
 
+// Defined in micro_shadowing_fit.glsl; declared here so that the files also work concatenated in name order
+// (the browser viewer), where this file comes first.
+float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float roughness);
+
 // Half-angle of the visibility cone, atan(sqrt(vis), sqrt(1 - vis)).
 float msh_ms_cone_angle(float vis) {
   float v = clamp(vis, 0.0, 1.0);
