@@ -95,7 +95,7 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     p.ltc_diff = ltc_shade_sphere(LtcCoeffs<double>{}, n, v, axis, ss, o.polygon_sides).value(1.0) / norm_s;
     // Square light of half-size tan σ at distance 1, facing the point, rotated by a Sobol angle about its
     // axis.
-    const double h = std::tan(sig), rot = 2 * kPi<double> * u(5);
+    const double h = std::tan(sig), rot = 2 * kPi<double> * std::fmod(0.5 + 0.6180339887498949 * i, 1.0);  // golden-ratio sequence: the Sobol set has 5 dimensions
     const Frame<double> lf = Frame<double>::from_z(axis);
     const Vec3d ex = lf.s * std::cos(rot) + lf.t * std::sin(rot), ey = cross(axis, ex);
     const double norm_r = reference::rect_corner_form_factor(h, h, 1.0) * 4;
