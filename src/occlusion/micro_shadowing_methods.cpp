@@ -7,9 +7,9 @@
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/ggx.h>
-#include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/microfacet/vcavity.h>
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>
+#include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
@@ -51,34 +51,6 @@ Impl closed_form(double (*f)(double, double)) {
 
 // Number of azimuths (midpoints of equal strata of [0, π]) of the estimator's azimuth mean.
 constexpr int kEstimateAzimuths = 32;
-
-// The generic term (Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2"): the exact
-// quadrature (reference/micro_shadowing_exact.h) or, with samples, the Owen-scrambled Sobol estimator; at one
-// azimuth or the mean over [0, π].
-Impl generic_vndf(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
-  return {[o](const Point& p) {
-            const Vec3d v = lut::study_view_dir(p.nv);
-            if (o.samples == 0) {
-              if (p.phi)
-                return ms::generic_vndf_exact(p.V, p.ax, p.ay, v, lut::study_light_dir(p.nl, *p.phi));
-              if (p.ax == p.ay) return ms::generic_vndf_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv);
-              return ms::generic_vndf_exact_azimuth_mean_anisotropic(p.V, p.ax, p.ay, p.nl, p.nv);
-            }
-            const GGX<double> ggx(p.ax, p.ay);
-            const int n = int(o.samples);
-            if (p.phi)
-              return ms::generic_vndf_estimate(p.V, ggx, v, lut::study_light_dir(p.nl, *p.phi), n, o.g2,
-                                               o.seed);
-            double sum = 0;
-            for (int k = 0; k < kEstimateAzimuths; ++k) {
-              const double phi = kPi<double> * (k + 0.5) / kEstimateAzimuths;
-              sum += ms::generic_vndf_estimate(p.V, ggx, v, lut::study_light_dir(p.nl, phi), n, o.g2,
-                                               hash_combine(o.seed, uint32_t(k)));
-            }
-            return sum / kEstimateAzimuths;
-          },
-          nullptr};
-}
 
 // The ALU-only approximations of the azimuth mean (occlusion/micro_shadowing_fit.h), in float as a shader
 // runs them.
@@ -188,6 +160,21 @@ Impl generic_profile(const MicroShadowingOptions& o, Make make, Exact exact, Exa
 }
 
 // Smith–Beckmann (α = r², as GGX): the weight G2/G1 cancels, so --g2 changes only the estimator's weights.
+// The generic term (Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2"): the exact
+// quadrature (reference/micro_shadowing_exact.h) or, with samples, the Owen-scrambled Sobol estimator; at one
+// azimuth or the mean over [0, π].
+Impl generic_vndf(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
+  return generic_profile(
+      o, [](const Point& p) { return GGX<double>(p.ax, p.ay); },
+      [](const Point& p, const Vec3d& v, const Vec3d& l) {
+        return ms::generic_vndf_exact(p.V, p.ax, p.ay, v, l);
+      },
+      [](const Point& p) {
+        return p.ax == p.ay ? ms::generic_vndf_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv)
+                            : ms::generic_vndf_exact_azimuth_mean_anisotropic(p.V, p.ax, p.ay, p.nl, p.nv);
+      });
+}
+
 Impl generic_vndf_beckmann(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
   return generic_profile(
       o, [](const Point& p) { return Beckmann<double>(p.ax, p.ay); },
