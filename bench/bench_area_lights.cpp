@@ -38,19 +38,19 @@ void run(benchmark::State& state, F&& f) {
 }
 
 void BM_StepAreaCapClosedForm(benchmark::State& s) {
-  run(s, [](const In& x) { return ms::reference_step_area_cap(x.V, x.nl, x.rho); });
+  run(s, [](const In& x) { return micro_shadowing::reference_step_area_cap(x.V, x.nl, x.rho); });
 }
 void BM_StepAreaCapMazonka(benchmark::State& s) {
-  run(s, [](const In& x) { return ms::reference_step_area_cap_solid_angle(x.V, x.nl, x.rho); });
+  run(s, [](const In& x) { return micro_shadowing::reference_step_area_cap_solid_angle(x.V, x.nl, x.rho); });
 }
 void BM_StepAreaCapOatSander(benchmark::State& s) {
-  run(s, [](const In& x) { return ms::reference_step_area_cap_oat_sander(x.V, x.nl, x.rho); });
+  run(s, [](const In& x) { return micro_shadowing::reference_step_area_cap_oat_sander(x.V, x.nl, x.rho); });
 }
 void BM_BrinckMaximovAreaCap(benchmark::State& s) {
-  run(s, [](const In& x) { return ms::brinck_maximov_2016_area_cap(x.V, x.nl, x.rho); });
+  run(s, [](const In& x) { return micro_shadowing::brinck_maximov_2016_area_cap(x.V, x.nl, x.rho); });
 }
 void BM_GenericAluAreaCap(benchmark::State& s) {
-  run(s, [](const In& x) { return ms::generic_vndf_alu_area_cap(x.V, x.nl, x.nv, x.r, x.rho); });
+  run(s, [](const In& x) { return micro_shadowing::generic_vndf_alu_area_cap(x.V, x.nl, x.nv, x.r, x.rho); });
 }
 void BM_ExactStepCapLambert(benchmark::State& s) {
   run(s, [](const In& x) {

@@ -80,8 +80,8 @@ void BM_LutVerifyAllTexels(benchmark::State& state) {
       const int c = row / (o.n_nv * o.n_nl), z = (row / o.n_nl) % o.n_nv, y = row % o.n_nl;
       const double r = o.roughness[c];
       std::vector<double> ex(n);
-      micro_shadowing_semi_analytic_row(r * r, double(y) / (o.n_nl - 1), double(z) / (o.n_nv - 1), vis.data(),
-                                        n, ex.data(), 1, 1);
+      micro_shadowing::micro_shadowing_semi_analytic_row(
+          r * r, double(y) / (o.n_nl - 1), double(z) / (o.n_nv - 1), vis.data(), n, ex.data(), 1, 1);
       double local_max = 0, local_sq = 0;
       int wx = 0;
       for (int x = 0; x < n; ++x) {
@@ -123,7 +123,7 @@ std::vector<TexelInputs> random_texels(const BakeOptions& o, int count, uint64_t
     if (o.layout == LutLayout::Cone) {
       const int l = int(rng.next_u32() % o.n_rough);
       const double r = cone_roughness_of_coord(o.cone, double(l) / (o.n_rough - 1));
-      const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
+      const double nl = cone_axis_warp::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
       const double nv = cone_nv_of_coord(o.cone, double(z) / (o.n_nv - 1), r);
       const float a = cone_warp_width(o.cone, float(r));
       if (cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale) > kPi<double> / 2)
@@ -152,7 +152,7 @@ void BM_LutStraightforwardMC(benchmark::State& state) {
   std::vector<double> exact(texels.size());
   for (std::size_t i = 0; i < texels.size(); ++i) {
     const auto& t = texels[i];
-    exact[i] = ms::generic_vndf_exact_azimuth_mean(t.V, t.r * t.r, t.nl, t.nv);
+    exact[i] = micro_shadowing::generic_vndf_exact_azimuth_mean(t.V, t.r * t.r, t.nl, t.nv);
   }
   double binned_cpu = 0;
   const double c0 = process_cpu_seconds();
@@ -223,9 +223,10 @@ void BM_LutAzimuthError(benchmark::State& state) {
       const double r = kDefaultRoughness[i % 4], a = r * r, V = rng.next_double();
       const Vec3d v = sample_uniform_hemisphere<double>({rng.next_double(), rng.next_double()});
       const Vec3d l = sample_uniform_hemisphere<double>({rng.next_double(), rng.next_double()});
-      const double exact = ms::generic_vndf_exact(V, a, a, v, l);
+      const double exact = micro_shadowing::generic_vndf_exact(V, a, a, v, l);
       const double cphi = relative_azimuth_cos(v, l);
-      const double e_mean = micro_shadowing_semi_analytic_azimuth_mean(a, V, l.z, v.z, 1) - exact;
+      const double e_mean =
+          micro_shadowing::micro_shadowing_semi_analytic_azimuth_mean(a, V, l.z, v.z, 1) - exact;
       const double e0 = sample_micro_shadowing<double>(view, V, l.z, v.z, r) - exact;
       const double e2 = sample_micro_shadowing_azimuth<double>(view, V, l.z, v.z, r, cphi) - exact;
       mean_only.add(e_mean), plain.add(e0), aware.add(e2), ++n;

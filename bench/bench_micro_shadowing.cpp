@@ -11,7 +11,7 @@
 namespace {
 
 using namespace msh;
-using namespace msh::ms;
+using namespace msh::micro_shadowing;
 
 struct Point {
   double V, alpha, nl, nv, phi;

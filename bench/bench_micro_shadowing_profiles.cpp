@@ -15,7 +15,7 @@
 namespace {
 
 using namespace msh;
-using namespace msh::ms;
+using namespace msh::micro_shadowing;
 
 struct Point {
   double V, ax, ay;

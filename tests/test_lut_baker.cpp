@@ -46,7 +46,7 @@ TEST(LutBaker, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
     const double V = texel_value(x, 64), nl = texel_value(y, 64), nv = texel_value(z, 64);
     if (x == 0 || x == 63 || 2 * V + nl < 1) continue;  // exact by construction, tested below
     const double r = o.roughness[c];
-    const double exact = ms::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv);
+    const double exact = micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv);
     const double err = std::abs(double(vol.at(x, y, z, c)) - exact);
     worst = std::max(worst, err);
     EXPECT_LE(err, kTol) << "texel (" << x << "," << y << "," << z << ") roughness " << r << " lut "
@@ -130,7 +130,7 @@ TEST(LutBaker, HarmonicSlabsMatchExactFourierCoefficients) {
           for (std::size_t k = 0; k < phi.size(); ++k) {
             const double sl = std::sqrt(1 - nl * nl);
             const Vec3d l(sl * std::cos(phi[k]), sl * std::sin(phi[k]), nl);
-            const double t = ms::generic_vndf_exact(V, a, a, v, l);
+            const double t = micro_shadowing::generic_vndf_exact(V, a, a, v, l);
             for (int h = 0; h < 3; ++h) coef[h] += (h ? 2.0 : 1.0) * w[k] * t * std::cos(h * phi[k]);
           }
           for (int h = 0; h < 3; ++h) {
@@ -163,31 +163,32 @@ TEST(LutExact, SemiAnalyticMatchesIndependentQuadrature) {
     const double V = rng.next_double(), nl = i % 9 == 0 ? 0.0 : rng.next_double();
     const double nv = i % 5 == 0 ? 0.0 : rng.next_double(), phi = kPi<double> * rng.next_double();
     const double sl = std::sqrt(1 - nl * nl);
-    const double ref = ms::generic_vndf_exact(V, a, a, Vec3d(std::sqrt(1 - nv * nv), 0, nv),
-                                              Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl));
-    EXPECT_NEAR(micro_shadowing_semi_analytic(a, V, nl, nv, phi), ref, 5e-5)
+    const double ref = micro_shadowing::generic_vndf_exact(V, a, a, Vec3d(std::sqrt(1 - nv * nv), 0, nv),
+                                                           Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl));
+    EXPECT_NEAR(micro_shadowing::micro_shadowing_semi_analytic(a, V, nl, nv, phi), ref, 5e-5)
         << "r=" << r << " V=" << V << " nl=" << nl << " nv=" << nv << " phi=" << phi;
   }
   for (int i = 0; i < 20; ++i) {
     const double r = 0.1 + 0.9 * rng.next_double(), a = r * r;
     const double V = 0.5 + 0.5 * rng.next_double(), nl = rng.next_double(), nv = rng.next_double();
-    EXPECT_NEAR(micro_shadowing_semi_analytic_azimuth_mean(a, V, nl, nv),
-                ms::generic_vndf_exact_azimuth_mean(V, a, nl, nv), 5e-5);
+    EXPECT_NEAR(micro_shadowing::micro_shadowing_semi_analytic_azimuth_mean(a, V, nl, nv),
+                micro_shadowing::generic_vndf_exact_azimuth_mean(V, a, nl, nv), 5e-5);
   }
 }
 
 TEST(LutExact, RowMatchesPointwise) {
   std::vector<double> vis = {0.0, 0.2, 0.5, 0.7, 0.9, 0.99, 1.0}, out(vis.size());
-  micro_shadowing_semi_analytic_row(0.3, 0.4, 0.6, vis.data(), int(vis.size()), out.data());
+  micro_shadowing::micro_shadowing_semi_analytic_row(0.3, 0.4, 0.6, vis.data(), int(vis.size()), out.data());
   for (std::size_t i = 0; i < vis.size(); ++i)
-    EXPECT_NEAR(out[i], ms::generic_vndf_exact_azimuth_mean(vis[i], 0.3, 0.4, 0.6), 5e-5) << vis[i];
+    EXPECT_NEAR(out[i], micro_shadowing::generic_vndf_exact_azimuth_mean(vis[i], 0.3, 0.4, 0.6), 5e-5)
+        << vis[i];
 }
 
 TEST(LutBaker, StraightforwardMonteCarloTexelConverges) {
   // The seed's per-sample estimator (bench baseline): unbiased up to O(1/N), so within 5σ of the exact value.
   const double cases[][4] = {{0.16, 0.8, 0.7, 0.5}, {1.0, 0.9, 0.3, 0.2}, {0.49, 0.6, 0.5, 0.05}};
   for (const auto& t : cases) {
-    const double exact = ms::generic_vndf_exact_azimuth_mean(t[1], t[0], t[2], t[3]);
+    const double exact = micro_shadowing::generic_vndf_exact_azimuth_mean(t[1], t[0], t[2], t[3]);
     const int n = 1 << 16;
     const double got = monte_carlo_texel(t[0], t[1], t[2], t[3], n, 16, 5);
     EXPECT_NEAR(got, exact, 5 * 0.5 / std::sqrt(0.5 * n)) << t[0] << " " << t[1];
@@ -250,7 +251,7 @@ struct ConeTexel {
 };
 ConeTexel cone_texel(const BakeOptions& o, int x, int y, int z, int slab) {
   const double r = cone_roughness_of_coord(o.cone, double(slab) / (o.n_rough - 1));
-  const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
+  const double nl = cone_axis_warp::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
   const double nv = cone_nv_of_coord(o.cone, double(z) / (o.n_nv - 1), r);
   const float a = cone_warp_width(o.cone, float(r));
   const double theta = cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);
@@ -277,7 +278,7 @@ TEST(LutBakerCone, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
     const int z = int(rng.next_u32() % o.n_nv), l = int(rng.next_u32() % o.n_rough);
     const ConeTexel t = cone_texel(o, x, y, z, l);
     if (!(t.nv > 0.0) || t.past_one) continue;  // outside the sampled domain
-    const double exact = ms::generic_vndf_exact_azimuth_mean(t.V, t.r * t.r, t.nl, t.nv);
+    const double exact = micro_shadowing::generic_vndf_exact_azimuth_mean(t.V, t.r * t.r, t.nl, t.nv);
     const double err = std::abs(double(vol.at(x, y, l * o.n_nv + z, 0)) - exact);
     worst = std::max(worst, err);
     EXPECT_LE(err, kTol) << "texel (" << x << "," << y << "," << z << "," << l << ") V " << t.V << " N·L "
@@ -300,7 +301,7 @@ TEST(LutBakerCone, EndColumnsAreExactAndTexelsSitInTheLitRange) {
   // boundary; the axis reaches V = 1.
   for (int y = 0; y < o.n_nl; y += 3) {
     double prev = -1;
-    const double nl = cone_detail::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
+    const double nl = cone_axis_warp::axis_value(double(y) / (o.n_nl - 1), o.cone.nl_warp);
     const float a = cone_warp_width(o.cone, 0.3f);
     for (int x = 0; x < o.n_vis; ++x) {
       const double th = cone_theta_of_t(double(x) / (o.n_vis - 1), float(nl), a, o.cone.top_scale);

@@ -144,7 +144,7 @@ TEST(LutSampler, AzimuthAwareTableCutsAzimuthErrorFourfold) {
     const double r = kDefaultRoughness[ep.n % 4], a = r * r, V = rng.next_double();
     const Vec3d v = sample_uniform_hemisphere<double>({rng.next_double(), rng.next_double()});
     const Vec3d l = sample_uniform_hemisphere<double>({rng.next_double(), rng.next_double()});
-    const double exact = ms::generic_vndf_exact(V, a, a, v, l);
+    const double exact = micro_shadowing::generic_vndf_exact(V, a, a, v, l);
     const double cphi = relative_azimuth_cos(v, l);
     const double e0 = sample_micro_shadowing<double>(va, V, l.z, v.z, r) - exact;
     const double e2 = sample_micro_shadowing_azimuth<double>(va, V, l.z, v.z, r, cphi) - exact;
@@ -221,7 +221,7 @@ TEST(LutSamplerCone, ReproducesMultilinearFunctionsOfTheCoordinates) {
   for (int i = 0; i < 5000; ++i) {
     const double V = rng.next_double(), n_l = rng.next_double(), n_v = rng.next_double();
     const double r = 1.2 * rng.next_double() - 0.1;  // also outside [0.1, 1]: clamped
-    if (ms::exact_zero(V, n_l)) continue;
+    if (micro_shadowing::exact_zero(V, n_l)) continue;
     const ConeCoords c = cone_coords_ref(V, n_l, n_v, r);
     ASSERT_NEAR(sample_micro_shadowing<double>(view, V, n_l, n_v, r), cone_synthetic(c.t, c.s, c.w, c.q),
                 2e-6)
@@ -291,7 +291,7 @@ TEST(LutSamplerCone, DefaultTableMeetsTheTargetsAtContinuousInputs) {
   for (int i = 0; i < 600; ++i) {
     const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
     const double r = 0.1 + 0.9 * rng.next_double();
-    const double exact = ms::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv);
+    const double exact = micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv);
     e.add(sample_micro_shadowing<float>(view, float(V), float(nl), float(nv), float(r)) - exact);
     e_gpu.add(sample_micro_shadowing<float>(view_half, float(V), float(nl), float(nv), float(r)) - exact);
   }
@@ -316,8 +316,8 @@ TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
     const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
     const double r = 0.1 + 0.9 * rng.next_double(), phi = kPi<double> * rng.next_double();
     const double sv = std::sqrt(1 - nv * nv), sl = std::sqrt(1 - nl * nl);
-    const double exact = ms::generic_vndf_exact(V, r * r, r * r, Vec3d(sv, 0, nv),
-                                                Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl));
+    const double exact = micro_shadowing::generic_vndf_exact(
+        V, r * r, r * r, Vec3d(sv, 0, nv), Vec3d(sl * std::cos(phi), sl * std::sin(phi), nl));
     const double err = sample_micro_shadowing_azimuth<float>(view, float(V), float(nl), float(nv), float(r),
                                                              float(std::cos(phi))) -
                        exact;

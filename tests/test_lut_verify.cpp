@@ -126,11 +126,11 @@ TEST(Verify, ReferenceMatchesSemiAnalytic) {
     int nonzero = 0;
     for (const VerifyInput& p : make_verify_inputs(o)) {
       const double alpha = double(p.roughness) * double(p.roughness);
-      const double s =
-          ref == VerifyReference::AzimuthMean
-              ? micro_shadowing_semi_analytic_azimuth_mean(alpha, p.visibility, p.n_dot_l, p.n_dot_v, 8)
-              : micro_shadowing_semi_analytic(alpha, p.visibility, p.n_dot_l, p.n_dot_v,
-                                              std::acos(double(p.cos_phi)));
+      const double s = ref == VerifyReference::AzimuthMean
+                           ? micro_shadowing::micro_shadowing_semi_analytic_azimuth_mean(
+                                 alpha, p.visibility, p.n_dot_l, p.n_dot_v, 8)
+                           : micro_shadowing::micro_shadowing_semi_analytic(
+                                 alpha, p.visibility, p.n_dot_l, p.n_dot_v, std::acos(double(p.cos_phi)));
       EXPECT_NEAR(p.exact, s, ref == VerifyReference::AzimuthMean ? 1e-5 : 5e-5)
           << p.visibility << " " << p.n_dot_l << " " << p.n_dot_v << " " << p.roughness << " " << p.cos_phi;
       nonzero += p.exact > 0.01 && p.exact < 0.99;

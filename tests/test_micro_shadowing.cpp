@@ -12,7 +12,7 @@
 #include <vector>
 
 using namespace msh;
-using namespace msh::ms;
+using namespace msh::micro_shadowing;
 
 namespace {
 
@@ -263,7 +263,7 @@ TEST(MicroShadowingExact, ThetaAntiderivativeMatchesSimpson) {
     }
     s *= (t1 - t0) / (3.0 * n);
     const double sk = std::sqrt(k);
-    const double F = detail::gv_F(t1, a, b, k, sk) - detail::gv_F(t0, a, b, k, sk);
+    const double F = exact_quadrature::gv_F(t1, a, b, k, sk) - exact_quadrature::gv_F(t0, a, b, k, sk);
     EXPECT_NEAR(F, s, 1e-9 * (1 + std::abs(s))) << "a=" << a << " b=" << b << " k=" << k;
   }
 }
@@ -280,16 +280,17 @@ TEST(MicroShadowingExact, ClosedFormDenominatorMatchesQuadrature) {
     if (t == 0) v = {0, 0, 1};
     if (t == 1) v = {1, 0, 0};
     if (t == 2) l = {0, 0, 1};
-    const double a = detail::vndf_hemisphere_probability(g, v, l);
-    const double b = detail::vndf_region_probability(g, v, l, 0.0, 1e-12);
+    const double a = exact_quadrature::vndf_hemisphere_probability(g, v, l);
+    const double b = exact_quadrature::vndf_region_probability(g, v, l, 0.0, 1e-12);
     EXPECT_NEAR(a, b, 1e-10) << t;
     if (t == 2) {
       EXPECT_NEAR(a, 1.0, 1e-12);
     }
   }
   // Octant hand value: ∫ over x, y, z > 0 of z dm = π/4.
-  EXPECT_NEAR(detail::clamped_cosine_over_hemispheres(Vec3d(0, 0, 1), Vec3d(1, 0, 0), Vec3d(0, 1, 0)),
-              kPi<double> / 4, 1e-15);
+  EXPECT_NEAR(
+      exact_quadrature::clamped_cosine_over_hemispheres(Vec3d(0, 0, 1), Vec3d(1, 0, 0), Vec3d(0, 1, 0)),
+      kPi<double> / 4, 1e-15);
 }
 
 // Exact vs Monte Carlo with 2^20 PCG32 samples per point, both VNDF samplers, at random anisotropic points.
@@ -323,7 +324,7 @@ TEST(MicroShadowingExact, SamplersAndUniformImportanceSamplingAgree) {
   const auto [pc, ph] = mc_uniform(g, v, l, V, 1 << 21, 3);
   const double e = generic_vndf_exact(V, 0.5, 0.3, v, l);
   EXPECT_NEAR(pc / ph, e, 5e-3);
-  EXPECT_NEAR(ph, detail::vndf_hemisphere_probability(g, v, l), 5e-3);
+  EXPECT_NEAR(ph, exact_quadrature::vndf_hemisphere_probability(g, v, l), 5e-3);
 }
 
 TEST(MicroShadowingExact, Limits) {

@@ -34,9 +34,11 @@ TEST(MicroShadowingAnalysis, FourierCoefficientsMatchIndependentQuadrature) {
   for (const AzimuthConfig& z : az) {
     const double al = roughness_to_alpha(z.roughness);
     const Vec3d v = study_view_dir(z.n_dot_v);
-    EXPECT_NEAR(z.exact, ms::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, z.phi)),
-                1e-12);
-    if (ms::exact_zero(z.visibility, z.n_dot_l)) {
+    EXPECT_NEAR(
+        z.exact,
+        micro_shadowing::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, z.phi)),
+        1e-12);
+    if (micro_shadowing::exact_zero(z.visibility, z.n_dot_l)) {
       for (double a : z.a) EXPECT_EQ(a, 0.0);
       EXPECT_EQ(z.mean, 0.0);
       continue;
@@ -47,7 +49,8 @@ TEST(MicroShadowingAnalysis, FourierCoefficientsMatchIndependentQuadrature) {
     std::array<double, kAzimuthStudyHarmonics + 1> ref{};
     for (int i = 0; i < n; ++i) {
       const double p = kPi<double> * (i + 0.5) / n;
-      const double f = ms::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, p));
+      const double f =
+          micro_shadowing::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, p));
       for (int h = 0; h <= kAzimuthStudyHarmonics; ++h)
         ref[h] += (h == 0 ? 1.0 : 2.0) * f * std::cos(h * p) / n;
     }
@@ -64,7 +67,7 @@ TEST(MicroShadowingAnalysis, SummaryCountsAndOrdersStatistics) {
   const AbsErrorSummary all = azimuth_error_summary(az, 0, false), lit = azimuth_error_summary(az, 0, true);
   EXPECT_EQ(all.count, 40u);
   size_t outside = 0;
-  for (const AzimuthConfig& z : az) outside += !ms::exact_zero(z.visibility, z.n_dot_l);
+  for (const AzimuthConfig& z : az) outside += !micro_shadowing::exact_zero(z.visibility, z.n_dot_l);
   EXPECT_EQ(lit.count, outside);
   for (const AbsErrorSummary& s : {all, lit}) {
     EXPECT_LE(s.p50, s.p90);
@@ -103,8 +106,8 @@ TEST(MicroShadowingAnalysis, TermErrorsOfHandBuiltCells) {
   EXPECT_EQ(c.n_dot_v, 0.5);
   EXPECT_EQ(c.n_dot_l, 0.5);
   EXPECT_EQ(c.visibility, 1.0);
-  EXPECT_EQ(c.chan, ms::chan_2018(1.0, 0.5));
-  EXPECT_EQ(c.generic, ms::generic_vndf_exact_azimuth_mean(1.0, 0.16, 0.5, 0.5));
+  EXPECT_EQ(c.chan, micro_shadowing::chan_2018(1.0, 0.5));
+  EXPECT_EQ(c.generic, micro_shadowing::generic_vndf_exact_azimuth_mean(1.0, 0.16, 0.5, 0.5));
 }
 
 }  // namespace

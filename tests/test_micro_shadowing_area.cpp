@@ -115,16 +115,16 @@ TEST(AreaExact, ZeroSizeIsPointValue) {
   const double V = 0.4, nl = 0.55;
   EXPECT_EQ(
       area_micro_shadowing_exact(Cap{dir_nl(nl), 0.0}, Receiver::lambert(), brinck_maximov_2016_term(V)),
-      ms::brinck_maximov_2016(V, nl));
+      micro_shadowing::brinck_maximov_2016(V, nl));
   // The limit ρ → 0 of a continuous term is the point value.
   const Vec3d v = dir_nl(0.8);
-  const double point = ms::generic_vndf_exact(V, 0.3, 0.3, v, dir_nl(nl, 1.0));
+  const double point = micro_shadowing::generic_vndf_exact(V, 0.3, 0.3, v, dir_nl(nl, 1.0));
   const double small = area_micro_shadowing_exact(Cap{dir_nl(nl, 1.0), 0.01 * kDeg}, Receiver::lambert(),
                                                   generic_vndf_term(V, 0.3, 0.3, v));
   EXPECT_NEAR(small, point, 1e-5);
   const double bm_small = area_micro_shadowing_exact(Cap{dir_nl(nl), 0.01 * kDeg}, Receiver::lambert(),
                                                      brinck_maximov_2016_term(V));
-  EXPECT_NEAR(bm_small, ms::brinck_maximov_2016(V, nl), 1e-5);
+  EXPECT_NEAR(bm_small, micro_shadowing::brinck_maximov_2016(V, nl), 1e-5);
 }
 
 TEST(AreaExact, CapIntersectionSolidAngleMazonkaAndMonteCarlo) {
@@ -138,7 +138,7 @@ TEST(AreaExact, CapIntersectionSolidAngleMazonkaAndMonteCarlo) {
     const Cap cap{dir_nl(c.nl, 0.4), rho};
     const PointTerm chi_over_z{[ct](const Vec3d& l) { return l.z > ct ? 1 / l.z : 0.0; }, {ct}, true};
     const double omega = area_integrals(cap, Receiver::lambert(), chi_over_z).weighted;
-    const double mazonka = ms::cap_intersection_solid_angle(rho, std::acos(ct), std::acos(c.nl));
+    const double mazonka = micro_shadowing::cap_intersection_solid_angle(rho, std::acos(ct), std::acos(c.nl));
     EXPECT_NEAR(omega, mazonka, 1e-9 * (1 + mazonka));
     Pcg32 rng(7);
     const int n = 400000;
@@ -253,7 +253,9 @@ TEST(AreaExact, AzimuthMeanIdentityLambert) {
   }
   brute /= K;
   const PointTerm mean{
-      [&](const Vec3d& l) { return ms::generic_vndf_exact_azimuth_mean(V, a, l.z, nv); }, {1 - 2 * V}, true};
+      [&](const Vec3d& l) { return micro_shadowing::generic_vndf_exact_azimuth_mean(V, a, l.z, nv); },
+      {1 - 2 * V},
+      true};
   EXPECT_NEAR(brute, area_micro_shadowing_exact(Cap{dir_nl(nl), rho}, Receiver::lambert(), mean), 2e-5);
 }
 
@@ -265,7 +267,7 @@ TEST(AreaFast, MazonkaStableFormAgainstDirectFormAndBounds) {
   for (int i = 0; i < 2000; ++i) {
     const double r1 = rng.next_double() * kPi<double> / 2, r2 = rng.next_double() * kPi<double> / 2;
     const double g = rng.next_double() * kPi<double>;
-    const double om = ms::cap_intersection_solid_angle(r1, r2, g);
+    const double om = micro_shadowing::cap_intersection_solid_angle(r1, r2, g);
     if (g > std::abs(r1 - r2) && g < r1 + r2) {
       const double c1 = std::cos(r1), s1 = std::sin(r1), c2 = std::cos(r2), s2 = std::sin(r2);
       const double psi = std::acos(std::clamp((std::cos(g) - c1 * c2) / (s1 * s2), -1.0, 1.0));
@@ -274,7 +276,7 @@ TEST(AreaFast, MazonkaStableFormAgainstDirectFormAndBounds) {
       EXPECT_NEAR(om, 2 * (kPi<double> - psi) - 2 * w1 * c1 - 2 * w2 * c2, 1e-9);
     }
     EXPECT_LE(om, 2 * kPi<double> * (1 - std::cos(std::min(r1, r2))) + 1e-12);
-    EXPECT_GE(ms::cap_intersection_solid_angle_oat_sander(r1, r2, g), 0.0);
+    EXPECT_GE(micro_shadowing::cap_intersection_solid_angle_oat_sander(r1, r2, g), 0.0);
   }
 }
 
@@ -285,27 +287,29 @@ TEST(AreaFast, StepClosedFormMatchesExactOffGrid) {
     const double V = p.x, nl = p.y, rho = (1 + 39 * q.x) * kDeg;
     const double ex = area_micro_shadowing_exact(Cap{dir_nl(nl, 6 * q.y), rho}, Receiver::lambert(),
                                                  reference_step_term(V));
-    max_d = std::max(max_d, std::abs(ms::reference_step_area_cap(V, nl, rho) - ex));
-    max_f =
-        std::max(max_f, std::abs(double(ms::reference_step_area_cap(float(V), float(nl), float(rho))) - ex));
+    max_d = std::max(max_d, std::abs(micro_shadowing::reference_step_area_cap(V, nl, rho) - ex));
+    max_f = std::max(
+        max_f,
+        std::abs(double(micro_shadowing::reference_step_area_cap(float(V), float(nl), float(rho))) - ex));
   }
   EXPECT_LT(max_d, 1e-9);
   EXPECT_LT(max_f, 2e-4);
   // ρ = 0 is the point value; a light inside / outside the cone is 1 / 0.
-  EXPECT_EQ(ms::reference_step_area_cap(0.5, 0.8, 0.0), ms::reference_step(0.5, 0.8));
-  EXPECT_EQ(ms::reference_step_area_cap(0.5, std::cos(20 * kDeg), 10 * kDeg), 1.0);
-  EXPECT_EQ(ms::reference_step_area_cap(0.5, std::cos(70 * kDeg), 10 * kDeg), 0.0);
+  EXPECT_EQ(micro_shadowing::reference_step_area_cap(0.5, 0.8, 0.0),
+            micro_shadowing::reference_step(0.5, 0.8));
+  EXPECT_EQ(micro_shadowing::reference_step_area_cap(0.5, std::cos(20 * kDeg), 10 * kDeg), 1.0);
+  EXPECT_EQ(micro_shadowing::reference_step_area_cap(0.5, std::cos(70 * kDeg), 10 * kDeg), 0.0);
 }
 
 TEST(AreaFast, SolidAngleRatiosAreNotTheCosineWeightedValue) {
   // Mazonka's ratio is exact for solid angle but drops the (n·l) weight: it must differ from the exact
   // cosine-weighted M_area where the light straddles the cone, and agree when the light is tiny.
   const double V = 0.5, nl = std::cos(45 * kDeg);
-  EXPECT_GT(std::abs(ms::reference_step_area_cap_solid_angle(V, nl, 30 * kDeg) -
-                     ms::reference_step_area_cap(V, nl, 30 * kDeg)),
+  EXPECT_GT(std::abs(micro_shadowing::reference_step_area_cap_solid_angle(V, nl, 30 * kDeg) -
+                     micro_shadowing::reference_step_area_cap(V, nl, 30 * kDeg)),
             0.01);
-  EXPECT_NEAR(ms::reference_step_area_cap_solid_angle(V, nl, 0.5 * kDeg),
-              ms::reference_step_area_cap(V, nl, 0.5 * kDeg), 2e-3);
+  EXPECT_NEAR(micro_shadowing::reference_step_area_cap_solid_angle(V, nl, 0.5 * kDeg),
+              micro_shadowing::reference_step_area_cap(V, nl, 0.5 * kDeg), 2e-3);
 }
 
 TEST(AreaFast, ProductRuleTermsMatchExactOffGrid) {
@@ -317,19 +321,21 @@ TEST(AreaFast, ProductRuleTermsMatchExactOffGrid) {
     const double V = p.x, nl = p.y, rho = (1 + 39 * q.x) * kDeg;
     const Cap cap{dir_nl(nl, 6 * q.y), rho};
     auto ex = [&](const auto& t) { return area_micro_shadowing_exact(cap, Receiver::lambert(), t); };
-    const double bm = ms::brinck_maximov_2016_area_cap(V, nl, rho);
+    const double bm = micro_shadowing::brinck_maximov_2016_area_cap(V, nl, rho);
     e[0] = std::max(e[0], std::abs(bm - ex(brinck_maximov_2016_term(V))));
-    e[1] = std::max(e[1], std::abs(ms::chan_2018_area_cap(V, nl, rho) - ex(chan_2018_term(V))));
-    e[2] = std::max(e[2], std::abs(ms::part1_analytic_area_cap(V, nl, rho) - ex(part1_analytic_term(V))));
-    ef = std::max(ef,
-                  std::abs(double(ms::brinck_maximov_2016_area_cap(float(V), float(nl), float(rho))) - bm));
+    e[1] = std::max(e[1], std::abs(micro_shadowing::chan_2018_area_cap(V, nl, rho) - ex(chan_2018_term(V))));
+    e[2] = std::max(
+        e[2], std::abs(micro_shadowing::part1_analytic_area_cap(V, nl, rho) - ex(part1_analytic_term(V))));
+    ef = std::max(
+        ef, std::abs(double(micro_shadowing::brinck_maximov_2016_area_cap(float(V), float(nl), float(rho))) -
+                     bm));
   }
   EXPECT_LT(e[0], 0.5 / 255);
   EXPECT_LT(e[1], 0.5 / 255);
   EXPECT_LT(e[2], 1.0 / 255);
   EXPECT_LT(ef, 1e-3);
   // ρ = 0: the point values.
-  EXPECT_EQ(ms::chan_2018_area_cap(0.4, 0.6, 0.0), ms::chan_2018(0.4, 0.6));
+  EXPECT_EQ(micro_shadowing::chan_2018_area_cap(0.4, 0.6, 0.0), micro_shadowing::chan_2018(0.4, 0.6));
 }
 
 TEST(AreaFast, GenericAluAreaTracksExactMeanArea) {
@@ -341,11 +347,13 @@ TEST(AreaFast, GenericAluAreaTracksExactMeanArea) {
     const double V = 0.3 + 0.7 * p.x, nl = 0.2 + 0.8 * p.y, rho = (1 + 39 * q.x) * kDeg, r = 0.2 + 0.8 * q.y,
                  nv = 0.7;
     const double a = r * r;
-    auto mean = [&](double z) { return ms::generic_vndf_exact_azimuth_mean(V, a, z, nv); };
+    auto mean = [&](double z) { return micro_shadowing::generic_vndf_exact_azimuth_mean(V, a, z, nv); };
     const PointTerm t{[&](const Vec3d& l) { return mean(std::clamp(l.z, 0.0, 1.0)); }, {1 - 2 * V}, true};
     const double ex =
         area_micro_shadowing_exact(Cap{dir_nl(nl), rho}, Receiver::lambert(), t, AreaOptions{1e-7});
-    e = std::max(e, std::abs(ms::area_cap_lambert(mean, nl, rho, ms::generic_vndf_kinks(V, r)) - ex));
+    e = std::max(e, std::abs(micro_shadowing::area_cap_lambert(mean, nl, rho,
+                                                               micro_shadowing::generic_vndf_kinks(V, r)) -
+                             ex));
   }
   EXPECT_LT(e, 0.5 / 255);
 }

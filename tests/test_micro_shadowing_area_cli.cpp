@@ -47,8 +47,8 @@ TEST(AreaLightsCli, SphereMatchesClosedFormAndQuadrature) {
   const double V = 0.5, nl = 0.72, rho = 12.5;
   const nlohmann::json j =
       eval_json("--method reference --visibility 0.5 --ndotl 0.72 --light-radius-deg 12.5");
-  EXPECT_NEAR(j["value"].get<double>(), ms::reference_step_area_cap(V, nl, rho * kDeg), 1e-8);
-  EXPECT_EQ(j["light"]["point_value"].get<double>(), ms::reference_step(V, nl));
+  EXPECT_NEAR(j["value"].get<double>(), micro_shadowing::reference_step_area_cap(V, nl, rho * kDeg), 1e-8);
+  EXPECT_EQ(j["light"]["point_value"].get<double>(), micro_shadowing::reference_step(V, nl));
   // A facing disk is the same cap.
   const nlohmann::json d = eval_json(
       "--method reference --visibility 0.5 --ndotl 0.72 --light-radius-deg 12.5 --light-shape disk");
@@ -97,8 +97,8 @@ TEST(AreaLightsCli, GenericMeanTermOverALight) {
       "--method generic-vndf --visibility 0.55 --ndotl 0.6 --roughness 0.5 --ndotv 0.7 --light-radius-deg "
       "15");
   const area::PointTerm mean{[](const Vec3d& l) {
-                               return ms::generic_vndf_exact_azimuth_mean(0.55, 0.25,
-                                                                          std::clamp(l.z, 0.0, 1.0), 0.7);
+                               return micro_shadowing::generic_vndf_exact_azimuth_mean(
+                                   0.55, 0.25, std::clamp(l.z, 0.0, 1.0), 0.7);
                              },
                              area::standard_z_breaks(0.55), true};
   EXPECT_NEAR(j["value"].get<double>(),

@@ -14,7 +14,7 @@
 #include <limits>
 
 using namespace msh;
-using namespace msh::ms;
+using namespace msh::micro_shadowing;
 
 namespace {
 

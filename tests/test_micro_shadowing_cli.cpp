@@ -32,13 +32,14 @@ TEST(MicroShadowingCli, EvalJson) {
   EXPECT_EQ(j["early_out"], false);
   EXPECT_TRUE(j["inputs"]["phi"].is_null());
   EXPECT_NEAR(j["inputs"]["alpha_x"].get<double>(), 0.16, 1e-15);
-  EXPECT_NEAR(j["value"].get<double>(), ms::generic_vndf_exact_azimuth_mean(0.5, 0.16, 0.3, 0.8), 1e-12);
+  EXPECT_NEAR(j["value"].get<double>(), micro_shadowing::generic_vndf_exact_azimuth_mean(0.5, 0.16, 0.3, 0.8),
+              1e-12);
 
   const auto k =
       eval_json("--method generic-vndf --visibility 0.5 --roughness 0.4 --ndotl 0.3 --ndotv 0.8 --phi 1.2");
   const Vec3d v(std::sqrt(1 - 0.64), 0, 0.8),
       l(std::sqrt(1 - 0.09) * std::cos(1.2), std::sqrt(1 - 0.09) * std::sin(1.2), 0.3);
-  EXPECT_NEAR(k["value"].get<double>(), ms::generic_vndf_exact(0.5, 0.16, 0.16, v, l), 1e-12);
+  EXPECT_NEAR(k["value"].get<double>(), micro_shadowing::generic_vndf_exact(0.5, 0.16, 0.16, v, l), 1e-12);
 
   // Estimator: close to the exact value; differs between seeds; reproducible for one seed.
   const std::string est =
@@ -81,10 +82,12 @@ TEST(MicroShadowingCli, LutMethods) {
   EXPECT_EQ(a["lut_layout"], "cone");  // the default table
   EXPECT_EQ(a["lut_size"][2], 16);
   EXPECT_EQ(a["lut_roughness_slabs"], 16);
-  EXPECT_NEAR(a["value"].get<double>(), ms::generic_vndf_exact_azimuth_mean(0.7, 0.16, 0.6, 0.3), 0.01);
+  EXPECT_NEAR(a["value"].get<double>(), micro_shadowing::generic_vndf_exact_azimuth_mean(0.7, 0.16, 0.6, 0.3),
+              0.01);
   const auto b = eval_json("--method lut2d --visibility 0.7 --roughness 0.4 --ndotl 0.6 --ndotv 0.3");
   EXPECT_EQ(b["lut_size"][2], 1);
-  EXPECT_NEAR(b["value"].get<double>(), ms::generic_vndf_exact_azimuth_mean(0.7, 0.16, 0.6, 1.0), 0.01);
+  EXPECT_NEAR(b["value"].get<double>(), micro_shadowing::generic_vndf_exact_azimuth_mean(0.7, 0.16, 0.6, 1.0),
+              0.01);
   EXPECT_EQ(eval_json("--method lut3d --visibility 0.2 --roughness 0.4 --ndotl 0.5")["value"].get<double>(),
             0.0);
 }

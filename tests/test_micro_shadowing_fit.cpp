@@ -1,4 +1,4 @@
-// msh::ms::generic_vndf_alu and the two-stage generic_vndf_alu_pixel + generic_vndf_alu_light
+// msh::micro_shadowing::generic_vndf_alu and the two-stage generic_vndf_alu_pixel + generic_vndf_alu_light
 // (include/microshadow/occlusion/micro_shadowing_fit.h) against the exact azimuth
 // mean generic_vndf_exact_azimuth_mean at independent continuous random inputs (not the fit's training or
 // validation points), its exact early-out and limits, and finiteness on degenerate inputs.
@@ -30,7 +30,8 @@ Errors measure(F term, int n, uint64_t seed) {
   for (int i = 0; i < n; ++i) {
     const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
     const double r = 0.1 + 0.9 * rng.next_double();
-    const double e = std::abs(term(V, nl, nv, r) - ms::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv));
+    const double e =
+        std::abs(term(V, nl, nv, r) - micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv));
     ss += e * e, mx = std::max(mx, e);
   }
   return {std::sqrt(ss / n), mx};
@@ -48,20 +49,22 @@ Errors measure(F term, int n, uint64_t seed) {
 // reference step, RMS 50-60/255 on this measure).
 TEST(MicroShadowingFit, AccuracyAgainstExactAzimuthMean) {
   const int n = 400;
-  const Errors fast =
-      measure([](double V, double nl, double nv,
-                 double r) { return double(ms::generic_vndf_alu(float(V), float(nl), float(nv), float(r))); },
-              n, 4242);
+  const Errors fast = measure(
+      [](double V, double nl, double nv, double r) {
+        return double(micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r)));
+      },
+      n, 4242);
   const Errors two = measure(
       [](double V, double nl, double nv, double r) {
-        const auto px = ms::generic_vndf_alu_pixel(float(V), float(nv), float(r));
-        return double(ms::generic_vndf_alu_light(px, float(nl)));
+        const auto px = micro_shadowing::generic_vndf_alu_pixel(float(V), float(nv), float(r));
+        return double(micro_shadowing::generic_vndf_alu_light(px, float(nl)));
       },
       n, 4242);
   const Errors bm =
-      measure([](double V, double nl, double, double) { return ms::brinck_maximov_2016(V, nl); }, n, 4242);
-  const Errors ref =
-      measure([](double V, double nl, double, double) { return ms::reference_step(V, nl); }, n, 4242);
+      measure([](double V, double nl, double, double) { return micro_shadowing::brinck_maximov_2016(V, nl); },
+              n, 4242);
+  const Errors ref = measure(
+      [](double V, double nl, double, double) { return micro_shadowing::reference_step(V, nl); }, n, 4242);
   std::printf(
       "[ alu ] %d points: one-call RMS %.2f/255 max %.2f/255; two-stage RMS %.2f/255 max %.2f/255 "
       "(Brinck-Maximov %.1f / %.1f, reference %.1f / %.1f)\n",
@@ -82,9 +85,12 @@ TEST(MicroShadowingFit, SmallRoughnessIsTheReferenceStep) {
   int checked = 0;
   for (int i = 0; i < 2000; ++i) {
     const float V = rng.next_float(), nl = 1 - rng.next_float(), nv = 1 - rng.next_float();
-    if (std::abs(nl - std::sqrt(1 - V)) < 0.02f || ms::exact_zero(V, nl)) continue;
-    EXPECT_NEAR(ms::generic_vndf_alu(V, nl, nv, 0.0f), ms::reference_step(V, nl), 1e-3) << V << " " << nl;
-    EXPECT_NEAR(ms::generic_vndf_alu_two_stage(V, nl, nv, 0.0f), ms::reference_step(V, nl), 1e-3)
+    if (std::abs(nl - std::sqrt(1 - V)) < 0.02f || micro_shadowing::exact_zero(V, nl)) continue;
+    EXPECT_NEAR(micro_shadowing::generic_vndf_alu(V, nl, nv, 0.0f), micro_shadowing::reference_step(V, nl),
+                1e-3)
+        << V << " " << nl;
+    EXPECT_NEAR(micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, 0.0f),
+                micro_shadowing::reference_step(V, nl), 1e-3)
         << V << " " << nl;
     ++checked;
   }
@@ -96,21 +102,22 @@ TEST(MicroShadowingFit, ExactEarlyOutAndLimits) {
   for (int i = 0; i < 4000; ++i) {
     const float V = rng.next_float(), nl = 1 - rng.next_float(), nv = 1 - rng.next_float();
     const float r = rng.next_float();
-    if (ms::exact_zero(V, nl)) {
-      EXPECT_EQ(ms::generic_vndf_alu(V, nl, nv, r), 0.0f);
-      EXPECT_EQ(ms::generic_vndf_alu_two_stage(V, nl, nv, r), 0.0f);
+    if (micro_shadowing::exact_zero(V, nl)) {
+      EXPECT_EQ(micro_shadowing::generic_vndf_alu(V, nl, nv, r), 0.0f);
+      EXPECT_EQ(micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r), 0.0f);
     }
-    EXPECT_EQ(ms::generic_vndf_alu_two_stage(0.0f, nl, nv, r), 0.0f);
-    EXPECT_EQ(ms::generic_vndf_alu_two_stage(1.0f, nl, nv, r), 1.0f);
-    EXPECT_EQ(ms::generic_vndf_alu(0.0f, nl, nv, r), 0.0f);  // V = 0: no visible cone
-    EXPECT_EQ(ms::generic_vndf_alu(1.0f, nl, nv, r), 1.0f);  // V = 1: the whole hemisphere
-    EXPECT_EQ(ms::generic_vndf_alu(0.0, double(nl), double(nv), double(r)), 0.0);
-    EXPECT_EQ(ms::generic_vndf_alu(1.0, double(nl), double(nv), double(r)), 1.0);
+    EXPECT_EQ(micro_shadowing::generic_vndf_alu_two_stage(0.0f, nl, nv, r), 0.0f);
+    EXPECT_EQ(micro_shadowing::generic_vndf_alu_two_stage(1.0f, nl, nv, r), 1.0f);
+    EXPECT_EQ(micro_shadowing::generic_vndf_alu(0.0f, nl, nv, r), 0.0f);  // V = 0: no visible cone
+    EXPECT_EQ(micro_shadowing::generic_vndf_alu(1.0f, nl, nv, r), 1.0f);  // V = 1: the whole hemisphere
+    EXPECT_EQ(micro_shadowing::generic_vndf_alu(0.0, double(nl), double(nv), double(r)), 0.0);
+    EXPECT_EQ(micro_shadowing::generic_vndf_alu(1.0, double(nl), double(nv), double(r)), 1.0);
     // On the early-out boundary the exact term is 0 too; the fit must be small there (within its max).
     const float b = std::max(0.0f, 1.0f - 2.0f * V);
     if (b > 0) {
-      EXPECT_LE(ms::generic_vndf_alu(V, b, nv, r), 40.0f / 255) << V << " " << nv << " " << r;
-      EXPECT_LE(ms::generic_vndf_alu_two_stage(V, b, nv, r), 12.0f / 255) << V << " " << nv << " " << r;
+      EXPECT_LE(micro_shadowing::generic_vndf_alu(V, b, nv, r), 40.0f / 255) << V << " " << nv << " " << r;
+      EXPECT_LE(micro_shadowing::generic_vndf_alu_two_stage(V, b, nv, r), 12.0f / 255)
+          << V << " " << nv << " " << r;
     }
   }
 }
@@ -122,14 +129,14 @@ TEST(MicroShadowingFit, FiniteOnDegenerateInputs) {
     for (float nl : vals)
       for (float nv : vals)
         for (float r : vals) {
-          const float f = ms::generic_vndf_alu(V, nl, nv, r),
-                      f2 = ms::generic_vndf_alu_two_stage(V, nl, nv, r);
+          const float f = micro_shadowing::generic_vndf_alu(V, nl, nv, r),
+                      f2 = micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r);
           ASSERT_TRUE(f >= 0.0f && f <= 1.0f) << V << " " << nl << " " << nv << " " << r << " -> " << f;
           ASSERT_TRUE(f2 >= 0.0f && f2 <= 1.0f) << V << " " << nl << " " << nv << " " << r << " -> " << f2;
           // Inputs are clamped: the value equals the one at the clamped inputs (NaN → 0; roughness: 0.01).
           auto sat = [](float x) { return saturate(x); };
           const float rc = std::isnan(r) ? 0.01f : std::clamp(r, 0.01f, 1.0f);
-          ASSERT_EQ(f, ms::generic_vndf_alu(sat(V), sat(nl), sat(nv), rc));
-          ASSERT_EQ(f2, ms::generic_vndf_alu_two_stage(sat(V), sat(nl), sat(nv), rc));
+          ASSERT_EQ(f, micro_shadowing::generic_vndf_alu(sat(V), sat(nl), sat(nv), rc));
+          ASSERT_EQ(f2, micro_shadowing::generic_vndf_alu_two_stage(sat(V), sat(nl), sat(nv), rc));
         }
 }

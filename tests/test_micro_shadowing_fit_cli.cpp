@@ -44,10 +44,11 @@ TEST(MicroShadowingFitCli, EvalAlu) {
   ASSERT_EQ(r.code, 0);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["method"], "generic-vndf-alu");
-  EXPECT_EQ(j["value"].get<double>(), double(ms::generic_vndf_alu(0.5f, 0.8f, 0.6f, 0.4f)));
-  EXPECT_EQ(j["two_stage"].get<double>(), double(ms::generic_vndf_alu_two_stage(0.5f, 0.8f, 0.6f, 0.4f)));
+  EXPECT_EQ(j["value"].get<double>(), double(micro_shadowing::generic_vndf_alu(0.5f, 0.8f, 0.6f, 0.4f)));
+  EXPECT_EQ(j["two_stage"].get<double>(),
+            double(micro_shadowing::generic_vndf_alu_two_stage(0.5f, 0.8f, 0.6f, 0.4f)));
   // Both are near the exact term here (well inside their measured max error).
-  const double exact = ms::generic_vndf_exact_azimuth_mean(0.5, 0.16, 0.8, 0.6);
+  const double exact = micro_shadowing::generic_vndf_exact_azimuth_mean(0.5, 0.16, 0.8, 0.6);
   EXPECT_NEAR(j["value"].get<double>(), exact, 0.05);
   EXPECT_NEAR(j["two_stage"].get<double>(), exact, 0.05);
   EXPECT_EQ(run("eval micro-shadowing --method generic-vndf-alu --visibility 0.5 --ndotl 0.5 --phi 1").code,
@@ -77,10 +78,10 @@ TEST(MicroShadowingFitCli, PlotWritesCsvAndSummary) {
     ASSERT_EQ(row.size(), 12u);
     const double V = row[0], nl = row[1], nv = row[2], r = row[3];
     EXPECT_TRUE(V >= 0 && V <= 1 && nl > 0 && nl <= 1 && nv > 0 && nv <= 1 && r >= 0.1 && r <= 1);
-    EXPECT_EQ(row[4] != 0, ms::exact_zero(V, nl));
-    EXPECT_NEAR(row[5], ms::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv), 1e-8);
-    EXPECT_NEAR(row[6], ms::generic_vndf_alu(float(V), float(nl), float(nv), float(r)), 1e-7);
-    EXPECT_NEAR(row[9], ms::brinck_maximov_2016(V, nl), 1e-8);
+    EXPECT_EQ(row[4] != 0, micro_shadowing::exact_zero(V, nl));
+    EXPECT_NEAR(row[5], micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv), 1e-8);
+    EXPECT_NEAR(row[6], micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r)), 1e-7);
+    EXPECT_NEAR(row[9], micro_shadowing::brinck_maximov_2016(V, nl), 1e-8);
   }
   // Deterministic: the same seed gives the same file.
   const auto csv2 = dir / "pts2.csv";

@@ -38,26 +38,27 @@ TEST(MicroShadowingMethods, EachEntryEvaluatesItsFunction) {
                  r = 0.1 + 0.9 * rng.next_double(), phi = kPi<double> * rng.next_double();
     MicroShadowingQuery q{V, nl, nv, r, std::nullopt, std::nullopt};
     EXPECT_EQ(ao.eval(q), V);
-    EXPECT_EQ(step.eval(q), ms::reference_step(V, nl));
-    EXPECT_EQ(bm.eval(q), ms::brinck_maximov_2016(V, nl));
-    EXPECT_EQ(chan.eval(q), ms::chan_2018(V, nl));
-    EXPECT_EQ(p1.eval(q), ms::part1_analytic(V, nl));
-    EXPECT_EQ(alu.eval(q), double(ms::generic_vndf_alu(float(V), float(nl), float(nv), float(r))));
+    EXPECT_EQ(step.eval(q), micro_shadowing::reference_step(V, nl));
+    EXPECT_EQ(bm.eval(q), micro_shadowing::brinck_maximov_2016(V, nl));
+    EXPECT_EQ(chan.eval(q), micro_shadowing::chan_2018(V, nl));
+    EXPECT_EQ(p1.eval(q), micro_shadowing::part1_analytic(V, nl));
+    EXPECT_EQ(alu.eval(q),
+              double(micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r))));
     const double a = r * r;
-    EXPECT_EQ(gen.eval(q), ms::generic_vndf_exact_azimuth_mean(V, a, nl, nv));
+    EXPECT_EQ(gen.eval(q), micro_shadowing::generic_vndf_exact_azimuth_mean(V, a, nl, nv));
     EXPECT_EQ(l3.eval(q), lut::sample_micro_shadowing(table->view(), V, nl, nv, r));
     EXPECT_EQ(l2.eval(q), lut::sample_micro_shadowing(table2->view(), V, nl, 1.0, r));
     q.phi = phi;
-    EXPECT_EQ(gen.eval(q),
-              ms::generic_vndf_exact(V, a, a, lut::study_view_dir(nv), lut::study_light_dir(nl, phi)));
+    EXPECT_EQ(gen.eval(q), micro_shadowing::generic_vndf_exact(V, a, a, lut::study_view_dir(nv),
+                                                               lut::study_light_dir(nl, phi)));
     q.roughness_y = 0.3;
-    EXPECT_EQ(gen.eval(q),
-              ms::generic_vndf_exact(V, a, 0.09, lut::study_view_dir(nv), lut::study_light_dir(nl, phi)));
+    EXPECT_EQ(gen.eval(q), micro_shadowing::generic_vndf_exact(V, a, 0.09, lut::study_view_dir(nv),
+                                                               lut::study_light_dir(nl, phi)));
   }
 }
 
 TEST(MicroShadowingMethods, EstimatorConvergesToExact) {
-  const MicroShadowingEvaluator est("generic-vndf", {4096, 3, ms::G2Form::HeightCorrelated, ""});
+  const MicroShadowingEvaluator est("generic-vndf", {4096, 3, micro_shadowing::G2Form::HeightCorrelated, ""});
   const MicroShadowingEvaluator exact("generic-vndf");
   for (double V : {0.3, 0.7}) {
     MicroShadowingQuery q{V, 0.5, 0.6, 0.5, 1.0, std::nullopt};
@@ -68,11 +69,14 @@ TEST(MicroShadowingMethods, EstimatorConvergesToExact) {
 
 TEST(MicroShadowingMethods, RefusesWhatDoesNotApply) {
   EXPECT_THROW(MicroShadowingEvaluator("unknown"), InputError);
-  EXPECT_THROW(MicroShadowingEvaluator("chan-2018", {16, 1, ms::G2Form::HeightCorrelated, ""}), InputError);
-  EXPECT_THROW(MicroShadowingEvaluator("chan-2018", {0, 1, ms::G2Form::HeightCorrelated, "x.dds"}),
+  EXPECT_THROW(MicroShadowingEvaluator("chan-2018", {16, 1, micro_shadowing::G2Form::HeightCorrelated, ""}),
                InputError);
-  EXPECT_THROW(MicroShadowingEvaluator("lut3d", {0, 1, ms::G2Form::HeightCorrelated, "/nonexistent.dds"}),
-               InputError);
+  EXPECT_THROW(
+      MicroShadowingEvaluator("chan-2018", {0, 1, micro_shadowing::G2Form::HeightCorrelated, "x.dds"}),
+      InputError);
+  EXPECT_THROW(
+      MicroShadowingEvaluator("lut3d", {0, 1, micro_shadowing::G2Form::HeightCorrelated, "/nonexistent.dds"}),
+      InputError);
   const MicroShadowingEvaluator chan("chan-2018"), l3("lut3d"), gen("generic-vndf");
   EXPECT_THROW(chan.eval({0.5, 0.5, 1, 0.5, 1.0, std::nullopt}), InputError);  // φ
   EXPECT_THROW(l3.eval({0.5, 0.5, 1, 0.5, std::nullopt, 0.3}), InputError);    // anisotropic

@@ -24,7 +24,7 @@
 #include "support/chi2.h"
 
 using namespace msh;
-using namespace msh::ms;
+using namespace msh::micro_shadowing;
 
 namespace {
 
@@ -112,12 +112,13 @@ TEST(ProfilesBeckmann, ThetaAntiderivativeMatchesSimpson) {
     }
     s *= (t1 - t0) / (3 * n);
     const double sk = std::sqrt(k);
-    EXPECT_NEAR(detail::beckmann_theta_F(t1, a, b, k, sk) - detail::beckmann_theta_F(t0, a, b, k, sk), s,
-                1e-9 * (1 + std::abs(s)));
+    EXPECT_NEAR(exact_quadrature::beckmann_theta_F(t1, a, b, k, sk) -
+                    exact_quadrature::beckmann_theta_F(t0, a, b, k, sk),
+                s, 1e-9 * (1 + std::abs(s)));
   }
   // θ = π/2 is the t → ∞ limit.
-  EXPECT_NEAR(detail::beckmann_theta_F(kPi<double> / 2, 0.3, 0.7, 2.0, std::sqrt(2.0)),
-              detail::beckmann_theta_F(std::atan(1e4), 0.3, 0.7, 2.0, std::sqrt(2.0)), 1e-12);
+  EXPECT_NEAR(exact_quadrature::beckmann_theta_F(kPi<double> / 2, 0.3, 0.7, 2.0, std::sqrt(2.0)),
+              exact_quadrature::beckmann_theta_F(std::atan(1e4), 0.3, 0.7, 2.0, std::sqrt(2.0)), 1e-12);
 }
 
 // The Beckmann VNDF integrates to 1 (the c = 0 quadrature with l = n) and the exact term matches the brute
@@ -126,7 +127,7 @@ TEST(ProfilesBeckmann, ExactMatchesBruteForce) {
   int tested = 0;
   for (const Point& p : random_points(11, 16)) {
     const Beckmann<double> b(p.ax, p.ay);
-    EXPECT_NEAR(detail::vndf_region_probability(b, p.v, Vec3d(0, 0, 1), 0.0, 1e-10), 1.0, 1e-8);
+    EXPECT_NEAR(exact_quadrature::vndf_region_probability(b, p.v, Vec3d(0, 0, 1), 0.0, 1e-10), 1.0, 1e-8);
     const double e = generic_vndf_exact(p.V, b, p.v, p.l);
     const McResult mc =
         mc_ndf_ratio(b, p.v, p.l, p.V, 1 << 18, 100 + tested, [](const Vec3d&) { return 1.0; });
@@ -505,7 +506,7 @@ TEST(ProfilesMethods, EntriesEvaluateTheirFunctions) {
     EXPECT_EQ(vc.eval(q), generic_vcavity_exact(V, cav, v, l));
     EXPECT_EQ(vcu.eval(q), generic_vcavity_exact(V, cav, v, l, G2Form::Uncorrelated));
     EXPECT_EQ(vce.eval(q), generic_vndf_estimate(V, cav, v, l, 1024, G2Form::HeightCorrelated, 5));
-    EXPECT_EQ(pa.eval(q), ms::exact_zero(V, nl)
+    EXPECT_EQ(pa.eval(q), micro_shadowing::exact_zero(V, nl)
                               ? 0.0
                               : lut::sample_micro_shadowing_azimuth(
                                     az->view(), V, nl, nv, micro_shadowing_isotropic_roughness(ax, ay, v, l),

@@ -324,7 +324,7 @@ TEST(MicrofacetAlbedo, MatchesIndependentQmcAndRefinedRule) {
       }
       const double e = ggx_directional_albedo(mu, a);
       EXPECT_NEAR(e, s / n, 5e-5) << a << " " << mu;
-      EXPECT_NEAR(e, detail::ggx_directional_albedo_rule(mu, a, 24, 2.0), 1e-7) << a << " " << mu;
+      EXPECT_NEAR(e, albedo_quadrature::ggx_directional_albedo_rule(mu, a, 24, 2.0), 1e-7) << a << " " << mu;
     }
 }
 TEST(MicrofacetAlbedo, LimitsAndBounds) {
@@ -335,6 +335,6 @@ TEST(MicrofacetAlbedo, LimitsAndBounds) {
       const double e = ggx_directional_albedo(mu, a);
       EXPECT_GT(e, 0.0);
       EXPECT_LE(e, 1.0);
-      EXPECT_NEAR(e, detail::ggx_directional_albedo_rule(mu, a, 24, 2.0), 1e-6) << a << " " << mu;
+      EXPECT_NEAR(e, albedo_quadrature::ggx_directional_albedo_rule(mu, a, 24, 2.0), 1e-6) << a << " " << mu;
     }
 }

@@ -1,9 +1,9 @@
 // The GLSL and HLSL micro-shadowing shaders (shaders/{glsl,hlsl}/micro_shadowing.*): they compile with
 // glslangValidator (GLSL 450, GLSL ES 320, HLSL), and, where a Vulkan device is available (lavapipe on CI),
-// every function runs over random and degenerate inputs and agrees with the C++ float code (msh::ms, GGX,
-// sobol_2d, msh::lut sampler) and with double-precision references written here from the closed forms, within
-// the precision each shader file states. The LUT functions read a table baked in the test by the library,
-// uploaded as RGBA32F 2D/3D textures with hardware linear filtering.
+// every function runs over random and degenerate inputs and agrees with the C++ float code
+// (msh::micro_shadowing, GGX, sobol_2d, msh::lut sampler) and with double-precision references written here
+// from the closed forms, within the precision each shader file states. The LUT functions read a table baked
+// in the test by the library, uploaded as RGBA32F 2D/3D textures with hardware linear filtering.
 #include <gtest/gtest.h>
 #include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
@@ -301,8 +301,9 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
     for (int k = 0; k < kOut; ++k)
       for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(o[k][c])) << "output " << k << "." << c;
     // Closed forms.
-    const float cpu_cf[4] = {ms::reference_step(x.vis, x.nl), ms::brinck_maximov_2016(x.vis, x.nl),
-                             ms::chan_2018(x.vis, x.nl), ms::part1_analytic(x.vis, x.nl)};
+    const float cpu_cf[4] = {
+        micro_shadowing::reference_step(x.vis, x.nl), micro_shadowing::brinck_maximov_2016(x.vis, x.nl),
+        micro_shadowing::chan_2018(x.vis, x.nl), micro_shadowing::part1_analytic(x.vis, x.nl)};
     const double cos_t = std::sqrt(1 - sat(x.vis));
     if (o[0][0] != cpu_cf[0]) {
       ++ref_mismatch;  // allowed only at the cone boundary (sqrt rounding)
@@ -314,7 +315,7 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
     e_chan_d = std::max(e_chan_d, std::abs(o[0][2] - ref_chan(x.vis, x.nl)));
     double& e_part1 = (x.vis >= 0.05f || x.vis <= 0) ? e_part1_d : e_part1_small;
     e_part1 = std::max(e_part1, std::abs(o[0][3] - ref_part1(x.vis, x.nl)));
-    ASSERT_EQ(o[1][0] != 0, ms::exact_zero(x.vis, x.nl));
+    ASSERT_EQ(o[1][0] != 0, micro_shadowing::exact_zero(x.vis, x.nl));
     const double zero_margin = 2 * sat(x.vis) + sat(x.nl) - 1;  // the early-out in double
     if (std::abs(zero_margin) > 1e-6) {
       ASSERT_EQ(o[1][0] != 0, zero_margin < 0);
@@ -344,9 +345,11 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
     // thresholds.
     const double gl = ref_g1(ld, pa_l), gv = length(vd) > 0 ? ref_g1(vd, pa_v) : 1.0;
     const double w_hc = gl / (gl + gv - gl * gv);
-    const float cf = ms::cone_cos_from_visibility(x.vis);
-    const auto s_hc = ms::generic_vndf_sample(cf, ggx, x.v, x.l, u, ms::G2Form::HeightCorrelated);
-    const auto s_un = ms::generic_vndf_sample(cf, GGX<float>(x.ax), x.v, x.l, u, ms::G2Form::Uncorrelated);
+    const float cf = micro_shadowing::cone_cos_from_visibility(x.vis);
+    const auto s_hc =
+        micro_shadowing::generic_vndf_sample(cf, ggx, x.v, x.l, u, micro_shadowing::G2Form::HeightCorrelated);
+    const auto s_un = micro_shadowing::generic_vndf_sample(cf, GGX<float>(x.ax), x.v, x.l, u,
+                                                           micro_shadowing::G2Form::Uncorrelated);
     const bool unit_l = std::abs(length(ld) - 1) < 1e-5, unit_v = std::abs(length(vd) - 1) < 1e-5;
     // A decision is checked where the sample is not within 1e-4 of a threshold (cone or hemisphere).
     auto decisive_for = [&](const Vec3d& m) {
@@ -359,8 +362,9 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
         e_w_f = std::max(e_w_f, double(std::abs(o[3][2] - s_hc.weight)));
         e_w_d = std::max(e_w_d, std::abs(o[3][2] - w_hc));
       }
-      e_w_f = std::max(
-          e_w_f, double(std::abs(o[3][3] - ms::smith_g2_over_g1(ggx, x.v, x.l, ms::G2Form::Uncorrelated))));
+      e_w_f = std::max(e_w_f,
+                       double(std::abs(o[3][3] - micro_shadowing::smith_g2_over_g1(
+                                                     ggx, x.v, x.l, micro_shadowing::G2Form::Uncorrelated))));
       e_w_d = std::max(e_w_d, std::abs(o[3][3] - gl));
       if (decisive) {
         ++flag_checked;
@@ -375,13 +379,13 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
     e_misc = std::max(e_misc, double(std::abs(o[4][3] - lut::relative_azimuth_cos(x.v, x.l))));
     // Estimators: the same Sobol points as the C++ float estimator; the exact double term as the reference.
     if (unit_l && unit_v && x.v.z > 0 && x.vis >= 0 && x.vis <= 1 && x.nl == x.l.z) {
-      const float cpu_hc =
-          ms::generic_vndf_estimate(x.vis, ggx, x.v, x.l, n_est, ms::G2Form::HeightCorrelated, 1);
-      const float cpu_un =
-          ms::generic_vndf_estimate(x.vis, GGX<float>(x.ax), x.v, x.l, n_est, ms::G2Form::Uncorrelated, 0);
+      const float cpu_hc = micro_shadowing::generic_vndf_estimate(
+          x.vis, ggx, x.v, x.l, n_est, micro_shadowing::G2Form::HeightCorrelated, 1);
+      const float cpu_un = micro_shadowing::generic_vndf_estimate(x.vis, GGX<float>(x.ax), x.v, x.l, n_est,
+                                                                  micro_shadowing::G2Form::Uncorrelated, 0);
       e_est_f = std::max({e_est_f, double(std::abs(o[5][0] - cpu_hc)), double(std::abs(o[5][1] - cpu_un))});
       if (i % 8 == 0 && x.ax >= 0.01 && x.ay >= 0.01) {  // the exact term costs ~20 us
-        const double ex = ms::generic_vndf_exact(x.vis, x.ax, x.ay, vd, ld);
+        const double ex = micro_shadowing::generic_vndf_exact(x.vis, x.ax, x.ay, vd, ld);
         e_est_exact = std::max(e_est_exact, std::abs(o[5][0] - ex));
         e_est_exact_cpu = std::max(e_est_exact_cpu, std::abs(cpu_hc - ex));
         sum_est_exact += std::abs(o[5][0] - ex), sum_est_exact_cpu += std::abs(cpu_hc - ex);
@@ -397,8 +401,8 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
     e_lut_2d = std::max(e_lut_2d, double(std::abs(o[5][3] - l2)));
     e_lut_az = std::max(e_lut_az, double(std::abs(o[6][0] - laz)));
     e_lut = std::max(e_lut, double(std::abs(o[6][1] - l3)));  // H = 0 through the azimuth path
-    if (!ms::exact_zero(x.vis, x.nl)) e_lut = std::max(e_lut, double(std::abs(o[6][2] - l3)));
-    if (ms::exact_zero(x.vis, x.nl)) {
+    if (!micro_shadowing::exact_zero(x.vis, x.nl)) e_lut = std::max(e_lut, double(std::abs(o[6][2] - l3)));
+    if (micro_shadowing::exact_zero(x.vis, x.nl)) {
       ASSERT_EQ(o[5][2], 0.0f);
       ASSERT_EQ(o[5][3], 0.0f);
       ASSERT_EQ(o[6][0], 0.0f);
@@ -639,7 +643,7 @@ TEST(ShadersMicroShadowing, ConeLutMatchesCppOnVulkan) {
       const float a1 = lut::sample_micro_shadowing_azimuth(az1, x.vis, x.nl, x.nv, x.roughness, x.cos_phi);
       const float f3 = lut::fetch_cone(L.azimuth_v, x.vis, x.nl, x.nv, x.roughness)[3];
       for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(out[i][c])) << label << " record " << i;
-      if (ms::exact_zero(x.vis, x.nl)) {  // the early-out: exactly 0 in both, no fetch
+      if (micro_shadowing::exact_zero(x.vis, x.nl)) {  // the early-out: exactly 0 in both, no fetch
         ++zeros;
         ASSERT_EQ(out[i][0], 0.0f) << label << " record " << i;
         ASSERT_EQ(out[i][1], 0.0f) << label << " record " << i;

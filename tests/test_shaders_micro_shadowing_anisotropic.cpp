@@ -1,7 +1,8 @@
 // The anisotropic-roughness helper of the micro-shadowing shaders (msh_ms_lut_roughness_anisotropic in
 // shaders/{glsl,hlsl}/micro_shadowing.*): it compiles (GLSL 450, GLSL ES 320, HLSL) and, on a Vulkan device
-// (lavapipe), agrees with the C++ float function ms::micro_shadowing_isotropic_roughness and with a double
-// evaluation of the formula written here, over random anisotropic roughness and directions, poles included.
+// (lavapipe), agrees with the C++ float function micro_shadowing::micro_shadowing_isotropic_roughness and
+// with a double evaluation of the formula written here, over random anisotropic roughness and directions,
+// poles included.
 #include <gtest/gtest.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
@@ -91,7 +92,7 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
   double max_rel_cpp = 0, max_rel_formula = 0;
   for (size_t i = 0; i < recs.size(); ++i) {
     const Rec& r = recs[i];
-    const float cpp = ms::micro_shadowing_isotropic_roughness(r.ax, r.ay, r.v, r.l);
+    const float cpp = micro_shadowing::micro_shadowing_isotropic_roughness(r.ax, r.ay, r.v, r.l);
     ASSERT_TRUE(std::isfinite(out[i])) << label << " " << i;
     max_rel_cpp = std::max(max_rel_cpp, std::abs(double(out[i]) - cpp) / cpp);
     max_rel_formula = std::max(max_rel_formula, std::abs(double(out[i]) - formula(r)) / formula(r));

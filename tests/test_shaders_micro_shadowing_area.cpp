@@ -126,17 +126,22 @@ bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, cons
 template <class T>
 std::array<T, 10> cpu_outputs(const Rec& x) {
   const T vis = x.vis, nl = x.nl, nv = x.nv, r = x.r, rho = x.rho;
-  const T th = ms::cap_theta(nl), t = ms::cone_angle(vis);
-  return {ms::reference_step_area_cap(vis, nl, rho), ms::reference_step_area_cap_solid_angle(vis, nl, rho),
-          ms::reference_step_area_cap_oat_sander(vis, nl, rho),
-          ms::cap_cone_projected_solid_angle(rho, th, t), ms::brinck_maximov_2016_area_cap(vis, nl, rho),
-          ms::chan_2018_area_cap(vis, nl, rho), ms::part1_analytic_area_cap(vis, nl, rho),
+  const T th = micro_shadowing::cap_theta(nl), t = micro_shadowing::cone_angle(vis);
+  return {micro_shadowing::reference_step_area_cap(vis, nl, rho),
+          micro_shadowing::reference_step_area_cap_solid_angle(vis, nl, rho),
+          micro_shadowing::reference_step_area_cap_oat_sander(vis, nl, rho),
+          micro_shadowing::cap_cone_projected_solid_angle(rho, th, t),
+          micro_shadowing::brinck_maximov_2016_area_cap(vis, nl, rho),
+          micro_shadowing::chan_2018_area_cap(vis, nl, rho),
+          micro_shadowing::part1_analytic_area_cap(vis, nl, rho),
           // The ALU fit is float code: in T = double only the area rule runs in double.
-          ms::area_cap_lambert(
-              [&](T z) { return T(ms::generic_vndf_alu(float(vis), float(z), float(nv), float(r))); }, nl,
-              rho, ms::generic_vndf_kinks(vis, r)),
-          ms::cap_intersection_solid_angle(rho, t, th),
-          ms::cap_intersection_solid_angle_oat_sander(rho, t, th)};
+          micro_shadowing::area_cap_lambert(
+              [&](T z) {
+                return T(micro_shadowing::generic_vndf_alu(float(vis), float(z), float(nv), float(r)));
+              },
+              nl, rho, micro_shadowing::generic_vndf_kinks(vis, r)),
+          micro_shadowing::cap_intersection_solid_angle(rho, t, th),
+          micro_shadowing::cap_intersection_solid_angle_oat_sander(rho, t, th)};
 }
 
 void check(const char* label, const std::vector<Rec>& recs, const std::vector<float>& out) {
@@ -160,9 +165,9 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
       maxf[k] = std::max(maxf[k], std::abs(double(cpu[size_t(k)]) - ref[size_t(k)]));
     }
     if (x.rho == 0.0f) {  // the point terms
-      ASSERT_EQ(o[0], ms::reference_step(x.vis, x.nl)) << label;
-      ASSERT_NEAR(o[4], ms::brinck_maximov_2016(x.vis, x.nl), 1e-6) << label;
-      ASSERT_NEAR(o[5], ms::chan_2018(x.vis, x.nl), 1e-6) << label;
+      ASSERT_EQ(o[0], micro_shadowing::reference_step(x.vis, x.nl)) << label;
+      ASSERT_NEAR(o[4], micro_shadowing::brinck_maximov_2016(x.vis, x.nl), 1e-6) << label;
+      ASSERT_NEAR(o[5], micro_shadowing::chan_2018(x.vis, x.nl), 1e-6) << label;
     }
   }
   {  // the shader's own cone angle and cap angle (inputs of everything above)
@@ -170,8 +175,8 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
     size_t worst = 0;
     for (size_t i = 0; i < recs.size(); ++i) {
       const float* o = &out[i * kOut * 4];
-      const double et = std::abs(o[10] - ms::cone_angle(double(recs[i].vis)));
-      const double eth = std::abs(o[11] - ms::cap_theta(double(recs[i].nl)));
+      const double et = std::abs(o[10] - micro_shadowing::cone_angle(double(recs[i].vis)));
+      const double eth = std::abs(o[11] - micro_shadowing::cap_theta(double(recs[i].nl)));
       if (eth > dth) worst = i;
       dt = std::max(dt, et), dth = std::max(dth, eth);
     }

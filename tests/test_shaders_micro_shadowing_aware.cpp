@@ -139,14 +139,16 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
       ASSERT_GE(o[k], 0.0f);
       ASSERT_LE(o[k], 1.0f);
     }
-    spec_flip += o[0] != ms::specular_aware(x.vis, x.v, x.l);
-    d_mean = std::max(d_mean,
-                      double(std::abs(o[1] - ms::specular_aware_azimuth_mean(x.vis, x.alpha, x.nl, x.nv))));
-    d_cap = std::max(d_cap, double(std::abs(o[2] - ms::lambert_cap_fraction(x.cos_m, x.c))));
+    spec_flip += o[0] != micro_shadowing::specular_aware(x.vis, x.v, x.l);
+    d_mean = std::max(
+        d_mean,
+        double(std::abs(o[1] - micro_shadowing::specular_aware_azimuth_mean(x.vis, x.alpha, x.nl, x.nv))));
+    d_cap = std::max(d_cap, double(std::abs(o[2] - micro_shadowing::lambert_cap_fraction(x.cos_m, x.c))));
     const GGX<float> g(x.alpha);
     for (int k = 0; k < 2; ++k) {
-      const float cpu = ms::diffuse_aware_estimate(
-          x.vis, g, x.v, x.l, kEst, k == 0 ? ms::DiffuseAwareForm::Reciprocal : ms::DiffuseAwareForm::Flux,
+      const float cpu = micro_shadowing::diffuse_aware_estimate(
+          x.vis, g, x.v, x.l, kEst,
+          k == 0 ? micro_shadowing::DiffuseAwareForm::Reciprocal : micro_shadowing::DiffuseAwareForm::Flux,
           1u);
       const double d = std::abs(o[k == 0 ? 3 : 4] - cpu);
       if (d > 1e-4) ++est_off;

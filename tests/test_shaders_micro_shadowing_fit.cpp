@@ -1,8 +1,9 @@
 // The GLSL and HLSL ports of the ALU-only micro-shadowing approximations (shaders/{glsl,hlsl}/
 // micro_shadowing_fit.*): they compile with glslangValidator (GLSL 450, GLSL ES 320, HLSL) and, where a
-// Vulkan device is available (lavapipe on CI), agree with the C++ float functions (msh::ms::generic_vndf_alu
-// and the two stages generic_vndf_alu_pixel + generic_vndf_alu_light) at 2^14 random inputs over the domain
-// plus degenerate ones within 1e-5, with the early-out bit-identical (exactly 0).
+// Vulkan device is available (lavapipe on CI), agree with the C++ float functions
+// (msh::micro_shadowing::generic_vndf_alu and the two stages generic_vndf_alu_pixel + generic_vndf_alu_light)
+// at 2^14 random inputs over the domain plus degenerate ones within 1e-5, with the early-out bit-identical
+// (exactly 0).
 #include <gtest/gtest.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
@@ -110,9 +111,10 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
       ASSERT_GE(o, 0.0f);
       ASSERT_LE(o, 1.0f);
     }
-    const float cpu = ms::generic_vndf_alu(x.vis, x.nl, x.nv, x.r);
-    const float cpu2 = ms::generic_vndf_alu_light(ms::generic_vndf_alu_pixel(x.vis, x.nv, x.r), x.nl);
-    if (ms::exact_zero(x.vis, x.nl)) {
+    const float cpu = micro_shadowing::generic_vndf_alu(x.vis, x.nl, x.nv, x.r);
+    const float cpu2 = micro_shadowing::generic_vndf_alu_light(
+        micro_shadowing::generic_vndf_alu_pixel(x.vis, x.nv, x.r), x.nl);
+    if (micro_shadowing::exact_zero(x.vis, x.nl)) {
       ++early;
       ASSERT_EQ(fast, 0.0f);  // bit-identical early-out
       ASSERT_EQ(two, 0.0f);

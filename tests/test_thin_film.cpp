@@ -51,7 +51,7 @@ Rgbd spectral_reference(double cos1, double n2, double d, C n3) {
   }
   // Each channel relative to its own white: a flat spectrum gives (R, R, R) in XYZ, as in the B&B
   // normalization.
-  return thin_film_detail::xyz_to_rgb_ewhite(Rgbd(X / Xw, Y / Yw, Z / Zw));
+  return thin_film_fresnel::xyz_to_rgb_ewhite(Rgbd(X / Xw, Y / Yw, Z / Zw));
 }
 
 }  // namespace

@@ -371,12 +371,12 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
           if (c.value("frame", false)) {
             // The Sobol estimator at the pixel's own v and l (it is not rotation-invariant about n).
             const float a = r * r;
-            want = ms::generic_vndf_estimate<float>(V, GGX<float>(a, a), v, l, n,
-                                                    ms::G2Form::HeightCorrelated, 1u);
+            want = micro_shadowing::generic_vndf_estimate<float>(
+                V, GGX<float>(a, a), v, l, n, micro_shadowing::G2Form::HeightCorrelated, 1u);
             tol = 2.0 / n + 1e-4, tol8 = 1.0 / 255 + 2.0 / n;
-            exact = ms::generic_vndf_exact(V, double(a), double(a), Vec3d(v), Vec3d(l));
+            exact = micro_shadowing::generic_vndf_exact(V, double(a), double(a), Vec3d(v), Vec3d(l));
           } else if (c.value("two_stage", false)) {
-            want = ms::generic_vndf_alu_two_stage<float>(V, nl, nv, r);
+            want = micro_shadowing::generic_vndf_alu_two_stage<float>(V, nl, nv, r);
           } else {
             const bool with_phi = c.value("phi", false);
             auto& e = evaluators[method + (with_phi ? "@phi" : "")];
@@ -388,11 +388,11 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
           if (method.rfind("lut", 0) == 0 || method == "generic-vndf-alu") {
             // Tables: half floats in the texture (2^-11 relative) and the GPU's filter weights.
             if (method.rfind("lut", 0) == 0) tol = 1e-3, tol8 = 2.0 / 255;
-            exact =
-                c.value("phi", false)
-                    ? ms::generic_vndf_exact(V, double(r) * r, double(r) * r, lut::study_view_dir(nv),
-                                             lut::study_light_dir(nl, phi))
-                    : ms::generic_vndf_exact_azimuth_mean(V, double(r) * r, nl, method == "lut2d" ? 1.0 : nv);
+            exact = c.value("phi", false) ? micro_shadowing::generic_vndf_exact(
+                                                V, double(r) * r, double(r) * r, lut::study_view_dir(nv),
+                                                lut::study_light_dir(nl, phi))
+                                          : micro_shadowing::generic_vndf_exact_azimuth_mean(
+                                                V, double(r) * r, nl, method == "lut2d" ? 1.0 : nv);
           }
           if (method == "reference" && std::abs(double(nl) - std::sqrt(1.0 - V)) < 1e-4)
             continue;  // boundary

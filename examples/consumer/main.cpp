@@ -11,9 +11,10 @@
 
 int main(int argc, char** argv) {
   const double V = 0.6, n_dot_l = 0.4, n_dot_v = 0.8, roughness = 0.5;
-  std::printf("chan_2018 %.6f\n", msh::ms::chan_2018(V, n_dot_l));
-  std::printf("brinck_maximov_2016 %.6f\n", msh::ms::brinck_maximov_2016(V, n_dot_l));
-  const double exact = msh::ms::generic_vndf_exact_azimuth_mean(V, roughness * roughness, n_dot_l, n_dot_v);
+  std::printf("chan_2018 %.6f\n", msh::micro_shadowing::chan_2018(V, n_dot_l));
+  std::printf("brinck_maximov_2016 %.6f\n", msh::micro_shadowing::brinck_maximov_2016(V, n_dot_l));
+  const double exact =
+      msh::micro_shadowing::generic_vndf_exact_azimuth_mean(V, roughness * roughness, n_dot_l, n_dot_v);
   std::printf("exact %.6f\n", exact);
 
   const std::string table = argc > 1 ? argv[1] : MSH_TABLE_DIR "/micro_shadowing.ktx2";

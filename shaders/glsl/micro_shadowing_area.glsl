@@ -23,7 +23,7 @@ float msh_ms_cone_angle(float vis) {
   return atan(sqrt(v), sqrt(1.0 - v));
 }
 
-// The spherical triangle with sides a, b, c in the float-stable forms of msh::ms::area_detail::ThinTriangle:
+// The spherical triangle with sides a, b, c in the float-stable forms of msh::ms::spherical_geometry::ThinTriangle:
 // x = sqrt(G) (Gram determinant), y = cos a - cos b cos c, z = cos b - cos a cos c.
 vec3 msh_ms_thin_triangle(float a, float b, float c) {
   float s = 0.5 * (a + b + c);

@@ -107,32 +107,32 @@ void run_verify(const VerifyArgs& a) {
     };
     auto& r = rows[size_t(i)];
     const double step = exact(area::reference_step_term(in.V));
-    r[kStepCosine] = ms::reference_step_area_cap(in.V, in.nl, in.rho) - step;
-    r[kStepMazonka] = ms::reference_step_area_cap_solid_angle(in.V, in.nl, in.rho) - step;
-    r[kStepOatSander] = ms::reference_step_area_cap_oat_sander(in.V, in.nl, in.rho) - step;
-    r[kStepPoint] = ms::reference_step(in.V, in.nl) - step;
+    r[kStepCosine] = micro_shadowing::reference_step_area_cap(in.V, in.nl, in.rho) - step;
+    r[kStepMazonka] = micro_shadowing::reference_step_area_cap_solid_angle(in.V, in.nl, in.rho) - step;
+    r[kStepOatSander] = micro_shadowing::reference_step_area_cap_oat_sander(in.V, in.nl, in.rho) - step;
+    r[kStepPoint] = micro_shadowing::reference_step(in.V, in.nl) - step;
     {
       const Vec3d v = spherical_direction(std::max(0.05, in.nv), in.phi_v);
       const area::Receiver ggx = area::Receiver::ggx(roughness_to_alpha(std::max(0.1, in.r)), v);
-      r[kStepGgxReceiver] = ms::reference_step_area_cap(in.V, in.nl, in.rho) -
+      r[kStepGgxReceiver] = micro_shadowing::reference_step_area_cap(in.V, in.nl, in.rho) -
                             area::area_micro_shadowing_exact(cap, ggx, area::reference_step_term(in.V));
     }
     const float Vf = float(in.V), lf = float(in.nl), rf = float(in.rho);
     const double bm = exact(area::brinck_maximov_2016_term(in.V));
-    r[kBm] = ms::brinck_maximov_2016_area_cap(in.V, in.nl, in.rho) - bm;
-    r[kBmFloat] = double(ms::brinck_maximov_2016_area_cap(Vf, lf, rf)) - bm;
-    r[kBmPoint] = ms::brinck_maximov_2016(in.V, in.nl) - bm;
+    r[kBm] = micro_shadowing::brinck_maximov_2016_area_cap(in.V, in.nl, in.rho) - bm;
+    r[kBmFloat] = double(micro_shadowing::brinck_maximov_2016_area_cap(Vf, lf, rf)) - bm;
+    r[kBmPoint] = micro_shadowing::brinck_maximov_2016(in.V, in.nl) - bm;
     const double ch = exact(area::chan_2018_term(in.V));
-    r[kChan] = ms::chan_2018_area_cap(in.V, in.nl, in.rho) - ch;
-    r[kChanFloat] = double(ms::chan_2018_area_cap(Vf, lf, rf)) - ch;
-    r[kChanPoint] = ms::chan_2018(in.V, in.nl) - ch;
+    r[kChan] = micro_shadowing::chan_2018_area_cap(in.V, in.nl, in.rho) - ch;
+    r[kChanFloat] = double(micro_shadowing::chan_2018_area_cap(Vf, lf, rf)) - ch;
+    r[kChanPoint] = micro_shadowing::chan_2018(in.V, in.nl) - ch;
     const double p1 = exact(area::part1_analytic_term(in.V));
-    r[kPart1] = ms::part1_analytic_area_cap(in.V, in.nl, in.rho) - p1;
-    r[kPart1Float] = double(ms::part1_analytic_area_cap(Vf, lf, rf)) - p1;
-    r[kPart1Point] = ms::part1_analytic(in.V, in.nl) - p1;
-    const double t = std::acos(ms::cone_cos_from_visibility(in.V)), th = std::acos(in.nl);
-    r[kOatSanderOmega] = (ms::cap_intersection_solid_angle_oat_sander(in.rho, t, th) -
-                          ms::cap_intersection_solid_angle(in.rho, t, th)) /
+    r[kPart1] = micro_shadowing::part1_analytic_area_cap(in.V, in.nl, in.rho) - p1;
+    r[kPart1Float] = double(micro_shadowing::part1_analytic_area_cap(Vf, lf, rf)) - p1;
+    r[kPart1Point] = micro_shadowing::part1_analytic(in.V, in.nl) - p1;
+    const double t = std::acos(micro_shadowing::cone_cos_from_visibility(in.V)), th = std::acos(in.nl);
+    r[kOatSanderOmega] = (micro_shadowing::cap_intersection_solid_angle_oat_sander(in.rho, t, th) -
+                          micro_shadowing::cap_intersection_solid_angle(in.rho, t, th)) /
                          (2 * kPi<double> * (1 - std::cos(in.rho)));
   });
 
@@ -146,19 +146,25 @@ void run_verify(const VerifyArgs& a) {
   tbb::parallel_for(0, a.generic_points, [&](int i) {
     const Input in = input_at(uint32_t(i), a);
     const double alpha = roughness_to_alpha(in.r);
-    auto mean = [&](double z) { return ms::generic_vndf_exact_azimuth_mean(in.V, alpha, z, in.nv); };
+    auto mean = [&](double z) {
+      return micro_shadowing::generic_vndf_exact_azimuth_mean(in.V, alpha, z, in.nv);
+    };
     const area::Cap cap{spherical_direction(in.nl, 0.0), in.rho};
     const area::PointTerm term{
         [&](const Vec3d& l) { return mean(std::clamp(l.z, 0.0, 1.0)); }, {1 - 2 * in.V}, true};
     const double ex = area::area_micro_shadowing_exact(cap, area::Receiver::lambert(), term, {1e-7});
     auto& r = grows[size_t(i)];
-    r[kGenAlu] = double(ms::generic_vndf_alu_area_cap(float(in.V), float(in.nl), float(in.nv), float(in.r),
-                                                      float(in.rho))) -
+    r[kGenAlu] = double(micro_shadowing::generic_vndf_alu_area_cap(float(in.V), float(in.nl), float(in.nv),
+                                                                   float(in.r), float(in.rho))) -
                  ex;
-    r[kGenQuadOnly] = ms::area_cap_lambert(mean, in.nl, in.rho, ms::generic_vndf_kinks(in.V, in.r)) - ex;
-    r[kGenAluPoint] = double(ms::generic_vndf_alu(float(in.V), float(in.nl), float(in.nv), float(in.r))) - ex;
+    r[kGenQuadOnly] = micro_shadowing::area_cap_lambert(mean, in.nl, in.rho,
+                                                        micro_shadowing::generic_vndf_kinks(in.V, in.r)) -
+                      ex;
+    r[kGenAluPoint] =
+        double(micro_shadowing::generic_vndf_alu(float(in.V), float(in.nl), float(in.nv), float(in.r))) - ex;
     r[kGenAluPointError] =
-        double(ms::generic_vndf_alu(float(in.V), float(in.nl), float(in.nv), float(in.r))) - mean(in.nl);
+        double(micro_shadowing::generic_vndf_alu(float(in.V), float(in.nl), float(in.nv), float(in.r))) -
+        mean(in.nl);
   });
 
   nlohmann::json forms = nlohmann::json::object();

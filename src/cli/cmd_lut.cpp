@@ -206,7 +206,8 @@ void run_plot(const PlotLutOptions& o) {
     const int s = row / (ny * nc), y = (row / nc) % ny, c = row % nc;
     const double r = table.roughness[c], nv = view.n_nv > 1 ? double(zs[s]) / (view.n_nv - 1) : 1.0;
     std::vector<double> ex(nx);
-    lut::micro_shadowing_semi_analytic_row(r * r, double(y) / (ny - 1), nv, vis.data(), nx, ex.data(), 2, 2);
+    micro_shadowing::micro_shadowing_semi_analytic_row(r * r, double(y) / (ny - 1), nv, vis.data(), nx,
+                                                       ex.data(), 2, 2);
     for (int x = 0; x < nx; ++x) exact.at(x, y, s, c) = float(ex[x]);
   });
   double max3 = 0, max2 = 0, sum2 = 0;

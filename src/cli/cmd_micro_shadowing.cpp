@@ -31,7 +31,7 @@
 namespace msh::cli {
 namespace {
 
-using ms::G2Form;
+using micro_shadowing::G2Form;
 
 struct EvalArgs {
   std::string method = "generic-vndf", g2 = "height-correlated", lut;
@@ -160,7 +160,7 @@ void run_eval(const EvalArgs& a) {
 
   const double ax = roughness_to_alpha(a.roughness),
                ay = roughness_to_alpha(has_ry ? a.roughness_y : a.roughness);
-  const bool early = ms::exact_zero(a.visibility, a.ndotl);
+  const bool early = micro_shadowing::exact_zero(a.visibility, a.ndotl);
   nlohmann::json inputs = {
       {"visibility", a.visibility}, {"roughness", a.roughness}, {"alpha_x", ax}, {"alpha_y", ay},
       {"ndotl", a.ndotl},           {"ndotv", a.ndotv},         {"g2", a.g2}};
@@ -175,8 +175,8 @@ void run_eval(const EvalArgs& a) {
       out["lut"] = "default (not needed: early-out)";
   } else if (m == "generic-vndf-alu") {
     // value = the one-call form, two_stage = the per-pixel + per-light form (float, as a shader runs them).
-    out["two_stage"] = ms::generic_vndf_alu_two_stage(float(a.visibility), float(a.ndotl), float(a.ndotv),
-                                                      float(a.roughness));
+    out["two_stage"] = micro_shadowing::generic_vndf_alu_two_stage(float(a.visibility), float(a.ndotl),
+                                                                   float(a.ndotv), float(a.roughness));
     out["azimuth"] = "mean over [0, pi]";
   } else if (m == "generic-vndf" || m == "generic-vndf-beckmann" || m == "generic-vcavity") {
     // The generic term of a microsurface profile (GGX, Smith-Beckmann, Beckmann-Spizzichino + V-cavity).

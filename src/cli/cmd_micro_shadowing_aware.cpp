@@ -67,34 +67,35 @@ void run_verify(const VerifyArgs& a) {
     if (m == "specular-aware-mean" || m == "specular-aware-mean-double") {
       o.against = lut::VerifyReference::AzimuthMean;
       o.reference = [](double V, double nl, double nv, double r, double) {
-        return ms::specular_aware_azimuth_mean_quadrature(V, roughness_to_alpha(r), nl, nv);
+        return micro_shadowing::specular_aware_azimuth_mean_quadrature(V, roughness_to_alpha(r), nl, nv);
       };
       if (m == "specular-aware-mean")
         f = [](float V, float nl, float nv, float r, float) {
-          return ms::specular_aware_azimuth_mean<float>(V, r * r, nl, nv);
+          return micro_shadowing::specular_aware_azimuth_mean<float>(V, r * r, nl, nv);
         };
       else
         f = [](float V, float nl, float nv, float r, float) {
-          return float(ms::specular_aware_azimuth_mean<double>(V, double(r) * r, nl, nv));
+          return float(micro_shadowing::specular_aware_azimuth_mean<double>(V, double(r) * r, nl, nv));
         };
     } else {
-      const ms::DiffuseAwareForm form =
-          m == "diffuse-aware-flux" ? ms::DiffuseAwareForm::Flux : ms::DiffuseAwareForm::Reciprocal;
+      const micro_shadowing::DiffuseAwareForm form = m == "diffuse-aware-flux"
+                                                         ? micro_shadowing::DiffuseAwareForm::Flux
+                                                         : micro_shadowing::DiffuseAwareForm::Reciprocal;
       o.against = lut::VerifyReference::Azimuth;
       o.reference = [form](double V, double nl, double nv, double r, double cp) {
         const double al = roughness_to_alpha(r);
-        return ms::diffuse_aware_exact(V, al, al, view_dir(nv), light_dir(nl, cp), form);
+        return micro_shadowing::diffuse_aware_exact(V, al, al, view_dir(nv), light_dir(nl, cp), form);
       };
       if (m == "generic-vndf-vs-diffuse-aware")
         f = [](float V, float nl, float nv, float r, float cp) {
           const double al = roughness_to_alpha(double(r));
-          return float(ms::generic_vndf_exact(V, al, al, view_dir(nv), light_dir(nl, cp)));
+          return float(micro_shadowing::generic_vndf_exact(V, al, al, view_dir(nv), light_dir(nl, cp)));
         };
       else
         f = [form, n](float V, float nl, float nv, float r, float cp) {
           const GGX<float> g(roughness_to_alpha(std::max(r, 0.02f)));
-          return ms::diffuse_aware_estimate<float>(V, g, Vec3f(view_dir(nv)), Vec3f(light_dir(nl, cp)), n,
-                                                   form, 1u);
+          return micro_shadowing::diffuse_aware_estimate<float>(V, g, Vec3f(view_dir(nv)),
+                                                                Vec3f(light_dir(nl, cp)), n, form, 1u);
         };
     }
     const lut::VerifyResult r = lut::verify_micro_shadowing(f, o);
@@ -153,11 +154,12 @@ void run_plot(const PlotArgs& a) {
     tbb::parallel_for(std::size_t(0), cells.size(), [&](std::size_t k) {
       const Cell& c = cells[k];
       const double al = roughness_to_alpha(c.r);
-      val[k] = {
-          ms::generic_vndf_exact_azimuth_mean(c.V, al, c.nl, c.nv),
-          ms::specular_aware_azimuth_mean<double>(c.V, al, c.nl, c.nv),
-          ms::diffuse_aware_exact_azimuth_mean(c.V, al, c.nl, c.nv, ms::DiffuseAwareForm::Reciprocal, 1e-4),
-          ms::diffuse_aware_exact_azimuth_mean(c.V, al, c.nl, c.nv, ms::DiffuseAwareForm::Flux, 1e-4)};
+      val[k] = {micro_shadowing::generic_vndf_exact_azimuth_mean(c.V, al, c.nl, c.nv),
+                micro_shadowing::specular_aware_azimuth_mean<double>(c.V, al, c.nl, c.nv),
+                micro_shadowing::diffuse_aware_exact_azimuth_mean(
+                    c.V, al, c.nl, c.nv, micro_shadowing::DiffuseAwareForm::Reciprocal, 1e-4),
+                micro_shadowing::diffuse_aware_exact_azimuth_mean(
+                    c.V, al, c.nl, c.nv, micro_shadowing::DiffuseAwareForm::Flux, 1e-4)};
     });
   });
   std::ostringstream s;

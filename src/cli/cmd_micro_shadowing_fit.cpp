@@ -62,7 +62,7 @@ std::vector<Input> near_step_points(int m, Pcg32& rng) {
     const double vis = rng.next_double(), nv = 1 - rng.next_double(), r = 0.1 + 0.4 * rng.next_double();
     const double t = std::tan(kPi<double> * (rng.next_double() - 0.5));
     const double nl = std::sqrt(1 - vis) + r * r * std::sqrt(vis) * t;
-    if (!(nl > 0 && nl <= 1) || ms::exact_zero(vis, nl)) continue;
+    if (!(nl > 0 && nl <= 1) || micro_shadowing::exact_zero(vis, nl)) continue;
     pts.push_back({vis, nl, nv, r});
   }
   return pts;
@@ -75,9 +75,9 @@ void run_fit_data(const FitDataArgs& a) {
   Pcg32 rng(a.seed, 0x5eed0a1u);
   std::vector<Input> pts = latin_hypercube(a.samples, rng);
   if (a.skip_early_out)
-    pts.erase(
-        std::remove_if(pts.begin(), pts.end(), [](const Input& p) { return ms::exact_zero(p.vis, p.nl); }),
-        pts.end());
+    pts.erase(std::remove_if(pts.begin(), pts.end(),
+                             [](const Input& p) { return micro_shadowing::exact_zero(p.vis, p.nl); }),
+              pts.end());
   const std::vector<Input> extra = near_step_points(a.near_step, rng);
   pts.insert(pts.end(), extra.begin(), extra.end());
 
@@ -85,7 +85,7 @@ void run_fit_data(const FitDataArgs& a) {
   std::vector<double> exact(pts.size());
   tbb::parallel_for(size_t(0), pts.size(), [&](size_t i) {
     const Input& p = pts[i];
-    exact[i] = ms::generic_vndf_exact_azimuth_mean(p.vis, p.r * p.r, p.nl, p.nv);
+    exact[i] = micro_shadowing::generic_vndf_exact_azimuth_mean(p.vis, p.r * p.r, p.nl, p.nv);
   });
 
   // Errors of the ALU terms (float, the shader precision) and the older terms, overall and per roughness
@@ -101,14 +101,15 @@ void run_fit_data(const FitDataArgs& a) {
   for (size_t i = 0; i < pts.size(); ++i) {
     const Input& p = pts[i];
     const float vf = float(p.vis), lf = float(p.nl);
-    const double vals[] = {double(ms::generic_vndf_alu(vf, lf, float(p.nv), float(p.r))),
-                           double(ms::generic_vndf_alu_two_stage(vf, lf, float(p.nv), float(p.r))),
-                           ms::reference_step(p.vis, p.nl),
-                           ms::brinck_maximov_2016(p.vis, p.nl),
-                           ms::chan_2018(p.vis, p.nl),
-                           ms::part1_analytic(p.vis, p.nl)};
+    const double vals[] = {
+        double(micro_shadowing::generic_vndf_alu(vf, lf, float(p.nv), float(p.r))),
+        double(micro_shadowing::generic_vndf_alu_two_stage(vf, lf, float(p.nv), float(p.r))),
+        micro_shadowing::reference_step(p.vis, p.nl),
+        micro_shadowing::brinck_maximov_2016(p.vis, p.nl),
+        micro_shadowing::chan_2018(p.vis, p.nl),
+        micro_shadowing::part1_analytic(p.vis, p.nl)};
     csv << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g}", p.vis, p.nl, p.nv, p.r,
-                       ms::exact_zero(p.vis, p.nl) ? 1 : 0, exact[i]);
+                       micro_shadowing::exact_zero(p.vis, p.nl) ? 1 : 0, exact[i]);
     int band = 0;
     while (band < 2 && p.r >= bands[size_t(band) + 1]) ++band;
     for (size_t m = 0; m < names.size(); ++m) {

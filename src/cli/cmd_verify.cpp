@@ -274,18 +274,21 @@ const std::vector<std::string> kTerms = {"reference", "brinck-maximov-2016", "ch
 
 lut::MicroShadowingApprox term(const std::string& m) {
   if (m == "reference")
-    return [](float V, float nl, float, float, float) { return ms::reference_step(V, nl); };
+    return [](float V, float nl, float, float, float) { return micro_shadowing::reference_step(V, nl); };
   if (m == "brinck-maximov-2016")
-    return [](float V, float nl, float, float, float) { return ms::brinck_maximov_2016(V, nl); };
-  if (m == "chan-2018") return [](float V, float nl, float, float, float) { return ms::chan_2018(V, nl); };
+    return [](float V, float nl, float, float, float) { return micro_shadowing::brinck_maximov_2016(V, nl); };
+  if (m == "chan-2018")
+    return [](float V, float nl, float, float, float) { return micro_shadowing::chan_2018(V, nl); };
   if (m == "part1-analytic")
-    return [](float V, float nl, float, float, float) { return ms::part1_analytic(V, nl); };
+    return [](float V, float nl, float, float, float) { return micro_shadowing::part1_analytic(V, nl); };
   if (m ==
       "alu")  // ALU-only fits of the azimuth mean (occlusion/micro_shadowing_fit.h), in float as a shader
-    return [](float V, float nl, float nv, float r, float) { return ms::generic_vndf_alu(V, nl, nv, r); };
+    return [](float V, float nl, float nv, float r, float) {
+      return micro_shadowing::generic_vndf_alu(V, nl, nv, r);
+    };
   if (m == "alu-two-stage")
     return [](float V, float nl, float nv, float r, float) {
-      return ms::generic_vndf_alu_two_stage(V, nl, nv, r);
+      return micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r);
     };
   return [](float V, float nl, float nv, float r, float) {
     return float(lut::verify_reference_value(lut::VerifyReference::AzimuthMean, V, nl, nv, r, 1.0));

@@ -12,7 +12,7 @@
 
 #include "texture_internal.h"
 
-namespace msh::io::detail {
+namespace msh::io::codecs {
 namespace fs = std::filesystem;
 
 namespace {
@@ -71,4 +71,4 @@ void write_c_header(const fs::path& path, const Volume& v, const std::string& sy
   write_file_atomic(path, s);
 }
 
-}  // namespace msh::io::detail
+}  // namespace msh::io::codecs

@@ -7,7 +7,7 @@
 
 #include "texture_internal.h"
 
-namespace msh::io::detail {
+namespace msh::io::codecs {
 namespace fs = std::filesystem;
 
 namespace {
@@ -122,4 +122,4 @@ Volume read_dds(const fs::path& path) {
   return decode_texels(std::span(bytes).subspan(kHeaderBytes, n), pf, int(width), int(height), int(depth));
 }
 
-}  // namespace msh::io::detail
+}  // namespace msh::io::codecs

@@ -16,7 +16,7 @@
 
 #include "texture_internal.h"
 
-namespace msh::io::detail {
+namespace msh::io::codecs {
 namespace fs = std::filesystem;
 
 namespace {
@@ -187,4 +187,4 @@ Volume read_exr(const fs::path& path, bool as_volume) {
   }
 }
 
-}  // namespace msh::io::detail
+}  // namespace msh::io::codecs

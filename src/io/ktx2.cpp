@@ -9,7 +9,7 @@
 
 #include "texture_internal.h"
 
-namespace msh::io::detail {
+namespace msh::io::codecs {
 namespace fs = std::filesystem;
 
 namespace {
@@ -157,4 +157,4 @@ Volume read_ktx2(const fs::path& path) {
   return decode_texels(std::span(bytes).subspan(std::size_t(offset), n), pf, int(width), int(height), int(d));
 }
 
-}  // namespace msh::io::detail
+}  // namespace msh::io::codecs

@@ -9,7 +9,7 @@
 
 #include "texture_internal.h"
 
-namespace msh::io::detail {
+namespace msh::io::codecs {
 namespace fs = std::filesystem;
 
 void write_npy(const fs::path& path, const Volume& v) {
@@ -128,4 +128,4 @@ Volume read_npy(const fs::path& path) {
   return v;
 }
 
-}  // namespace msh::io::detail
+}  // namespace msh::io::codecs

@@ -13,7 +13,7 @@
 
 #include "texture_internal.h"
 
-namespace msh::io::detail {
+namespace msh::io::codecs {
 namespace fs = std::filesystem;
 
 namespace {
@@ -200,4 +200,4 @@ Volume read_png(const fs::path& path, bool as_volume) {
   return v;
 }
 
-}  // namespace msh::io::detail
+}  // namespace msh::io::codecs

@@ -73,28 +73,28 @@ std::string pixel_format_name(PixelFormat pf) {
   return "unknown";
 }
 
-int pixel_format_channels(PixelFormat pf) { return detail::pixel_info(pf).channels; }
+int pixel_format_channels(PixelFormat pf) { return codecs::pixel_info(pf).channels; }
 
 void write_volume(const fs::path& path, const Volume& v, FileFormat ff, PixelFormat pf,
                   const std::string& symbol) {
   switch (ff) {
     case FileFormat::Dds:
-      detail::write_dds(path, v, pf);
+      codecs::write_dds(path, v, pf);
       return;
     case FileFormat::Ktx2:
-      detail::write_ktx2(path, v, pf);
+      codecs::write_ktx2(path, v, pf);
       return;
     case FileFormat::Exr:
-      detail::write_exr_volume(path, v, detail::pixel_info(pf).bytes_per_channel == 2);
+      codecs::write_exr_volume(path, v, codecs::pixel_info(pf).bytes_per_channel == 2);
       return;
     case FileFormat::Npy:
-      detail::write_npy(path, v);
+      codecs::write_npy(path, v);
       return;
     case FileFormat::CHeader:
-      detail::write_c_header(path, v, symbol);
+      codecs::write_c_header(path, v, symbol);
       return;
     case FileFormat::Png:
-      detail::write_png_volume(path, v, detail::pixel_info(pf).bytes_per_channel == 1 ? 8 : 16);
+      codecs::write_png_volume(path, v, codecs::pixel_info(pf).bytes_per_channel == 1 ? 8 : 16);
       return;
   }
   throw InputError("write_volume: invalid file format");
@@ -104,15 +104,15 @@ namespace {
 Volume read_volume_any(const fs::path& path) {
   switch (file_format_from_path(path)) {
     case FileFormat::Dds:
-      return detail::read_dds(path);
+      return codecs::read_dds(path);
     case FileFormat::Ktx2:
-      return detail::read_ktx2(path);
+      return codecs::read_ktx2(path);
     case FileFormat::Exr:
-      return detail::read_exr(path, true);
+      return codecs::read_exr(path, true);
     case FileFormat::Npy:
-      return detail::read_npy(path);
+      return codecs::read_npy(path);
     case FileFormat::Png:
-      return detail::read_png(path, true);
+      return codecs::read_png(path, true);
     case FileFormat::CHeader:
       break;
   }
@@ -125,28 +125,28 @@ Volume read_volume(const fs::path& path) {
   Volume v = read_volume_any(path);
   // The writers refuse non-finite values; a file holding one (half or float Inf/NaN bit patterns, '<f8'
   // beyond float range) is corrupt for us, and would otherwise reach a sampler as NaN.
-  detail::validate_volume(v, path);
+  codecs::validate_volume(v, path);
   return v;
 }
 
 Volume read_image(const fs::path& path) {
   const std::string ext = lower(path.extension().string());
-  if (ext == ".png") return detail::read_png(path, false);
-  if (ext == ".exr") return detail::read_exr(path, false);
+  if (ext == ".png") return codecs::read_png(path, false);
+  if (ext == ".exr") return codecs::read_exr(path, false);
   throw InputError(fmt::format("'{}': images must be .png or .exr", path.string()));
 }
 
 void write_png(const fs::path& path, const Volume& image, int bits) {
   if (bits != 8 && bits != 16)
     throw InputError(fmt::format("'{}': PNG bit depth must be 8 or 16", path.string()));
-  detail::write_png_volume(path, image, bits);
+  codecs::write_png_volume(path, image, bits);
 }
 
 void write_exr(const fs::path& path, const Volume& image, bool half) {
-  detail::write_exr_volume(path, image, half);
+  codecs::write_exr_volume(path, image, half);
 }
 
-namespace detail {
+namespace codecs {
 
 void fail(const fs::path& path, const std::string& what) {
   throw InputError(fmt::format("'{}': {}", path.string(), what));
@@ -275,5 +275,5 @@ void ByteReader::require(std::size_t offset, std::size_t size) const {
                             offset, bytes.size()));
 }
 
-}  // namespace detail
+}  // namespace codecs
 }  // namespace msh::io

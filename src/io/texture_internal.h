@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace msh::io::detail {
+namespace msh::io::codecs {
 
 static_assert(std::endian::native == std::endian::little, "the file writers assume a little-endian host");
 
@@ -91,4 +91,4 @@ void write_c_header(const std::filesystem::path& path, const Volume& v, const st
 void write_png_volume(const std::filesystem::path& path, const Volume& v, int bits);
 Volume read_png(const std::filesystem::path& path, bool as_volume);
 
-}  // namespace msh::io::detail
+}  // namespace msh::io::codecs

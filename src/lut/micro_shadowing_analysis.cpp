@@ -35,12 +35,12 @@ std::vector<TermMapCell> term_maps(int n, const std::vector<double>& roughness,
           cells.push_back({r, nv, double(i) / (n - 1), double(j) / (n - 1), 0, 0, 0, 0, 0});
   tbb::parallel_for(size_t(0), cells.size(), [&](size_t k) {
     TermMapCell& c = cells[k];
-    c.reference = ms::reference_step(c.visibility, c.n_dot_l);
-    c.brinck_maximov = ms::brinck_maximov_2016(c.visibility, c.n_dot_l);
-    c.chan = ms::chan_2018(c.visibility, c.n_dot_l);
-    c.part1 = ms::part1_analytic(c.visibility, c.n_dot_l);
-    c.generic = ms::generic_vndf_exact_azimuth_mean(c.visibility, roughness_to_alpha(c.roughness), c.n_dot_l,
-                                                    c.n_dot_v);
+    c.reference = micro_shadowing::reference_step(c.visibility, c.n_dot_l);
+    c.brinck_maximov = micro_shadowing::brinck_maximov_2016(c.visibility, c.n_dot_l);
+    c.chan = micro_shadowing::chan_2018(c.visibility, c.n_dot_l);
+    c.part1 = micro_shadowing::part1_analytic(c.visibility, c.n_dot_l);
+    c.generic = micro_shadowing::generic_vndf_exact_azimuth_mean(
+        c.visibility, roughness_to_alpha(c.roughness), c.n_dot_l, c.n_dot_v);
   });
   return cells;
 }
@@ -87,13 +87,14 @@ std::vector<AzimuthConfig> azimuth_study(std::size_t configs) {
     AzimuthConfig& z = az[k];
     const double al = roughness_to_alpha(z.roughness);
     const Vec3d v = study_view_dir(z.n_dot_v);
-    z.exact = ms::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, z.phi));
-    z.mean = ms::generic_vndf_exact_azimuth_mean(z.visibility, al, z.n_dot_l, z.n_dot_v);
+    z.exact = micro_shadowing::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, z.phi));
+    z.mean = micro_shadowing::generic_vndf_exact_azimuth_mean(z.visibility, al, z.n_dot_l, z.n_dot_v);
     z.a.fill(0.0);
-    if (ms::exact_zero(z.visibility, z.n_dot_l)) return;
+    if (micro_shadowing::exact_zero(z.visibility, z.n_dot_l)) return;
     for (size_t i = 0; i < gl.x.size(); ++i) {
       const double p = 0.5 * kPi<double> * (gl.x[i] + 1);
-      const double f = ms::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, p), 1e-6);
+      const double f =
+          micro_shadowing::generic_vndf_exact(z.visibility, al, al, v, study_light_dir(z.n_dot_l, p), 1e-6);
       for (int h = 0; h <= kAzimuthStudyHarmonics; ++h)
         z.a[h] += (h == 0 ? 0.5 : 1.0) * gl.w[i] * f * std::cos(h * p);
     }
@@ -105,7 +106,7 @@ AbsErrorSummary azimuth_error_summary(const std::vector<AzimuthConfig>& configs,
                                       bool outside_early_out) {
   std::vector<double> e;
   for (const AzimuthConfig& z : configs)
-    if (!outside_early_out || !ms::exact_zero(z.visibility, z.n_dot_l))
+    if (!outside_early_out || !micro_shadowing::exact_zero(z.visibility, z.n_dot_l))
       e.push_back(std::abs(harmonics == 0 ? z.exact - z.mean : z.truncation_error(harmonics)));
   std::sort(e.begin(), e.end());
   double s2 = 0;
@@ -140,7 +141,7 @@ std::vector<MonteCarloCheck> monte_carlo_validation(int64_t samples) {
       cone += (m.z > c && dot(m, l) > c);
     }
     const double r = hemi > 0 ? cone / hemi : 0;
-    out[k] = {p, ms::generic_vndf_exact(p[0], p[1], p[2], v, l), r,
+    out[k] = {p, micro_shadowing::generic_vndf_exact(p[0], p[1], p[2], v, l), r,
               std::sqrt(r * (1 - r) / std::max(hemi, 1.0))};
   });
   return out;

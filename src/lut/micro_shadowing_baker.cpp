@@ -306,11 +306,11 @@ io::Volume bake_cone(const BakeOptions& o) {
     std::vector<uint32_t> hist;
     std::vector<double> acc((H + 1) * n_t), ratio(n_t);
     for (int y = 0; y < n_nl; ++y) {
-      const float zl = float(cone_detail::axis_value(double(y) / (n_nl - 1), o.cone.nl_warp));
+      const float zl = float(cone_axis_warp::axis_value(double(y) / (n_nl - 1), o.cone.nl_warp));
       const float sl = std::sqrt(std::max(0.0f, 1.0f - zl * zl));
-      const float ulo = cone_detail::warp_u(-std::sqrt(0.5f * (1.0f - zl)), a);
+      const float ulo = cone_axis_warp::warp_u(-std::sqrt(0.5f * (1.0f - zl)), a);
       const float dtop = cone_d_top(zl, a, o.cone.top_scale);
-      const float inv = 1.0f / (cone_detail::warp_u(dtop, a) - ulo);
+      const float inv = 1.0f / (cone_axis_warp::warp_u(dtop, a) - ulo);
 
       std::fill(acc.begin(), acc.end(), 0.0);
       for (int k = 0; k < K; ++k) {

@@ -76,13 +76,13 @@ double verify_reference_value(VerifyReference against, double visibility, double
                               double roughness, double cos_phi) {
   const double alpha = roughness_to_alpha(std::clamp(roughness, 0.0, 1.0));
   if (against == VerifyReference::AzimuthMean)
-    return ms::generic_vndf_exact_azimuth_mean(visibility, alpha, n_dot_l, n_dot_v);
+    return micro_shadowing::generic_vndf_exact_azimuth_mean(visibility, alpha, n_dot_l, n_dot_v);
   const double nv = std::clamp(n_dot_v, 0.0, 1.0), nl = std::clamp(n_dot_l, 0.0, 1.0);
   const double c = std::clamp(cos_phi, -1.0, 1.0), s = std::sqrt(std::max(0.0, 1.0 - c * c));
   const double sl = std::sqrt(std::max(0.0, 1.0 - nl * nl));
-  return ms::generic_vndf_exact(visibility, alpha, alpha,
-                                Vec3d(std::sqrt(std::max(0.0, 1.0 - nv * nv)), 0, nv),
-                                Vec3d(sl * c, sl * s, nl));
+  return micro_shadowing::generic_vndf_exact(visibility, alpha, alpha,
+                                             Vec3d(std::sqrt(std::max(0.0, 1.0 - nv * nv)), 0, nv),
+                                             Vec3d(sl * c, sl * s, nl));
 }
 
 std::vector<VerifyInput> make_verify_inputs(const VerifyOptions& o) {
@@ -146,7 +146,7 @@ VerifyResult measure(const std::vector<VerifyInput>& inputs, const MicroShadowin
   std::vector<double> eo, rest;
   for (std::size_t i = 0; i < n; ++i) {
     const VerifyInput& p = inputs[i];
-    (ms::exact_zero(p.visibility, p.n_dot_l) ? eo : rest).push_back(err[i]);
+    (micro_shadowing::exact_zero(p.visibility, p.n_dot_l) ? eo : rest).push_back(err[i]);
     if (const int b = band_of(o.roughness_bands, p.roughness); b >= 0) br[b].push_back(err[i]);
     if (const int b = band_of(o.n_dot_v_bands, p.n_dot_v); b >= 0) bn[b].push_back(err[i]);
   }

@@ -55,10 +55,11 @@ constexpr int kEstimateAzimuths = 32;
 // The ALU-only approximations of the azimuth mean (occlusion/micro_shadowing_fit.h), in float as a shader
 // runs them.
 Impl generic_vndf_alu(const MicroShadowingOptions&, const MicroShadowingMethodInfo&) {
-  return {[](const Point& p) {
-            return double(ms::generic_vndf_alu(float(p.V), float(p.nl), float(p.nv), float(p.r)));
-          },
-          nullptr};
+  return {
+      [](const Point& p) {
+        return double(micro_shadowing::generic_vndf_alu(float(p.V), float(p.nl), float(p.nv), float(p.r)));
+      },
+      nullptr};
 }
 
 // The LUT sampler an engine calls (lut/micro_shadowing_lut.h) on a table file or the default table. lut2d
@@ -86,7 +87,8 @@ Impl lut_method(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& 
     return tables->t[i];
   };
   return {[table, two_d](const Point& p) {
-            if (ms::exact_zero(p.V, p.nl)) return 0.0;  // the sampler's early-out: no table needed
+            if (micro_shadowing::exact_zero(p.V, p.nl))
+              return 0.0;  // the sampler's early-out: no table needed
             const auto t = table(p.phi != nullptr);
             const lut::MicroShadowingLutView view = t->view();
             if (p.phi && view.harmonics == 0)
@@ -107,15 +109,16 @@ Impl lut_method(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& 
 Impl specular_aware(bool as_float) {
   return {[as_float](const Point& p) {
             if (p.phi)
-              return ms::specular_aware(p.V, lut::study_view_dir(p.nv), lut::study_light_dir(p.nl, *p.phi));
+              return micro_shadowing::specular_aware(p.V, lut::study_view_dir(p.nv),
+                                                     lut::study_light_dir(p.nl, *p.phi));
             if (as_float)
-              return double(
-                  ms::specular_aware_azimuth_mean<float>(float(p.V), float(p.ax), float(p.nl), float(p.nv)));
-            return ms::specular_aware_azimuth_mean<double>(p.V, p.ax, p.nl, p.nv);
+              return double(micro_shadowing::specular_aware_azimuth_mean<float>(float(p.V), float(p.ax),
+                                                                                float(p.nl), float(p.nv)));
+            return micro_shadowing::specular_aware_azimuth_mean<double>(p.V, p.ax, p.nl, p.nv);
           },
           nullptr};
 }
-Impl diffuse_aware(const MicroShadowingOptions& o, ms::DiffuseAwareForm form) {
+Impl diffuse_aware(const MicroShadowingOptions& o, micro_shadowing::DiffuseAwareForm form) {
   return {[o, form](const Point& p) {
             const Vec3d v = lut::study_view_dir(p.nv);
             if (o.samples != 0) {
@@ -123,12 +126,14 @@ Impl diffuse_aware(const MicroShadowingOptions& o, ms::DiffuseAwareForm form) {
                 throw InputError(
                     "--samples needs --phi for the diffuse-aware terms (their azimuth mean is lobe-weighted "
                     "and exact only)");
-              return ms::diffuse_aware_estimate(p.V, GGX<double>(p.ax), v, lut::study_light_dir(p.nl, *p.phi),
-                                                int(o.samples), form, o.seed);
+              return micro_shadowing::diffuse_aware_estimate(p.V, GGX<double>(p.ax), v,
+                                                             lut::study_light_dir(p.nl, *p.phi),
+                                                             int(o.samples), form, o.seed);
             }
             if (p.phi)
-              return ms::diffuse_aware_exact(p.V, p.ax, p.ax, v, lut::study_light_dir(p.nl, *p.phi), form);
-            return ms::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
+              return micro_shadowing::diffuse_aware_exact(p.V, p.ax, p.ax, v,
+                                                          lut::study_light_dir(p.nl, *p.phi), form);
+            return micro_shadowing::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
           },
           nullptr};
 }
@@ -146,13 +151,13 @@ Impl generic_profile(const MicroShadowingOptions& o, Make make, Exact exact, Exa
             const auto dist = make(p);
             const int n = int(o.samples);
             if (p.phi)
-              return ms::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, *p.phi), n, o.g2,
-                                               o.seed);
+              return micro_shadowing::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, *p.phi),
+                                                            n, o.g2, o.seed);
             double sum = 0;
             for (int k = 0; k < kEstimateAzimuths; ++k) {
               const double phi = kPi<double> * (k + 0.5) / kEstimateAzimuths;
-              sum += ms::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, phi), n, o.g2,
-                                               hash_combine(o.seed, uint32_t(k)));
+              sum += micro_shadowing::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, phi), n,
+                                                            o.g2, hash_combine(o.seed, uint32_t(k)));
             }
             return sum / kEstimateAzimuths;
           },
@@ -167,11 +172,12 @@ Impl generic_vndf(const MicroShadowingOptions& o, const MicroShadowingMethodInfo
   return generic_profile(
       o, [](const Point& p) { return GGX<double>(p.ax, p.ay); },
       [](const Point& p, const Vec3d& v, const Vec3d& l) {
-        return ms::generic_vndf_exact(p.V, p.ax, p.ay, v, l);
+        return micro_shadowing::generic_vndf_exact(p.V, p.ax, p.ay, v, l);
       },
       [](const Point& p) {
-        return p.ax == p.ay ? ms::generic_vndf_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv)
-                            : ms::generic_vndf_exact_azimuth_mean_anisotropic(p.V, p.ax, p.ay, p.nl, p.nv);
+        return p.ax == p.ay ? micro_shadowing::generic_vndf_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv)
+                            : micro_shadowing::generic_vndf_exact_azimuth_mean_anisotropic(p.V, p.ax, p.ay,
+                                                                                           p.nl, p.nv);
       });
 }
 
@@ -179,25 +185,26 @@ Impl generic_vndf_beckmann(const MicroShadowingOptions& o, const MicroShadowingM
   return generic_profile(
       o, [](const Point& p) { return Beckmann<double>(p.ax, p.ay); },
       [](const Point& p, const Vec3d& v, const Vec3d& l) {
-        return ms::generic_vndf_exact(p.V, Beckmann<double>(p.ax, p.ay), v, l);
+        return micro_shadowing::generic_vndf_exact(p.V, Beckmann<double>(p.ax, p.ay), v, l);
       },
       [](const Point& p) {
-        return ms::generic_vndf_exact_azimuth_mean(p.V, Beckmann<double>(p.ax, p.ay), p.nl, p.nv);
+        return micro_shadowing::generic_vndf_exact_azimuth_mean(p.V, Beckmann<double>(p.ax, p.ay), p.nl,
+                                                                p.nv);
       });
 }
 
 // Beckmann–Spizzichino + V-cavity: the weight depends on m and does not cancel; --g2 selects it for the exact
 // term too (height-correlated: the V-cavity's own min(G1(v,m), G1(l,m)); uncorrelated: the product).
 Impl generic_vcavity(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
-  const ms::G2Form form = o.g2;
+  const micro_shadowing::G2Form form = o.g2;
   const auto vc = [](const Point& p) { return BeckmannVCavity<double>(Beckmann<double>(p.ax, p.ay)); };
   return generic_profile(
       o, vc,
       [vc, form](const Point& p, const Vec3d& v, const Vec3d& l) {
-        return ms::generic_vcavity_exact(p.V, vc(p), v, l, form);
+        return micro_shadowing::generic_vcavity_exact(p.V, vc(p), v, l, form);
       },
       [vc, form](const Point& p) {
-        return ms::generic_vcavity_exact_azimuth_mean(p.V, vc(p), p.nl, p.nv, 0.0, form);
+        return micro_shadowing::generic_vcavity_exact_azimuth_mean(p.V, vc(p), p.nl, p.nv, 0.0, form);
       });
 }
 
@@ -210,10 +217,11 @@ Impl lut3d_projected_anisotropic(const MicroShadowingOptions& o, const MicroShad
   auto table = base.table;
   return {
       [table](const Point& p) {
-        if (ms::exact_zero(p.V, p.nl)) return 0.0;
+        if (micro_shadowing::exact_zero(p.V, p.nl)) return 0.0;
         const Vec3d v = lut::study_view_dir(p.nv);
         const auto rough = [&](double phi) {
-          return ms::micro_shadowing_isotropic_roughness(p.ax, p.ay, v, lut::study_light_dir(p.nl, phi));
+          return micro_shadowing::micro_shadowing_isotropic_roughness(p.ax, p.ay, v,
+                                                                      lut::study_light_dir(p.nl, phi));
         };
         if (p.phi) {
           const lut::MicroShadowingLutView view = table(true)->view();
@@ -244,13 +252,13 @@ const std::vector<Entry>& entries() {
          return Impl{[](const Point& p) { return p.V; }, nullptr};
        }},
       {closed("reference", "step: 1 when the light is inside the visibility cone, else 0"),
-       [](auto&, auto&) { return closed_form(ms::reference_step<double>); }},
+       [](auto&, auto&) { return closed_form(micro_shadowing::reference_step<double>); }},
       {closed("brinck-maximov-2016", "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'"),
-       [](auto&, auto&) { return closed_form(ms::brinck_maximov_2016<double>); }},
+       [](auto&, auto&) { return closed_form(micro_shadowing::brinck_maximov_2016<double>); }},
       {closed("chan-2018", "Chan 2018, 'Material Advances in Call of Duty: WWII'"),
-       [](auto&, auto&) { return closed_form(ms::chan_2018<double>); }},
+       [](auto&, auto&) { return closed_form(micro_shadowing::chan_2018<double>); }},
       {closed("part1-analytic", "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'"),
-       [](auto&, auto&) { return closed_form(ms::part1_analytic<double>); }},
+       [](auto&, auto&) { return closed_form(micro_shadowing::part1_analytic<double>); }},
       {{"generic-vndf",
         "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator with "
         "samples",
@@ -276,11 +284,11 @@ const std::vector<Entry>& entries() {
         "micro-BRDF-aware, Lambertian facets, reciprocal cone tests (exact quadrature; Sobol estimator with "
         "--samples and --phi)",
         true, true, true, false, true, false},
-       [](auto& o, auto&) { return diffuse_aware(o, ms::DiffuseAwareForm::Reciprocal); }},
+       [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Reciprocal); }},
       {{"diffuse-aware-flux",
         "micro-BRDF-aware, Lambertian facets, fraction of the reflected flux leaving through the cone", true,
         true, true, false, true, false},
-       [](auto& o, auto&) { return diffuse_aware(o, ms::DiffuseAwareForm::Flux); }},
+       [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Flux); }},
       {{"generic-vndf-beckmann",
         "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)", true, true,
         true, true, true, false},

@@ -32,9 +32,9 @@ using occlusion::MicroShadowingEvaluator;
 using occlusion::MicroShadowingOptions;
 using occlusion::MicroShadowingQuery;
 
-ms::G2Form parse_g2(const std::string& s) {
-  if (s == "height-correlated") return ms::G2Form::HeightCorrelated;
-  if (s == "uncorrelated") return ms::G2Form::Uncorrelated;
+micro_shadowing::G2Form parse_g2(const std::string& s) {
+  if (s == "height-correlated") return micro_shadowing::G2Form::HeightCorrelated;
+  if (s == "uncorrelated") return micro_shadowing::G2Form::Uncorrelated;
   throw InputError(fmt::format("--g2 must be height-correlated or uncorrelated, got '{}'", s));
 }
 
@@ -159,7 +159,7 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
         out = fast_loop<T>(
             b,
             [](const auto&, std::size_t, double v, double nl, double, double) {
-              return ms::reference_step(v, nl);
+              return micro_shadowing::reference_step(v, nl);
             },
             bad);
         break;
@@ -167,7 +167,7 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
         out = fast_loop<T>(
             b,
             [](const auto&, std::size_t, double v, double nl, double, double) {
-              return ms::brinck_maximov_2016(v, nl);
+              return micro_shadowing::brinck_maximov_2016(v, nl);
             },
             bad);
         break;
@@ -175,7 +175,7 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
         out = fast_loop<T>(
             b,
             [](const auto&, std::size_t, double v, double nl, double, double) {
-              return ms::chan_2018(v, nl);
+              return micro_shadowing::chan_2018(v, nl);
             },
             bad);
         break;
@@ -183,7 +183,7 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
         out = fast_loop<T>(
             b,
             [](const auto&, std::size_t, double v, double nl, double, double) {
-              return ms::part1_analytic(v, nl);
+              return micro_shadowing::part1_analytic(v, nl);
             },
             bad);
         break;

@@ -15,7 +15,7 @@
 
 namespace msh::render {
 
-using detail::kInf;
+using tracing::kInf;
 
 RepresentativeDirs representative_dirs(const Light& l, const Vec3f& p, const Vec3f& r) {
   const Vec3f dl = l.position - p;

@@ -15,7 +15,7 @@
 namespace msh::render {
 
 namespace {
-using detail::kInf;
+using tracing::kInf;
 uint32_t pixel_seed(uint32_t seed, int x, int y) {
   return hash_combine(hash_combine(hash_u32(seed), uint32_t(x)), uint32_t(y));
 }

@@ -14,7 +14,7 @@
 #include "shading_terms.h"
 
 namespace msh::render {
-namespace detail {
+namespace tracing {
 inline constexpr float kInf = std::numeric_limits<float>::infinity();
 
 struct Hit {
@@ -45,7 +45,7 @@ struct PlaneHF {
   Vec3f to_world_d(const Vec3f& g) const { return T * g.x + B * g.y + N * g.z; }
 };
 
-}  // namespace detail
+}  // namespace tracing
 
 // Representative directions of an area light seen from p (Karis 2013, "Real Shading in Unreal Engine 4"):
 // wc toward the centre (the diffuse lobe's), ws toward the point of the light closest to the reflection ray r
@@ -67,8 +67,8 @@ struct AreaSample {
 AreaSample sample_area_light(const Light& l, const Vec3f& p, const Vec2f& u);
 
 struct Renderer::Impl {
-  using Hit = detail::Hit;
-  using PlaneHF = detail::PlaneHF;
+  using Hit = tracing::Hit;
+  using PlaneHF = tracing::PlaneHF;
   const Scene& scene;
   RTCDevice device = nullptr;
   RTCScene rtc = nullptr;

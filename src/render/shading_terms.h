@@ -47,16 +47,17 @@ class MicroShadowingTerm {
     }
     const Vec3f& n = smooth_ ? sp.n_smooth : sp.n_shading;
     const float V = sp.visibility;
-    if (ms::exact_zero(V, dot(n, wi))) return {0.0f, 0.0f};
+    if (micro_shadowing::exact_zero(V, dot(n, wi))) return {0.0f, 0.0f};
     const Framef fr = Framef::from_zx(n, tangent);
     Vec3f v = fr.to_local(wo);
     v.z = std::max(v.z, 1e-4f);
     v = normalize(v);
     const Vec3f l = fr.to_local(wi);
     const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
-    const auto form =
-        mode_ == MicroShadowing::Aware ? ms::DiffuseAwareForm::Reciprocal : ms::DiffuseAwareForm::Flux;
-    return {ms::diffuse_aware_estimate(V, ggx, v, l, n_, form, seed | 1u), ms::specular_aware(V, v, l)};
+    const auto form = mode_ == MicroShadowing::Aware ? micro_shadowing::DiffuseAwareForm::Reciprocal
+                                                     : micro_shadowing::DiffuseAwareForm::Flux;
+    return {micro_shadowing::diffuse_aware_estimate(V, ggx, v, l, n_, form, seed | 1u),
+            micro_shadowing::specular_aware(V, v, l)};
   }
   // Settings::area_ms == Integrated: the term averaged over the solid angle of light l (sphere, disk or
   // rect) seen from p, weighted by the receiver — Lambert (specular = false) or the GGX lobe for wo
@@ -82,25 +83,25 @@ class MicroShadowingTerm {
       case MicroShadowing::AO:
         return V;
       case MicroShadowing::Reference:
-        return ms::reference_step(V, nl);
+        return micro_shadowing::reference_step(V, nl);
       case MicroShadowing::BrinckMaximov:
-        return ms::brinck_maximov_2016(V, nl);
+        return micro_shadowing::brinck_maximov_2016(V, nl);
       case MicroShadowing::Chan:
-        return ms::chan_2018(V, nl);
+        return micro_shadowing::chan_2018(V, nl);
       case MicroShadowing::Part1:
-        return ms::part1_analytic(V, nl);
+        return micro_shadowing::part1_analytic(V, nl);
       case MicroShadowing::GenericVndf: {
-        if (ms::exact_zero(V, nl)) return 0.0f;
+        if (micro_shadowing::exact_zero(V, nl)) return 0.0f;
         const Framef fr = Framef::from_zx(n, tangent);
         Vec3f v = fr.to_local(wo);
         v.z = std::max(v.z, 1e-4f);
         const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
-        return ms::generic_vndf_estimate(V, ggx, normalize(v), fr.to_local(wi), n_,
-                                         ms::G2Form::HeightCorrelated, seed | 1u);
+        return micro_shadowing::generic_vndf_estimate(V, ggx, normalize(v), fr.to_local(wi), n_,
+                                                      micro_shadowing::G2Form::HeightCorrelated, seed | 1u);
       }
       case MicroShadowing::Lut3d:
       case MicroShadowing::Lut2d: {
-        if (ms::exact_zero(V, nl)) return 0.0f;  // Zurita 2026 (Part 2) early-out: no LUT fetch
+        if (micro_shadowing::exact_zero(V, nl)) return 0.0f;  // Zurita 2026 (Part 2) early-out: no LUT fetch
         // Relative azimuth of the tangent-plane projections of wo and wi (for azimuth-aware tables).
         const Vec3f pv = wo - dot(n, wo) * n, pl = wi - dot(n, wi) * n;
         const float d = std::sqrt(dot(pv, pv) * dot(pl, pl));

@@ -45,7 +45,7 @@ bool Renderer::Impl::shape_occluded(int i, const Vec3f& o, const Vec3f& d, float
 
 void Renderer::Impl::shape_bounds(int i, RTCBounds& bounds) const {
   const Object& ob = scene.objects[i];
-  const float inf = detail::kInf;
+  const float inf = tracing::kInf;
   Vec3f lo(inf, inf, inf), hi(-inf, -inf, -inf);
   auto add = [&](const Vec3f& p) {
     lo = Vec3f(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
@@ -119,7 +119,7 @@ void Renderer::Impl::user_occluded(const RTCOccludedFunctionNArguments* args) {
     const Vec3f d(RTCRayN_dir_x(ray, args->N, k), RTCRayN_dir_y(ray, args->N, k),
                   RTCRayN_dir_z(ray, args->N, k));
     if (u->impl->shape_occluded(u->obj, o, d, RTCRayN_tnear(ray, args->N, k), RTCRayN_tfar(ray, args->N, k)))
-      RTCRayN_tfar(ray, args->N, k) = -detail::kInf;
+      RTCRayN_tfar(ray, args->N, k) = -tracing::kInf;
   }
 }
 

@@ -21,11 +21,14 @@ int main() {
   check(std::abs(norm - 1) < 1e-6, "GGX normalization");
   // The closed-form micro-shadowing terms at their documented limits: Chan 2018 is 1 for a fully visible
   // hemisphere, Brinck & Maximov 2016 is N·L + 2V² − 1 inside [0, 1].
-  check(msh::ms::chan_2018(1.0, 0.3) == 1.0, "chan_2018 at V = 1");
-  check(std::abs(msh::ms::brinck_maximov_2016(0.75, 0.5) - 0.625) < 1e-15, "brinck_maximov_2016");
+  check(msh::micro_shadowing::chan_2018(1.0, 0.3) == 1.0, "chan_2018 at V = 1");
+  check(std::abs(msh::micro_shadowing::brinck_maximov_2016(0.75, 0.5) - 0.625) < 1e-15,
+        "brinck_maximov_2016");
   // The exact term is 1 at V = 1 and 0 where 2V + N·L < 1.
-  check(msh::ms::generic_vndf_exact_azimuth_mean(1.0, 0.25, 0.5, 0.7) == 1.0, "exact term at V = 1");
-  check(msh::ms::generic_vndf_exact_azimuth_mean(0.2, 0.25, 0.5, 0.7) == 0.0, "exact term below the cone");
+  check(msh::micro_shadowing::generic_vndf_exact_azimuth_mean(1.0, 0.25, 0.5, 0.7) == 1.0,
+        "exact term at V = 1");
+  check(msh::micro_shadowing::generic_vndf_exact_azimuth_mean(0.2, 0.25, 0.5, 0.7) == 0.0,
+        "exact term below the cone");
   if (failures == 0) std::printf("core umbrella: ok\n");
   return failures == 0 ? 0 : 1;
 }

@@ -12,7 +12,7 @@
 
 namespace msh::bsdf {
 
-namespace detail {
+namespace diffuse_terms {
 template <class T>
 bool both_above(const Vec3<T>& l, const Vec3<T>& v) {
   return l.z > T(0) && v.z > T(0);
@@ -22,19 +22,19 @@ template <class T>
 Vec3<T> half_vector(const Vec3<T>& l, const Vec3<T>& v) {
   return normalize(l + v, Vec3<T>(0, 0, 1));
 }
-}  // namespace detail
+}  // namespace diffuse_terms
 
 // Lambert (RTR4 9.61): ρ_ss / π.
 template <class T, class C>
 C diffuse_lambert(const C& rho, const Vec3<T>& l, const Vec3<T>& v) {
-  return detail::both_above(l, v) ? rho * kInvPi<T> : C(T(0));
+  return diffuse_terms::both_above(l, v) ? rho * kInvPi<T> : C(T(0));
 }
 
 // (1 − F(n, l)) ρ/π with Schlick F (RTR4 9.62): coupling to a flat Fresnel mirror. Not reciprocal (it
 // depends on l only).
 template <class T, class C>
 C diffuse_fresnel_n(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
   return (C(T(1)) - fresnel_schlick(f0, l.z)) * rho * kInvPi<T>;
 }
 
@@ -42,8 +42,8 @@ C diffuse_fresnel_n(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& 
 // h·v).
 template <class T, class C>
 C diffuse_fresnel_h(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
-  const Vec3<T> h = detail::half_vector(l, v);
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
+  const Vec3<T> h = diffuse_terms::half_vector(l, v);
   return (C(T(1)) - fresnel_schlick(f0, dot(h, l))) * rho * kInvPi<T>;
 }
 
@@ -51,7 +51,7 @@ C diffuse_fresnel_h(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& 
 // Pairs with a flat Schlick mirror: diffuse albedo = ρ (1 − F_Schlick(n·v)), so the pair conserves energy.
 template <class T, class C>
 C diffuse_shirley(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
   const T k = T(21) / (T(20) * kPi<T>)*(T(1) - schlick_weight(l.z)) * (T(1) - schlick_weight(v.z));
   return (C(T(1)) - f0) * rho * k;
 }
@@ -62,7 +62,7 @@ C diffuse_shirley(const C& rho, const C& f0, const Vec3<T>& l, const Vec3<T>& v)
 // guarded: the numerator vanishes with it.
 template <class T, class C>
 C diffuse_ksk(const C& rho, const C& r_l, const C& r_v, const C& r_avg, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
   const C one(T(1));
   C den = one - r_avg;
   if constexpr (std::is_same_v<C, T>) {
@@ -80,8 +80,8 @@ C diffuse_ksk(const C& rho, const C& r_l, const C& r_v, const C& r_avg, const Ve
 // conserving (f_d retro-reflects up to F_D90 = 2.5).
 template <class T, class C>
 C diffuse_disney(const C& rho, T roughness, T subsurface, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
-  const Vec3<T> h = detail::half_vector(l, v);
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
+  const Vec3<T> h = diffuse_terms::half_vector(l, v);
   const T hl2 = sqr(saturate(dot(h, l)));
   const T wl = schlick_weight(l.z), wv = schlick_weight(v.z);
   const T fd90 = T(0.5) + T(2) * roughness * hl2;
@@ -98,8 +98,8 @@ C diffuse_disney(const C& rho, T roughness, T subsurface, const Vec3<T>& l, cons
 // alpha = GGX α. ρ enters twice (single bounce ρ/π, multi-bounce ρ²/π · 0.3641 α). Reciprocal.
 template <class T, class C>
 C diffuse_hammon(const C& rho, T alpha, const C& f0, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
-  const Vec3<T> h = detail::half_vector(l, v);
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
+  const Vec3<T> h = diffuse_terms::half_vector(l, v);
   const T a = saturate(alpha);
   const T smooth_k = T(21) / T(20) * (T(1) - schlick_weight(l.z)) * (T(1) - schlick_weight(v.z));
   const C f_smooth = (C(T(1)) - f0) * smooth_k;
@@ -110,7 +110,7 @@ C diffuse_hammon(const C& rho, T alpha, const C& f0, const Vec3<T>& l, const Vec
   return rho * kInvPi<T> * (f_smooth * (T(1) - a) + C(a * f_rough) + rho * f_multi);
 }
 
-namespace detail {
+namespace diffuse_terms {
 // Oren-Nayar angles: α = max(θl, θv), β = min(θl, θv), and cos(φl − φv) (0 when either is at the pole).
 template <class T>
 void oren_nayar_angles(const Vec3<T>& l, const Vec3<T>& v, T& alpha, T& beta, T& cos_dphi) {
@@ -140,20 +140,20 @@ OrenNayarTerms<T> oren_nayar_terms(T sigma, const Vec3<T>& l, const Vec3<T>& v) 
   t.B = T(0.45) * t.s2 / (t.s2 + T(0.09));
   return t;
 }
-}  // namespace detail
+}  // namespace diffuse_terms
 
 // Oren & Nayar 1994, "Generalization of Lambert's Reflectance Model" (SIGGRAPH), full model (their eqs. for
 // L1 with C1, C2, C3, plus the interreflection term L2). sigma = standard deviation of the facet slope angle
 // in radians (V-cavities, Gaussian slopes). Reciprocal. sigma = 0 gives Lambert.
 template <class T, class C>
 C diffuse_oren_nayar(const C& rho, T sigma, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
-  const detail::OrenNayarTerms<T> t = detail::oren_nayar_terms(sigma, l, v);
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
+  const diffuse_terms::OrenNayarTerms<T> t = diffuse_terms::oren_nayar_terms(sigma, l, v);
   const T a = t.a, b = t.b, cphi = t.cos_dphi, s2 = t.s2, c1 = t.A, k2 = t.B;
   const T c2 = cphi >= T(0) ? k2 * std::sin(a) : k2 * (std::sin(a) - std::pow(T(2) * b / kPi<T>, T(3)));
   const T c3 = T(0.125) * s2 / (s2 + T(0.09)) * sqr(T(4) * a * b / (kPi<T> * kPi<T>));
-  const T l1 = c1 + cphi * c2 * detail::tan_clamped(b) +
-               (T(1) - std::abs(cphi)) * c3 * detail::tan_clamped((a + b) / T(2));
+  const T l1 = c1 + cphi * c2 * diffuse_terms::tan_clamped(b) +
+               (T(1) - std::abs(cphi)) * c3 * diffuse_terms::tan_clamped((a + b) / T(2));
   const T l2 = T(0.17) * s2 / (s2 + T(0.13)) * (T(1) - cphi * sqr(T(2) * b / kPi<T>));
   return rho * (kInvPi<T> * l1) + rho * rho * (kInvPi<T> * l2);
 }
@@ -162,10 +162,10 @@ C diffuse_oren_nayar(const C& rho, T sigma, const Vec3<T>& l, const Vec3<T>& v) 
 // A = 1 − 0.5 σ²/(σ² + 0.33), B = 0.45 σ²/(σ² + 0.09). Reciprocal.
 template <class T, class C>
 C diffuse_oren_nayar_qualitative(const C& rho, T sigma, const Vec3<T>& l, const Vec3<T>& v) {
-  if (!detail::both_above(l, v)) return C(T(0));
-  const detail::OrenNayarTerms<T> t = detail::oren_nayar_terms(sigma, l, v);
-  return rho *
-         (kInvPi<T> * (t.A + t.B * std::max(T(0), t.cos_dphi) * std::sin(t.a) * detail::tan_clamped(t.b)));
+  if (!diffuse_terms::both_above(l, v)) return C(T(0));
+  const diffuse_terms::OrenNayarTerms<T> t = diffuse_terms::oren_nayar_terms(sigma, l, v);
+  return rho * (kInvPi<T> *
+                (t.A + t.B * std::max(T(0), t.cos_dphi) * std::sin(t.a) * diffuse_terms::tan_clamped(t.b)));
 }
 
 }  // namespace msh::bsdf

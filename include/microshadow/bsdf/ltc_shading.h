@@ -54,7 +54,7 @@ struct LtcLightResult {
   }
 };
 
-namespace detail {
+namespace ltc_result {
 template <class T>
 LtcLightResult<T> ltc_finish(const LtcCoeffs<T>& k, const Frame<T>& f, const Mat3<T>& minv,
                              const LtcPolygonResult<T>& r) {
@@ -65,7 +65,7 @@ LtcLightResult<T> ltc_finish(const LtcCoeffs<T>& k, const Frame<T>& f, const Mat
   o.n_dot_l = dot(o.direction, f.n);
   return o;
 }
-}  // namespace detail
+}  // namespace ltc_result
 
 // A sphere light seen from the shading point (all vectors in one frame, n and v unit, v above the surface):
 // centre direction `to_light` (unit), angular radius σ given as sin σ = radius / distance ∈ [0, 1).
@@ -78,7 +78,7 @@ LtcLightResult<T> ltc_shade_sphere(const LtcCoeffs<T>& k, const Vec3<T>& n, cons
                                    bool clip_surface = true) {
   const Frame<T> f = ltc_view_frame(n, v);
   const Mat3<T> minv = k.inv_m();
-  return detail::ltc_finish(
+  return ltc_result::ltc_finish(
       k, f, minv, ltc_integrate_sphere(minv, f.to_local(to_light), sin_sigma, polygon_sides, clip_surface));
 }
 
@@ -91,12 +91,13 @@ LtcLightResult<T> ltc_shade_polygon(const LtcCoeffs<T>& k, const Vec3<T>& n, con
   std::array<Vec3<T>, 16> q;
   count = std::clamp(count, 0, 16);
   for (int i = 0; i < count; ++i) q[size_t(i)] = f.to_local(p[i]);
-  return detail::ltc_finish(k, f, minv, ltc_integrate_polygon(minv, q.data(), count, clip_surface));
+  return ltc_result::ltc_finish(k, f, minv, ltc_integrate_polygon(minv, q.data(), count, clip_surface));
 }
 
 // The stand-in for M_area until the fast forms exist: the point micro-shadowing term (any callable
-// ms_point(n_dot_l) → factor, e.g. [&](double nl) { return ms::reference_step(V, nl); }) evaluated at the
-// LTC's representative direction (the "most representative point" of the light for this lobe).
+// ms_point(n_dot_l) → factor, e.g. [&](double nl) { return micro_shadowing::reference_step(V, nl); })
+// evaluated at the LTC's representative direction (the "most representative point" of the light for this
+// lobe).
 template <class T, class Fn>
 T ltc_ms_at_representative(const LtcLightResult<T>& r, Fn&& ms_point) {
   return ms_point(clamp(r.n_dot_l, T(0), T(1)));

@@ -44,7 +44,7 @@ Vec2<T> ggx_dfg_reference(T mu, T r, uint32_t n, uint32_t seed = kAlbedoSeed) {
 
 // ---- Lookups in the shipped tables (bilinear; clamps the arguments to [0,1]).
 
-namespace detail {
+namespace table_lerp {
 template <class T>
 T lerp_table_1d(const float* t, int n, T x) {
   const T fx = saturate(x) * T(n - 1);
@@ -62,26 +62,26 @@ T lerp_table_2d(const float* t, int n, T mu, T r) {
   const T v1 = (T(1) - a) * T(t[(j + 1) * n + i]) + a * T(t[(j + 1) * n + i + 1]);
   return (T(1) - b) * v0 + b * v1;
 }
-}  // namespace detail
+}  // namespace table_lerp
 
 // R_sF1 = E(μ, r): GGX directional albedo with F = 1 (shipped table).
 template <class T>
 T ggx_E(T mu, T r) {
-  return detail::lerp_table_2d(shipped::kGgxE, shipped::kGgxTableSize, mu, r);
+  return table_lerp::lerp_table_2d(shipped::kGgxE, shipped::kGgxTableSize, mu, r);
 }
 // E_Fc(μ, r) (shipped table).
 template <class T>
 T ggx_E_fc(T mu, T r) {
-  return detail::lerp_table_2d(shipped::kGgxEFc, shipped::kGgxTableSize, mu, r);
+  return table_lerp::lerp_table_2d(shipped::kGgxEFc, shipped::kGgxTableSize, mu, r);
 }
 // Cosine-weighted averages over μ: Ē(r) (RTR4 9.57) and Ē_Fc(r).
 template <class T>
 T ggx_E_avg(T r) {
-  return detail::lerp_table_1d(shipped::kGgxEAvg, shipped::kGgxTableSize, r);
+  return table_lerp::lerp_table_1d(shipped::kGgxEAvg, shipped::kGgxTableSize, r);
 }
 template <class T>
 T ggx_E_fc_avg(T r) {
-  return detail::lerp_table_1d(shipped::kGgxEFcAvg, shipped::kGgxTableSize, r);
+  return table_lerp::lerp_table_1d(shipped::kGgxEFcAvg, shipped::kGgxTableSize, r);
 }
 // Single-scattering GGX albedo with Schlick Fresnel, R_spec = F0 E + (1 − F0) E_Fc (Karis 2013 split sum).
 template <class T, class C>

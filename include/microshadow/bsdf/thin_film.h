@@ -22,7 +22,7 @@
 
 namespace msh::bsdf {
 
-namespace thin_film_detail {
+namespace thin_film_fresnel {
 
 // Complex Fresnel amplitudes (s, p) for incidence from a real medium n1 onto n2 + i k2 (Born & Wolf §1.5),
 // in the convention r21 = −r12, t12 t21 = 1 − r12² used by the Airy sum. cos1 in [0,1].
@@ -69,7 +69,7 @@ Rgb<T> xyz_to_rgb_ewhite(const Rgb<T>& xyz) {
   return {out[0], out[1], out[2]};
 }
 
-}  // namespace thin_film_detail
+}  // namespace thin_film_fresnel
 
 template <class T>
 struct ThinFilm {
@@ -94,10 +94,10 @@ struct ThinFilm {
 
     // First interface (air → film, real): intensities and phases (0 or π) per polarization.
     C r12s, r12p;
-    thin_film_detail::fresnel_amplitudes(cos1, T(1), C(eta2), r12s, r12p);
+    thin_film_fresnel::fresnel_amplitudes(cos1, T(1), C(eta2), r12s, r12p);
     // Second interface (film → substrate), complex.
     C r23s, r23p;
-    thin_film_detail::fresnel_amplitudes(
+    thin_film_fresnel::fresnel_amplitudes(
         cos2, eta2, C(std::max(substrate_ior, T(1e-6)), std::max(substrate_k, T(0))), r23s, r23p);
     const T opd = T(2) * eta2 * d * cos2;
 
@@ -115,17 +115,17 @@ struct ThinFilm {
       const T r123 = std::sqrt(R123);
       // Airy sum: R(δ) = C0 + 2 Σ_m C_m cos(m(δ + φ2)), C0 = R12 + Rs, C_m = (Rs − T121) r123^m.
       const T Rs = R123 < T(1) ? T121 * T121 * R23 / (T(1) - R123) : T(0);
-      Rgb<T> acc = thin_film_detail::sensitivity(T(0), T(0)) * (R12 + Rs);
+      Rgb<T> acc = thin_film_fresnel::sensitivity(T(0), T(0)) * (R12 + Rs);
       T Cm = Rs - T121;
       for (int m = 1; m <= 3; ++m) {
         Cm *= r123;
-        acc += thin_film_detail::sensitivity(T(m) * opd, T(m) * phi2) * (T(2) * Cm);
+        acc += thin_film_fresnel::sensitivity(T(m) * opd, T(m) * phi2) * (T(2) * Cm);
       }
       xyz += acc * T(0.5);  // unpolarized: mean of s and p
     }
     // Divide by the DC sensitivity so a flat spectrum gives XYZ = (R, R, R) exactly (the fit gives ≈ 1 ±
     // 1e-3).
-    const Rgb<T> rgb = thin_film_detail::xyz_to_rgb_ewhite(xyz / thin_film_detail::sensitivity(T(0), T(0)));
+    const Rgb<T> rgb = thin_film_fresnel::xyz_to_rgb_ewhite(xyz / thin_film_fresnel::sensitivity(T(0), T(0)));
     return {saturate(rgb.r), saturate(rgb.g), saturate(rgb.b)};
   }
 };

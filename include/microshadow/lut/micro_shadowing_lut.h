@@ -30,7 +30,7 @@ struct ConeLayoutParams {
   float roughness_min = 0.1f, roughness_max = 1.0f;  // roughness range of the slabs (clamped outside)
   float roughness_power = 0.5f;  // slab q holds roughness r with r^p uniform in q (p = 0: log r uniform)
   float warp_scale = 2.0f;       // warp width a = warp_scale · α, α = roughness²
-  int nl_warp = 4, nv_warp = 3;  // axis warps (cone_detail::axis_coord; 3: cone_nv_coord)
+  int nl_warp = 4, nv_warp = 3;  // axis warps (cone_axis_warp::axis_coord; 3: cone_nv_coord)
   float nv_scale = 3.0f;         // warp 3: width b = nv_scale · α
   float top_scale = 3.0f;        // end of the t axis for grazing light (cone_d_top)
 };
@@ -58,7 +58,7 @@ T gpu_texel_coord(T u, int n) {
   return un * T(n) - T(0.5);
 }
 
-namespace lut_detail {
+namespace texel_taps {
 // Linear-filter footprint on one axis with clamp-to-edge addressing.
 struct Tap {
   int i0, i1;
@@ -77,13 +77,13 @@ Tap tap(T u, int n, int weight_bits = 0) {
   }
   return {i0, std::min(i0 + 1, n - 1), f};
 }
-}  // namespace lut_detail
+}  // namespace texel_taps
 
 // Trilinear fetch of all channels of slab `slab` at (V, N·L, N·V) ∈ [0,1]³ (the hardware filter, in float).
 template <class T>
 std::array<T, 4> fetch_trilinear(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v,
                                  int slab = 0) {
-  using lut_detail::tap;
+  using texel_taps::tap;
   const int b = lut.filter_weight_bits;
   const auto tx = tap(visibility, lut.n_vis, b), ty = tap(n_dot_l, lut.n_nl, b),
              tz = tap(n_dot_v, lut.n_nv, b);
@@ -126,7 +126,7 @@ T interpolate_roughness(const MicroShadowingLutView& lut, const std::array<T, 4>
 // a near-step in d at the cone edge θ = θ_l, of width ~α with the heavy tails of the GGX slope distribution
 // (~1/d² and, for grazing views, ~1/d); in u it is close to linear, so the step sits near t = ½ for every V
 // and N·L and spreads over the whole axis instead of falling between two texels (docs/lut.md).
-namespace cone_detail {
+namespace cone_axis_warp {
 template <class T>
 T warp_u(T d, T a) {
   return d / (a + std::abs(d));
@@ -154,19 +154,19 @@ T axis_value(T s, int warp) {
   }
   return s;
 }
-}  // namespace cone_detail
+}  // namespace cone_axis_warp
 
 // N·V coordinate of warp 3: u(N·V)/u(1) with u(c) = c/sqrt(b² + c²), b = nv_scale · max(α, 1e-4): dense
-// where N·V ≲ α, where the VNDF of a grazing view changes shape. Other warps: cone_detail::axis_coord.
+// where N·V ≲ α, where the VNDF of a grazing view changes shape. Other warps: cone_axis_warp::axis_coord.
 template <class T>
 T cone_nv_coord(const ConeLayoutParams& p, T n_dot_v, T roughness) {
   const T c = saturate(n_dot_v);
-  if (p.nv_warp != 3) return cone_detail::axis_coord(c, p.nv_warp);
+  if (p.nv_warp != 3) return cone_axis_warp::axis_coord(c, p.nv_warp);
   const T b = T(p.nv_scale) * std::max(roughness * roughness, T(1e-4));
   return saturate(c / std::sqrt(b * b + c * c) * std::sqrt(b * b + T(1)));
 }
 inline double cone_nv_of_coord(const ConeLayoutParams& p, double w, double roughness) {
-  if (p.nv_warp != 3) return cone_detail::axis_value(w, p.nv_warp);
+  if (p.nv_warp != 3) return cone_axis_warp::axis_value(w, p.nv_warp);
   const double b = p.nv_scale * std::max(roughness * roughness, 1e-4);
   const double u = std::min(w / std::sqrt(b * b + 1.0), 1.0);  // c/sqrt(b² + c²) = u ⇒ c = b u/sqrt(1 − u²)
   return u >= 1.0 ? 1.0 : std::min(1.0, b * u / std::sqrt(1.0 - u * u));
@@ -220,15 +220,15 @@ T cone_t(T visibility, T n_dot_l, T a, T top_scale) {
   const T V = saturate(visibility), zl = saturate(n_dot_l);
   const T sl = std::sqrt(std::max(T(0), T(1) - zl * zl));
   const T d = std::sqrt(V) * zl - std::sqrt(T(1) - V) * sl;
-  const T ulo = cone_detail::warp_u(-std::sqrt(T(0.5) * (T(1) - zl)), a);
-  const T utop = cone_detail::warp_u(cone_d_top(zl, a, top_scale), a);
-  return saturate((cone_detail::warp_u(d, a) - ulo) / (utop - ulo));
+  const T ulo = cone_axis_warp::warp_u(-std::sqrt(T(0.5) * (T(1) - zl)), a);
+  const T utop = cone_axis_warp::warp_u(cone_d_top(zl, a, top_scale), a);
+  return saturate((cone_axis_warp::warp_u(d, a) - ulo) / (utop - ulo));
 }
 // Inverse of cone_t for the baker: the cone half-angle θ ∈ [θ_l/2, θ_l + π/2] at t (θ > π/2: past V = 1).
 inline double cone_theta_of_t(double t, double n_dot_l, double a, double top_scale) {
   const double zl = clamp(n_dot_l, 0.0, 1.0);
-  const double ulo = cone_detail::warp_u(-std::sqrt(0.5 * (1.0 - zl)), a);
-  const double utop = cone_detail::warp_u(cone_d_top(zl, a, top_scale), a);
+  const double ulo = cone_axis_warp::warp_u(-std::sqrt(0.5 * (1.0 - zl)), a);
+  const double utop = cone_axis_warp::warp_u(cone_d_top(zl, a, top_scale), a);
   const double u = clamp(ulo + t * (utop - ulo), -1.0, 1.0);
   const double d = std::abs(u) < 1.0 ? a * u / (1.0 - std::abs(u)) : u;
   return std::acos(zl) + std::asin(clamp(d, -1.0, 1.0));
@@ -243,7 +243,7 @@ inline double cone_visibility_of_t(double t, double n_dot_l, double a, double to
 // (t, s, w) ∈ [0, 1]³ (the hardware filter; the z coordinate stays inside the slab).
 template <class T>
 std::array<T, 4> fetch_cone_slab(const MicroShadowingLutView& lut, T t, T s, T w, int slab) {
-  using lut_detail::tap;
+  using texel_taps::tap;
   const int b = lut.filter_weight_bits;
   const auto tx = tap(t, lut.n_vis, b), ty = tap(s, lut.n_nl, b), tz = tap(w, lut.n_nv, b);
   std::array<T, 4> out{};
@@ -266,7 +266,7 @@ std::array<T, 4> fetch_cone(const MicroShadowingLutView& lut, T visibility, T n_
   const ConeLayoutParams& p = lut.cone;
   const T r = cone_clamp_roughness(p, roughness);
   const T t = cone_t(visibility, n_dot_l, cone_warp_width(p, r), T(p.top_scale));
-  const T s = cone_detail::axis_coord(saturate(n_dot_l), p.nl_warp);
+  const T s = cone_axis_warp::axis_coord(saturate(n_dot_l), p.nl_warp);
   const T w = cone_nv_coord(p, n_dot_v, r);
   const T q = cone_roughness_coord(p, r) * T(lut.n_rough - 1);
   const int j = std::min(int(q), std::max(lut.n_rough - 2, 0));
@@ -284,7 +284,7 @@ std::array<T, 4> fetch_cone(const MicroShadowingLutView& lut, T visibility, T n_
 // [0, 1].
 template <class T>
 T sample_micro_shadowing(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v, T roughness) {
-  if (ms::exact_zero(visibility, n_dot_l)) return T(0);  // 2V + N·L < 1: exactly 0, no fetch
+  if (micro_shadowing::exact_zero(visibility, n_dot_l)) return T(0);  // 2V + N·L < 1: exactly 0, no fetch
   if (lut.layout == LutLayout::Cone)
     return saturate(fetch_cone(lut, visibility, n_dot_l, n_dot_v, roughness)[0]);
   return saturate(
@@ -297,7 +297,7 @@ T sample_micro_shadowing(const MicroShadowingLutView& lut, T visibility, T n_dot
 template <class T>
 T sample_micro_shadowing_azimuth(const MicroShadowingLutView& lut, T visibility, T n_dot_l, T n_dot_v,
                                  T roughness, T cos_phi) {
-  if (ms::exact_zero(visibility, n_dot_l)) return T(0);  // 2V + N·L < 1: exactly 0, no fetch
+  if (micro_shadowing::exact_zero(visibility, n_dot_l)) return T(0);  // 2V + N·L < 1: exactly 0, no fetch
   const T c1 = clamp(cos_phi, T(-1), T(1));
   if (lut.layout == LutLayout::Cone) {
     const std::array<T, 4> a = fetch_cone(lut, visibility, n_dot_l, n_dot_v, roughness);

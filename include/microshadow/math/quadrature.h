@@ -11,19 +11,76 @@
 
 namespace msh {
 
+// The Gauss–Kronrod (7/15) rule on [-1, 1]: nodes x (descending, last = 0), Kronrod weights wk, Gauss weights
+// wg for the odd-indexed nodes and the centre (Piessens et al. 1983, QUADPACK, qk15).
+struct GaussKronrod15 {
+  static constexpr int kHalf = 7;
+  static constexpr std::array<double, 8> x = {
+      0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+      0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+      0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+      0.207784955007898467600689403773245, 0.0};
+  static constexpr std::array<double, 8> wk = {
+      0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+      0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+      0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+      0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+  static constexpr std::array<double, 4> wg = {
+      0.129484966168869693270611432679082, 0.279705391489276667901467239865264,
+      0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+};
+// Adaptive Gauss–Kronrod of a function returning N values (std::array<double, N>). An interval is accepted
+// when every component's |Kronrod − Gauss| ≤ tol · (its length / total length), or at max_depth.
+template <size_t N, class F>
+std::array<double, N> gauss_kronrod_adaptive(const F& f, double a, double b, double tol, int max_depth = 30) {
+  using Arr = std::array<double, N>;
+  struct Item {
+    double a, b;
+    int depth;
+  };
+  const double total = b - a;
+  Arr sum{};
+  if (!(total > 0)) return sum;
+  Item stack[64];
+  int top = 0;
+  stack[top++] = {a, b, 0};
+  while (top > 0) {
+    const Item it = stack[--top];
+    const double c = 0.5 * (it.a + it.b), h = 0.5 * (it.b - it.a);
+    Arr k{}, g{};
+    const Arr fc = f(c);
+    for (size_t j = 0; j < N; ++j)
+      k[j] = GaussKronrod15::wk[GaussKronrod15::kHalf] * fc[j],
+      g[j] = GaussKronrod15::wg[GaussKronrod15::kHalf / 2] * fc[j];
+    for (int i = 0; i < GaussKronrod15::kHalf; ++i) {
+      const Arr f1 = f(c - h * GaussKronrod15::x[i]), f2 = f(c + h * GaussKronrod15::x[i]);
+      for (size_t j = 0; j < N; ++j) {
+        k[j] += GaussKronrod15::wk[i] * (f1[j] + f2[j]);
+        if (i % 2 == 1) g[j] += GaussKronrod15::wg[i / 2] * (f1[j] + f2[j]);
+      }
+    }
+    const bool forced = it.depth >= max_depth || top >= 62;
+    const double local_tol = tol * (2 * h / total);
+    bool ok = true;
+    for (size_t j = 0; j < N; ++j) ok = ok && std::abs(h * (k[j] - g[j])) <= local_tol;
+    if (ok || forced) {
+      for (size_t j = 0; j < N; ++j) sum[j] += h * k[j];
+    } else {
+      stack[top++] = {c, it.b, it.depth + 1};
+      stack[top++] = {it.a, c, it.depth + 1};
+    }
+  }
+  return sum;
+}
+
 // Adaptive Gauss-Kronrod (7/15) on [a, b] to absolute tolerance tol: bisects while |K15 − G7| > tol (the
 // tolerance halves with each split) or |K15 − G7| ≤ rel_tol·|K15| (panel-relative: also stops where round-off
 // dominates), depth ≤ 30. Returns the K15 sums (error usually far below the estimate).
 template <class F>
 double gauss_kronrod(const F& f, double a, double b, double tol, double rel_tol = 1e-12, int depth = 0) {
-  static constexpr std::array<double, 8> xk = {
-      0.991455371120812639, 0.949107912342758525, 0.864864423359769073, 0.741531185599394440,
-      0.586087235467691130, 0.405845151377397167, 0.207784955007898468, 0.0};
-  static constexpr std::array<double, 8> wk = {
-      0.022935322010529225, 0.063092092629978553, 0.104790010322250184, 0.140653259715525919,
-      0.169004726639267903, 0.190350578064785410, 0.204432940075298892, 0.209482141084727828};
-  static constexpr std::array<double, 4> wg = {0.129484966168869693, 0.279705391489276668,
-                                               0.381830050505118945, 0.417959183673469388};
+  constexpr const auto& xk = GaussKronrod15::x;
+  constexpr const auto& wk = GaussKronrod15::wk;
+  constexpr const auto& wg = GaussKronrod15::wg;
   const double c = 0.5 * (a + b), h = 0.5 * (b - a);
   double k = wk[7] * f(c), g = wg[3] * f(c);
   for (int i = 0; i < 7; ++i) {

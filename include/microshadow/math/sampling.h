@@ -113,7 +113,7 @@ Vec2<T> sobol_2d(uint32_t index, uint32_t seed = 0) {
 // (3, 1, {1, 3, 1}), (3, 2, {1, 1, 1}). Dims 0 and 1 equal sobol_dim0/sobol_dim1. Each dimension of any
 // 2^k-point prefix is stratified into 2^k equal intervals.
 inline constexpr int kSobolMaxDims = 5;
-namespace sampling_detail {
+namespace sobol_tables {
 struct SobolDirections {
   uint32_t v[kSobolMaxDims][32];
 };
@@ -142,13 +142,13 @@ constexpr SobolDirections make_sobol_directions() {
   return d;
 }
 inline constexpr SobolDirections kSobolDirections = make_sobol_directions();
-}  // namespace sampling_detail
+}  // namespace sobol_tables
 
 // Coordinate `dim` (0 ≤ dim < kSobolMaxDims) of Sobol point `index`, unscrambled.
 constexpr uint32_t sobol_u32(uint32_t index, int dim) {
   uint32_t r = 0;
   for (int k = 0; index; index >>= 1, ++k)
-    if (index & 1u) r ^= sampling_detail::kSobolDirections.v[dim][k];
+    if (index & 1u) r ^= sobol_tables::kSobolDirections.v[dim][k];
   return r;
 }
 

@@ -25,7 +25,7 @@
 
 namespace msh {
 
-namespace detail {
+namespace albedo_quadrature {
 
 // Breakpoints of [lo, hi] graded geometrically toward c (c itself included when inside): c ± w·4^j.
 inline std::vector<double> graded_breaks(double lo, double hi, double c, double w, double ratio) {
@@ -53,11 +53,11 @@ inline double ggx_directional_albedo_rule(double mu, double alpha, int n_gl, dou
     return g.D(h) * g.G2(v, l);
   };
   const double w = std::max(a * a / 16.0, 1e-12);
-  std::vector<double> zb = detail::graded_breaks(0.0, 1.0, m, w, ratio);
+  std::vector<double> zb = albedo_quadrature::graded_breaks(0.0, 1.0, m, w, ratio);
   for (double d = w; d < 1.0; d *= ratio) zb.push_back(d);  // toward z = 0 (grazing l)
   std::sort(zb.begin(), zb.end());
   zb.erase(std::unique(zb.begin(), zb.end()), zb.end());
-  const std::vector<double> pb = detail::graded_breaks(0.0, kPi<double>, kPi<double>, w, ratio);
+  const std::vector<double> pb = albedo_quadrature::graded_breaks(0.0, kPi<double>, kPi<double>, w, ratio);
   static const GaussLegendre rule16(16);
   const GaussLegendre gl_other(n_gl == 16 ? 1 : n_gl);
   const GaussLegendre& gl = n_gl == 16 ? rule16 : gl_other;
@@ -80,11 +80,11 @@ inline double ggx_directional_albedo_rule(double mu, double alpha, int n_gl, dou
   return 2.0 * sum / (4.0 * m);
 }
 
-}  // namespace detail
+}  // namespace albedo_quadrature
 
 template <class T>
 T ggx_directional_albedo(T mu, T alpha) {
-  return T(detail::ggx_directional_albedo_rule(double(mu), double(alpha), 16, 4.0));
+  return T(albedo_quadrature::ggx_directional_albedo_rule(double(mu), double(alpha), 16, 4.0));
 }
 
 }  // namespace msh

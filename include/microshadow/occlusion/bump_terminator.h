@@ -121,12 +121,12 @@ T smith_g1_light(T alpha2, const Vec3<T>& ng, const Vec3<T>& l) {
   return T(2) / (T(1) + std::sqrt(T(1) + a2 * t));
 }
 
-namespace detail {
+namespace bump_geometry {
 template <class T>
 bool above_both(const Vec3<T>& ng, const Vec3<T>& ns, const Vec3<T>& l) {
   return dot(ng, l) > T(0) && dot(ns, l) > T(0);
 }
-}  // namespace detail
+}  // namespace bump_geometry
 
 // Conty Estevez et al. 2019 bump shadowing term (listing 12.1): G1 of the light with α² from the angle
 // between ng and ns. Domain: any vectors (see the header comment); result in (0, 1], exactly 1 when
@@ -134,7 +134,7 @@ bool above_both(const Vec3<T>& ng, const Vec3<T>& ns, const Vec3<T>& l) {
 template <class T>
 T conty2019(const Vec3<T>& ng, const Vec3<T>& ns, const Vec3<T>& l,
             HemisphereTest test = HemisphereTest::kOff) {
-  if (test == HemisphereTest::kOn && !detail::above_both(ng, ns, l)) return T(0);
+  if (test == HemisphereTest::kOn && !bump_geometry::above_both(ng, ns, l)) return T(0);
   return smith_g1_light(alpha2_from_normals(ng, ns), ng, l);
 }
 
@@ -157,7 +157,7 @@ T chiang_smooth(T g) {
 template <class T>
 T chiang2019(const Vec3<T>& ng, const Vec3<T>& ns, const Vec3<T>& l,
              HemisphereTest test = HemisphereTest::kOff) {
-  if (test == HemisphereTest::kOn && !detail::above_both(ng, ns, l)) return T(0);
+  if (test == HemisphereTest::kOn && !bump_geometry::above_both(ng, ns, l)) return T(0);
   T num = dot(ng, l) * dot(ns, ns);
   T den = dot(ns, l) * dot(ng, ns);
   if (!(std::abs(num) <= std::numeric_limits<T>::max() && std::abs(den) <= std::numeric_limits<T>::max()))
@@ -179,7 +179,7 @@ T term(Method m, const Vec3<T>& ng, const Vec3<T>& ns, const Vec3<T>& l,
     case Method::kChiang2019:
       return chiang2019(ng, ns, l, test);
     default:
-      return test == HemisphereTest::kOn && !detail::above_both(ng, ns, l) ? T(0) : T(1);
+      return test == HemisphereTest::kOn && !bump_geometry::above_both(ng, ns, l) ? T(0) : T(1);
   }
 }
 

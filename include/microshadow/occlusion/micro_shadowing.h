@@ -22,19 +22,19 @@
 #include <cstdint>
 #include <utility>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
 // Form of the Smith masking-shadowing function used for the per-sample weight G2/G1 (Zurita 2026b).
 using msh::G2Form;  // microfacet/smith.h: HeightCorrelated, Uncorrelated (= Separable)
 
-namespace detail {
+namespace input_domain {
 // x clamped to [lo, hi]; NaN maps to `nan_value`.
 template <class T>
 T clamp_nan(T x, T lo, T hi, T nan_value = T(0)) {
   if (std::isnan(x)) return nan_value;
   return x < lo ? lo : (x > hi ? hi : x);
 }
-}  // namespace detail
+}  // namespace input_domain
 
 // Cosine of the visibility cone's half-angle, sqrt(1 − V) (Nusselt analog, docs/theory.md §1). V ∈ [0,1].
 template <class T>
@@ -117,7 +117,7 @@ GenericSample<T> generic_vndf_at(T cos_t, const Dist& dist, const Vec3<T>& v, co
                                  const Vec3<T>& m, G2Form form) {
   const T n_dot_m = saturate(m.z);
   const T m_dot_l = saturate(dot(m, l));
-  const T c = detail::clamp_nan(cos_t, T(0), T(1), T(1));
+  const T c = input_domain::clamp_nan(cos_t, T(0), T(1), T(1));
   GenericSample<T> s;
   s.weight = m_dot_l > T(0) ? profile_g2_over_g1(dist, v, l, m, form) : T(0);
   s.hemisphere = (n_dot_m > T(0) && m_dot_l > T(0)) ? s.weight : T(0);
@@ -165,4 +165,4 @@ T generic_vndf_estimate(T V, const Dist& dist, const Vec3<T>& v, const Vec3<T>& 
   return hemi > T(0) ? std::min(T(1), cone / hemi) : T(0);
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

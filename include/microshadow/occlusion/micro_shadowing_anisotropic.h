@@ -21,7 +21,7 @@
 
 #include <cmath>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
 // How the two projections are combined into the one α of an isotropic term.
 enum class ProjectedAlphaCombine {
@@ -64,4 +64,4 @@ T micro_shadowing_isotropic_roughness(T alpha_x, T alpha_y, const Vec3<T>& v, co
   return std::sqrt(micro_shadowing_isotropic_alpha(alpha_x, alpha_y, v, l, how));
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

@@ -35,9 +35,9 @@
 #include <array>
 #include <cmath>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
-namespace area_detail {
+namespace spherical_geometry {
 template <class T>
 T clamp_acos(T x) {
   return std::acos(clamp(x, T(-1), T(1)));
@@ -72,7 +72,7 @@ struct ThinTriangle {
     return T(4) * std::atan(std::sqrt(std::max(T(0), p)));
   }
 };
-}  // namespace area_detail
+}  // namespace spherical_geometry
 
 // Solid angle of the intersection of two spherical caps of angular radii r1, r2 ∈ [0, π/2] whose axes are
 // `gamma` ∈ [0, π] apart (Mazonka 2012, the result for two intersecting caps; equivalently Gauss–Bonnet on
@@ -86,7 +86,7 @@ struct ThinTriangle {
 // to cancellation in float for a light of a few degrees. Nested caps: 4π sin²(min(r1, r2)/2); disjoint: 0.
 template <class T>
 T cap_intersection_solid_angle(T r1, T r2, T gamma) {
-  using namespace area_detail;
+  using namespace spherical_geometry;
   r1 = clean(r1, T(0), kPi<T> / 2), r2 = clean(r2, T(0), kPi<T> / 2), gamma = clean(gamma, T(0), kPi<T>);
   if (gamma >= r1 + r2) return T(0);
   const T rm = std::min(r1, r2);
@@ -103,7 +103,7 @@ T cap_intersection_solid_angle(T r1, T r2, T gamma) {
 // An approximation of cap_intersection_solid_angle; its error: docs/area-lights.md §4.
 template <class T>
 T cap_intersection_solid_angle_oat_sander(T r1, T r2, T gamma) {
-  using namespace area_detail;
+  using namespace spherical_geometry;
   r1 = clean(r1, T(0), kPi<T> / 2), r2 = clean(r2, T(0), kPi<T> / 2), gamma = clean(gamma, T(0), kPi<T>);
   const T full = T(4) * kPi<T> * sqr(std::sin(T(0.5) * std::min(r1, r2)));
   const T diff = std::abs(r1 - r2);
@@ -123,7 +123,7 @@ T cap_intersection_solid_angle_oat_sander(T r1, T r2, T gamma) {
 // Nested: π sin²ρ cos θc (cap in cone) or π sin²t (cone in cap); disjoint: 0.
 template <class T>
 T cap_cone_projected_solid_angle(T rho, T theta_c, T t) {
-  using namespace area_detail;
+  using namespace spherical_geometry;
   rho = clean(rho, T(0), kPi<T> / 2), t = clean(t, T(0), kPi<T> / 2), theta_c = clean(theta_c, T(0), kPi<T>);
   const T sr = std::sin(rho), st = std::sin(t), cc = std::cos(theta_c);
   if (theta_c >= rho + t) return T(0);
@@ -145,14 +145,14 @@ T cone_angle(T V) {
 // Angle of the cap centre from n for the inputs N·L ∈ [−1, 1].
 template <class T>
 T cap_theta(T n_dot_l) {
-  return area_detail::clamp_acos(area_detail::clean(n_dot_l, T(-1), T(1)));
+  return spherical_geometry::clamp_acos(spherical_geometry::clean(n_dot_l, T(-1), T(1)));
 }
 
 // The reference step (lit iff N·L > cos_t) over a cap light, Lambertian receiver, exact:
 // E(cap ∩ cone) / E(cap ∩ hemisphere). ρ = 0: the point value reference_step(V, N·L).
 template <class T>
 T reference_step_area_cap(T V, T n_dot_l, T rho) {
-  using namespace area_detail;
+  using namespace spherical_geometry;
   rho = clean(rho, T(0), kPi<T> / 2);
   if (!(rho > T(0))) return reference_step(V, n_dot_l);
   const T th = cap_theta(n_dot_l), t = cone_angle(V);
@@ -164,7 +164,7 @@ T reference_step_area_cap(T V, T n_dot_l, T rho) {
 // weight inside the light is dropped. Its cost against reference_step_area_cap: docs/area-lights.md §4.
 template <class T>
 T reference_step_area_cap_solid_angle(T V, T n_dot_l, T rho) {
-  using namespace area_detail;
+  using namespace spherical_geometry;
   rho = clean(rho, T(0), kPi<T> / 2);
   if (!(rho > T(0))) return reference_step(V, n_dot_l);
   const T th = cap_theta(n_dot_l), t = cone_angle(V);
@@ -175,7 +175,7 @@ T reference_step_area_cap_solid_angle(T V, T n_dot_l, T rho) {
 // The same with Oat & Sander 2007's approximation for both solid angles.
 template <class T>
 T reference_step_area_cap_oat_sander(T V, T n_dot_l, T rho) {
-  using namespace area_detail;
+  using namespace spherical_geometry;
   rho = clean(rho, T(0), kPi<T> / 2);
   if (!(rho > T(0))) return reference_step(V, n_dot_l);
   const T th = cap_theta(n_dot_l), t = cone_angle(V);
@@ -195,7 +195,7 @@ struct CapLightLambert {
   T z_b = 0;   // cos|θc − ρ|: the top of the cap, or where its circles of constant n·l become full
 
   static CapLightLambert make(T n_dot_l, T rho) {
-    using namespace area_detail;
+    using namespace spherical_geometry;
     CapLightLambert c;
     c.rho = clean(rho, T(0), kPi<T> / 2);
     c.theta_c = cap_theta(n_dot_l);
@@ -208,7 +208,7 @@ struct CapLightLambert {
   T ccdf(T z) const {
     if (!(z > z_lo)) return T(1);
     if (!(z < z_hi) || !(den > T(0))) return T(0);
-    return saturate(cap_cone_projected_solid_angle(rho, theta_c, area_detail::clamp_acos(z)) / den);
+    return saturate(cap_cone_projected_solid_angle(rho, theta_c, spherical_geometry::clamp_acos(z)) / den);
   }
 };
 
@@ -278,7 +278,7 @@ std::array<T, 4> generic_vndf_kinks(T V, T roughness) {
 // Measured error: docs/area-lights.md §5. ρ = 0: M(N·L).
 template <class T, class F, size_t K>
 T area_cap_lambert(F&& M, T n_dot_l, T rho, const std::array<T, K>& kinks, int n = 4) {
-  using namespace area_detail;
+  using namespace spherical_geometry;
   rho = clean(rho, T(0), kPi<T> / 2);
   const T nl = clean(n_dot_l, T(-1), T(1));
   if (!(rho > T(0))) return M(nl);
@@ -351,4 +351,4 @@ T generic_vndf_alu_area_cap(T V, T n_dot_l, T n_dot_v, T roughness, T rho, int n
                           generic_vndf_kinks(V, roughness), n);
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

@@ -15,7 +15,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
 // Specular-aware term at full vectors: only the facet m = h = normalize(l + v) reflects l into v, so the
 // ratio of the cone-limited to the hemisphere-limited specular lobe is one facet's indicator,
@@ -55,7 +55,7 @@ T specular_aware_azimuth_mean(T V, T alpha, T n_dot_l, T n_dot_v) {
   if (!(cl > T(0)) || !(cv > T(0))) return T(0);
   if (vis >= T(1)) return T(1);
   if (exact_zero(vis, cl) || vis == T(0)) return T(0);
-  const T a2 = sqr(detail::clamp_nan(alpha, T(1e-4), T(1), T(1)));
+  const T a2 = sqr(input_domain::clamp_nan(alpha, T(1e-4), T(1), T(1)));
   const T c = cone_cos_from_visibility(vis), c2 = c * c;
   const T A = cl * cv, B = std::sqrt(std::max(T(0), (T(1) - cl * cl) * (T(1) - cv * cv)));
   const T K = T(0.5) * sqr(cl + cv);
@@ -90,14 +90,15 @@ T specular_aware_azimuth_mean(T V, T alpha, T n_dot_l, T n_dot_v) {
 // c = 0 gives the hemisphere's (1 + cos θm)/2. Domain: cos θm ∈ [−1, 1], c ∈ [0, 1] (clamped).
 template <class T>
 T lambert_cap_fraction(T cos_m, T c) {
-  const T cm = detail::clamp_nan(cos_m, T(-1), T(1)), cc = detail::clamp_nan(c, T(0), T(1));
+  const T cm = input_domain::clamp_nan(cos_m, T(-1), T(1)), cc = input_domain::clamp_nan(c, T(0), T(1));
   const T s2 = T(1) - cc * cc;  // sin²σ
   const T sm = std::sqrt(std::max(T(0), T(1) - cm * cm));
   // θm + σ ≤ π/2 ⇔ cos θm ≥ sin σ;  θm − σ ≥ π/2 ⇔ cos θm ≤ −sin σ.
   const T ss = std::sqrt(s2);
   if (cm >= ss) return cm * s2;
   if (cm <= -ss) return T(0);
-  const T y = detail::clamp_nan(-cc * cm / std::max(ss * sm, std::numeric_limits<T>::min()), T(-1), T(1));
+  const T y =
+      input_domain::clamp_nan(-cc * cm / std::max(ss * sm, std::numeric_limits<T>::min()), T(-1), T(1));
   const T r = sm * std::sqrt(std::max(T(0), T(1) - y * y));
   const T e = (cm * std::acos(y) - (cc / std::max(ss, std::numeric_limits<T>::min())) * r) * s2 +
               std::atan2(r * ss, cc);  // atan(r / x) with x = c / sin σ
@@ -117,7 +118,7 @@ template <class T>
 GenericSample<T> diffuse_aware_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l,
                                       Vec2<T> u, DiffuseAwareForm form) {
   const Vec3<T> m = ggx.Sample_wm(v, u);
-  const T c = detail::clamp_nan(cos_t, T(0), T(1), T(1));
+  const T c = input_domain::clamp_nan(cos_t, T(0), T(1), T(1));
   const T ml = dot(m, l), nm = m.z;
   GenericSample<T> s{T(0), T(0), T(1)};
   if (!(ml > T(0)) || !(nm > T(0))) return s;
@@ -151,4 +152,4 @@ T diffuse_aware_estimate(T V, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>
   return hemi > T(0) ? std::min(T(1), cone / hemi) : T(0);
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

@@ -6,7 +6,7 @@
 
 #include <microshadow/math/vec.h>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
 // A cone normal is within θ of n and of l, so angle(n,l) < 2θ, i.e. N·L > cos 2θ = 1 − 2V
 // (docs/theory.md §3). Hence 2V + N·L < 1 ⇒ the generic term is exactly 0, for every roughness and view: no
@@ -16,4 +16,4 @@ bool exact_zero(T V, T n_dot_l) {
   return T(2) * saturate(V) + saturate(n_dot_l) < T(1);
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

@@ -34,7 +34,7 @@
 #include <array>
 #include <cmath>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
 // Fitted over V ∈ [0,1], N·L ∈ (0,1], N·V ∈ (0,1], r ∈ [0.1, 1] (scripts/fit_micro_shadowing.py).
 inline constexpr std::array<double, 9> kGenericVndfAluFast = {
@@ -49,7 +49,7 @@ inline constexpr std::array<double, 60> kGenericVndfAluTwoStage = {
     -0.9204,   3.81808,  2.24386,   0.55774,   1.04404,   -2.27448, 0.640291,   -5.48228, -3.36957, -0.812951,
     -0.682536, 1.15732,  -0.665058, -0.962631, 0.460372,  2.19737,  -0.0851906, 0.488589, 0.139112, 2.98356};
 
-namespace detail {
+namespace fit_basis {
 // Roughness clamped to [0.01, 1], so α = r² ≥ 1e-4 (GGX<T>::kMinAlpha); NaN → 0.01.
 template <class T>
 T fit_roughness(T r) {
@@ -64,7 +64,7 @@ T fit_cubic(const double* p, T x, T y, T z) {
   const T pz = T(p[3]) + z * (T(p[6]) + T(p[12]) * z);
   return T(p[0]) + x * px + y * py + z * pz;
 }
-}  // namespace detail
+}  // namespace fit_basis
 
 // One-call approximation of generic_vndf_exact_azimuth_mean(V, r², N·L, N·V) (40 arithmetic operations in
 // the shaders; docs/micro-shadowing.md). Domain: V, N·L, N·V ∈ [0,1], perceptual roughness r ∈ [0,1] (fitted
@@ -74,7 +74,7 @@ T fit_cubic(const double* p, T x, T y, T z) {
 template <class T>
 T generic_vndf_alu(T V, T n_dot_l, T n_dot_v, T roughness) {
   const T vis = saturate(V), nl = saturate(n_dot_l), nv = saturate(n_dot_v);
-  const T r = detail::fit_roughness(roughness);
+  const T r = fit_basis::fit_roughness(roughness);
   if (exact_zero(vis, nl)) return T(0);
   const auto& p = kGenericVndfAluFast;
   const T one_minus_v = T(1) - vis;
@@ -107,16 +107,16 @@ struct GenericVndfAluPixel {
 // Stage 1, once per pixel. Domain and input handling as generic_vndf_alu.
 template <class T>
 GenericVndfAluPixel<T> generic_vndf_alu_pixel(T V, T n_dot_v, T roughness) {
-  const T vis = saturate(V), nv = saturate(n_dot_v), r = detail::fit_roughness(roughness);
+  const T vis = saturate(V), nv = saturate(n_dot_v), r = fit_basis::fit_roughness(roughness);
   const double* p = kGenericVndfAluTwoStage.data();
   const T one_minus_v = T(1) - vis;
   const T c = std::sqrt(one_minus_v), s = std::sqrt(vis);
   const T alpha = r * r, nv2 = nv * nv;
   const T wz = nv / std::sqrt(nv2 + alpha * alpha * (T(1) - nv2));  // > 0 denominator: α ≥ 1e-4
-  const T a = alpha * std::exp2(detail::fit_cubic(p, r, c, wz));
+  const T a = alpha * std::exp2(fit_basis::fit_cubic(p, r, c, wz));
   const T a2 = a * a, one_minus_a2 = T(1) - a2;
-  const T q = a2 * std::exp2(detail::fit_cubic(p + 20, r, c, wz));
-  const T g = detail::fit_cubic(p + 40, r, c, wz) * one_minus_v;
+  const T q = a2 * std::exp2(fit_basis::fit_cubic(p + 20, r, c, wz));
+  const T g = fit_basis::fit_cubic(p + 40, r, c, wz) * one_minus_v;
   const T inv_st = std::sqrt(a2 + one_minus_a2 * vis) / std::max(s, T(1e-6));  // V = 0: finite (d = 0 there)
   return {vis, c, s, a2, one_minus_a2, inv_st, g, vis + one_minus_v * q};
 }
@@ -142,4 +142,4 @@ T generic_vndf_alu_two_stage(T V, T n_dot_l, T n_dot_v, T roughness) {
   return generic_vndf_alu_light(generic_vndf_alu_pixel(V, n_dot_v, roughness), n_dot_l);
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

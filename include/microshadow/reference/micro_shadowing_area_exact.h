@@ -177,44 +177,47 @@ PointTerm(F, std::vector<double>, bool) -> PointTerm<F>;
 // Maximov 2016) and sqrt(1 − V⁵) (Part 1). Used for callables whose own breaks are unknown (CLI registry).
 inline std::vector<double> standard_z_breaks(double V) {
   const double v = saturate(V);
-  return {ms::cone_cos_from_visibility(v), 1 - 2 * v, 1 - 2 * v * v,
+  return {micro_shadowing::cone_cos_from_visibility(v), 1 - 2 * v, 1 - 2 * v * v,
           std::sqrt(std::max(0.0, 1 - std::pow(v, 5)))};
 }
 
 inline auto reference_step_term(double V) {
-  return PointTerm{[V](const Vec3d& l) { return ms::reference_step(V, l.z); },
-                   {ms::cone_cos_from_visibility(saturate(V))},
+  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::reference_step(V, l.z); },
+                   {micro_shadowing::cone_cos_from_visibility(saturate(V))},
                    true};
 }
 inline auto brinck_maximov_2016_term(double V) {
   const double v = saturate(V);
-  return PointTerm{
-      [V](const Vec3d& l) { return ms::brinck_maximov_2016(V, l.z); }, {1 - 2 * v * v, 2 - 2 * v * v}, true};
+  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::brinck_maximov_2016(V, l.z); },
+                   {1 - 2 * v * v, 2 - 2 * v * v},
+                   true};
 }
 inline auto chan_2018_term(double V) {
-  return PointTerm{[V](const Vec3d& l) { return ms::chan_2018(V, l.z); },
-                   {ms::cone_cos_from_visibility(saturate(V))},
+  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::chan_2018(V, l.z); },
+                   {micro_shadowing::cone_cos_from_visibility(saturate(V))},
                    true};
 }
 inline auto part1_analytic_term(double V) {
   const double v = saturate(V);
-  return PointTerm{[V](const Vec3d& l) { return ms::part1_analytic(V, l.z); },
+  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::part1_analytic(V, l.z); },
                    {std::sqrt(std::max(0.0, 1 - std::pow(v, 5)))},
                    true};
 }
-// The generic VNDF term (Zurita 2026b) at the full direction l, exact (ms::generic_vndf_exact), view v.
+// The generic VNDF term (Zurita 2026b) at the full direction l, exact (micro_shadowing::generic_vndf_exact),
+// view v.
 inline auto generic_vndf_term(double V, double alpha_x, double alpha_y, const Vec3d& v,
                               double rel_tol = 1e-8) {
-  return PointTerm{[=](const Vec3d& l) { return ms::generic_vndf_exact(V, alpha_x, alpha_y, v, l, rel_tol); },
-                   {1 - 2 * saturate(V)},
-                   false};
+  return PointTerm{
+      [=](const Vec3d& l) { return micro_shadowing::generic_vndf_exact(V, alpha_x, alpha_y, v, l, rel_tol); },
+      {1 - 2 * saturate(V)},
+      false};
 }
 
 struct AreaOptions {
   double rel_tol = 1e-8;  // panel-relative Gauss–Kronrod tolerance (outer; inner uses rel_tol / 4)
 };
 
-namespace detail {
+namespace area_quadrature {
 
 constexpr double kTwoPi = 2 * kPi<double>;
 
@@ -590,7 +593,7 @@ std::vector<double> all_breaks(const G& geom, const Receiver& rec, const PointTe
   return zb;
 }
 
-}  // namespace detail
+}  // namespace area_quadrature
 
 // ∫_Ω M(l) f(v,l)(n·l)⁺ dl and ∫_Ω f(v,l)(n·l)⁺ dl (the receiver's weight, without the BRDF's constant
 // factors: 1/π for Lambert; D G2/(4 n·v) for GGX).
@@ -598,7 +601,7 @@ struct AreaIntegrals {
   double weighted = 0, total = 0;
 };
 
-namespace detail {
+namespace area_quadrature {
 // Calls f(geometry) with the geometry of the shape's kind.
 template <class R, class Fn>
 R with_geom(const Shape& shape, Fn&& f) {
@@ -612,35 +615,36 @@ R with_geom(const Shape& shape, Fn&& f) {
   }
 }
 inline double one(const Vec3d&) { return 1.0; }
-}  // namespace detail
+}  // namespace area_quadrature
 
 template <class F>
 AreaIntegrals area_integrals(const Shape& shape, const Receiver& rec, const PointTerm<F>& term,
                              const AreaOptions& opt = {}) {
-  return detail::with_geom<AreaIntegrals>(shape, [&](const auto& geom) {
+  return area_quadrature::with_geom<AreaIntegrals>(shape, [&](const auto& geom) {
     const PointTerm<double (*)(const Vec3d&)>* none = nullptr;
     AreaIntegrals r;
-    r.total = detail::integrate_shape(geom, rec, none, detail::all_breaks(geom, rec, none), opt.rel_tol);
+    r.total = area_quadrature::integrate_shape(geom, rec, none, area_quadrature::all_breaks(geom, rec, none),
+                                               opt.rel_tol);
     if (r.total > 0)
-      r.weighted =
-          detail::integrate_shape(geom, rec, &term, detail::all_breaks(geom, rec, &term), opt.rel_tol);
+      r.weighted = area_quadrature::integrate_shape(
+          geom, rec, &term, area_quadrature::all_breaks(geom, rec, &term), opt.rel_tol);
     return r;
   });
 }
 
 // The light's centre direction (cap, disk: their centre; quad: the normalized sum of the corners).
 inline Vec3d shape_center(const Shape& shape) {
-  return detail::with_geom<Vec3d>(shape, [](const auto& g) { return g.center(); });
+  return area_quadrature::with_geom<Vec3d>(shape, [](const auto& g) { return g.center(); });
 }
 
 // Whether the shape has zero solid angle (radius 0, coincident corners, a disk seen edge-on).
 inline bool shape_is_point(const Shape& shape) {
-  return detail::with_geom<bool>(shape, [](const auto& g) { return g.zero(); });
+  return area_quadrature::with_geom<bool>(shape, [](const auto& g) { return g.zero(); });
 }
 
 // Whether the direction l is inside the light.
 inline bool shape_contains(const Shape& shape, const Vec3d& l) {
-  return detail::with_geom<bool>(shape, [&](const auto& g) { return g.contains(l); });
+  return area_quadrature::with_geom<bool>(shape, [&](const auto& g) { return g.contains(l); });
 }
 
 // M_area (definition at the top). Zero-size light: M(center). No weight above the horizon: 0. The value is
@@ -655,7 +659,8 @@ double area_micro_shadowing_exact(const Shape& shape, const Receiver& rec, const
 
 // ∫_Ω (n·l)⁺ dl (Lambert) or ∫_Ω f (n·l)⁺ dl (GGX): the light's weight, e.g. irradiance / radiance.
 inline double light_weight(const Shape& shape, const Receiver& rec, const AreaOptions& opt = {}) {
-  return area_integrals(shape, rec, PointTerm<double (*)(const Vec3d&)>{&detail::one, {}, true}, opt).total;
+  return area_integrals(shape, rec, PointTerm<double (*)(const Vec3d&)>{&area_quadrature::one, {}, true}, opt)
+      .total;
 }
 
 }  // namespace msh::area

@@ -24,9 +24,10 @@
 #include <algorithm>
 #include <cmath>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
-namespace detail {
+namespace aware_quadrature {
+using namespace exact_quadrature;  // the exact term's azimuth slices and panel integrators
 
 #ifndef MSH_AWARE_INNER_TOL
 #define MSH_AWARE_INNER_TOL 1e-10
@@ -103,7 +104,7 @@ inline double aware_region(const GGX<double>& ggx, const Vec3d& v, const Vec3d& 
   return integrate_panels(f, bp, nb, abs_tol);
 }
 
-}  // namespace detail
+}  // namespace aware_quadrature
 
 // Exact diffuse-aware term at full vectors (anisotropic GGX, αx along x): cone / hemisphere integrals of the
 // DiffuseAwareForm weights over the VNDF of v. V = 0 or the early-out 2V + N·L < 1 → 0; V = 1 → 1; v.z < 0
@@ -119,9 +120,9 @@ inline double diffuse_aware_exact(double V, double alpha_x, double alpha_y, cons
   if (vis == 1.0) return 1.0;
   const GGX<double> ggx(std::min(alpha_x, 1e4), std::min(alpha_y, 1e4));
   const double c = cone_cos_from_visibility(vis);
-  const double den = detail::aware_region(ggx, vn, ln, c, false, form, 1e-9);
+  const double den = aware_quadrature::aware_region(ggx, vn, ln, c, false, form, 1e-9);
   if (!(den > 1e-300)) return 0.0;
-  const double num = detail::aware_region(ggx, vn, ln, c, true, form, rel_tol * den);
+  const double num = aware_quadrature::aware_region(ggx, vn, ln, c, true, form, rel_tol * den);
   return saturate(num / den);
 }
 
@@ -132,7 +133,8 @@ inline double diffuse_aware_exact_azimuth_mean(double V, double alpha, double n_
                                                DiffuseAwareForm form, double rel_tol = 1e-6) {
   if (std::isnan(alpha)) return 0.0;
   const double vis = saturate(V);
-  const double nl = detail::clamp_nan(n_dot_l, 0.0, 1.0), nv = detail::clamp_nan(n_dot_v, 0.0, 1.0);
+  const double nl = input_domain::clamp_nan(n_dot_l, 0.0, 1.0),
+               nv = input_domain::clamp_nan(n_dot_v, 0.0, 1.0);
   if (exact_zero(vis, nl) || vis == 0.0 || !(nl > 0)) return 0.0;
   if (vis == 1.0) return 1.0;
   const Vec3d v(safe_sqrt(1 - nv * nv), 0, std::max(nv, 1e-6));
@@ -140,8 +142,9 @@ inline double diffuse_aware_exact_azimuth_mean(double V, double alpha, double n_
   const GGX<double> ggx(std::min(alpha, 1e4));
   const auto nd = [&](double phi) {
     const Vec3d l(sl * std::cos(phi), sl * std::sin(phi), nl);
-    const double den = detail::aware_region(ggx, v, l, c, false, form, 1e-9);
-    return std::array<double, 2>{detail::aware_region(ggx, v, l, c, true, form, rel_tol * den), den};
+    const double den = aware_quadrature::aware_region(ggx, v, l, c, false, form, 1e-9);
+    return std::array<double, 2>{aware_quadrature::aware_region(ggx, v, l, c, true, form, rel_tol * den),
+                                 den};
   };
   if (nv == 1.0 || sl == 0.0) {
     const auto r = nd(0.0);
@@ -149,8 +152,8 @@ inline double diffuse_aware_exact_azimuth_mean(double V, double alpha, double n_
   }
   const double h = 0.5 * kPi<double>;
   const double d0 = nd(0.0)[1];
-  const auto a = detail::gk_adaptive<detail::GK15, 2>(nd, 0.0, h, rel_tol * d0 * h);
-  const auto b = detail::gk_adaptive<detail::GK15, 2>(nd, h, 2 * h, rel_tol * d0 * h);
+  const auto a = gauss_kronrod_adaptive<2>(nd, 0.0, h, rel_tol * d0 * h);
+  const auto b = gauss_kronrod_adaptive<2>(nd, h, 2 * h, rel_tol * d0 * h);
   const double den = a[1] + b[1];
   return den > 0 ? saturate((a[0] + b[0]) / den) : 0.0;
 }
@@ -160,7 +163,8 @@ inline double diffuse_aware_exact_azimuth_mean(double V, double alpha, double n_
 // refined by bisection on the indicator itself (not by the closed form's cos φ thresholds).
 inline double specular_aware_azimuth_mean_quadrature(double V, double alpha, double n_dot_l, double n_dot_v,
                                                      double tol = 1e-12) {
-  const double cl = detail::clamp_nan(n_dot_l, 0.0, 1.0), cv = detail::clamp_nan(n_dot_v, 0.0, 1.0);
+  const double cl = input_domain::clamp_nan(n_dot_l, 0.0, 1.0),
+               cv = input_domain::clamp_nan(n_dot_v, 0.0, 1.0);
   if (!(cl > 0) || !(cv > 0)) return 0.0;
   const GGX<double> ggx(std::clamp(alpha, 1e-4, 1.0));
   const Vec3d v(safe_sqrt(1 - cv * cv), 0, cv);
@@ -199,4 +203,4 @@ inline double specular_aware_azimuth_mean_quadrature(double V, double alpha, dou
   return den > 0 ? saturate(num / den) : 0.0;
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

@@ -21,6 +21,7 @@
 //   docs/micro-shadowing.md.
 #pragma once
 
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/ggx.h>
@@ -30,70 +31,9 @@
 #include <array>
 #include <cmath>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
-namespace detail {
-
-// Gauss–Kronrod rules on [-1, 1]: nodes x (descending, last = 0), Kronrod weights wk, Gauss weights wg for
-// the odd-indexed nodes and the centre (QUADPACK qk15).
-struct GK15 {
-  static constexpr int kHalf = 7;
-  static constexpr std::array<double, 8> x = {
-      0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-      0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-      0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-      0.207784955007898467600689403773245, 0.0};
-  static constexpr std::array<double, 8> wk = {
-      0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-      0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-      0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-      0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-  static constexpr std::array<double, 4> wg = {
-      0.129484966168869693270611432679082, 0.279705391489276667901467239865264,
-      0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
-};
-// Adaptive Gauss–Kronrod of a function returning N values (std::array<double, N>). An interval is accepted
-// when every component's |Kronrod − Gauss| ≤ tol · (its length / total length), or at max_depth.
-template <class Rule, size_t N, class F>
-std::array<double, N> gk_adaptive(const F& f, double a, double b, double tol, int max_depth = 30) {
-  using Arr = std::array<double, N>;
-  struct Item {
-    double a, b;
-    int depth;
-  };
-  const double total = b - a;
-  Arr sum{};
-  if (!(total > 0)) return sum;
-  Item stack[64];
-  int top = 0;
-  stack[top++] = {a, b, 0};
-  while (top > 0) {
-    const Item it = stack[--top];
-    const double c = 0.5 * (it.a + it.b), h = 0.5 * (it.b - it.a);
-    Arr k{}, g{};
-    const Arr fc = f(c);
-    for (size_t j = 0; j < N; ++j)
-      k[j] = Rule::wk[Rule::kHalf] * fc[j], g[j] = Rule::wg[Rule::kHalf / 2] * fc[j];
-    for (int i = 0; i < Rule::kHalf; ++i) {
-      const Arr f1 = f(c - h * Rule::x[i]), f2 = f(c + h * Rule::x[i]);
-      for (size_t j = 0; j < N; ++j) {
-        k[j] += Rule::wk[i] * (f1[j] + f2[j]);
-        if (i % 2 == 1) g[j] += Rule::wg[i / 2] * (f1[j] + f2[j]);
-      }
-    }
-    const bool forced = it.depth >= max_depth || top >= 62;
-    const double local_tol = tol * (2 * h / total);
-    bool ok = true;
-    for (size_t j = 0; j < N; ++j) ok = ok && std::abs(h * (k[j] - g[j])) <= local_tol;
-    if (ok || forced) {
-      for (size_t j = 0; j < N; ++j) sum[j] += h * k[j];
-    } else {
-      stack[top++] = {c, it.b, it.depth + 1};
-      stack[top++] = {it.a, c, it.depth + 1};
-    }
-  }
-  return sum;
-}
+namespace exact_quadrature {
 
 // With t = tanθ, s = √k t: ∫_0^t (a u² + b u)/(k u² + 1)² du
 //   = a (atan s − s/(1 + s²)) / (2 k^{3/2}) + b t² / (2(k t² + 1)),
@@ -239,7 +179,7 @@ double integrate_panels(const F& f, const double* bp, int nb, double abs_tol) {
       const auto g = [&](double s) {
         return std::array<double, 1>{f(a + h * s * s * (3 - 2 * s)) * 6 * h * s * (1 - s)};
       };
-      sum += gk_adaptive<GK15, 1>(g, 0.0, 1.0, abs_tol * h / two_pi)[0];
+      sum += gauss_kronrod_adaptive<1>(g, 0.0, 1.0, abs_tol * h / two_pi)[0];
     }
   }
   return sum;
@@ -325,11 +265,11 @@ double azimuth_mean(const F& at, bool symmetric, double abs_tol) {
   const double h = 0.5 * kPi<double>;
   const int panels = symmetric ? 2 : 4;
   double s = 0;
-  for (int i = 0; i < panels; ++i) s += gk_adaptive<GK15, 1>(f, i * h, (i + 1) * h, abs_tol * h)[0];
+  for (int i = 0; i < panels; ++i) s += gauss_kronrod_adaptive<1>(f, i * h, (i + 1) * h, abs_tol * h)[0];
   return saturate(s / (panels * h));
 }
 
-}  // namespace detail
+}  // namespace exact_quadrature
 
 // Exact GenericM_g (Zurita 2026b) at full vectors for an anisotropic shape-invariant Smith NDF: GGX<double>
 // or Beckmann<double> (αx along t = x, αy along b = y). It takes no G2 form: for the Smith profile the weight
@@ -347,11 +287,11 @@ double generic_vndf_exact(double V, const Dist& dist, const Vec3d& v, const Vec3
   if (vn.z < 0) vn = -vn;
   if (exact_zero(vis, ln.z) || vis == 0.0) return 0.0;
   const Dist d(std::min(dist.alpha_x(), 1e4), std::min(dist.alpha_y(), 1e4));  // α ∈ [kMinAlpha, 1e4]
-  const double den = detail::vndf_hemisphere_mass(d, vn, ln, 1e-3 * rel_tol);
+  const double den = exact_quadrature::vndf_hemisphere_mass(d, vn, ln, 1e-3 * rel_tol);
   if (!(den > 0)) return 0.0;
   if (vis == 1.0) return 1.0;
   const double c = cone_cos_from_visibility(vis);
-  const double num = detail::vndf_region_probability(d, vn, ln, c, rel_tol * den);
+  const double num = exact_quadrature::vndf_region_probability(d, vn, ln, c, rel_tol * den);
   return saturate(num / den);
 }
 
@@ -372,8 +312,8 @@ inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_d
                                               double abs_tol = 1e-5, double rel_tol = 1e-5) {
   if (std::isnan(alpha)) return 0.0;
   const double vis = saturate(V);
-  const double nl = detail::clamp_nan(n_dot_l, -1.0, 1.0);
-  const double nv = detail::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
+  const double nl = input_domain::clamp_nan(n_dot_l, -1.0, 1.0);
+  const double nv = input_domain::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
   if (exact_zero(vis, nl) || vis == 0.0) return 0.0;
   const Vec3d v(std::sqrt(std::max(0.0, 1 - nv * nv)), 0, nv);
   const double sl = std::sqrt(std::max(0.0, 1 - nl * nl));
@@ -386,8 +326,8 @@ inline double generic_vndf_exact_azimuth_mean(double V, double alpha, double n_d
   // Two panels: one 15-point rule over [0, π] can misjudge a kink (measured 2.7e-6 error); two keep it <
   // 1e-6.
   const double h = 0.5 * kPi<double>;
-  const double s = detail::gk_adaptive<detail::GK15, 1>(f, 0.0, h, abs_tol * h)[0] +
-                   detail::gk_adaptive<detail::GK15, 1>(f, h, 2 * h, abs_tol * h)[0];
+  const double s = gauss_kronrod_adaptive<1>(f, 0.0, h, abs_tol * h)[0] +
+                   gauss_kronrod_adaptive<1>(f, h, 2 * h, abs_tol * h)[0];
   return saturate(s / kPi<double>);
 }
 
@@ -405,8 +345,8 @@ double generic_vndf_exact_azimuth_mean(double V, const Dist& dist, double n_dot_
                                        double phi_v = 0.0, double abs_tol = 1e-5, double rel_tol = 1e-5) {
   if (std::isnan(dist.alpha_x()) || std::isnan(dist.alpha_y()) || !std::isfinite(phi_v)) return 0.0;
   const double vis = saturate(V);
-  const double nl = detail::clamp_nan(n_dot_l, -1.0, 1.0);
-  const double nv = detail::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
+  const double nl = input_domain::clamp_nan(n_dot_l, -1.0, 1.0);
+  const double nv = input_domain::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
   if (exact_zero(vis, nl) || vis == 0.0) return 0.0;
   const double sv = std::sqrt(std::max(0.0, 1 - nv * nv)), sl = std::sqrt(std::max(0.0, 1 - nl * nl));
   if (sv == 0.0) phi_v = 0.0;  // v = n: its azimuth is arbitrary
@@ -417,7 +357,8 @@ double generic_vndf_exact_azimuth_mean(double V, const Dist& dist, double n_dot_
   };
   if (sl == 0.0 || vis == 1.0) return at(0.0);
   const double q = phi_v / (0.5 * kPi<double>);
-  return detail::azimuth_mean(at, dist.is_isotropic() || std::abs(q - std::round(q)) < 1e-12, abs_tol);
+  return exact_quadrature::azimuth_mean(at, dist.is_isotropic() || std::abs(q - std::round(q)) < 1e-12,
+                                        abs_tol);
 }
 
 // Anisotropic GGX with v along the tangent (φv = 0): the mean over φ ∈ [0, π] (the form the CLI's
@@ -430,4 +371,4 @@ inline double generic_vndf_exact_azimuth_mean_anisotropic(double V, double alpha
                                          1e-7);
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

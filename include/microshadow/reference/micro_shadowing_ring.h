@@ -19,9 +19,9 @@
 #include <array>
 #include <cmath>
 
-namespace msh::lut {
+namespace msh::micro_shadowing {
 
-namespace exact_detail {
+namespace ring_quadrature {
 
 // The 16-point Gauss-Legendre rule of math/quadrature.h, its positive half ascending: kGLx[i] = x, kGLw[i] =
 // w of the i-th positive node (the rule is symmetric).
@@ -44,7 +44,7 @@ inline double cos_affine_integral(double lo, double hi, double A, double B) {
 // Half-width in [0, π] of the arc {x : cos x > t}.
 inline double arc_half_width(double t) { return t <= -1.0 ? kPi<double> : (t >= 1.0 ? 0.0 : std::acos(t)); }
 
-}  // namespace exact_detail
+}  // namespace ring_quadrature
 
 // Geometry of one (v, l) configuration: v = (sv, 0, zv), l = (sl cos φ, sl sin φ, zl).
 struct MsGeometry {
@@ -58,7 +58,7 @@ struct MsGeometry {
 // ∫_0^{2π} χ(n·m ring) χ⁺(m·l − c) (v·m)⁺ dφ_m on the ring (cos θ_m, sin θ_m) = (ct, st). Closed form: the
 // two constraints are arcs |φ_m| < a (v·m > 0) and |φ_m − φ| < b (m·l > c). Domain: c ∈ [0, 1].
 inline double ring_integral(const MsGeometry& g, double ct, double st, double c) {
-  using namespace exact_detail;
+  using namespace ring_quadrature;
   const double A = st * g.sv, B = ct * g.zv;  // v·m = A cos φ_m + B
   const double pa = st * g.sl;                // m·l = pa cos(φ_m − φ) + ct zl
   const double a = A > 0.0 ? arc_half_width(-B / A) : (B > 0.0 ? kPi<double> : 0.0);
@@ -80,7 +80,7 @@ inline double ring_integral(const MsGeometry& g, double ct, double st, double c)
 // common factor G1(v)/(n·v)) of {n·m > c_cap, m·l > c}; 16 Gauss-Legendre nodes per piece, each piece
 // split in `subdivide` equal parts (for convergence checks).
 inline double cone_mass(const MsGeometry& g, double alpha, double c_cap, double c, int subdivide = 3) {
-  using namespace exact_detail;
+  using namespace ring_quadrature;
   alpha = std::max(alpha, 1e-4);
   if (c_cap >= 1.0) return 0.0;
   const double theta_max = std::acos(std::max(c_cap, 0.0));
@@ -138,7 +138,7 @@ inline double micro_shadowing_semi_analytic(double alpha, double visibility, dou
 // Gauss-Legendre (16 nodes per panel, `panels` panels); the φ integrand is smooth except at isolated kinks.
 inline double micro_shadowing_semi_analytic_azimuth_mean(double alpha, double visibility, double n_dot_l,
                                                          double n_dot_v, int panels = 8) {
-  using namespace exact_detail;
+  using namespace ring_quadrature;
   if (!(visibility < 1.0)) return 1.0;
   if (!(visibility > 0.0) || 2.0 * visibility + n_dot_l < 1.0) return 0.0;
   double sum = 0.0;
@@ -160,7 +160,7 @@ inline double micro_shadowing_semi_analytic_azimuth_mean(double alpha, double vi
 inline void micro_shadowing_semi_analytic_row(double alpha, double n_dot_l, double n_dot_v,
                                               const double* visibility, int n, double* out, int panels = 4,
                                               int subdivide = 3) {
-  using namespace exact_detail;
+  using namespace ring_quadrature;
   for (int i = 0; i < n; ++i) out[i] = 0.0;
   const double h = kPi<double> / panels;
   for (int p = 0; p < panels; ++p)
@@ -180,4 +180,4 @@ inline void micro_shadowing_semi_analytic_row(double alpha, double n_dot_l, doub
     if (!(visibility[i] < 1.0)) out[i] = 1.0;
 }
 
-}  // namespace msh::lut
+}  // namespace msh::micro_shadowing

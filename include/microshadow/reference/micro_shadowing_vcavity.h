@@ -24,9 +24,10 @@
 #include <array>
 #include <cmath>
 
-namespace msh::ms {
+namespace msh::micro_shadowing {
 
-namespace detail {
+namespace vcavity_quadrature {
+using namespace exact_quadrature;  // the exact term's azimuth slices and panel integrators
 
 // Integrand over the azimuth φ of m for the V-cavity: ∫ (v·m)⁺ D(m) G2(v,l,m) sinθ dθ over
 // {θ < theta_max ∧ m·l > c}, without the constant 1/(π αx αy). v.z > 0, l.z > 0 (the V-cavity G1 is 0
@@ -65,7 +66,7 @@ struct VCavityIntegrand {
     };
     double sum = 0;
     for (int i = 0; i + 1 < np; ++i)
-      if (pts[i + 1] > pts[i]) sum += gk_adaptive<GK15, 1>(g, pts[i], pts[i + 1], abs_tol)[0];
+      if (pts[i + 1] > pts[i]) sum += gauss_kronrod_adaptive<1>(g, pts[i], pts[i + 1], abs_tol)[0];
     return sum;
   }
 
@@ -89,7 +90,7 @@ inline double vcavity_region_mass(const BeckmannVCavity<double>& vc, const Vec3d
   return integrate_region(f, abs_tol);
 }
 
-}  // namespace detail
+}  // namespace vcavity_quadrature
 
 // Exact GenericM_g for the Beckmann–Spizzichino + V-cavity microsurface (αx along x, αy along y) at full
 // vectors, with the weight G2/G1 of `form`: G2Form::HeightCorrelated uses the V-cavity's own (correlated)
@@ -112,11 +113,11 @@ inline double generic_vcavity_exact(double V, const BeckmannVCavity<double>& vc,
   // The unnormalized mass is at most π αx αy z_v (the VNDF's normalization): tolerances relative to it.
   const bool unc = form == G2Form::Uncorrelated;
   const double scale = kPi<double> * d.alpha_x() * d.alpha_y() * vn.z;
-  const double den = detail::vcavity_region_mass(d, vn, ln, 0.0, unc, 1e-3 * rel_tol * scale);
+  const double den = vcavity_quadrature::vcavity_region_mass(d, vn, ln, 0.0, unc, 1e-3 * rel_tol * scale);
   if (!(den > 0)) return 0.0;
   if (vis == 1.0) return 1.0;
   const double c = cone_cos_from_visibility(vis);
-  const double num = detail::vcavity_region_mass(d, vn, ln, c, unc, rel_tol * den);
+  const double num = vcavity_quadrature::vcavity_region_mass(d, vn, ln, c, unc, rel_tol * den);
   return saturate(num / den);
 }
 
@@ -129,8 +130,8 @@ inline double generic_vcavity_exact_azimuth_mean(double V, const BeckmannVCavity
                                                  double abs_tol = 1e-5, double rel_tol = 1e-6) {
   if (std::isnan(vc.alpha_x()) || std::isnan(vc.alpha_y()) || !std::isfinite(phi_v)) return 0.0;
   const double vis = saturate(V);
-  const double nl = detail::clamp_nan(n_dot_l, -1.0, 1.0);
-  const double nv = detail::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
+  const double nl = input_domain::clamp_nan(n_dot_l, -1.0, 1.0);
+  const double nv = input_domain::clamp_nan(std::abs(n_dot_v), 0.0, 1.0);
   if (exact_zero(vis, nl) || vis == 0.0 || !(nl > 0)) return 0.0;
   const double sv = std::sqrt(std::max(0.0, 1 - nv * nv)), sl = std::sqrt(std::max(0.0, 1 - nl * nl));
   if (sv == 0.0) phi_v = 0.0;
@@ -142,7 +143,7 @@ inline double generic_vcavity_exact_azimuth_mean(double V, const BeckmannVCavity
   if (sl == 0.0 || vis == 1.0) return at(0.0);
   const double q = phi_v / (0.5 * kPi<double>);
   const bool symmetric = vc.ndf().is_isotropic() || std::abs(q - std::round(q)) < 1e-12;
-  return detail::azimuth_mean(at, symmetric, abs_tol);
+  return exact_quadrature::azimuth_mean(at, symmetric, abs_tol);
 }
 
-}  // namespace msh::ms
+}  // namespace msh::micro_shadowing

@@ -38,7 +38,7 @@ struct MicroShadowingQuery {
 struct MicroShadowingOptions {
   int64_t samples = 0;
   uint32_t seed = 1;
-  ms::G2Form g2 = ms::G2Form::HeightCorrelated;
+  micro_shadowing::G2Form g2 = micro_shadowing::G2Form::HeightCorrelated;
   std::string lut_path;
 };
 
