@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 #include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
 #include <tbb/blocked_range.h>
@@ -91,29 +92,12 @@ int samples_for_roughness(const BakeOptions& o, double roughness) {
   return n;
 }
 
-// Gauss-Legendre by Newton iteration on P_n (Numerical Recipes' gauleg), mapped to [0, π], weights sum to 1.
+// The project's Gauss-Legendre rule (math/quadrature.h) mapped to [0, π]; weights sum to 1.
 void phi_rule(int n, std::vector<double>& phi, std::vector<double>& weight) {
-  phi.assign(n, 0.0);
-  weight.assign(n, 0.0);
-  for (int i = 0; i < (n + 1) / 2; ++i) {
-    double z = std::cos(kPi<double> * (i + 0.75) / (n + 0.5)), pp = 1.0;
-    for (int it = 0; it < 100; ++it) {
-      double p1 = 1.0, p2 = 0.0;
-      for (int j = 0; j < n; ++j) {
-        const double p3 = p2;
-        p2 = p1;
-        p1 = ((2.0 * j + 1.0) * z * p2 - j * p3) / (j + 1);
-      }
-      pp = n * (z * p1 - p2) / (z * z - 1.0);
-      const double dz = p1 / pp;
-      z -= dz;
-      if (std::abs(dz) < 1e-15) break;
-    }
-    const double w = 2.0 / ((1.0 - z * z) * pp * pp);
-    phi[i] = 0.5 * kPi<double> * (1.0 - z);
-    phi[n - 1 - i] = 0.5 * kPi<double> * (1.0 + z);
-    weight[i] = weight[n - 1 - i] = 0.5 * w;
-  }
+  const GaussLegendre01<double> gl(n);
+  phi.resize(gl.x.size());
+  for (size_t i = 0; i < gl.x.size(); ++i) phi[i] = kPi<double> * gl.x[i];
+  weight = gl.w;
 }
 
 MicroShadowingLutView make_cone_view(const io::Volume& vol, int n_rough, int harmonics,

@@ -98,7 +98,7 @@ double gauss_kronrod(const F& f, double a, double b, double tol, double rel_tol 
 // n-point Gauss-Legendre rule on [−1, 1] (n ≥ 1; smaller n is taken as 1), exact for polynomials of degree
 // ≤ 2n − 1. Nodes x descending from near +1 to near −1; x[n−1−i] = −x[i] and w[n−1−i] = w[i] exactly. Each
 // positive node by Newton iteration on P_n (three-term recurrence) from Tricomi's guess
-// cos(π(i + 3/4)/(n + 1/2)), to |Δz| < 1e-15 (Numerical Recipes §4.6, "gauleg").
+// cos(π(i + 3/4)/(n + 1/2)), until the Newton step |Δz| < 1e-15 (Numerical Recipes §4.6, "gauleg").
 struct GaussLegendre {
   std::vector<double> x, w;
 
@@ -115,9 +115,9 @@ struct GaussLegendre {
           p1 = ((2.0 * j - 1.0) * z * p2 - (j - 1.0) * p3) / j;
         }
         pp = n * (z * p1 - p2) / (z * z - 1.0);  // P_n'(z)
-        const double z1 = z;
-        z = z1 - p1 / pp;
-        if (std::abs(z - z1) < 1e-15) break;
+        const double dz = p1 / pp;
+        z -= dz;
+        if (std::abs(dz) < 1e-15) break;
       }
       // For odd n the middle node is written twice; −z (the second write) is its value.
       x[size_t(i)] = z;
