@@ -2,9 +2,9 @@
 // roughness interpolation, the early-out, the azimuth-aware reconstruction, and the accuracy of the default
 // tables against the exact term (occlusion/micro_shadowing.h) at random off-grid configurations.
 #include <gtest/gtest.h>
+#include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
-#include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
@@ -34,10 +34,15 @@ struct SyntheticTable {
   }
 };
 
+// u = i/(n − 1) lands on texel centre i up to float rounding (a handful of roundings of values ≤ n: 4 ε n,
+// 1.2e-4 texel at n = 256), a bound that tells the remap from sampling u directly (u n − 0.5 is off by
+// |i/(n − 1) − 1/2| texel: half a texel at both ends).
 TEST(LutSampler, GpuTexelCoordinateHitsTexelCentres) {
-  for (int n : {2, 3, 17, 64, 256})
+  for (int n : {2, 3, 17, 64, 256, 4096}) {
+    const float tol = 4 * std::numeric_limits<float>::epsilon() * float(n);
     for (int i = 0; i < n; ++i)
-      EXPECT_NEAR(gpu_texel_coord(float(i) / float(n - 1), n), float(i), 2e-4f * n) << n << " " << i;
+      EXPECT_NEAR(gpu_texel_coord(float(i) / float(n - 1), n), float(i), tol) << n << " " << i;
+  }
   EXPECT_EQ(gpu_texel_coord(-1.0f, 8), 0.0f);  // clamped to the first texel
   EXPECT_NEAR(gpu_texel_coord(2.0f, 8), 7.0f, 1e-5f);
 }
