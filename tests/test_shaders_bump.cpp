@@ -19,18 +19,13 @@ namespace {
 
 // Compute kernels around the library: one record = (ng, ns, l) as vec4s → (conty, chiang, conty+test,
 // chiang+test); a second entry evaluates the Hanika offset: (p, p0, p1, p2, n0, n1, n2, b) → p'.
-const char* kGlslMain = R"(
-layout(local_size_x = 64) in;
-struct Rec { vec4 ng; vec4 ns; vec4 l; };
-struct Tri { vec4 p; vec4 p0; vec4 p1; vec4 p2; vec4 n0; vec4 n1; vec4 n2; vec4 b; };
-layout(std430, binding = 0) readonly buffer In { Rec rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 res[]; };
-layout(std430, binding = 2) readonly buffer InT { Tri tri[]; };
-layout(std430, binding = 3) writeonly buffer OutT { vec4 moved[]; };
-layout(push_constant) uniform PC { uint n; uint nt; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i < pc.n) {
+const vk::Kernel kKernel = vk::framed_kernel(
+    {"shaders/glsl/bump_terminator.glsl"}, {"shaders/hlsl/bump_terminator.hlsl"},
+    {{"in Rec rec", "out vec4 res", "in Tri tri", "out vec4 moved"}, {}, "uint nr; uint nt;"},
+    "struct Rec { vec4 ng; vec4 ns; vec4 l; };\n"
+    "struct Tri { vec4 p; vec4 p0; vec4 p1; vec4 p2; vec4 n0; vec4 n1; vec4 n2; vec4 b; };\n",
+    R"(
+  if (i < pc.nr) {
     vec3 ng = rec[i].ng.xyz, ns = rec[i].ns.xyz, l = rec[i].l.xyz;
     res[i] = vec4(msh_bump_conty2019(ng, ns, l, false), msh_bump_chiang2019(ng, ns, l, false),
                   msh_bump_conty2019(ng, ns, l, true), msh_bump_chiang2019(ng, ns, l, true));
@@ -40,22 +35,11 @@ void main() {
     moved[i] = vec4(msh_hanika2021_shadow_origin(t.p.xyz, t.p0.xyz, t.p1.xyz, t.p2.xyz, t.n0.xyz, t.n1.xyz,
                                                  t.n2.xyz, t.b.xyz), 0.0);
   }
-}
-)";
-
-const char* kHlslMain = R"(
-struct Rec { float4 ng; float4 ns; float4 l; };
-struct Tri { float4 p; float4 p0; float4 p1; float4 p2; float4 n0; float4 n1; float4 n2; float4 b; };
-[[vk::binding(0)]] StructuredBuffer<Rec> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float4> res;
-[[vk::binding(2)]] StructuredBuffer<Tri> tri;
-[[vk::binding(3)]] RWStructuredBuffer<float4> moved;
-struct PC { uint n; uint nt; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i < pc.n) {
+)",
+    "struct Rec { float4 ng; float4 ns; float4 l; };\n"
+    "struct Tri { float4 p; float4 p0; float4 p1; float4 p2; float4 n0; float4 n1; float4 n2; float4 b; };\n",
+    R"(
+  if (i < pc.nr) {
     float3 ng = rec[i].ng.xyz, ns = rec[i].ns.xyz, l = rec[i].l.xyz;
     res[i] = float4(msh_bump_conty2019(ng, ns, l, false), msh_bump_chiang2019(ng, ns, l, false),
                     msh_bump_conty2019(ng, ns, l, true), msh_bump_chiang2019(ng, ns, l, true));
@@ -65,11 +49,7 @@ void main(uint3 id : SV_DispatchThreadID) {
     moved[i] = float4(msh_hanika2021_shadow_origin(t.p.xyz, t.p0.xyz, t.p1.xyz, t.p2.xyz, t.n0.xyz, t.n1.xyz,
                                                    t.n2.xyz, t.b.xyz), 0.0);
   }
-}
-)";
-
-const vk::Kernel kKernel{
-    {"shaders/glsl/bump_terminator.glsl"}, kGlslMain, {"shaders/hlsl/bump_terminator.hlsl"}, kHlslMain};
+)");
 
 struct Record {
   Vec3f ng, ns, l;
@@ -209,8 +189,9 @@ TEST(ShadersBump, RunsOnVulkanAndMatches) {
     for (const Vec3f& v : {t.p, t.p0, t.p1, t.p2, t.n0, t.n1, t.n2, t.b}) put(in_t, v);
   vk::Dispatch d;
   d.buffers = {in, std::vector<float>(recs.size() * 4), in_t, std::vector<float>(tris.size() * 4)};
-  d.push = vk::push_constants(std::array<uint32_t, 2>{uint32_t(recs.size()), uint32_t(tris.size())});
   d.invocations = std::max(recs.size(), tris.size());
+  d.push = vk::push_constants(
+      std::array<uint32_t, 3>{uint32_t(d.invocations), uint32_t(recs.size()), uint32_t(tris.size())});
   vk::run_glsl_and_hlsl(kKernel, d, [&](const char* label, const vk::Buffers& out) {
     check_results(label, recs, tris, vk::from_floats<std::array<float, 4>>(out[1]),
                   vk::from_floats<std::array<float, 4>>(out[3]));

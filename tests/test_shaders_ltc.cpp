@@ -21,17 +21,10 @@ namespace {
 
 constexpr int kOut = 4;  // vec4 outputs per record
 
-const char* kGlslMain = R"(
-layout(local_size_x = 64) in;
-struct Rec { vec4 a; vec4 n; vec4 v; vec4 l; vec4 w; vec4 c; vec4 ex; vec4 ey; };
-layout(std430, binding = 0) readonly buffer In { Rec rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 o[]; };
-layout(binding = 2) uniform sampler2D ltc_mat;
-layout(binding = 3) uniform sampler2D ltc_amp;
-layout(push_constant) uniform PC { uint n; float size; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.n) return;
+const vk::Kernel kKernel = vk::framed_kernel(
+    {"shaders/glsl/ltc.glsl"}, {"shaders/hlsl/ltc.hlsl"},
+    {{"in Rec rec", "out vec4 o"}, {"2d ltc_mat", "2d ltc_amp"}, "float size;"},
+    "struct Rec { vec4 a; vec4 n; vec4 v; vec4 l; vec4 w; vec4 c; vec4 ex; vec4 ey; };\n", R"(
   Rec r = rec[i];
   vec2 uv = msh_ltc_uv(r.a.x, r.a.y, pc.size);
   vec4 t = textureLod(ltc_mat, uv, 0.0);
@@ -42,37 +35,19 @@ void main() {
   o[k + 2u] = msh_ltc_sphere(t, r.n.xyz, r.v.xyz, r.l.xyz, r.l.w, int(r.a.w > 0.0 ? 16.0 : 8.0));
   vec3 c = r.c.xyz, ex = r.ex.xyz * r.ex.w, ey = r.ey.xyz * r.ey.w;
   o[k + 3u] = msh_ltc_rect(t, r.n.xyz, r.v.xyz, c - ex - ey, c + ex - ey, c + ex + ey, c - ex + ey);
-}
-)";
-
-const char* kHlslMain = R"(
-struct Rec { float4 a; float4 n; float4 v; float4 l; float4 w; float4 c; float4 ex; float4 ey; };
-[[vk::binding(0)]] StructuredBuffer<Rec> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float4> o;
-[[vk::binding(2)]] Texture2D<float4> ltc_mat;
-[[vk::binding(2)]] SamplerState smp_mat;
-[[vk::binding(3)]] Texture2D<float4> ltc_amp;
-[[vk::binding(3)]] SamplerState smp_amp;
-struct PC { uint n; float size; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i >= pc.n) return;
+)",
+    "struct Rec { float4 a; float4 n; float4 v; float4 l; float4 w; float4 c; float4 ex; float4 ey; };\n", R"(
   Rec r = rec[i];
   float2 uv = msh_ltc_uv(r.a.x, r.a.y, pc.size);
-  float4 t = ltc_mat.SampleLevel(smp_mat, uv, 0.0);
-  float2 amp = ltc_amp.SampleLevel(smp_amp, uv, 0.0).xy;
+  float4 t = ltc_mat.SampleLevel(ltc_mat_smp, uv, 0.0);
+  float2 amp = ltc_amp.SampleLevel(ltc_amp_smp, uv, 0.0).xy;
   uint k = i * 4u;
   o[k + 0u] = t;
   o[k + 1u] = float4(amp, msh_ltc_eval(msh_ltc_minv(float4(r.a.zw, r.w.w, 1.0)), r.w.xyz), msh_ltc_specular(float4(0.5, 0.5, 0.5, 0.5), amp, 0.04, 0.75));
   o[k + 2u] = msh_ltc_sphere(t, r.n.xyz, r.v.xyz, r.l.xyz, r.l.w, int(r.a.w > 0.0 ? 16.0 : 8.0));
   float3 c = r.c.xyz, ex = r.ex.xyz * r.ex.w, ey = r.ey.xyz * r.ey.w;
   o[k + 3u] = msh_ltc_rect(t, r.n.xyz, r.v.xyz, c - ex - ey, c + ex - ey, c + ex + ey, c - ex + ey);
-}
-)";
-
-const vk::Kernel kKernel{{"shaders/glsl/ltc.glsl"}, kGlslMain, {"shaders/hlsl/ltc.hlsl"}, kHlslMain};
+)");
 
 struct Record {
   float a[4];  // roughness, N.V, and a, b of the matrix of the D check (c = w[3], d = 1)

@@ -30,18 +30,13 @@ constexpr int kHarmonics = 2;  // azimuth-aware test table
 
 // One record: a = (vis, N.L, alpha_x, alpha_y), v = (view, cos_phi), l = (light, sobol index),
 // u = (u1, u2, perceptual roughness, N.V). Outputs o[0..7], see the kernels.
-const char* kGlslMain = R"(
-layout(local_size_x = 64) in;
-struct Rec { vec4 a; vec4 v; vec4 l; vec4 u; };
-layout(std430, binding = 0) readonly buffer In { Rec rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 o[]; };
-layout(binding = 2) uniform sampler3D lut3;
-layout(binding = 3) uniform sampler3D lut_az;
-layout(binding = 4) uniform sampler2D lut2;
-layout(push_constant) uniform PC { uint n; int n_est; uint seed; uint n_points; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.n) return;
+
+const vk::Kernel kKernel =
+    vk::framed_kernel({"shaders/glsl/micro_shadowing.glsl"}, {"shaders/hlsl/micro_shadowing.hlsl"},
+                      {{"in Rec rec", "out vec4 o"},
+                       {"3d lut3", "3d lut_az", "2d lut2"},
+                       "int n_est; uint seed; uint n_points;"},
+                      "struct Rec { vec4 a; vec4 v; vec4 l; vec4 u; };\n", R"(
   Rec r = rec[i];
   float vis = r.a.x, nl = r.a.y;
   vec2 alpha = r.a.zw;
@@ -66,25 +61,8 @@ void main() {
                    msh_ms_lut_roughness(msh_ms_lut_fetch(lut3, vis, nl, r.u.w), r.u.z, vec4(0.1, 0.4, 0.7, 1.0), 4),
                    0.0);
   o[k + 7u] = vec4(msh_sobol_2d(idx, pc.seed), msh_sobol_2d(idx, 0u).x, msh_hammersley_2d(idx, pc.n_points).y);
-}
-)";
-
-const char* kHlslMain = R"(
-struct Rec { float4 a; float4 v; float4 l; float4 u; };
-[[vk::binding(0)]] StructuredBuffer<Rec> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float4> o;
-[[vk::binding(2)]] Texture3D<float4> lut3;
-[[vk::binding(2)]] SamplerState smp3;
-[[vk::binding(3)]] Texture3D<float4> lut_az;
-[[vk::binding(3)]] SamplerState smp_az;
-[[vk::binding(4)]] Texture2D<float4> lut2;
-[[vk::binding(4)]] SamplerState smp2;
-struct PC { uint n; int n_est; uint seed; uint n_points; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i >= pc.n) return;
+)",
+                      "struct Rec { float4 a; float4 v; float4 l; float4 u; };\n", R"(
   Rec r = rec[i];
   float vis = r.a.x, nl = r.a.y;
   float2 alpha = r.a.zw;
@@ -102,18 +80,14 @@ void main(uint3 id : SV_DispatchThreadID) {
   o[k + 4u] = float4(cone, hemi, w, msh_ms_relative_azimuth_cos(v, l));
   o[k + 5u] = float4(msh_ms_generic_vndf_estimate(vis, alpha, v, l, pc.n_est, true, 1u),
                      msh_ms_generic_vndf_estimate(vis, alpha.xx, v, l, pc.n_est, false, 0u),
-                     msh_ms_lut_sample(lut3, smp3, vis, nl, r.u.w, r.u.z), msh_ms_lut_sample_2d(lut2, smp2, vis, nl, r.u.z));
+                     msh_ms_lut_sample(lut3, lut3_smp, vis, nl, r.u.w, r.u.z), msh_ms_lut_sample_2d(lut2, lut2_smp, vis, nl, r.u.z));
   uint idx = uint(r.l.w);
-  o[k + 6u] = float4(msh_ms_lut_sample_azimuth(lut_az, smp_az, 2, vis, nl, r.u.w, r.u.z, r.v.w),
-                     msh_ms_lut_sample_azimuth(lut3, smp3, 0, vis, nl, r.u.w, r.u.z, r.v.w),
-                     msh_ms_lut_roughness(msh_ms_lut_fetch(lut3, smp3, vis, nl, r.u.w), r.u.z, float4(0.1, 0.4, 0.7, 1.0), 4),
+  o[k + 6u] = float4(msh_ms_lut_sample_azimuth(lut_az, lut_az_smp, 2, vis, nl, r.u.w, r.u.z, r.v.w),
+                     msh_ms_lut_sample_azimuth(lut3, lut3_smp, 0, vis, nl, r.u.w, r.u.z, r.v.w),
+                     msh_ms_lut_roughness(msh_ms_lut_fetch(lut3, lut3_smp, vis, nl, r.u.w), r.u.z, float4(0.1, 0.4, 0.7, 1.0), 4),
                      0.0);
   o[k + 7u] = float4(msh_sobol_2d(idx, pc.seed), msh_sobol_2d(idx, 0u).x, msh_hammersley_2d(idx, pc.n_points).y);
-}
-)";
-
-const vk::Kernel kKernel{
-    {"shaders/glsl/micro_shadowing.glsl"}, kGlslMain, {"shaders/hlsl/micro_shadowing.hlsl"}, kHlslMain};
+)");
 
 struct Record {
   float vis, nl, ax, ay;
@@ -458,47 +432,22 @@ TEST(ShadersMicroShadowing, RunsOnVulkanAndMatches) {
 // ---- Cone-layout LUT samplers (msh_ms_lut_sample_cone*, the default table) --------------------------------
 namespace {
 
-const char* kGlslCone = R"(
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 o[]; };
-layout(binding = 2) uniform sampler3D lut_plain;
-layout(binding = 3) uniform sampler3D lut_az;
-layout(push_constant) uniform PC { uint n; int n_rough; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.n) return;
+const vk::Kernel kConeKernel =
+    vk::framed_kernel({"shaders/glsl/micro_shadowing.glsl"}, {"shaders/hlsl/micro_shadowing.hlsl"},
+                      {{"in vec4 rec", "out vec4 o"}, {"3d lut_plain", "3d lut_az"}, "int n_rough;"}, "", R"(
   vec4 a = rec[2u * i], b = rec[2u * i + 1u];  // (vis, N.L, N.V, roughness), (cos_phi, -, -, -)
   o[i] = vec4(msh_ms_lut_sample_cone(lut_plain, pc.n_rough, a.x, a.y, a.z, a.w),
               msh_ms_lut_sample_cone_azimuth(lut_az, pc.n_rough, 3, a.x, a.y, a.z, a.w, b.x),
               msh_ms_lut_sample_cone_azimuth(lut_az, pc.n_rough, 1, a.x, a.y, a.z, a.w, b.x),
               msh_ms_lut_fetch_cone(lut_az, pc.n_rough, a.x, a.y, a.z, a.w).w);
-}
-)";
-
-const char* kHlslCone = R"(
-[[vk::binding(0)]] StructuredBuffer<float4> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float4> o;
-[[vk::binding(2)]] Texture3D<float4> lut_plain;
-[[vk::binding(2)]] SamplerState smp_plain;
-[[vk::binding(3)]] Texture3D<float4> lut_az;
-[[vk::binding(3)]] SamplerState smp_az;
-struct PC { uint n; int n_rough; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i >= pc.n) return;
+)",
+                      "", R"(
   float4 a = rec[2u * i], b = rec[2u * i + 1u];
-  o[i] = float4(msh_ms_lut_sample_cone(lut_plain, smp_plain, pc.n_rough, a.x, a.y, a.z, a.w),
-                msh_ms_lut_sample_cone_azimuth(lut_az, smp_az, pc.n_rough, 3, a.x, a.y, a.z, a.w, b.x),
-                msh_ms_lut_sample_cone_azimuth(lut_az, smp_az, pc.n_rough, 1, a.x, a.y, a.z, a.w, b.x),
-                msh_ms_lut_fetch_cone(lut_az, smp_az, pc.n_rough, a.x, a.y, a.z, a.w).w);
-}
-)";
-
-const vk::Kernel kConeKernel{
-    {"shaders/glsl/micro_shadowing.glsl"}, kGlslCone, {"shaders/hlsl/micro_shadowing.hlsl"}, kHlslCone};
+  o[i] = float4(msh_ms_lut_sample_cone(lut_plain, lut_plain_smp, pc.n_rough, a.x, a.y, a.z, a.w),
+                msh_ms_lut_sample_cone_azimuth(lut_az, lut_az_smp, pc.n_rough, 3, a.x, a.y, a.z, a.w, b.x),
+                msh_ms_lut_sample_cone_azimuth(lut_az, lut_az_smp, pc.n_rough, 1, a.x, a.y, a.z, a.w, b.x),
+                msh_ms_lut_fetch_cone(lut_az, lut_az_smp, pc.n_rough, a.x, a.y, a.z, a.w).w);
+)");
 
 struct ConeLuts {
   io::Volume plain, azimuth, plain_rgba;

@@ -18,34 +18,14 @@ namespace vk = msh::test::vk;
 
 namespace {
 
-const char* kGlslMain = R"(
-layout(local_size_x = 64) in;
-struct Rec { vec4 v; vec4 l; };  // v.w, l.w: alpha_x, alpha_y
-layout(std430, binding = 0) readonly buffer In { Rec rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { float o[]; };
-layout(push_constant) uniform PC { uint n; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.n) return;
-  o[i] = msh_ms_lut_roughness_anisotropic(rec[i].v.xyz, rec[i].l.xyz, vec2(rec[i].v.w, rec[i].l.w));
-}
-)";
-const char* kHlslMain = R"(
-struct Rec { float4 v; float4 l; };
-[[vk::binding(0)]] StructuredBuffer<Rec> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float> o;
-struct PC { uint n; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i >= pc.n) return;
-  o[i] = msh_ms_lut_roughness_anisotropic(rec[i].v.xyz, rec[i].l.xyz, float2(rec[i].v.w, rec[i].l.w));
-}
-)";
-
-const vk::Kernel kKernel{
-    {"shaders/glsl/micro_shadowing.glsl"}, kGlslMain, {"shaders/hlsl/micro_shadowing.hlsl"}, kHlslMain};
+const vk::Kernel kKernel = vk::framed_kernel(
+    {"shaders/glsl/micro_shadowing.glsl"}, {"shaders/hlsl/micro_shadowing.hlsl"},
+    {{"in Rec rec", "out float o"}, {}, ""},
+    "struct Rec { vec4 v; vec4 l; };  // v.w, l.w: alpha_x, alpha_y\n",
+    "  o[i] = msh_ms_lut_roughness_anisotropic(rec[i].v.xyz, rec[i].l.xyz, vec2(rec[i].v.w, rec[i].l.w));\n",
+    "struct Rec { float4 v; float4 l; };\n",
+    "  o[i] = msh_ms_lut_roughness_anisotropic(rec[i].v.xyz, rec[i].l.xyz, float2(rec[i].v.w, "
+    "rec[i].l.w));\n");
 
 struct Rec {
   Vec3f v;

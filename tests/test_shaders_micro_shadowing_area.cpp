@@ -22,14 +22,12 @@ namespace {
 
 constexpr int kOut = 3;  // vec4 outputs per record
 
-const char* kGlslMain = R"(
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 o[]; };
-layout(push_constant) uniform PC { uint n; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.n) return;
+const vk::Kernel kKernel =
+    vk::framed_kernel({"shaders/glsl/micro_shadowing.glsl", "shaders/glsl/micro_shadowing_fit.glsl",
+                       "shaders/glsl/micro_shadowing_area.glsl"},
+                      {"shaders/hlsl/micro_shadowing.hlsl", "shaders/hlsl/micro_shadowing_fit.hlsl",
+                       "shaders/hlsl/micro_shadowing_area.hlsl"},
+                      {{"in vec4 rec", "out vec4 o"}, {}, ""}, "", R"(
   vec4 a = rec[2u * i], b = rec[2u * i + 1u];
   float vis = a.x, nl = a.y, nv = a.z, r = a.w, rho = b.x;
   float th = msh_ms_cap_theta(nl), t = msh_ms_cone_angle(vis);
@@ -39,18 +37,8 @@ void main() {
                         msh_ms_part1_analytic_area_cap(vis, nl, rho), msh_ms_generic_vndf_alu_area_cap(vis, nl, nv, r, rho));
   o[3u * i + 2u] = vec4(msh_ms_cap_intersection_solid_angle(rho, t, th),
                         msh_ms_cap_intersection_solid_angle_oat_sander(rho, t, th), t, th);
-}
-)";
-
-const char* kHlslMain = R"(
-[[vk::binding(0)]] StructuredBuffer<float4> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float4> o;
-struct PC { uint n; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i >= pc.n) return;
+)",
+                      "", R"(
   float4 a = rec[2u * i], b = rec[2u * i + 1u];
   float vis = a.x, nl = a.y, nv = a.z, r = a.w, rho = b.x;
   float th = msh_ms_cap_theta(nl), t = msh_ms_cone_angle(vis);
@@ -60,15 +48,7 @@ void main(uint3 id : SV_DispatchThreadID) {
                           msh_ms_part1_analytic_area_cap(vis, nl, rho), msh_ms_generic_vndf_alu_area_cap(vis, nl, nv, r, rho));
   o[3u * i + 2u] = float4(msh_ms_cap_intersection_solid_angle(rho, t, th),
                           msh_ms_cap_intersection_solid_angle_oat_sander(rho, t, th), t, th);
-}
-)";
-
-const vk::Kernel kKernel{{"shaders/glsl/micro_shadowing.glsl", "shaders/glsl/micro_shadowing_fit.glsl",
-                          "shaders/glsl/micro_shadowing_area.glsl"},
-                         kGlslMain,
-                         {"shaders/hlsl/micro_shadowing.hlsl", "shaders/hlsl/micro_shadowing_fit.hlsl",
-                          "shaders/hlsl/micro_shadowing_area.hlsl"},
-                         kHlslMain};
+)");
 
 struct Rec {
   float vis, nl, nv, r, rho, pad[3];

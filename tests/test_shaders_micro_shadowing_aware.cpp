@@ -18,15 +18,10 @@ namespace {
 
 constexpr int kEst = 32;  // estimator samples
 
-const char* kGlslMain = R"(
-layout(local_size_x = 64) in;
-struct Rec { vec4 a; vec4 v; vec4 l; };
-layout(std430, binding = 0) readonly buffer In { Rec rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 o[]; };
-layout(push_constant) uniform PC { uint n; int n_est; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.n) return;
+const vk::Kernel kKernel = vk::framed_kernel(
+    {"shaders/glsl/micro_shadowing.glsl", "shaders/glsl/micro_shadowing_aware.glsl"},
+    {"shaders/hlsl/micro_shadowing.hlsl", "shaders/hlsl/micro_shadowing_aware.hlsl"},
+    {{"in Rec rec", "out vec4 o"}, {}, "int n_est;"}, "struct Rec { vec4 a; vec4 v; vec4 l; };\n", R"(
   Rec r = rec[i];
   o[2u * i] = vec4(msh_ms_specular_aware(r.a.x, r.v.xyz, r.l.xyz),
                    msh_ms_specular_aware_azimuth_mean(r.a.x, r.a.y, r.a.z, r.a.w),
@@ -34,19 +29,8 @@ void main() {
                    msh_ms_diffuse_aware_estimate(r.a.x, vec2(r.a.y), r.v.xyz, r.l.xyz, pc.n_est, true, 1u));
   o[2u * i + 1u] = vec4(msh_ms_diffuse_aware_estimate(r.a.x, vec2(r.a.y), r.v.xyz, r.l.xyz, pc.n_est, false, 1u),
                         0.0, 0.0, 0.0);
-}
-)";
-
-const char* kHlslMain = R"(
-struct Rec { float4 a; float4 v; float4 l; };
-[[vk::binding(0)]] StructuredBuffer<Rec> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float4> o;
-struct PC { uint n; int n_est; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i >= pc.n) return;
+)",
+    "struct Rec { float4 a; float4 v; float4 l; };\n", R"(
   Rec r = rec[i];
   o[2u * i] = float4(msh_ms_specular_aware(r.a.x, r.v.xyz, r.l.xyz),
                      msh_ms_specular_aware_azimuth_mean(r.a.x, r.a.y, r.a.z, r.a.w),
@@ -54,13 +38,7 @@ void main(uint3 id : SV_DispatchThreadID) {
                      msh_ms_diffuse_aware_estimate(r.a.x, float2(r.a.y, r.a.y), r.v.xyz, r.l.xyz, pc.n_est, true, 1u));
   o[2u * i + 1u] = float4(msh_ms_diffuse_aware_estimate(r.a.x, float2(r.a.y, r.a.y), r.v.xyz, r.l.xyz, pc.n_est,
                                                         false, 1u), 0.0, 0.0, 0.0);
-}
-)";
-
-const vk::Kernel kKernel{{"shaders/glsl/micro_shadowing.glsl", "shaders/glsl/micro_shadowing_aware.glsl"},
-                         kGlslMain,
-                         {"shaders/hlsl/micro_shadowing.hlsl", "shaders/hlsl/micro_shadowing_aware.hlsl"},
-                         kHlslMain};
+)");
 
 struct Rec {
   float vis, alpha, nl, nv;

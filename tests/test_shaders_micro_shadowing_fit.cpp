@@ -19,39 +19,18 @@ namespace vk = msh::test::vk;
 
 namespace {
 
-const char* kGlslMain = R"(
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec2 o[]; };
-layout(push_constant) uniform PC { uint n; } pc;
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.n) return;
+const vk::Kernel kKernel =
+    vk::framed_kernel({"shaders/glsl/micro_shadowing_fit.glsl"}, {"shaders/hlsl/micro_shadowing_fit.hlsl"},
+                      {{"in vec4 rec", "out vec2 o"}, {}, ""}, "", R"(
   vec4 r = rec[i];
   o[i] = vec2(msh_ms_generic_vndf_alu(r.x, r.y, r.z, r.w),
               msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(r.x, r.z, r.w), r.y));
-}
-)";
-
-const char* kHlslMain = R"(
-[[vk::binding(0)]] StructuredBuffer<float4> rec;
-[[vk::binding(1)]] RWStructuredBuffer<float2> o;
-struct PC { uint n; };
-[[vk::push_constant]] PC pc;
-[numthreads(64, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID) {
-  uint i = id.x;
-  if (i >= pc.n) return;
+)",
+                      "", R"(
   float4 r = rec[i];
   o[i] = float2(msh_ms_generic_vndf_alu(r.x, r.y, r.z, r.w),
                 msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(r.x, r.z, r.w), r.y));
-}
-)";
-
-const vk::Kernel kKernel{{"shaders/glsl/micro_shadowing_fit.glsl"},
-                         kGlslMain,
-                         {"shaders/hlsl/micro_shadowing_fit.hlsl"},
-                         kHlslMain};
+)");
 
 struct Rec {
   float vis, nl, nv, r;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <sstream>
 
 namespace msh::test::vk {
 
@@ -20,6 +21,39 @@ std::string Kernel::hlsl() const {
   std::string s;
   for (const std::string& f : hlsl_files) s += read_source(f);
   return s + hlsl_main;
+}
+
+Kernel framed_kernel(std::vector<std::string> glsl_files, std::vector<std::string> hlsl_files,
+                     const KernelFrame& frame, const std::string& glsl_types, const std::string& glsl_body,
+                     const std::string& hlsl_types, const std::string& hlsl_body) {
+  auto hlsl_type = [](const std::string& t) { return t.rfind("vec", 0) == 0 ? "float" + t.substr(3) : t; };
+  std::string g = "layout(local_size_x = 64) in;\n" + glsl_types, h = hlsl_types;
+  int binding = 0;
+  for (const std::string& b : frame.buffers) {
+    std::istringstream ss(b);
+    std::string dir, type, name;
+    ss >> dir >> type >> name;
+    const bool in = dir == "in";
+    const std::string k = std::to_string(binding++);
+    g += "layout(std430, binding = " + k + ") " + (in ? "readonly" : "writeonly") + " buffer B" + k + " { " +
+         type + " " + name + "[]; };\n";
+    h += "[[vk::binding(" + k + ")]] " + (in ? "" : "RW") + "StructuredBuffer<" + hlsl_type(type) + "> " +
+         name + ";\n";
+  }
+  for (const std::string& t : frame.textures) {
+    const std::string dim = t.substr(0, 2), name = t.substr(3), k = std::to_string(binding++);
+    g += "layout(binding = " + k + ") uniform sampler" + (dim == "2d" ? "2D " : "3D ") + name + ";\n";
+    h += "[[vk::binding(" + k + ")]] Texture" + (dim == "2d" ? "2D" : "3D") + "<float4> " + name + ";\n";
+    h += "[[vk::binding(" + k + ")]] SamplerState " + name + "_smp;\n";
+  }
+  g += "layout(push_constant) uniform PC { uint n; " + frame.push + " } pc;\n";
+  h += "struct PC { uint n; " + frame.push + " };\n[[vk::push_constant]] PC pc;\n";
+  g += "void main() {\n  uint i = gl_GlobalInvocationID.x;\n  if (i >= pc.n) return;\n" + glsl_body + "}\n";
+  h += "[numthreads(64, 1, 1)]\nvoid main(uint3 id : SV_DispatchThreadID) {\n  uint i = id.x;\n  if (i >= "
+       "pc.n) "
+       "return;\n" +
+       hlsl_body + "}\n";
+  return Kernel{std::move(glsl_files), g, std::move(hlsl_files), h};
 }
 
 bool run(Context& ctx, const std::string& source, Lang lang, const Dispatch& d, Buffers* out,

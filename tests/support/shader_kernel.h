@@ -44,6 +44,21 @@ struct Kernel {
   std::string source(Lang lang) const { return lang == Lang::kGlsl ? glsl() : hlsl(); }
 };
 
+// The usual kernel frame, generated so that each test writes only its types and its per-invocation body:
+// one invocation per record i < pc.n (the first push constant), storage buffers and textures in binding
+// order. The body sees `i`, the buffers and textures by name, `pc`; HLSL textures come with a SamplerState
+// named <texture>_smp.
+struct KernelFrame {
+  // One per binding: "in TYPE NAME" (read-only) or "out TYPE NAME" (write-only) arrays, TYPE in GLSL
+  // spelling (vecN is floatN in the HLSL frame, other type names are the same in both languages).
+  std::vector<std::string> buffers;
+  std::vector<std::string> textures;  // "2d NAME" or "3d NAME", at the bindings after the buffers
+  std::string push;                   // push-constant fields after `uint n;`, e.g. "int n_est;"
+};
+Kernel framed_kernel(std::vector<std::string> glsl_files, std::vector<std::string> hlsl_files,
+                     const KernelFrame& frame, const std::string& glsl_types, const std::string& glsl_body,
+                     const std::string& hlsl_types, const std::string& hlsl_body);
+
 using Buffers = std::vector<std::vector<float>>;
 
 // The data of one dispatch.
