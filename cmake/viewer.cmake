@@ -1,7 +1,8 @@
 # The browser viewer (`microshadow view`, docs/viewer.md): cpp-httplib (Debian libcpp-httplib-dev)
 # for src/view/, the source tree's path for the view command only (the library builds identically from any
-# checkout), and install rules: the page and the GLSL files go to <prefix>/share/microshadow, where the
-# installed binary looks for them.
+# checkout), and the install rule of the page: <prefix>/share/microshadow/web, where the installed binary looks
+# for it (the CLI and the GLSL files it also reads, <prefix>/share/microshadow/shaders/glsl, are installed by
+# cmake/install.cmake).
 # Debian builds it in split mode (the header declares, libcpp-httplib.so defines), with TLS, zlib and brotli:
 # its pkg-config flags are needed for the same class layouts as the library's.
 find_package(PkgConfig REQUIRED)
@@ -11,6 +12,4 @@ set_source_files_properties(${CMAKE_SOURCE_DIR}/src/cli/cmd_view.cpp PROPERTIES
   COMPILE_DEFINITIONS MSH_VIEW_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 
 include(GNUInstallDirs)
-install(TARGETS microshadow_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/web/ DESTINATION ${CMAKE_INSTALL_DATADIR}/microshadow/web)
-install(DIRECTORY ${CMAKE_SOURCE_DIR}/shaders/glsl DESTINATION ${CMAKE_INSTALL_DATADIR}/microshadow/shaders)

@@ -39,10 +39,7 @@ CliResult run(const std::string& args, const fs::path& dir) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using msh::test::slurp;
 
 TEST(LutCli, HelpExitsZero) {
   const fs::path d = scratch();

@@ -2,6 +2,7 @@
 // variance widens the roughness by the closed form α'² = α² + var(b_x) + var(b_y); the coarse visibility mean
 // equals the fine mean; the filtered normal is the renormalised mean; bad k throws.
 #include <gtest/gtest.h>
+#include <support/texture_test_util.h>
 #include <microshadow/io/error.h>
 #include <microshadow/render/multiscale.h>
 #include <tbb/global_control.h>
@@ -37,14 +38,7 @@ TextureSet make_set(int n) {
   return s;
 }
 
-bool same(const Texture& a, const Texture& b) {
-  if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) return false;
-  for (int j = 0; j < a.height(); ++j)
-    for (int i = 0; i < a.width(); ++i)
-      for (int c = 0; c < a.channels(); ++c)
-        if (a.at(i, j, c) != b.at(i, j, c)) return false;
-  return true;
-}
+using msh::test::same;
 
 double mean(const Texture& t, int c = 0) {
   double s = 0;

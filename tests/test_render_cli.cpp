@@ -29,21 +29,11 @@ nlohmann::json run_json(const std::string& args) {
   return nlohmann::json::parse(in, nullptr, false);
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using msh::test::slurp;
 
-class RenderCli : public ::testing::Test {
+class RenderCli : public msh::test::ScratchDirTest {
  protected:
-  fs::path dir = fs::temp_directory_path() / "msh_test_render_cli";
-  void SetUp() override {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  void TearDown() override { fs::remove_all(dir); }
+  RenderCli() : ScratchDirTest("render_cli_tmp") {}
   fs::path write(const std::string& name, const std::string& text) {
     std::ofstream(dir / name) << text;
     return dir / name;

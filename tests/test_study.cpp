@@ -1,6 +1,7 @@
 // The multiscale study: metric functions against hand-computable cases, and the study's results.json
 // (schema, counts, determinism across thread counts, bad configurations) on a tiny configuration.
 #include <gtest/gtest.h>
+#include <support/cli_test_util.h>
 #include <microshadow/io/error.h>
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
@@ -26,12 +27,7 @@ Plane ramp(int w, int h) {
   return p;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using msh::test::slurp;
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 // user's height map goes through the same normal map and bake (texture_set_from_height), and bad height
 // maps (missing, 8-bit, colour, out of range, wrong format) are one-line InputErrors.
 #include <gtest/gtest.h>
+#include <support/texture_test_util.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/render/texture_gen.h>
@@ -16,14 +17,7 @@ using namespace msh::render;
 namespace fs = std::filesystem;
 
 namespace {
-bool same(const Texture& a, const Texture& b) {
-  if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) return false;
-  for (int j = 0; j < a.height(); ++j)
-    for (int i = 0; i < a.width(); ++i)
-      for (int c = 0; c < a.channels(); ++c)
-        if (a.at(i, j, c) != b.at(i, j, c)) return false;
-  return true;
-}
+using msh::test::same;
 }  // namespace
 
 TEST(TextureGenKinds, DeterministicThreadIndependentInRange) {

@@ -23,24 +23,14 @@ namespace {
 using Result = msh::test::CliResult;
 Result run(const std::string& args) { return msh::test::run_cli(args); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using msh::test::slurp;
 
 const char* kFiles[] = {"basecolor.png",       "normal.png", "roughness.png", "metallic.png",
                         "micro_occlusion.png", "height.png", "material.json"};
 
-class GenMaterialCli : public ::testing::Test {
+class GenMaterialCli : public msh::test::ScratchDirTest {
  protected:
-  fs::path dir = fs::temp_directory_path() / "msh_test_texture_gen_cli";
-  void SetUp() override {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  void TearDown() override { fs::remove_all(dir); }
+  GenMaterialCli() : ScratchDirTest("texture_gen_cli_tmp") {}
 };
 
 }  // namespace

@@ -1,8 +1,7 @@
+#include <fmt/format.h>
 #include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
-
-#include <fmt/format.h>
 
 #include <stdexcept>
 
@@ -56,9 +55,7 @@ BrdfParams complete_params(const ModelInfo& info, const BrdfParams& given) {
     if (v.size() == 1 && spec.components == 3) v = {v[0], v[0], v[0]};
     if (int(v.size()) != spec.components)
       throw InputError(fmt::format("--{} takes {} value(s), got {}", spec.name, spec.components, v.size()));
-    for (double x : v)
-      if (!(x >= spec.lo && x <= spec.hi))
-        throw InputError(fmt::format("--{} must be in [{}, {}], got {}", spec.name, spec.lo, spec.hi, x));
+    for (double x : v) require_range(x, spec.lo, spec.hi, "--" + spec.name);
     out.values[spec.name] = v;
   }
   for (const auto& [name, v] : given.values) {

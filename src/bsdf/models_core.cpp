@@ -13,6 +13,26 @@ namespace msh::bsdf {
 
 namespace {
 
+// ---- Sampling shared by the models with a diffuse and a GGX specular lobe: with probability q a
+// cosine-weighted direction, otherwise the visible-normal sample (u.x rescaled into the chosen lobe); the
+// sample's pdf is the model's mixture pdf. Empty where the specular sample is or the pdf is 0.
+template <class Model>
+std::optional<BsdfSample> sample_lobes(const Model& model, const GGX<double>& ggx, const Vec3d& wo, Vec2d u,
+                                       double q) {
+  Vec3d wi;
+  if (u.x < q) {
+    wi = sample_cosine_hemisphere(Vec2d(std::min(u.x / q, kOneMinusEpsilon<double>), u.y));
+  } else {
+    const auto s = sample_microfacet_specular(
+        ggx, wo, Vec2d(std::min((u.x - q) / (1 - q), kOneMinusEpsilon<double>), u.y));
+    if (!s) return std::nullopt;
+    wi = s->wi;
+  }
+  const double p = model.pdf(wo, wi);
+  if (!(p > 0)) return std::nullopt;
+  return BsdfSample{wi, model.f(wo, wi), p};
+}
+
 // ---- Fresnel choice shared by the specular models.
 
 enum class FresnelKind { None, Schlick, SchlickGeneralized, Dielectric, Conductor };
@@ -134,19 +154,7 @@ class GgxSpecular final : public BrdfModel {
   }
   std::optional<BsdfSample> sample(const Vec3d& wo, Vec2d u) const override {
     if (!(wo.z > 0)) return std::nullopt;
-    const double q = ms_q(wo);
-    Vec3d wi;
-    if (u.x < q) {
-      wi = sample_cosine_hemisphere(Vec2d(std::min(u.x / q, kOneMinusEpsilon<double>), u.y));
-    } else {
-      const auto s = sample_microfacet_specular(
-          ggx_, wo, Vec2d(std::min((u.x - q) / (1 - q), kOneMinusEpsilon<double>), u.y), g2_);
-      if (!s) return std::nullopt;
-      wi = s->wi;
-    }
-    const double p = pdf(wo, wi);
-    if (!(p > 0)) return std::nullopt;
-    return BsdfSample{wi, f(wo, wi), p};
+    return sample_lobes(*this, ggx_, wo, u, ms_q(wo));
   }
   double pdf(const Vec3d& wo, const Vec3d& wi) const override {
     const double q = ms_q(wo);
@@ -235,18 +243,7 @@ class SpecularPlusDiffuse final : public BrdfModel {
   }
   std::optional<BsdfSample> sample(const Vec3d& wo, Vec2d u) const override {
     if (!(wo.z > 0)) return std::nullopt;
-    Vec3d wi;
-    if (u.x < q_) {
-      wi = sample_cosine_hemisphere(Vec2d(std::min(u.x / q_, kOneMinusEpsilon<double>), u.y));
-    } else {
-      const auto s = sample_microfacet_specular(
-          ggx_, wo, Vec2d(std::min((u.x - q_) / (1 - q_), kOneMinusEpsilon<double>), u.y));
-      if (!s) return std::nullopt;
-      wi = s->wi;
-    }
-    const double p = pdf(wo, wi);
-    if (!(p > 0)) return std::nullopt;
-    return BsdfSample{wi, f(wo, wi), p};
+    return sample_lobes(*this, ggx_, wo, u, q_);
   }
   double pdf(const Vec3d& wo, const Vec3d& wi) const override {
     return (1 - q_) * microfacet_specular_pdf(ggx_, wo, wi) + q_ * cosine_hemisphere_pdf(wi.z);

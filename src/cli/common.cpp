@@ -14,12 +14,14 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
   size_t start = 0;
   while (true) {
     const size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const std::string item =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     char* end = nullptr;
     const double x = std::strtod(item.c_str(), &end);
     while (end && *end == ' ') ++end;
     if (item.empty() || end == item.c_str() || *end != '\0' || !std::isfinite(x))
-      throw UsageError(fmt::format("{} must be a comma-separated list of finite numbers, got '{}'", what, text));
+      throw UsageError(
+          fmt::format("{} must be a comma-separated list of finite numbers, got '{}'", what, text));
     v.push_back(x);
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -31,10 +33,6 @@ Vec3d parse_vec3(const std::string& text, const std::string& what) {
   const std::vector<double> v = parse_list(text, what);
   if (v.size() != 3) throw UsageError(fmt::format("{} must be three numbers X,Y,Z, got '{}'", what, text));
   return {v[0], v[1], v[2]};
-}
-
-void require_range(double v, double lo, double hi, const std::string& what) {
-  if (!(v >= lo && v <= hi)) throw UsageError(fmt::format("{} must be in [{}, {}], got {}", what, lo, hi, v));
 }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump() << std::endl; }

@@ -1,11 +1,11 @@
 // Helpers shared by the CLI commands: argument parsing and JSON output.
 #pragma once
 
+#include <microshadow/io/error.h>
 #include <microshadow/math/vec.h>
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -21,8 +21,8 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
 // non-finite input. Does not normalize.
 Vec3d parse_vec3(const std::string& text, const std::string& what);
 
-// Throws UsageError("<what> must be in [lo, hi], got <v>") unless lo <= v <= hi (NaN fails).
-void require_range(double v, double lo, double hi, const std::string& what);
+// Throws UsageError("<what> must be in [lo, hi], got <v>") unless lo <= v <= hi (NaN fails): io/error.h.
+using ::msh::require_range;
 
 // Prints one JSON object on stdout, one line, with full double precision.
 void print_json(const nlohmann::json& j);

@@ -108,10 +108,6 @@ Broadcast broadcast(const std::vector<ArgSpec>& args, bool force_f64) {
   return b;
 }
 
-void require_range(double v, double lo, double hi, const std::string& what) {
-  if (!(v >= lo && v <= hi)) throw InputError(fmt::format("{} must be in [{}, {}], got {}", what, lo, hi, v));
-}
-
 pyb::object finish(const pyb::array& out, const Broadcast& b, int core) {
   if (b.all_scalar && core == 0) return out[pyb::tuple()];
   return out;

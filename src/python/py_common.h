@@ -9,6 +9,7 @@
 // correctly rounded.
 #pragma once
 
+#include <microshadow/io/error.h>
 #include <microshadow/math/vec.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -166,8 +167,9 @@ pyb::object map_vec3(const Broadcast& b, F&& f) {
   return b.f32 ? run(float{}) : run(double{});
 }
 
-// The CLI's range check and message ("<what> must be in [lo, hi], got v"; NaN fails), as a ValueError.
-void require_range(double v, double lo, double hi, const std::string& what);
+// The CLI's range check and message ("<what> must be in [lo, hi], got v"; NaN fails; io/error.h), raised as
+// a ValueError.
+using ::msh::require_range;
 
 // Whether `obj` is None.
 inline bool is_none(pyb::handle obj) { return obj.is_none(); }

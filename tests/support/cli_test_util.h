@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 
 namespace msh::test {
 
@@ -33,6 +34,18 @@ inline std::filesystem::path scratch_dir(const std::string& area) {
   std::filesystem::create_directories(p);
   return p;
 }
+
+// A fixture with a fresh, empty scratch directory `dir` for each test (scratch_dir(area)), removed after it.
+class ScratchDirTest : public ::testing::Test {
+ protected:
+  explicit ScratchDirTest(std::string area) : area_(std::move(area)) {}
+  void SetUp() override { dir = scratch_dir(area_); }
+  void TearDown() override { std::filesystem::remove_all(dir); }
+  std::filesystem::path dir;
+
+ private:
+  std::string area_;
+};
 
 // Runs `microshadow ARGS`, stdout and stderr captured through files in `dir`.
 inline CliResult run_cli(const std::string& args, const std::filesystem::path& dir) {

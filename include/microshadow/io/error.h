@@ -1,7 +1,8 @@
-// Error types shared by the library and the CLI.
+// Error types (and the range check) shared by the library, the CLI and the Python module.
 #pragma once
 
 #include <stdexcept>
+#include <string>
 
 namespace msh {
 
@@ -10,5 +11,9 @@ namespace msh {
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Throws InputError("<what> must be in [lo, hi], got <v>") unless lo <= v <= hi (NaN fails). The one range
+// check of the CLI, the Python module and the BRDF registry, so all three word it the same way.
+void require_range(double v, double lo, double hi, const std::string& what);
 
 }  // namespace msh
