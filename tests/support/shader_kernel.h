@@ -69,20 +69,23 @@ struct Dispatch {
   std::size_t invocations = 0;         // ⌈invocations / 64⌉ workgroups
 };
 
-// Trivially copyable records made of 4-byte fields (floats, and the odd uint32) <-> float arrays.
+// Trivially copyable records made of 4-byte fields (floats, and the odd uint32) <-> float arrays: the bytes
+// of `from` as an array of `To` (a trailing partial record is dropped).
+template <class To, class From>
+std::vector<To> records_as(const std::vector<From>& from) {
+  static_assert(std::is_trivially_copyable_v<To> && std::is_trivially_copyable_v<From>);
+  static_assert(sizeof(To) % sizeof(float) == 0 && sizeof(From) % sizeof(float) == 0);
+  std::vector<To> to(from.size() * sizeof(From) / sizeof(To));
+  if (!to.empty()) std::memcpy(to.data(), from.data(), to.size() * sizeof(To));
+  return to;
+}
 template <class T>
 std::vector<float> to_floats(const std::vector<T>& records) {
-  static_assert(std::is_trivially_copyable_v<T> && sizeof(T) % sizeof(float) == 0);
-  std::vector<float> f(records.size() * sizeof(T) / sizeof(float));
-  if (!f.empty()) std::memcpy(f.data(), records.data(), f.size() * sizeof(float));
-  return f;
+  return records_as<float>(records);
 }
 template <class T>
 std::vector<T> from_floats(const std::vector<float>& f) {
-  static_assert(std::is_trivially_copyable_v<T> && sizeof(T) % sizeof(float) == 0);
-  std::vector<T> records(f.size() * sizeof(float) / sizeof(T));
-  if (!records.empty()) std::memcpy(records.data(), f.data(), records.size() * sizeof(T));
-  return records;
+  return records_as<T>(f);
 }
 template <class P>
 std::vector<std::byte> push_constants(const P& p) {

@@ -243,19 +243,7 @@ inline double cone_visibility_of_t(double t, double n_dot_l, double a, double to
 // (t, s, w) ∈ [0, 1]³ (the hardware filter; the z coordinate stays inside the slab).
 template <class T>
 std::array<T, 4> fetch_cone_slab(const MicroShadowingLutView& lut, T t, T s, T w, int slab) {
-  using texel_taps::tap;
-  const int b = lut.filter_weight_bits;
-  const auto tx = tap(t, lut.n_vis, b), ty = tap(s, lut.n_nl, b), tz = tap(w, lut.n_nv, b);
-  std::array<T, 4> out{};
-  const int zbase = slab * lut.n_nv;
-  for (int k = 0; k < 8; ++k) {
-    const int x = (k & 1) ? tx.i1 : tx.i0, y = (k & 2) ? ty.i1 : ty.i0, z = zbase + ((k & 4) ? tz.i1 : tz.i0);
-    const T wgt =
-        T((k & 1) ? tx.f : 1.0f - tx.f) * T((k & 2) ? ty.f : 1.0f - ty.f) * T((k & 4) ? tz.f : 1.0f - tz.f);
-    const float* p = lut.data + ((std::size_t(z) * lut.n_nl + y) * lut.n_vis + x) * lut.channels;
-    for (int c = 0; c < lut.channels; ++c) out[c] += wgt * T(p[c]);
-  }
-  return out;
+  return fetch_trilinear(lut, t, s, w, slab);  // the same filter: the slab is the z block of n_nv texels
 }
 
 // The cone-layout lookup: coordinates from the inputs, two slab fetches blended in roughness (the second
