@@ -10,6 +10,7 @@
 #include <microshadow/microfacet/vcavity.h>
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
@@ -100,6 +101,16 @@ Impl lut_method(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& 
                          : lut::sample_micro_shadowing(view, p.V, p.nl, nv, p.r);
           },
           table};
+}
+
+// The diffuse-aware term's ALU-only fit of its azimuth mean (occlusion/micro_shadowing_aware_fit.h,
+// reciprocal form), in float as a shader runs it.
+Impl diffuse_aware_alu() {
+  return {
+      [](const Point& p) {
+        return double(micro_shadowing::diffuse_aware_alu(float(p.V), float(p.nl), float(p.nv), float(p.r)));
+      },
+      nullptr};
 }
 
 // The micro-BRDF-aware terms (docs/micro-shadowing-aware.md). specular-aware: the indicator at φ, the
@@ -289,6 +300,11 @@ const std::vector<Entry>& entries() {
         "micro-BRDF-aware, Lambertian facets, fraction of the reflected flux leaving through the cone", true,
         true, true, false, true, false},
        [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Flux); }},
+      {{"diffuse-aware-alu",
+        "ALU-only fit of the diffuse-aware (reciprocal) term's azimuth mean (micro_shadowing_aware_fit.h), "
+        "float",
+        true, true, false, false, false, false},
+       [](auto&, auto&) { return diffuse_aware_alu(); }},
       {{"generic-vndf-beckmann",
         "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)", true, true,
         true, true, true, false},
