@@ -6,7 +6,7 @@
 // in projected solid angle (cone cos_t = sqrt(1 - vis)); n_dot_l, n_dot_v the shading cosines; roughness
 // perceptual (GGX alpha = roughness^2). Fitted over vis in [0,1], N.L and N.V in (0,1], roughness in [0.1,1];
 // inputs clamped to [0,1] (roughness to [0.01,1]); NaN inputs are not guaranteed on GPUs. The early-outs
-// 2 vis + N.L < 1 and 2 vis + N.V < 1 return exactly 0, vis = 1 returns 1, as in C++.
+// 2 vis + N.L < 1 and 2 vis + N.V < 1 return exactly 0 (and N.L = 0), vis = 1 returns 1, as in C++.
 #ifndef MSH_MICRO_SHADOWING_AWARE_FIT_GLSL
 #define MSH_MICRO_SHADOWING_AWARE_FIT_GLSL
 
@@ -43,11 +43,12 @@ float msh_ms_aware_alu_cone(float v, float c, float s, float nx, float a, float 
   return p1 * (v + g * (1.0 - v) * (nx - 1.0)) / (v * p2);
 }
 
-// Precision vs the C++ float function: |diff| <= 1e-4 (tests/test_shaders_micro_shadowing_aware.cpp on lavapipe).
+// Precision vs the C++ float function: |diff| <= 1e-5, measured 3.6e-7 (tests/test_shaders_micro_shadowing_aware_fit.cpp,
+// lavapipe, 19,123 random, boundary and degenerate inputs).
 float msh_ms_diffuse_aware_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
   float v = clamp(vis, 0.0, 1.0), nl = clamp(n_dot_l, 0.0, 1.0), nv = clamp(n_dot_v, 0.0, 1.0);
   float r = clamp(roughness, 0.01, 1.0);
-  if (2.0 * v + nl < 1.0 || 2.0 * v + nv < 1.0 || !(v > 0.0)) return 0.0;  // exact early-outs
+  if (!(nl > 0.0) || 2.0 * v + nl < 1.0 || 2.0 * v + nv < 1.0 || !(v > 0.0)) return 0.0;  // exact early-outs
   if (!(v < 1.0)) return 1.0;
   float omv = 1.0 - v, c = sqrt(omv), s = sqrt(v), alpha = r * r;
   float wl = nl / sqrt(nl * nl + alpha * alpha * (1.0 - nl * nl));
