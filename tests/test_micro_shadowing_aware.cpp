@@ -230,7 +230,7 @@ TEST(DiffuseAware, OrenNayarFacetsMatchMonteCarlo) {
     }
     // The estimator with the same facets converges to it (16384 Owen-scrambled Sobol points).
     EXPECT_NEAR(diffuse_aware_estimate(p.V, GGX<double>(p.alpha), v, l, 16384, DiffuseAwareForm::Reciprocal,
-                                       1u, p.sigma),
+                                       1u, OrenNayarFacet{p.sigma}),
                 ex, 3e-3);
   }
   // sigma = 0 is Lambert (bit-identical), and the Oren–Nayar weight is 1 there.

@@ -9,7 +9,6 @@
 // [0,1].
 #pragma once
 
-#include <microshadow/bsdf/diffuse.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 
 #include <algorithm>
@@ -113,32 +112,24 @@ T lambert_cap_fraction(T cos_m, T c) {
 //     hemisphere (the fraction leaving through the cone; Lambertian cap fraction above); n·m > c, m·l > c.
 enum class DiffuseAwareForm { Reciprocal, Flux };
 
-// The second facet micro-BRDF of the reciprocal form (docs/micro-shadowing-aware.md §3.1): instead of
-// Lambert, the Oren–Nayar qualitative model (Oren & Nayar 1994, "Generalization of Lambert's Reflectance
-// Model"; bsdf::diffuse_oren_nayar_qualitative) on each facet, in the facet's own frame (normal m), with
-// sub-facet slope deviation sigma (radians). Returns π f_ON(ρ = 1; l, v about m) = A + B max(0, cos Δφ) sin α
-// tan β: 1 at sigma = 0 (Lambert), 0 when l or v is below the facet. m, l, v unit.
-template <class T>
-T oren_nayar_facet_weight(T sigma, const Vec3<T>& m, const Vec3<T>& l, const Vec3<T>& v) {
-  const T ml = dot(m, l), mv = dot(m, v);
-  if (!(ml > T(0)) || !(mv > T(0))) return T(0);
-  if (!(sigma > T(0))) return T(1);
-  // l and v in a frame of m: x along l's tangent component (any tangent when l = m: cos Δφ is then unused).
-  const Vec3<T> lt = l - ml * m, vt = v - mv * m;
-  const T sl = std::sqrt(std::max(T(0), dot(lt, lt))), sv2 = std::max(T(0), dot(vt, vt));
-  const T vx = sl > T(1e-12) ? dot(lt, vt) / sl : std::sqrt(sv2);
-  const Vec3<T> l_loc(sl, T(0), std::min(ml, T(1)));
-  const Vec3<T> v_loc(vx, std::sqrt(std::max(T(0), sv2 - vx * vx)), std::min(mv, T(1)));
-  return kPi<T> * bsdf::diffuse_oren_nayar_qualitative<T, T>(T(1), std::min(sigma, T(10)), l_loc, v_loc);
-}
+// The facet micro-BRDF of the reciprocal form, as a weight π f_facet(l, v about m) that multiplies (m·l)⁺
+// in the cone and in the hemisphere alike: LambertFacet (1) here; the Oren–Nayar facets of
+// docs/micro-shadowing-aware.md §3.1 are reference/micro_shadowing_aware_exact.h's OrenNayarFacet (the
+// occlusion area does not depend on bsdf/). Any callable w(m, l, v) ≥ 0 works.
+struct LambertFacet {
+  template <class T>
+  T operator()(const Vec3<T>&, const Vec3<T>&, const Vec3<T>&) const {
+    return T(1);
+  }
+};
 
 // One VNDF sample of the diffuse-aware term: m from the Dupuy–Benyoub 2023 sampler of v; returns the cone
-// and hemisphere weights (the Smith G2/G1 depends on (v, l) only and cancels; it is left out). facet_sigma >
-// 0: Oren–Nayar facets (oren_nayar_facet_weight) in the Reciprocal form; the Flux form keeps Lambert facets
+// and hemisphere weights (the Smith G2/G1 depends on (v, l) only and cancels; it is left out). facet: the
+// facet micro-BRDF's weight in the Reciprocal form (LambertFacet above); the Flux form keeps Lambert facets
 // (its cap fraction is the Lambertian one).
-template <class T>
+template <class T, class FacetWeight = LambertFacet>
 GenericSample<T> diffuse_aware_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l,
-                                      Vec2<T> u, DiffuseAwareForm form, T facet_sigma = T(0)) {
+                                      Vec2<T> u, DiffuseAwareForm form, const FacetWeight& facet = {}) {
   const Vec3<T> m = ggx.Sample_wm(v, u);
   const T c = input_domain::clamp_nan(cos_t, T(0), T(1), T(1));
   const T ml = dot(m, l), nm = m.z;
@@ -146,7 +137,7 @@ GenericSample<T> diffuse_aware_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>&
   if (!(ml > T(0)) || !(nm > T(0))) return s;
   const bool in_cone = nm > c && ml > c;
   if (form == DiffuseAwareForm::Reciprocal) {
-    s.hemisphere = facet_sigma > T(0) ? ml * oren_nayar_facet_weight(facet_sigma, m, l, v) : ml;
+    s.hemisphere = ml * facet(m, l, v);
     s.cone = (in_cone && dot(m, v) > c) ? s.hemisphere : T(0);
   } else {
     s.hemisphere = ml * T(0.5) * (T(1) + nm);
@@ -157,10 +148,10 @@ GenericSample<T> diffuse_aware_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>&
 
 // The diffuse-aware term estimated with n Owen-scrambled Sobol points (seed 0: plain Sobol): Σcone / Σhemi.
 // Exact 0 at the generic term's early-out 2V + N·L < 1 (the diffuse-aware cone region is a subset of the
-// generic one); V = 1 → 1. facet_sigma: as diffuse_aware_sample (0: Lambert facets).
-template <class T>
+// generic one); V = 1 → 1. facet: as diffuse_aware_sample (LambertFacet: Lambert facets).
+template <class T, class FacetWeight = LambertFacet>
 T diffuse_aware_estimate(T V, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, int n,
-                         DiffuseAwareForm form, uint32_t seed = 1, T facet_sigma = T(0)) {
+                         DiffuseAwareForm form, uint32_t seed = 1, const FacetWeight& facet = {}) {
   const T vis = saturate(V);
   if (exact_zero(vis, l.z) || vis == T(0)) return T(0);
   if (vis >= T(1)) return T(1);
@@ -168,7 +159,7 @@ T diffuse_aware_estimate(T V, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>
   T cone = 0, hemi = 0;
   for (int i = 0; i < n; ++i) {
     const GenericSample<T> s =
-        diffuse_aware_sample(c, ggx, v, l, sobol_2d<T>(uint32_t(i), seed), form, facet_sigma);
+        diffuse_aware_sample(c, ggx, v, l, sobol_2d<T>(uint32_t(i), seed), form, facet);
     cone += s.cone;
     hemi += s.hemisphere;
   }

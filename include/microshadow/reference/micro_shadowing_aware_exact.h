@@ -17,6 +17,7 @@
 // closed-form jumps of S, independent of the closed form it checks.
 #pragma once
 
+#include <microshadow/bsdf/diffuse.h>
 #include <microshadow/math/quadrature.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
@@ -25,6 +26,34 @@
 #include <cmath>
 
 namespace msh::micro_shadowing {
+
+// The second facet micro-BRDF of the reciprocal form (docs/micro-shadowing-aware.md §3.1): instead of
+// Lambert, the Oren–Nayar qualitative model (Oren & Nayar 1994, "Generalization of Lambert's Reflectance
+// Model"; bsdf::diffuse_oren_nayar_qualitative) on each facet, in the facet's own frame (normal m), with
+// sub-facet slope deviation sigma (radians). Returns π f_ON(ρ = 1; l, v about m) = A + B max(0, cos Δφ) sin α
+// tan β: 1 at sigma = 0 (Lambert), 0 when l or v is below the facet. m, l, v unit.
+template <class T>
+T oren_nayar_facet_weight(T sigma, const Vec3<T>& m, const Vec3<T>& l, const Vec3<T>& v) {
+  const T ml = dot(m, l), mv = dot(m, v);
+  if (!(ml > T(0)) || !(mv > T(0))) return T(0);
+  if (!(sigma > T(0))) return T(1);
+  // l and v in a frame of m: x along l's tangent component (any tangent when l = m: cos Δφ is then unused).
+  const Vec3<T> lt = l - ml * m, vt = v - mv * m;
+  const T sl = std::sqrt(std::max(T(0), dot(lt, lt))), sv2 = std::max(T(0), dot(vt, vt));
+  const T vx = sl > T(1e-12) ? dot(lt, vt) / sl : std::sqrt(sv2);
+  const Vec3<T> l_loc(sl, T(0), std::min(ml, T(1)));
+  const Vec3<T> v_loc(vx, std::sqrt(std::max(T(0), sv2 - vx * vx)), std::min(mv, T(1)));
+  return kPi<T> * bsdf::diffuse_oren_nayar_qualitative<T, T>(T(1), std::min(sigma, T(10)), l_loc, v_loc);
+}
+// The same as a facet weight for diffuse_aware_sample / diffuse_aware_estimate (occlusion/
+// micro_shadowing_aware.h).
+struct OrenNayarFacet {
+  double sigma = 0;
+  template <class T>
+  T operator()(const Vec3<T>& m, const Vec3<T>& l, const Vec3<T>& v) const {
+    return oren_nayar_facet_weight(T(sigma), m, l, v);
+  }
+};
 
 namespace aware_quadrature {
 using namespace exact_quadrature;  // the exact term's azimuth slices and panel integrators
