@@ -65,7 +65,7 @@ T stretched_z(T n_dot_x, T alpha) {
 }  // namespace aware_fit_terms
 
 // ALU approximation of diffuse_aware_exact_azimuth_mean(V, r², N·L, N·V, DiffuseAwareForm::Reciprocal)
-// (about 130 arithmetic operations, 4 exp2, 8 sqrt). Domain: V, N·L, N·V ∈ [0,1], perceptual roughness
+// (six cubic forms of 19 fma, 3 exp2, 12 sqrt, 11 divisions). Domain: V, N·L, N·V ∈ [0,1], perceptual roughness
 // r ∈ [0,1] (fitted on [0.1, 1], extrapolated below; r < 0.01 is evaluated at 0.01). Inputs are clamped to
 // [0,1] and NaN maps to 0 (roughness: 0.01), as every term in micro_shadowing.h, so the result is finite and
 // in [0,1] for any input; N·L = 0 gives 0. Measured error: docs/micro-shadowing-aware.md, "Run-time form of
