@@ -65,11 +65,11 @@ T stretched_z(T n_dot_x, T alpha) {
 }  // namespace aware_fit_terms
 
 // ALU approximation of diffuse_aware_exact_azimuth_mean(V, r², N·L, N·V, DiffuseAwareForm::Reciprocal)
-// (six cubic forms of 19 fma, 3 exp2, 12 sqrt, 11 divisions). Domain: V, N·L, N·V ∈ [0,1], perceptual roughness
-// r ∈ [0,1] (fitted on [0.1, 1], extrapolated below; r < 0.01 is evaluated at 0.01). Inputs are clamped to
-// [0,1] and NaN maps to 0 (roughness: 0.01), as every term in micro_shadowing.h, so the result is finite and
-// in [0,1] for any input; N·L = 0 gives 0. Measured error: docs/micro-shadowing-aware.md, "Run-time form of
-// the diffuse-aware term".
+// (six cubic forms of 19 fma, 3 exp2, 12 sqrt, 11 divisions). Domain: V, N·L, N·V ∈ [0,1], perceptual
+// roughness r ∈ [0,1] (fitted on [0.1, 1], extrapolated below; r < 0.01 is evaluated at 0.01). Inputs are
+// clamped to [0,1] and NaN maps to 0 (roughness: 0.01), as every term in micro_shadowing.h, so the result is
+// finite and in [0,1] for any input; N·L = 0 gives 0. Measured error: docs/micro-shadowing-aware.md,
+// "Run-time form of the diffuse-aware term".
 template <class T>
 T diffuse_aware_alu(T V, T n_dot_l, T n_dot_v, T roughness) {
   const T vis = saturate(V), nl = saturate(n_dot_l), nv = saturate(n_dot_v);
