@@ -92,10 +92,15 @@ inline Cap disk_facing(const Vec3d& center, double edge_angle) { return Cap{norm
 
 // A rectangle light centred at distance 1 along `center`, spanned by the orthonormal axes u, w (units of
 // the distance), half-extents half_u, half_w: its four corner directions.
-inline Quad rect_light(const Vec3d& center, const Vec3d& u, const Vec3d& w, double half_u, double half_w) {
-  const Vec3d c = normalize(center);
+inline Quad rect_light(const Vec3d& center, const Vec3d& u, const Vec3d& w, double half_u, double half_w);
+// The rectangle c ± half_u·u ± half_w·w with its centre c at any distance (not 0; the plane not through the
+// shading point), e.g. a rectangle light given in world units relative to the point.
+inline Quad rect_quad(const Vec3d& c, const Vec3d& u, const Vec3d& w, double half_u, double half_w) {
   return Quad{{normalize(c + half_u * u + half_w * w), normalize(c - half_u * u + half_w * w),
                normalize(c - half_u * u - half_w * w), normalize(c + half_u * u - half_w * w)}};
+}
+inline Quad rect_light(const Vec3d& center, const Vec3d& u, const Vec3d& w, double half_u, double half_w) {
+  return rect_quad(normalize(center), u, w, half_u, half_w);
 }
 
 // The frame of a light facing the shading point: u0 ⟂ center in the plane of (n, center), pointing away
@@ -535,26 +540,27 @@ struct DiskGeom {
   }
 };
 
-template <class G, class F>
-double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* term,
-                       const std::vector<double>& zb, double rel_tol) {
-  const bool lambert = rec.kind == Receiver::Kind::Lambert;
-  const bool z_only = term == nullptr || term->z_only;
-  const double phi_mirror = std::atan2(-rec.v.y, -rec.v.x) + (rec.v.y == 0 && rec.v.x == 0 ? kPi<double> : 0);
-  const double phi_m = phi_mirror < 0 ? phi_mirror + kTwoPi : phi_mirror;
+// The polar-about-n quadrature of §2 for any integrand: ∫ over the light ∩ {z > z_lo} of
+// z_factor(z) · ∫_arcs(z) phi_integrand(l) dφ dz. phi_constant: phi_integrand does not depend on φ (it is
+// evaluated once per circle, times the arcs' length). zb: the z where the integrand jumps or kinks; peak
+// (may be null): a direction where it peaks, whose z and azimuth become panel edges.
+template <class G, class Zf, class Pf>
+double integrate_polar(const G& geom, const Zf& z_factor, const Pf& phi_integrand, bool phi_constant,
+                       const std::vector<double>& zb, const Vec3d* peak, double z_lo, double rel_tol) {
+  double phi_peak = -1;
+  if (peak != nullptr && std::hypot(peak->x, peak->y) > 1e-12) {
+    phi_peak = std::atan2(peak->y, peak->x);
+    if (phi_peak < 0) phi_peak += kTwoPi;
+  }
   auto inner = [&](double z) -> double {
-    if (!(z > 0)) return 0.0;
+    if (!(z > z_lo)) return 0.0;
     const double s = std::sqrt(std::max(0.0, 1 - z * z));
     const Arcs arcs = geom.arcs(z, s);
     if (arcs.n == 0) return 0.0;
-    const double mz = (term && z_only) ? term->M(Vec3d(s, 0, z)) : 1.0;
-    if (lambert && z_only) return mz * z * arcs.length();
+    const double zf = z_factor(z, s);
+    if (phi_constant) return zf * phi_integrand(Vec3d(s, 0, z)) * arcs.length();
     double sum = 0;
-    auto f = [&](double p) {
-      const Vec3d l(s * std::cos(p), s * std::sin(p), z);
-      const double w = rec.weight(l);
-      return (term && !z_only) ? w * term->M(l) : w;
-    };
+    auto f = [&](double p) { return phi_integrand(Vec3d(s * std::cos(p), s * std::sin(p), z)); };
     auto panel = [&](double a, double b) {
       const double h = b - a;
       if (!(h > 0)) return 0.0;
@@ -563,16 +569,17 @@ double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* t
     };
     for (int i = 0; i < arcs.n; ++i) {
       const double a = arcs.iv[size_t(i)].first, b = arcs.iv[size_t(i)].second;
-      if (!lambert && phi_m > a && phi_m < b)
-        sum += panel(a, phi_m) + panel(phi_m, b);
+      if (phi_peak > a && phi_peak < b)
+        sum += panel(a, phi_peak) + panel(phi_peak, b);
       else
         sum += panel(a, b);
     }
-    return mz * sum;
+    return zf * sum;
   };
-  std::vector<double> pts = {0.0, 1.0};
+  std::vector<double> pts = {z_lo, 1.0};
   for (double z : zb)
-    if (z > 0 && z < 1) pts.push_back(z);
+    if (z > z_lo && z < 1) pts.push_back(z);
+  if (peak != nullptr && peak->z > z_lo && peak->z < 1) pts.push_back(peak->z);
   std::sort(pts.begin(), pts.end());
   double total = 0;
   for (size_t i = 0; i + 1 < pts.size(); ++i) {
@@ -582,6 +589,24 @@ double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* t
                            0.0, 1.0, 0.0, rel_tol);
   }
   return total;
+}
+
+// The GGX mirror direction of the view (the receiver weight's peak).
+inline Vec3d mirror_direction(const Receiver& rec) { return Vec3d(-rec.v.x, -rec.v.y, rec.v.z); }
+
+template <class G, class F>
+double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* term,
+                       const std::vector<double>& zb, double rel_tol) {
+  const bool lambert = rec.kind == Receiver::Kind::Lambert;
+  const bool z_only = term == nullptr || term->z_only;
+  const Vec3d mirror = mirror_direction(rec);
+  return integrate_polar(
+      geom, [&](double z, double s) { return (term && z_only) ? term->M(Vec3d(s, 0, z)) : 1.0; },
+      [&](const Vec3d& l) {
+        const double w = rec.weight(l);
+        return (term && !z_only) ? w * term->M(l) : w;
+      },
+      lambert && z_only, zb, lambert ? nullptr : &mirror, 0.0, rel_tol);
 }
 
 template <class G, class F>
@@ -661,6 +686,59 @@ double area_micro_shadowing_exact(const Shape& shape, const Receiver& rec, const
 inline double light_weight(const Shape& shape, const Receiver& rec, const AreaOptions& opt = {}) {
   return area_integrals(shape, rec, PointTerm<double (*)(const Vec3d&)>{&area_quadrature::one, {}, true}, opt)
       .total;
+}
+
+// ---- any integrand over a light ---------------------------------------------------------------------------
+
+// Where a general integrand g(l) over a light is not smooth, for integrate_light.
+struct IntegrandBreaks {
+  std::vector<double> z;  // values of z = n·l where g jumps or kinks (e.g. the horizon of a clamped cosine)
+  bool has_peak = false;  // g peaks sharply at `peak` (e.g. a GGX lobe's mirror direction): its z and
+  Vec3d peak{0, 0, 1};    //   azimuth about n become panel edges
+  bool below_horizon = false;  // integrate all of the light (z ∈ [−1, 1]); default: only its part with z > 0
+};
+
+// ∫_Ω g(l) dl over the light's solid angle (or its part above the horizon) by the quadrature of §2 above,
+// the one place that integrates over a light: the area terms and the LTC verification (bsdf/runtime/
+// ltc_baker.h) use it. g: a callable double(const Vec3d&) of a unit direction in the frame n = +z.
+// rel_tol: panel-relative Gauss–Kronrod tolerance.
+template <class G>
+double integrate_light(const Shape& shape, const G& g, const IntegrandBreaks& b = {},
+                       const AreaOptions& opt = {}) {
+  return area_quadrature::with_geom<double>(shape, [&](const auto& geom) {
+    if (geom.zero()) return 0.0;
+    std::vector<double> zb = b.z;
+    geom.breaks(zb);
+    const double z_lo = b.below_horizon ? -1.0 : 0.0;
+    if (b.below_horizon) zb.push_back(0.0);
+    return area_quadrature::integrate_polar(
+        geom, [](double, double) { return 1.0; }, g, false, zb, b.has_peak ? &b.peak : nullptr, z_lo,
+        opt.rel_tol);
+  });
+}
+
+// ---- closed forms the quadrature is checked against
+// ----------------------------------------------------------
+
+// Form factor (Lambertian receiver, n = +z) of a sphere of angular radius σ whose centre is at elevation
+// cos ω = n·c, clipped by the horizon (Snyder 1996, "Area light sources for real-time graphics"; the form of
+// Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", eq. 19, divided by π).
+inline double sphere_form_factor(double cos_omega, double sin_sigma) {
+  const double s2 = sin_sigma * sin_sigma;
+  if (cos_omega * cos_omega > s2) return cos_omega > 0 ? s2 * cos_omega : 0.0;
+  const double sin_omega = std::sqrt(std::max(0.0, 1.0 - cos_omega * cos_omega));
+  const double x = std::sqrt(1.0 / s2 - 1.0);
+  const double y = -x * cos_omega / sin_omega;
+  const double sy = sin_omega * std::sqrt(std::max(0.0, 1.0 - y * y));
+  return std::max(0.0, ((cos_omega * std::acos(std::clamp(y, -1.0, 1.0)) - x * sy) * s2 + std::atan(sy / x)) /
+                           kPi<double>);
+}
+
+// Form factor from a differential area to a parallel rectangle a × b at height h with one corner above it
+// (Howell, "A Catalog of Radiation Heat Transfer Configuration Factors", C-11).
+inline double rect_corner_form_factor(double a, double b, double h) {
+  const double x = a / h, y = b / h, sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+  return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * kPi<double>);
 }
 
 }  // namespace msh::area
