@@ -469,3 +469,83 @@ TEST(AreaAware, RegistryAreaFormIsTheDirectTerm) {
     q.phi = 0.6;
   }
 }
+
+// ---- disk and rect lights: the equivalent cap
+// ---------------------------------------------------------------
+
+TEST(AreaShapes, VectorFormFactorsAgainstQuadrature) {
+  // F = ∫_Ω l dl by the exact light quadrature (all of the light, below the horizon too) at random disks and
+  // rects (PCG32: centre, size 2°–50°, tilt ±70°, roll), against the closed forms.
+  Pcg32 rng(77);
+  for (int i = 0; i < 12; ++i) {
+    const Vec3d c = dir_nl(2 * rng.next_double() - 1, 2 * kPi<double> * rng.next_double());
+    const double rho = (2 + 48 * rng.next_double()) * kDeg, tilt = (140 * rng.next_double() - 70) * kDeg,
+                 roll = 2 * kPi<double> * rng.next_double();
+    const Disk d = disk_tilted(c, rho, tilt, roll);
+    const Quad q = rect_tilted(c, rho, rho * (0.2 + 0.8 * rng.next_double()), tilt, roll);
+    const Vec3d Fd = micro_shadowing::disk_vector_form_factor(d.center * 2.5, d.normal, 2.5 * d.radius);
+    const Vec3d Fq = micro_shadowing::polygon_vector_form_factor(q.corners.data(), 4);
+    IntegrandBreaks all;
+    all.below_horizon = true;
+    // Positive integrands (the error criterion is panel-relative): ∫ (1 + l_k) dl − ∫ 1 dl.
+    auto one_plus = [](int k) {
+      return [k](const Vec3d& l) { return 1 + (k == 0 ? l.x : k == 1 ? l.y : l.z); };
+    };
+    auto unit = [](const Vec3d&) { return 1.0; };
+    const double od = integrate_light(d, unit, all, {1e-9}), oq = integrate_light(q, unit, all, {1e-9});
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR((&Fd.x)[k], integrate_light(d, one_plus(k), all, {1e-9}) - od, 1e-8) << i << " " << k;
+      EXPECT_NEAR((&Fq.x)[k], integrate_light(q, one_plus(k), all, {1e-9}) - oq, 1e-8) << i << " " << k;
+    }
+  }
+}
+
+TEST(AreaShapes, EquivalentCapLimits) {
+  // A disk facing the point is exactly its cap; zero size gives the point value at the centre.
+  const Vec3d c = dir_nl(0.6, 0.4);
+  const micro_shadowing::EquivalentCap<double> e =
+      micro_shadowing::equivalent_cap(micro_shadowing::disk_vector_form_factor(c, -1.0 * c, std::tan(0.3)));
+  EXPECT_NEAR(e.rho, 0.3, 1e-12);
+  EXPECT_NEAR(e.n_dot_l, 0.6, 1e-12);
+  const Vec3d zero = micro_shadowing::disk_vector_form_factor(c, c, 0.0);
+  EXPECT_EQ(length(zero), 0.0);
+  EXPECT_EQ(micro_shadowing::reference_step_area_equivalent_cap(0.5, zero, c),
+            micro_shadowing::reference_step(0.5, 0.6));
+  const std::array<Vec3d, 4> same = {c, c, c, c};
+  EXPECT_EQ(length(micro_shadowing::polygon_vector_form_factor(same.data(), 4)), 0.0);
+  // Seen edge-on (the disk's plane through the point): finite.
+  const Vec3d Fe = micro_shadowing::disk_vector_form_factor(c, normalize(cross(c, Vec3d(0, 1, 0))), 1.0);
+  EXPECT_TRUE(std::isfinite(Fe.x) && std::isfinite(Fe.y) && std::isfinite(Fe.z));
+  const Vec3f Ff = micro_shadowing::disk_vector_form_factor(Vec3f(0.f, 0.f, 1.f), Vec3f(0.f, 0.f, -1.f), 0.f);
+  EXPECT_EQ(micro_shadowing::equivalent_cap(Ff).rho, 0.f);
+}
+
+TEST(AreaShapes, EquivalentCapStepAgainstExactOffGrid) {
+  // The step through the equivalent cap against the exact quadrature over the true shape, at PCG32 inputs
+  // independent of verify area-lights' Sobol set. Bounds: verify area-lights --shape-points 512 measured
+  // disk RMS 4.7/255 (max 42.4), rect RMS 11.2/255 (max 76.3); the bounds allow 40 % on the RMS and 25 % on
+  // the max for the smaller sample here.
+  Pcg32 rng(91);
+  double sd = 0, sr = 0, md = 0, mr = 0;
+  const int n = 48;
+  for (int i = 0; i < n; ++i) {
+    const double V = rng.next_double(), nl = rng.next_double(), rho = (1 + 39 * rng.next_double()) * kDeg;
+    const double tilt = (120 * rng.next_double() - 60) * kDeg, roll = 2 * kPi<double> * rng.next_double(),
+                 aspect = 0.25 + 0.75 * rng.next_double();
+    const Vec3d c = dir_nl(nl, 0.0);
+    const Disk d = disk_tilted(c, rho, tilt, roll);
+    const Quad q = rect_tilted(c, rho, rho * aspect, tilt, roll);
+    const auto t = reference_step_term(V);
+    const double ed = micro_shadowing::reference_step_area_equivalent_cap(
+                          V, micro_shadowing::disk_vector_form_factor(d.center, d.normal, d.radius)) -
+                      area_micro_shadowing_exact(d, Receiver::lambert(), t, {1e-7});
+    const double er = micro_shadowing::reference_step_area_equivalent_cap(
+                          V, micro_shadowing::polygon_vector_form_factor(q.corners.data(), 4)) -
+                      area_micro_shadowing_exact(q, Receiver::lambert(), t, {1e-7});
+    sd += ed * ed, sr += er * er, md = std::max(md, std::abs(ed)), mr = std::max(mr, std::abs(er));
+  }
+  EXPECT_LE(255 * std::sqrt(sd / n), 1.4 * 4.7);
+  EXPECT_LE(255 * std::sqrt(sr / n), 1.4 * 11.2);
+  EXPECT_LE(255 * md, 1.25 * 42.4);
+  EXPECT_LE(255 * mr, 1.25 * 76.3);
+}
