@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <microshadow/bsdf/cloth.h>
 
+#include <cmath>
+#include <limits>
+
 #include "support/chi2.h"
 
 using namespace msh;
@@ -100,26 +103,65 @@ TEST(ClothNdf, SamplersChiSquare) {
   }
 }
 
-// The Estevez & Kulla 2017 fit against the numerical Smith Λ of 9.75. Measured worst case (printed): 0.045 in
-// G1 = 1/(1 + Λ) at α = 0.25, μ = 0.65 (Λ +20%); ≤ 0.011 at α = 0.1, 0.65, 1. The error is in the published
-// two-endpoint interpolation t = (1 − α)²: refitting the parameter alone brings it under 0.01 at every α.
-TEST(ClothSheen, LambdaFitMatchesNumericalSmith) {
-  double worst = 0;
-  for (double a : {0.1, 0.25, 0.4, 0.65, 1.0}) {
+// Grazing constant of the Smith Λ of 9.75: (1 + Λ(μ)) μ = ∫ D(m)(v·m)⁺ dm → K(α) = ∫ D(m) (sin θ cos φ)⁺ dm
+// = 2 ∫ D(θ) sin²θ dθ as μ → 0; with D = (2 + p)/(2π) sin^p θ, p = 1/α, the Wallis integral gives
+// K = (2 + p)/π · (√π/2) Γ(p/2 + 3/2)/Γ(p/2 + 2). The next term is μ/2 (the φ half-plane of the
+// normalization).
+static double sheen_grazing_constant(double alpha) {
+  const double p = 1 / alpha;
+  return (2 + p) / kPi<double> * std::sqrt(kPi<double>) / 2 * std::tgamma(p / 2 + 1.5) /
+         std::tgamma(p / 2 + 2);
+}
+
+// The numerical reference itself against the closed-form grazing asymptote and the exact normal-incidence
+// value Λ(1) = 0 (the normalization ∫ D (n·m) dm = 1).
+TEST(ClothSheen, NumericalSmithReferenceMatchesLimits) {
+  for (double a : {0.1, 0.25, 0.5, 1.0}) {
     const SheenNdf<double> d(a);
-    for (double mu : {0.05, 0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95, 1.0}) {
-      const double ln = numerical_lambda([&](double c) { return d.D(c); }, mu);
-      const double g_num = 1 / (1 + ln), g_fit = d.G1(mu);
-      worst = std::max(worst, std::abs(g_num - g_fit));
-      EXPECT_NEAR(g_fit, g_num, 0.05)
-          << "alpha " << a << " mu " << mu << " Lambda num " << ln << " fit " << d.Lambda(mu);
+    const double mu = 1e-3, ln = numerical_lambda([&](double c) { return d.D(c); }, mu);
+    EXPECT_NEAR((1 + ln) * mu, sheen_grazing_constant(a) + mu / 2, 1e-5) << "alpha " << a;
+    EXPECT_NEAR(numerical_lambda([&](double c) { return d.D(c); }, 1.0), 0.0, 1e-6) << "alpha " << a;
+  }
+}
+
+// The Estevez & Kulla 2017 fit against facts of the Smith Λ it approximates (no bound taken from the fit's
+// own output): Λ falls strictly with μ (masking grows toward grazing) and with α at fixed μ < 1 (the ordering
+// of the numerical Smith Λ of 9.75, checked here too); G1 = 1 at normal incidence (Λ(1) = 0) and G1 → 0 at
+// grazing (the true G1 is ≈ μ/K(α) there). The size of the fit's error against the numerical integral is
+// printed, not bounded: docs/brdf-extra.md reports it (0.045 in G1 at α = 0.25, μ = 0.65, from the published
+// two-endpoint interpolation t = (1 − α)²).
+TEST(ClothSheen, LambdaFitKeepsSmithProperties) {
+  for (int i = 1; i <= 100; ++i) {
+    const SheenNdf<double> d(i / 100.0);
+    double prev = std::numeric_limits<double>::infinity();
+    for (int j = 1; j <= 2000; ++j) {
+      const double l = d.Lambda(j / 2000.0);
+      ASSERT_LT(l, prev) << "Λ not decreasing in μ at alpha " << d.alpha << " mu " << j / 2000.0;
+      prev = l;
+    }
+    EXPECT_NEAR(d.G1(1.0), 1.0, 1e-6) << "alpha " << d.alpha;
+    EXPECT_LT(d.G1(1e-8), 1e-6) << "alpha " << d.alpha;
+  }
+  const double alphas[] = {0.1, 0.25, 0.4, 0.65, 1.0};
+  const double mus[] = {0.05, 0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95, 0.999};
+  double worst = 0, worst_a = 0, worst_mu = 0;
+  for (double mu : mus) {
+    double prev_num = std::numeric_limits<double>::infinity(), prev_fit = prev_num;
+    for (double a : alphas) {
+      const SheenNdf<double> d(a);
+      const double ln = numerical_lambda([&](double c) { return d.D(c); }, mu), lf = d.Lambda(mu);
+      EXPECT_LT(ln, prev_num) << "numerical Λ not decreasing in alpha at mu " << mu << " alpha " << a;
+      EXPECT_LT(lf, prev_fit) << "fitted Λ not decreasing in alpha at mu " << mu << " alpha " << a;
+      prev_num = ln, prev_fit = lf;
+      const double e = std::abs(1 / (1 + ln) - d.G1(mu));
+      if (e > worst) worst = e, worst_a = a, worst_mu = mu;
     }
   }
-  std::printf("[sheen Λ fit] worst |G1_fit − G1_numerical| = %.4f\n", worst);
-  // Limits: Λ(μ = 1) is small (normal incidence barely masked), Λ → large as μ → 0.
-  EXPECT_LT(SheenNdf<double>(0.5).Lambda(1.0), 0.05);
-  EXPECT_GT(SheenNdf<double>(0.5).Lambda(1e-3), 100.0);
-  EXPECT_TRUE(std::isfinite(SheenNdf<double>(0.5).Lambda(0.0)));
+  for (int i = 1; i < 100; ++i)  // the fit's α ordering on a fine grid
+    for (double mu : mus)
+      EXPECT_LT(SheenNdf<double>(i / 100.0 + 0.005).Lambda(mu), SheenNdf<double>(i / 100.0).Lambda(mu));
+  std::printf("[sheen Λ fit] worst |G1_fit − G1_numerical| = %.4f at alpha %.2f, mu %.2f\n", worst, worst_a,
+              worst_mu);
 }
 
 TEST(ClothEmpirical, Uncharted2AlbedoClosedForm) {

@@ -9,18 +9,13 @@
 #include <microshadow/occlusion/shadow_terminator_offset.h>
 
 #include <array>
-#include <cstring>
-#include <fstream>
-#include <sstream>
 
-#include "support/vk_compute.h"
+#include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
 
 namespace {
-
-using vk::read_source;
 
 // Compute kernels around the library: one record = (ng, ns, l) as vec4s → (conty, chiang, conty+test,
 // chiang+test); a second entry evaluates the Hanika offset: (p, p0, p1, p2, n0, n1, n2, b) → p'.
@@ -73,11 +68,8 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 )";
 
-std::string glsl_source(const char* version) {
-  return std::string("#version ") + version + "\n" + read_source("shaders/glsl/bump_terminator.glsl") +
-         kGlslMain;
-}
-std::string hlsl_source() { return read_source("shaders/hlsl/bump_terminator.hlsl") + kHlslMain; }
+const vk::Kernel kKernel{
+    {"shaders/glsl/bump_terminator.glsl"}, kGlslMain, {"shaders/hlsl/bump_terminator.hlsl"}, kHlslMain};
 
 struct Record {
   Vec3f ng, ns, l;
@@ -86,11 +78,7 @@ struct TriRecord {
   Vec3f p, p0, p1, p2, n0, n1, n2, b;
 };
 
-void put(std::vector<std::byte>& buf, const Vec3f& v) {
-  const float f[4] = {v.x, v.y, v.z, 0.0f};
-  const auto* b = reinterpret_cast<const std::byte*>(f);
-  buf.insert(buf.end(), b, b + sizeof f);
-}
+void put(std::vector<float>& buf, const Vec3f& v) { buf.insert(buf.end(), {v.x, v.y, v.z, 0.0f}); }
 
 // Inputs: random configurations plus the exact cases (no perturbation, light along N_g, zero vectors).
 std::vector<Record> make_records() {
@@ -128,26 +116,6 @@ std::vector<TriRecord> make_tris() {
     t.push_back({p, p0, p1, p2, u(), u() * 2.0f, u(), bary});
   }
   return t;
-}
-
-// Runs one shader on the device; returns false (with the reason) if the run itself failed.
-bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, const std::vector<Record>& recs,
-                const std::vector<TriRecord>& tris, std::vector<std::array<float, 4>>* res,
-                std::vector<std::array<float, 4>>* moved, std::string* why) {
-  std::vector<uint32_t> spv;
-  if (!vk::compile_shader(source, lang, &spv, why)) return false;
-  std::vector<std::byte> in, out(recs.size() * 16), in_t, out_t(tris.size() * 16);
-  for (const Record& r : recs) put(in, r.ng), put(in, r.ns), put(in, r.l);
-  for (const TriRecord& t : tris)
-    for (const Vec3f& v : {t.p, t.p0, t.p1, t.p2, t.n0, t.n1, t.n2, t.b}) put(in_t, v);
-  const uint32_t push[2] = {uint32_t(recs.size()), uint32_t(tris.size())};
-  const uint32_t groups = uint32_t((std::max(recs.size(), tris.size()) + 63) / 64);
-  if (!ctx.run(spv, {&in, &out, &in_t, &out_t}, push, sizeof push, groups, why)) return false;
-  res->resize(recs.size());
-  moved->resize(tris.size());
-  std::memcpy(res->data(), out.data(), out.size());
-  std::memcpy(moved->data(), out_t.data(), out_t.size());
-  return true;
 }
 
 // Conty reference (listing 12.1) and Chiang closed form in double, on unit vectors.
@@ -227,44 +195,24 @@ void check_results(const char* label, const std::vector<Record>& recs, const std
 
 }  // namespace
 
-TEST(ShadersBump, GlslCompiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  for (const char* version : {"450", "320 es"}) {
-    std::vector<uint32_t> spv;
-    std::string log;
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
-                                                                                       << log;
-    EXPECT_GT(spv.size(), 100u);
-  }
-}
-
-TEST(ShadersBump, HlslCompiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  std::vector<uint32_t> spv;
-  std::string log;
-  EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
-}
-
-// A broken shader must fail to compile: the compile check is not vacuous.
-TEST(ShadersBump, CompileCheckRejectsBrokenSource) {
-  ASSERT_FALSE(vk::glslang_validator().empty());
-  std::vector<uint32_t> spv;
-  std::string log;
-  std::string broken = glsl_source("450");
-  broken.replace(broken.find("return s2 / c8;"), 15, "return s2 / c8");
-  EXPECT_FALSE(vk::compile_shader(broken, vk::Lang::kGlsl, &spv, &log));
+TEST(ShadersBump, Compiles) {
+  vk::expect_compiles(kKernel);
+  vk::expect_broken_source_rejected(kKernel, "return s2 / c8;", "return s2 / c8", false);
 }
 
 TEST(ShadersBump, RunsOnVulkanAndMatches) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  if (!ctx) GTEST_SKIP() << "no Vulkan compute device: " << why;
-  std::printf("[ vulkan ] device: %s\n", ctx->device_name().c_str());
   const auto recs = make_records();
   const auto tris = make_tris();
-  std::vector<std::array<float, 4>> res, moved;
-  ASSERT_TRUE(run_kernel(*ctx, glsl_source("450"), vk::Lang::kGlsl, recs, tris, &res, &moved, &why)) << why;
-  check_results("glsl", recs, tris, res, moved);
-  ASSERT_TRUE(run_kernel(*ctx, hlsl_source(), vk::Lang::kHlsl, recs, tris, &res, &moved, &why)) << why;
-  check_results("hlsl", recs, tris, res, moved);
+  std::vector<float> in, in_t;
+  for (const Record& r : recs) put(in, r.ng), put(in, r.ns), put(in, r.l);
+  for (const TriRecord& t : tris)
+    for (const Vec3f& v : {t.p, t.p0, t.p1, t.p2, t.n0, t.n1, t.n2, t.b}) put(in_t, v);
+  vk::Dispatch d;
+  d.buffers = {in, std::vector<float>(recs.size() * 4), in_t, std::vector<float>(tris.size() * 4)};
+  d.push = vk::push_constants(std::array<uint32_t, 2>{uint32_t(recs.size()), uint32_t(tris.size())});
+  d.invocations = std::max(recs.size(), tris.size());
+  vk::run_glsl_and_hlsl(kKernel, d, [&](const char* label, const vk::Buffers& out) {
+    check_results(label, recs, tris, vk::from_floats<std::array<float, 4>>(out[1]),
+                  vk::from_floats<std::array<float, 4>>(out[3]));
+  });
 }

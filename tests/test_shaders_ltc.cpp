@@ -10,9 +10,8 @@
 #include <microshadow/math/sampling.h>
 
 #include <array>
-#include <cstring>
 
-#include "support/vk_compute.h"
+#include "support/shader_kernel.h"
 
 using namespace msh;
 using namespace msh::bsdf;
@@ -73,13 +72,7 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 )";
 
-std::string glsl_source(const char* version) {
-  std::string head = std::string("#version ") + version + "\n";
-  if (std::string(version).find("es") != std::string::npos)
-    head += "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n";
-  return head + vk::read_source("shaders/glsl/ltc.glsl") + kGlslMain;
-}
-std::string hlsl_source() { return vk::read_source("shaders/hlsl/ltc.hlsl") + kHlslMain; }
+const vk::Kernel kKernel{{"shaders/glsl/ltc.glsl"}, kGlslMain, {"shaders/hlsl/ltc.hlsl"}, kHlslMain};
 
 struct Record {
   float a[4];  // roughness, N.V, and a, b of the matrix of the D check (c = w[3], d = 1)
@@ -126,29 +119,6 @@ std::vector<Record> make_records() {
     rs.push_back(r);
   }
   return rs;
-}
-
-bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, const std::vector<Record>& recs,
-                std::vector<std::array<float, 4>>* out, std::string* why) {
-  std::vector<uint32_t> spv;
-  if (!vk::compile_shader(source, lang, &spv, why)) return false;
-  std::vector<std::byte> in(recs.size() * sizeof(Record)), res(recs.size() * kOut * 16);
-  std::memcpy(in.data(), recs.data(), in.size());
-  const LtcTable& t = table();
-  std::vector<float> amp4(size_t(t.size) * t.size * 4, 0.f);
-  for (size_t k = 0; k < size_t(t.size) * t.size; ++k)
-    amp4[k * 4] = t.amp[k * 2], amp4[k * 4 + 1] = t.amp[k * 2 + 1];
-  const std::vector<vk::Context::Image> images = {{uint32_t(t.size), uint32_t(t.size), 0, t.mat.data()},
-                                                  {uint32_t(t.size), uint32_t(t.size), 0, amp4.data()}};
-  struct {
-    uint32_t n;
-    float size;
-  } push{uint32_t(recs.size()), float(t.size)};
-  if (!ctx.run(spv, {&in, &res}, images, &push, sizeof push, uint32_t((recs.size() + 63) / 64), why))
-    return false;
-  out->resize(recs.size() * kOut);
-  std::memcpy(out->data(), res.data(), res.size());
-  return true;
 }
 
 void check(const char* lang, const std::vector<Record>& recs, const std::vector<std::array<float, 4>>& o) {
@@ -200,7 +170,8 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
       e_dir = std::max(e_dir, 1 - dot(rr.direction, normalize(Vec3d(q[3][1], q[3][2], q[3][3]))));
   }
   std::printf(
-      "[ %s ] fetch %.3g (of bound), eval rel %.3g, sphere %.3g, rect %.3g, dir 1-cos %.3g, spec %.3g, %d clipped\n",
+      "[ %s ] fetch %.3g (of bound), eval rel %.3g, sphere %.3g, rect %.3g, dir 1-cos %.3g, spec %.3g, %d "
+      "clipped\n",
       lang, e_fetch, e_eval, e_sph, e_rect, e_dir, e_spec, n_clipped);
   EXPECT_GE(n_clipped, 20) << lang;
   EXPECT_LE(e_fetch, 1.0) << lang;
@@ -213,24 +184,25 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
 
 }  // namespace
 
-TEST(ShadersLtc, Compiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  std::vector<uint32_t> spv;
-  std::string log;
-  for (const char* version : {"450", "320 es"})
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
-                                                                                       << log;
-  EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
-}
+TEST(ShadersLtc, Compiles) { vk::expect_compiles(kKernel); }
 
 TEST(ShadersLtc, RunsOnVulkanAndMatches) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  if (!ctx) GTEST_SKIP() << "no Vulkan compute device: " << why;
   const auto recs = make_records();
-  std::vector<std::array<float, 4>> out;
-  ASSERT_TRUE(run_kernel(*ctx, glsl_source("450"), vk::Lang::kGlsl, recs, &out, &why)) << why;
-  check("glsl", recs, out);
-  ASSERT_TRUE(run_kernel(*ctx, hlsl_source(), vk::Lang::kHlsl, recs, &out, &why)) << why;
-  check("hlsl", recs, out);
+  const LtcTable& t = table();
+  std::vector<float> amp4(size_t(t.size) * t.size * 4, 0.f);
+  for (size_t k = 0; k < size_t(t.size) * t.size; ++k)
+    amp4[k * 4] = t.amp[k * 2], amp4[k * 4 + 1] = t.amp[k * 2 + 1];
+  struct {
+    uint32_t n;
+    float size;
+  } push{uint32_t(recs.size()), float(t.size)};
+  vk::Dispatch d;
+  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size() * kOut * 4)};
+  d.images = {{uint32_t(t.size), uint32_t(t.size), 0, t.mat.data()},
+              {uint32_t(t.size), uint32_t(t.size), 0, amp4.data()}};
+  d.push = vk::push_constants(push);
+  d.invocations = recs.size();
+  vk::run_glsl_and_hlsl(kKernel, d, [&](const char* label, const vk::Buffers& out) {
+    check(label, recs, vk::from_floats<std::array<float, 4>>(out[1]));
+  });
 }

@@ -5,8 +5,8 @@
 // from the closed forms, within the precision each shader file states. The LUT functions read a table baked
 // in the test by the library, uploaded as RGBA32F 2D/3D textures with hardware linear filtering.
 #include <gtest/gtest.h>
-#include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
@@ -16,18 +16,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
-#include <fstream>
-#include <sstream>
 
-#include "support/vk_compute.h"
+#include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
 
 namespace {
-
-using vk::read_source;
 
 constexpr int kOut = 8;        // vec4 outputs per record
 constexpr uint32_t kSeed = 7;  // Sobol seed for the point check (0 = plain sequence also checked)
@@ -117,15 +112,8 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 )";
 
-std::string glsl_source(const char* version) {
-  std::string head = std::string("#version ") + version + "\n";
-  if (std::string(version).find("es") != std::string::npos)
-    head +=
-        "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\nprecision highp "
-        "sampler3D;\n";
-  return head + read_source("shaders/glsl/micro_shadowing.glsl") + kGlslMain;
-}
-std::string hlsl_source() { return read_source("shaders/hlsl/micro_shadowing.hlsl") + kHlslMain; }
+const vk::Kernel kKernel{
+    {"shaders/glsl/micro_shadowing.glsl"}, kGlslMain, {"shaders/hlsl/micro_shadowing.hlsl"}, kHlslMain};
 
 struct Record {
   float vis, nl, ax, ay;
@@ -224,33 +212,28 @@ const Luts& luts() {
   return *L;
 }
 
-bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, const std::vector<Record>& recs,
-                int n_est, std::vector<std::array<float, 4>>* out, std::string* why) {
-  std::vector<uint32_t> spv;
-  if (!vk::compile_shader(source, lang, &spv, why)) return false;
-  std::vector<std::byte> in(recs.size() * 64), res(recs.size() * kOut * 16);
-  for (size_t i = 0; i < recs.size(); ++i) {
-    const Record& x = recs[i];
-    const float f[16] = {x.vis, x.nl,  x.ax,  x.ay,           x.v.x, x.v.y, x.v.z,       x.cos_phi,
-                         x.l.x, x.l.y, x.l.z, float(x.index), x.u1,  x.u2,  x.roughness, x.nv};
-    std::memcpy(in.data() + i * 64, f, 64);
-  }
+// The kernel's buffers (records as 16 floats, outputs), the three tables as textures, the push constants.
+vk::Dispatch make_dispatch(const std::vector<Record>& recs, int n_est) {
+  std::vector<float> in;
+  for (const Record& x : recs)
+    in.insert(in.end(), {x.vis, x.nl, x.ax, x.ay, x.v.x, x.v.y, x.v.z, x.cos_phi, x.l.x, x.l.y, x.l.z,
+                         float(x.index), x.u1, x.u2, x.roughness, x.nv});
   const Luts& L = luts();
-  const std::vector<vk::Context::Image> images = {
-      {uint32_t(L.plain.width), uint32_t(L.plain.height), uint32_t(L.plain.depth), L.plain.data.data()},
-      {uint32_t(L.azimuth.width), uint32_t(L.azimuth.height), uint32_t(L.azimuth.depth),
-       L.azimuth.data.data()},
-      {uint32_t(L.two_d.width), uint32_t(L.two_d.height), 0, L.two_d.data.data()}};
   struct {
     uint32_t n;
     int32_t n_est;
     uint32_t seed, n_points;
   } push{uint32_t(recs.size()), n_est, kSeed, 1u << 20};
-  if (!ctx.run(spv, {&in, &res}, images, &push, sizeof push, uint32_t((recs.size() + 63) / 64), why))
-    return false;
-  out->resize(recs.size() * kOut);
-  std::memcpy(out->data(), res.data(), res.size());
-  return true;
+  vk::Dispatch d;
+  d.buffers = {in, std::vector<float>(recs.size() * kOut * 4)};
+  d.images = {
+      {uint32_t(L.plain.width), uint32_t(L.plain.height), uint32_t(L.plain.depth), L.plain.data.data()},
+      {uint32_t(L.azimuth.width), uint32_t(L.azimuth.height), uint32_t(L.azimuth.depth),
+       L.azimuth.data.data()},
+      {uint32_t(L.two_d.width), uint32_t(L.two_d.height), 0, L.two_d.data.data()}};
+  d.push = vk::push_constants(push);
+  d.invocations = recs.size();
+  return d;
 }
 
 // ---- Double references, written from the closed forms (docs/micro-shadowing.md, RTR4), not from the C++
@@ -457,50 +440,19 @@ void check(const char* label, const std::vector<Record>& recs, int n_est,
 
 }  // namespace
 
-TEST(ShadersMicroShadowing, GlslCompiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  for (const char* version : {"450", "320 es"}) {
-    std::vector<uint32_t> spv;
-    std::string log;
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
-                                                                                       << log;
-    EXPECT_GT(spv.size(), 100u);
-  }
-}
-
-TEST(ShadersMicroShadowing, HlslCompiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  std::vector<uint32_t> spv;
-  std::string log;
-  EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
-  EXPECT_GT(spv.size(), 100u);
-}
+TEST(ShadersMicroShadowing, Compiles) { vk::expect_compiles(kKernel); }
 
 // A broken include must fail to compile in both languages: the compile checks are not vacuous.
 TEST(ShadersMicroShadowing, CompileCheckRejectsBrokenSource) {
-  ASSERT_FALSE(vk::glslang_validator().empty());
-  std::vector<uint32_t> spv;
-  std::string log;
-  std::string g = glsl_source("450"), h = hlsl_source();
-  const std::string needle = "return x * x;";
-  g.replace(g.find(needle), needle.size(), "return x * y;");
-  h.replace(h.find(needle), needle.size(), "return x * y;");
-  EXPECT_FALSE(vk::compile_shader(g, vk::Lang::kGlsl, &spv, &log));
-  EXPECT_FALSE(vk::compile_shader(h, vk::Lang::kHlsl, &spv, &log));
+  vk::expect_broken_source_rejected(kKernel, "return x * x;", "return x * y;");
 }
 
 TEST(ShadersMicroShadowing, RunsOnVulkanAndMatches) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  if (!ctx) GTEST_SKIP() << "no Vulkan compute device: " << why;
-  std::printf("[ vulkan ] device: %s\n", ctx->device_name().c_str());
   const auto recs = make_records();
   const int n_est = 128;
-  std::vector<std::array<float, 4>> out;
-  ASSERT_TRUE(run_kernel(*ctx, glsl_source("450"), vk::Lang::kGlsl, recs, n_est, &out, &why)) << why;
-  check("glsl", recs, n_est, out);
-  ASSERT_TRUE(run_kernel(*ctx, hlsl_source(), vk::Lang::kHlsl, recs, n_est, &out, &why)) << why;
-  check("hlsl", recs, n_est, out);
+  vk::run_glsl_and_hlsl(kKernel, make_dispatch(recs, n_est), [&](const char* label, const vk::Buffers& out) {
+    check(label, recs, n_est, vk::from_floats<std::array<float, 4>>(out[1]));
+  });
 }
 
 // ---- Cone-layout LUT samplers (msh_ms_lut_sample_cone*, the default table) --------------------------------
@@ -544,6 +496,9 @@ void main(uint3 id : SV_DispatchThreadID) {
                 msh_ms_lut_fetch_cone(lut_az, smp_az, pc.n_rough, a.x, a.y, a.z, a.w).w);
 }
 )";
+
+const vk::Kernel kConeKernel{
+    {"shaders/glsl/micro_shadowing.glsl"}, kGlslCone, {"shaders/hlsl/micro_shadowing.hlsl"}, kHlslCone};
 
 struct ConeLuts {
   io::Volume plain, azimuth, plain_rgba;
@@ -596,43 +551,30 @@ std::vector<ConeRecord> make_cone_records() {
 
 }  // namespace
 
+TEST(ShadersMicroShadowing, ConeLutCompiles) { vk::expect_compiles(kConeKernel); }
+
 TEST(ShadersMicroShadowing, ConeLutMatchesCppOnVulkan) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  const std::string glsl =
-      std::string("#version 450\n") + read_source("shaders/glsl/micro_shadowing.glsl") + kGlslCone;
-  const std::string hlsl = read_source("shaders/hlsl/micro_shadowing.hlsl") + kHlslCone;
-  std::vector<uint32_t> spv_g, spv_h;
-  std::string log;
-  ASSERT_TRUE(vk::compile_shader(glsl, vk::Lang::kGlsl, &spv_g, &log)) << log;
-  ASSERT_TRUE(vk::compile_shader(hlsl, vk::Lang::kHlsl, &spv_h, &log)) << log;
-  if (!ctx) GTEST_SKIP() << "no Vulkan compute device: " << why;
   const ConeLuts& L = cone_luts();
   const auto recs = make_cone_records();
   ASSERT_GE(recs.size(), 10000u);
-  std::vector<std::byte> in(recs.size() * 32), res(recs.size() * 16);
-  for (size_t i = 0; i < recs.size(); ++i) {
-    const ConeRecord& x = recs[i];
-    const float f[8] = {x.vis, x.nl, x.nv, x.roughness, x.cos_phi, 0, 0, 0};
-    std::memcpy(in.data() + i * 32, f, 32);
-  }
-  const std::vector<vk::Context::Image> images = {
-      {uint32_t(L.plain_rgba.width), uint32_t(L.plain_rgba.height), uint32_t(L.plain_rgba.depth),
-       L.plain_rgba.data.data()},
-      {uint32_t(L.azimuth.width), uint32_t(L.azimuth.height), uint32_t(L.azimuth.depth),
-       L.azimuth.data.data()}};
+  std::vector<float> in;
+  for (const ConeRecord& x : recs) in.insert(in.end(), {x.vis, x.nl, x.nv, x.roughness, x.cos_phi, 0, 0, 0});
   struct {
     uint32_t n;
     int32_t n_rough;
   } push{uint32_t(recs.size()), L.n_rough};
+  vk::Dispatch d;
+  d.buffers = {in, std::vector<float>(recs.size() * 4)};
+  d.images = {{uint32_t(L.plain_rgba.width), uint32_t(L.plain_rgba.height), uint32_t(L.plain_rgba.depth),
+               L.plain_rgba.data.data()},
+              {uint32_t(L.azimuth.width), uint32_t(L.azimuth.height), uint32_t(L.azimuth.depth),
+               L.azimuth.data.data()}};
+  d.push = vk::push_constants(push);
+  d.invocations = recs.size();
   lut::MicroShadowingLutView az1 = L.azimuth_v;
   az1.harmonics = 1;
-  for (const auto& [label, spv] : {std::pair{"glsl", &spv_g}, std::pair{"hlsl", &spv_h}}) {
-    ASSERT_TRUE(
-        ctx->run(*spv, {&in, &res}, images, &push, sizeof push, uint32_t((recs.size() + 63) / 64), &why))
-        << why;
-    std::vector<std::array<float, 4>> out(recs.size());
-    std::memcpy(out.data(), res.data(), res.size());
+  vk::run_glsl_and_hlsl(kConeKernel, d, [&](const char* label, const vk::Buffers& buffers) {
+    const auto out = vk::from_floats<std::array<float, 4>>(buffers[1]);
     double e_plain = 0, e_az = 0, e_az1 = 0, e_fetch = 0;
     int zeros = 0;
     for (size_t i = 0; i < recs.size(); ++i) {
@@ -663,5 +605,5 @@ TEST(ShadersMicroShadowing, ConeLutMatchesCppOnVulkan) {
         "[ %s ] cone LUT, %zu inputs: max |shader - C++ float| plain %.2e, azimuth H=3 %.2e, H=1 %.2e, "
         "a_3 %.2e; early-outs %d (bit-identical 0)\n",
         label, recs.size(), e_plain, e_az, e_az1, e_fetch, zeros);
-  }
+  });
 }

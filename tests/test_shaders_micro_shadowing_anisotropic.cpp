@@ -9,10 +9,9 @@
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>
 
 #include <cmath>
-#include <cstring>
 #include <vector>
 
-#include "support/vk_compute.h"
+#include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
@@ -45,15 +44,8 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 )";
 
-std::string glsl_source(const char* version) {
-  std::string head = std::string("#version ") + version + "\n";
-  if (std::string(version).find("es") != std::string::npos)
-    head +=
-        "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\nprecision highp "
-        "sampler3D;\n";
-  return head + vk::read_source("shaders/glsl/micro_shadowing.glsl") + kGlslMain;
-}
-std::string hlsl_source() { return vk::read_source("shaders/hlsl/micro_shadowing.hlsl") + kHlslMain; }
+const vk::Kernel kKernel{
+    {"shaders/glsl/micro_shadowing.glsl"}, kGlslMain, {"shaders/hlsl/micro_shadowing.hlsl"}, kHlslMain};
 
 struct Rec {
   Vec3f v;
@@ -103,41 +95,18 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
               label, recs.size(), max_rel_cpp, max_rel_formula);
 }
 
-bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, const std::vector<Rec>& recs,
-                std::vector<float>* out, std::string* why) {
-  std::vector<uint32_t> spv;
-  if (!vk::compile_shader(source, lang, &spv, why)) return false;
-  std::vector<std::byte> in(recs.size() * sizeof(Rec)), res(recs.size() * 4);
-  std::memcpy(in.data(), recs.data(), in.size());
-  const uint32_t n = uint32_t(recs.size());
-  if (!ctx.run(spv, {&in, &res}, &n, sizeof n, (n + 63) / 64, why)) return false;
-  out->resize(recs.size());
-  std::memcpy(out->data(), res.data(), res.size());
-  return true;
-}
-
 }  // namespace
 
 static_assert(sizeof(Rec) == 32);
 
-TEST(ShadersMicroShadowingAnisotropic, Compiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  std::vector<uint32_t> spv;
-  std::string log;
-  for (const char* version : {"450", "320 es"})
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
-                                                                                       << log;
-  EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
-}
+TEST(ShadersMicroShadowingAnisotropic, Compiles) { vk::expect_compiles(kKernel); }
 
 TEST(ShadersMicroShadowingAnisotropic, RunsOnVulkanAndMatchesCpp) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  if (!ctx) GTEST_SKIP() << "no Vulkan compute device: " << why;
   const auto recs = make_records();
-  std::vector<float> out;
-  ASSERT_TRUE(run_kernel(*ctx, glsl_source("450"), vk::Lang::kGlsl, recs, &out, &why)) << why;
-  check("glsl", recs, out);
-  ASSERT_TRUE(run_kernel(*ctx, hlsl_source(), vk::Lang::kHlsl, recs, &out, &why)) << why;
-  check("hlsl", recs, out);
+  vk::Dispatch d;
+  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size())};
+  d.push = vk::push_constants(uint32_t(recs.size()));
+  d.invocations = recs.size();
+  vk::run_glsl_and_hlsl(kKernel, d,
+                        [&](const char* label, const vk::Buffers& out) { check(label, recs, out[1]); });
 }

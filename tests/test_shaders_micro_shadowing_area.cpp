@@ -12,16 +12,13 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 
-#include "support/vk_compute.h"
+#include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
 
 namespace {
-
-using vk::read_source;
 
 constexpr int kOut = 3;  // vec4 outputs per record
 
@@ -66,21 +63,12 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 )";
 
-std::string glsl_source(const char* version) {
-  std::string head = std::string("#version ") + version + "\n";
-  if (std::string(version).find("es") != std::string::npos)
-    head +=
-        "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\nprecision highp "
-        "sampler3D;\n";
-  return head + read_source("shaders/glsl/micro_shadowing.glsl") +
-         read_source("shaders/glsl/micro_shadowing_fit.glsl") +
-         read_source("shaders/glsl/micro_shadowing_area.glsl") + kGlslMain;
-}
-std::string hlsl_source() {
-  return read_source("shaders/hlsl/micro_shadowing.hlsl") +
-         read_source("shaders/hlsl/micro_shadowing_fit.hlsl") +
-         read_source("shaders/hlsl/micro_shadowing_area.hlsl") + kHlslMain;
-}
+const vk::Kernel kKernel{{"shaders/glsl/micro_shadowing.glsl", "shaders/glsl/micro_shadowing_fit.glsl",
+                          "shaders/glsl/micro_shadowing_area.glsl"},
+                         kGlslMain,
+                         {"shaders/hlsl/micro_shadowing.hlsl", "shaders/hlsl/micro_shadowing_fit.hlsl",
+                          "shaders/hlsl/micro_shadowing_area.hlsl"},
+                         kHlslMain};
 
 struct Rec {
   float vis, nl, nv, r, rho, pad[3];
@@ -107,19 +95,6 @@ std::vector<Rec> make_records() {
       for (float rho : {0.0f, 1e-4f, 10 * deg, 90 * deg})
         recs.push_back({vis, nl, 0.7f, 0.5f, rho, {0, 0, 0}});
   return recs;
-}
-
-bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, const std::vector<Rec>& recs,
-                std::vector<float>* out, std::string* why) {
-  std::vector<uint32_t> spv;
-  if (!vk::compile_shader(source, lang, &spv, why)) return false;
-  std::vector<std::byte> in(recs.size() * sizeof(Rec)), res(recs.size() * kOut * 16);
-  std::memcpy(in.data(), recs.data(), in.size());
-  const uint32_t n = uint32_t(recs.size());
-  if (!ctx.run(spv, {&in, &res}, &n, sizeof n, (n + 63) / 64, why)) return false;
-  out->resize(recs.size() * kOut * 4);
-  std::memcpy(out->data(), res.data(), res.size());
-  return true;
 }
 
 // The ten outputs of the kernels, evaluated in C++ in scalar T at the same (float) inputs.
@@ -193,29 +168,16 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
 }  // namespace
 
 TEST(ShadersMicroShadowingArea, Compiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  std::vector<uint32_t> spv;
-  std::string log;
-  for (const char* version : {"450", "320 es"})
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
-                                                                                       << log;
-  EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
-  // A broken source must fail: the compile check is not vacuous.
-  std::string g = glsl_source("450");
-  const std::string needle = "float h = b - a, Sb";
-  ASSERT_NE(g.find(needle), std::string::npos);
-  g.replace(g.find(needle), needle.size(), "float h = b - aa, Sb");
-  EXPECT_FALSE(vk::compile_shader(g, vk::Lang::kGlsl, &spv, &log));
+  vk::expect_compiles(kKernel);
+  vk::expect_broken_source_rejected(kKernel, "float h = b - a, Sb", "float h = b - aa, Sb", false);
 }
 
 TEST(ShadersMicroShadowingArea, RunsOnVulkanAndMatchesCpp) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  if (!ctx) GTEST_SKIP() << "no Vulkan compute device: " << why;
   const auto recs = make_records();
-  std::vector<float> out;
-  ASSERT_TRUE(run_kernel(*ctx, glsl_source("450"), vk::Lang::kGlsl, recs, &out, &why)) << why;
-  check("glsl", recs, out);
-  ASSERT_TRUE(run_kernel(*ctx, hlsl_source(), vk::Lang::kHlsl, recs, &out, &why)) << why;
-  check("hlsl", recs, out);
+  vk::Dispatch d;
+  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size() * kOut * 4)};
+  d.push = vk::push_constants(uint32_t(recs.size()));
+  d.invocations = recs.size();
+  vk::run_glsl_and_hlsl(kKernel, d,
+                        [&](const char* label, const vk::Buffers& out) { check(label, recs, out[1]); });
 }

@@ -8,16 +8,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
-#include "support/vk_compute.h"
+#include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
 
 namespace {
 
-using vk::read_source;
 constexpr int kEst = 32;  // estimator samples
 
 const char* kGlslMain = R"(
@@ -59,19 +57,10 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 )";
 
-std::string glsl_source(const char* version) {
-  std::string head = std::string("#version ") + version + "\n";
-  if (std::string(version).find("es") != std::string::npos)
-    head +=
-        "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\nprecision highp "
-        "sampler3D;\n";
-  return head + read_source("shaders/glsl/micro_shadowing.glsl") +
-         read_source("shaders/glsl/micro_shadowing_aware.glsl") + kGlslMain;
-}
-std::string hlsl_source() {
-  return read_source("shaders/hlsl/micro_shadowing.hlsl") +
-         read_source("shaders/hlsl/micro_shadowing_aware.hlsl") + kHlslMain;
-}
+const vk::Kernel kKernel{{"shaders/glsl/micro_shadowing.glsl", "shaders/glsl/micro_shadowing_aware.glsl"},
+                         kGlslMain,
+                         {"shaders/hlsl/micro_shadowing.hlsl", "shaders/hlsl/micro_shadowing_aware.hlsl"},
+                         kHlslMain};
 
 struct Rec {
   float vis, alpha, nl, nv;
@@ -110,22 +99,6 @@ std::vector<Rec> make_records() {
         r.push_back(x);
       }
   return r;
-}
-
-bool run_kernel(vk::Context& ctx, const std::string& src, vk::Lang lang, const std::vector<Rec>& recs,
-                std::vector<float>* out, std::string* why) {
-  std::vector<uint32_t> spv;
-  if (!vk::compile_shader(src, lang, &spv, why)) return false;
-  std::vector<std::byte> in(recs.size() * sizeof(Rec)), res(recs.size() * 32);
-  std::memcpy(in.data(), recs.data(), in.size());
-  struct {
-    uint32_t n;
-    int32_t n_est;
-  } pc{uint32_t(recs.size()), kEst};
-  if (!ctx.run(spv, {&in, &res}, &pc, sizeof pc, (pc.n + 63) / 64, why)) return false;
-  out->resize(recs.size() * 8);
-  std::memcpy(out->data(), res.data(), res.size());
-  return true;
 }
 
 void check(const char* label, const std::vector<Rec>& recs, const std::vector<float>& out) {
@@ -169,28 +142,21 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
 }  // namespace
 
 TEST(ShadersMicroShadowingAware, Compiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  std::vector<uint32_t> spv;
-  std::string log;
-  for (const char* version : {"450", "320 es"})
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
-                                                                                       << log;
-  EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
-  std::string g = glsl_source("450");
-  const std::string needle = "float c = msh_ms_cone_cos(V), len = sqrt(len2);";
-  ASSERT_NE(g.find(needle), std::string::npos);
-  g.replace(g.find(needle), needle.size(), "float c = msh_ms_cone_cos(V), len = sqrt(lem2);");
-  EXPECT_FALSE(vk::compile_shader(g, vk::Lang::kGlsl, &spv, &log));
+  vk::expect_compiles(kKernel);
+  vk::expect_broken_source_rejected(kKernel, "float c = msh_ms_cone_cos(V), len = sqrt(len2);",
+                                    "float c = msh_ms_cone_cos(V), len = sqrt(lem2);", false);
 }
 
 TEST(ShadersMicroShadowingAware, MatchesCppOnVulkan) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  if (!ctx) GTEST_SKIP() << why;
   const std::vector<Rec> recs = make_records();
-  std::vector<float> out;
-  ASSERT_TRUE(run_kernel(*ctx, glsl_source("450"), vk::Lang::kGlsl, recs, &out, &why)) << why;
-  check("GLSL", recs, out);
-  ASSERT_TRUE(run_kernel(*ctx, hlsl_source(), vk::Lang::kHlsl, recs, &out, &why)) << why;
-  check("HLSL", recs, out);
+  struct {
+    uint32_t n;
+    int32_t n_est;
+  } pc{uint32_t(recs.size()), kEst};
+  vk::Dispatch d;
+  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size() * 8)};
+  d.push = vk::push_constants(pc);
+  d.invocations = recs.size();
+  vk::run_glsl_and_hlsl(kKernel, d,
+                        [&](const char* label, const vk::Buffers& out) { check(label, recs, out[1]); });
 }

@@ -11,18 +11,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <fstream>
-#include <sstream>
 
-#include "support/vk_compute.h"
+#include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
 
 namespace {
-
-using vk::read_source;
 
 const char* kGlslMain = R"(
 layout(local_size_x = 64) in;
@@ -53,13 +48,10 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 )";
 
-std::string glsl_source(const char* version) {
-  std::string head = std::string("#version ") + version + "\n";
-  if (std::string(version).find("es") != std::string::npos)
-    head += "precision highp float;\nprecision highp int;\n";
-  return head + read_source("shaders/glsl/micro_shadowing_fit.glsl") + kGlslMain;
-}
-std::string hlsl_source() { return read_source("shaders/hlsl/micro_shadowing_fit.hlsl") + kHlslMain; }
+const vk::Kernel kKernel{{"shaders/glsl/micro_shadowing_fit.glsl"},
+                         kGlslMain,
+                         {"shaders/hlsl/micro_shadowing_fit.hlsl"},
+                         kHlslMain};
 
 struct Rec {
   float vis, nl, nv, r;
@@ -83,19 +75,6 @@ std::vector<Rec> make_records() {
       for (float c : vals)
         for (float d : {0.0f, 1e-6f, 0.1f, 1.0f, 1.5f}) recs.push_back({a, b, c, d});
   return recs;
-}
-
-bool run_kernel(vk::Context& ctx, const std::string& source, vk::Lang lang, const std::vector<Rec>& recs,
-                std::vector<float>* out, std::string* why) {
-  std::vector<uint32_t> spv;
-  if (!vk::compile_shader(source, lang, &spv, why)) return false;
-  std::vector<std::byte> in(recs.size() * 16), res(recs.size() * 8);
-  std::memcpy(in.data(), recs.data(), in.size());
-  const uint32_t n = uint32_t(recs.size());
-  if (!ctx.run(spv, {&in, &res}, &n, sizeof n, (n + 63) / 64, why)) return false;
-  out->resize(recs.size() * 2);
-  std::memcpy(out->data(), res.data(), res.size());
-  return true;
 }
 
 void check(const char* label, const std::vector<Rec>& recs, const std::vector<float>& out) {
@@ -134,32 +113,16 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
 }  // namespace
 
 TEST(ShadersMicroShadowingFit, Compiles) {
-  ASSERT_FALSE(vk::glslang_validator().empty()) << "glslangValidator missing: run scripts/install-deps.sh";
-  std::vector<uint32_t> spv;
-  std::string log;
-  for (const char* version : {"450", "320 es"})
-    EXPECT_TRUE(vk::compile_shader(glsl_source(version), vk::Lang::kGlsl, &spv, &log)) << version << "\n"
-                                                                                       << log;
-  EXPECT_TRUE(vk::compile_shader(hlsl_source(), vk::Lang::kHlsl, &spv, &log)) << log;
-  // A broken source must fail: the compile check is not vacuous.
-  std::string g = glsl_source("450"), h = hlsl_source();
-  const std::string needle = "float k = nv / (nv + alpha);";
-  ASSERT_NE(g.find(needle), std::string::npos);
-  ASSERT_NE(h.find(needle), std::string::npos);
-  g.replace(g.find(needle), needle.size(), "float k = nv / (nv + alpa);");
-  h.replace(h.find(needle), needle.size(), "float k = nv / (nv + alpa);");
-  EXPECT_FALSE(vk::compile_shader(g, vk::Lang::kGlsl, &spv, &log));
-  EXPECT_FALSE(vk::compile_shader(h, vk::Lang::kHlsl, &spv, &log));
+  vk::expect_compiles(kKernel);
+  vk::expect_broken_source_rejected(kKernel, "float k = nv / (nv + alpha);", "float k = nv / (nv + alpa);");
 }
 
 TEST(ShadersMicroShadowingFit, RunsOnVulkanAndMatchesCpp) {
-  std::string why;
-  vk::Context* ctx = vk::Context::get(&why);
-  if (!ctx) GTEST_SKIP() << "no Vulkan compute device: " << why;
   const auto recs = make_records();
-  std::vector<float> out;
-  ASSERT_TRUE(run_kernel(*ctx, glsl_source("450"), vk::Lang::kGlsl, recs, &out, &why)) << why;
-  check("glsl", recs, out);
-  ASSERT_TRUE(run_kernel(*ctx, hlsl_source(), vk::Lang::kHlsl, recs, &out, &why)) << why;
-  check("hlsl", recs, out);
+  vk::Dispatch d;
+  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size() * 2)};
+  d.push = vk::push_constants(uint32_t(recs.size()));
+  d.invocations = recs.size();
+  vk::run_glsl_and_hlsl(kKernel, d,
+                        [&](const char* label, const vk::Buffers& out) { check(label, recs, out[1]); });
 }

@@ -54,7 +54,8 @@ std::string read_text(const fs::path& p) {
 }
 }  // namespace
 
-bool compile_shader(const std::string& source, Lang lang, std::vector<uint32_t>* spirv, std::string* log) {
+bool compile_shader(const std::string& source, Lang lang, std::vector<uint32_t>* spirv, std::string* log,
+                    const std::string& hlsl_entry) {
   const std::string tool = glslang_validator();
   if (tool.empty()) {
     *log = "glslangValidator not found (Debian package glslang-tools; scripts/install-deps.sh installs it)";
@@ -68,7 +69,7 @@ bool compile_shader(const std::string& source, Lang lang, std::vector<uint32_t>*
   const fs::path spv = dir / "shader.spv", out = dir / "log.txt";
   std::ofstream(src, std::ios::binary) << source;
   std::string cmd = "'" + tool + "' -V --target-env vulkan1.1 ";
-  if (lang == Lang::kHlsl) cmd += "-D -S comp -e main ";
+  if (lang == Lang::kHlsl) cmd += "-D -S comp -e main --source-entrypoint '" + hlsl_entry + "' ";
   cmd += "-o '" + spv.string() + "' '" + src.string() + "' > '" + out.string() + "' 2>&1";
   const int rc = std::system(cmd.c_str());
   *log = read_text(out);

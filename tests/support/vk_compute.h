@@ -6,13 +6,8 @@
 // variable MSH_ALLOW_NO_VULKAN=1 allows it; the shader tests then GTEST_SKIP the run part (compile checks
 // still run). Sanitizer builds never run the driver and skip without a failure.
 //
-// Typical use:
-//   std::string why;
-//   auto* vk = msh::test::vk::Context::get(&why);            // nullptr + reason if unavailable
-//   std::vector<uint32_t> spv; std::string log;
-//   ASSERT_TRUE(msh::test::vk::compile_shader(source, msh::test::vk::Lang::kGlsl, &spv, &log)) << log;
-//   std::vector<std::byte> in = ..., out(n * 16);
-//   ASSERT_TRUE(vk->run(spv, {&in, &out}, &push, sizeof push, (n + 63) / 64, &why)) << why;
+// Shader tests do not call this directly: they go through the driver of shader_kernel.h (a kernel in both
+// languages, float arrays in and out, the compile checks).
 #pragma once
 
 #include <cstddef>
@@ -29,9 +24,11 @@ enum class Lang { kGlsl, kHlsl };
 // Path of glslangValidator ("" if not found on PATH or in /usr/bin).
 std::string glslang_validator();
 
-// Compiles a complete compute shader (GLSL with its #version line, or HLSL with entry point `main`) to
-// Vulkan SPIR-V. Returns false with the compiler's log on failure (or when glslangValidator is missing).
-bool compile_shader(const std::string& source, Lang lang, std::vector<uint32_t>* spirv, std::string* log);
+// Compiles a complete compute shader (GLSL with its #version line and `void main()`, or HLSL with the entry
+// function `hlsl_entry`, renamed `main` in the module) to Vulkan SPIR-V. Returns false with the compiler's
+// log on failure (or when glslangValidator is missing).
+bool compile_shader(const std::string& source, Lang lang, std::vector<uint32_t>* spirv, std::string* log,
+                    const std::string& hlsl_entry = "main");
 
 // True when MSH_ALLOW_NO_VULKAN=1 is set: a missing Vulkan device is then a skip, not a failure.
 bool no_vulkan_allowed();
