@@ -383,7 +383,8 @@ EquivalentCap<T> equivalent_cap(const Vec3<T>& F, const Vec3<T>& center = Vec3<T
     return c;
   }
   c.n_dot_l = clamp(F.z / len, T(-1), T(1));
-  c.rho = std::asin(std::sqrt(saturate(len / kPi<T>)));
+  const T q = saturate(len / kPi<T>);
+  c.rho = std::atan2(std::sqrt(q), std::sqrt(T(1) - q));
   return c;
 }
 
@@ -415,8 +416,10 @@ Vec3<T> disk_vector_form_factor(const Vec3<T>& c, const Vec3<T>& nd, T R) {
   const Frame<T> f = Frame<T>::from_z(n);
   const T r = std::max(R, T(0));
   const T A = dot(c, c) + r * r, B = T(2) * r * dot(c, f.s), C = T(2) * r * dot(c, f.t);
-  const T D =
-      std::sqrt(std::max((A - std::hypot(B, C)) * (A + std::hypot(B, C)), std::numeric_limits<T>::min()));
+  const T hb = std::hypot(B, C);
+  // The point on the rim of a disk seen edge-on (A = |(B, C)|): zero solid angle, the integrals singular.
+  if (!(A - hb > T(8) * std::numeric_limits<T>::epsilon() * A)) return Vec3<T>(T(0), T(0), T(0));
+  const T D = std::sqrt((A - hb) * (A + hb));
   const T I0 = T(2) * kPi<T> / D, k = -T(2) * kPi<T> / (D * (D + A));
   const Vec3<T> F = (cross(c, f.t) * (r * k * B) - cross(c, f.s) * (r * k * C) + n * (r * r * I0)) * T(0.5);
   return dot(F, c) < T(0) ? -F : F;
