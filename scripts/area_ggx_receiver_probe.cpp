@@ -1,7 +1,7 @@
-// Exploratory probe (docs/area-lights.md §5, "GGX receiver"): candidate fast forms for the reference step over
-// a sphere light seen by a GGX receiver, against the exact GGX-weighted quadrature, at the first N points of
-// verify area-lights' Sobol set (V, centre N·L ∈ [0, 1], ρ ∈ [1°, 40°], N·V ∈ [0.05, 1], roughness ∈ [0.1, 1],
-// view azimuth ∈ [0, π]). Not part of the build:
+// Exploratory probe (docs/area-lights.md §5, "GGX receiver"): candidate fast forms for the reference step
+// over a sphere light seen by a GGX receiver, against the exact GGX-weighted quadrature, at the first N
+// points of verify area-lights' Sobol set (V, centre N·L ∈ [0, 1], ρ ∈ [1°, 40°], N·V ∈ [0.05, 1], roughness
+// ∈ [0.1, 1], view azimuth ∈ [0, π]). Not part of the build:
 //   g++ -std=c++20 -O2 -Iinclude scripts/area_ggx_receiver_probe.cpp -o /tmp/probe && /tmp/probe N [FIRST]
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing_area.h>
