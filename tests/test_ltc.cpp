@@ -11,7 +11,7 @@
 #include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/microfacet/ggx.h>
-#include <microshadow/reference/light_quadrature.h>
+#include <microshadow/reference/micro_shadowing_area_exact.h>
 
 #include <cmath>
 
@@ -41,10 +41,18 @@ const LtcTable& small_table() {
   return t;
 }
 
-// ∫ over the whole sphere of D, with the pole at the lobe's peak M·z so the quadrature resolves it.
+// A D_ltc integrand's panel edges: its peak M·z; all of the light, also below the horizon.
+area::IntegrandBreaks ltc_breaks(const Mat3<double>& minv) {
+  area::IntegrandBreaks b;
+  b.has_peak = true, b.peak = normalize(minv.inverse() * Vec3d(0, 0, 1)), b.below_horizon = true;
+  return b;
+}
+
+// ∫ over the whole sphere (a cap of radius π about the peak) of D.
 double sphere_integral(const Mat3<double>& minv) {
-  const Vec3d peak = normalize(minv.inverse() * Vec3d(0, 0, 1));
-  return reference::integrate_cap([&](const Vec3d& l) { return ltc_eval(minv, l); }, peak, kPi<double>, 1e-8);
+  const area::IntegrandBreaks b = ltc_breaks(minv);
+  return area::integrate_light(area::Cap{b.peak, kPi<double>},
+                               [&](const Vec3d& l) { return ltc_eval(minv, l); }, b, {1e-8});
 }
 
 }  // namespace
@@ -56,16 +64,17 @@ TEST(LtcReference, QuadratureMatchesClosedFormFormFactors) {
     for (double elev_deg : {90.0, 45.0, 20.0, 5.0, -5.0}) {
       const double sig = sig_deg * kPi<double> / 180, el = elev_deg * kPi<double> / 180;
       const Vec3d axis(std::cos(el), 0, std::sin(el));
-      const double q = reference::integrate_cap(lambert, axis, sig);
-      const double a = reference::sphere_form_factor(axis.z, std::sin(sig));
+      const double q = area::integrate_light(area::Cap{axis, sig}, lambert, {}, {1e-7});
+      const double a = area::sphere_form_factor(axis.z, std::sin(sig));
       EXPECT_NEAR(q, a, 1e-7 * std::max(a, 1e-4)) << sig_deg << " " << elev_deg;
     }
   // Rectangle with a corner above the point, parallel to the surface.
   for (double h : {0.3, 1.0, 4.0}) {
     const double a = 1.2, b = 0.7;
-    const double q = reference::integrate_rect(lambert, Vec3d(a / 2, b / 2, h), Vec3d(1, 0, 0),
-                                               Vec3d(0, 1, 0), a / 2, b / 2);
-    EXPECT_NEAR(q, reference::rect_corner_form_factor(a, b, h), 1e-8) << h;
+    const double q = area::integrate_light(
+        area::rect_quad(Vec3d(a / 2, b / 2, h), Vec3d(1, 0, 0), Vec3d(0, 1, 0), a / 2, b / 2), lambert, {},
+        {1e-7});
+    EXPECT_NEAR(q, area::rect_corner_form_factor(a, b, h), 1e-8) << h;
   }
 }
 
@@ -74,15 +83,16 @@ TEST(Ltc, IdentityPolygonIsTheFormFactor) {
   for (double h : {0.3, 1.0, 4.0}) {
     const double a = 1.2, b = 0.7;
     const auto p = ltc_rect_polygon(Vec3d(a / 2, b / 2, h), Vec3d(1, 0, 0), Vec3d(0, 1, 0), a / 2, b / 2);
-    EXPECT_NEAR(ltc_integrate_polygon(id, p.data(), 4).integral, reference::rect_corner_form_factor(a, b, h),
+    EXPECT_NEAR(ltc_integrate_polygon(id, p.data(), 4).integral, area::rect_corner_form_factor(a, b, h),
                 1e-12);
   }
   // A quad straddling the horizon: the clipped part only (closed form by splitting at z = 0 is the same rect
   // tilted; compare with quadrature of the clamped cosine instead).
   const Vec3d c(0.3, 0.2, 0.1), ex = normalize(Vec3d(1, 0, 0.3)), ey = normalize(Vec3d(0, 0.6, -1));
   const auto p = ltc_rect_polygon(c, ex, ey, 0.5, 0.4);
-  const double q = reference::integrate_rect([](const Vec3d& l) { return std::max(0.0, l.z) / kPi<double>; },
-                                             c, ex, ey, 0.5, 0.4, 1e-9);
+  const double q =
+      area::integrate_light(area::rect_quad(c, ex, ey, 0.5, 0.4),
+                            [](const Vec3d& l) { return std::max(0.0, l.z) / kPi<double>; }, {}, {1e-9});
   EXPECT_NEAR(ltc_integrate_polygon(id, p.data(), 4).integral, q, 1e-7);
 }
 
@@ -109,8 +119,9 @@ TEST(Ltc, PolygonIntegralMatchesQuadrature) {
       const auto& [c, ex, ey] = rects[ri];
       const auto p = ltc_rect_polygon(c, ex, ey, 0.4, 0.3);
       const double a = ltc_integrate_polygon(ms[mi], p.data(), 4).integral;
-      const double q = reference::integrate_rect([&](const Vec3d& l) { return ltc_eval(ms[mi], l); }, c, ex,
-                                                 ey, 0.4, 0.3, 1e-9);
+      const double q = area::integrate_light(area::rect_quad(c, ex, ey, 0.4, 0.3),
+                                             [&](const Vec3d& l) { return ltc_eval(ms[mi], l); },
+                                             ltc_breaks(ms[mi]), {1e-9});
       EXPECT_NEAR(a, q, 1e-6 * std::max(q, 1e-3)) << mi << " " << ri;
     }
 }
@@ -127,8 +138,8 @@ TEST(Ltc, SpherePolygonApproximatesTheCap) {
         const double sig = sig_deg * kPi<double> / 180, el = el_deg * kPi<double> / 180;
         const Vec3d axis(std::cos(el), 0.1, std::sin(el));
         const Vec3d ax = normalize(axis);
-        const double q =
-            reference::integrate_cap([&](const Vec3d& l) { return ltc_eval(m, l); }, ax, sig, 1e-8);
+        const double q = area::integrate_light(
+            area::Cap{ax, sig}, [&](const Vec3d& l) { return ltc_eval(m, l); }, ltc_breaks(m), {1e-8});
         const double a = ltc_integrate_sphere(m, ax, std::sin(sig), 16).integral;
         EXPECT_NEAR(a, q, 0.01 * q + 1e-9) << sig_deg << " " << el_deg;
       }

@@ -160,10 +160,10 @@ TEST(Study, TinyRunSchemaAndDeterminism) {
   for (const char* f : {"results.json", "results.csv", "summary.md", "study.html", "timing.json"})
     EXPECT_TRUE(fs::exists(d1 / f)) << f;
 
-  // Rows: 1 material × 2 shapes × 2 lights × (k = 1: 11 terms + 9 smooth-normal; k = 4: + 11 widened) × 3
+  // Rows: 1 material × 2 shapes × 2 lights × (k = 1: 12 terms + 10 smooth-normal; k = 4: + 12 widened) × 3
   // components.
   const auto& rows = r1["rows"];
-  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * (20 + 31) * 3));
+  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * (22 + 34) * 3));
   EXPECT_EQ(r1["ground_truth"].size(), 8u);
   for (const auto& row : rows) {
     for (const char* k :

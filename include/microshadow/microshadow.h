@@ -39,10 +39,10 @@
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>
 #include <microshadow/occlusion/micro_shadowing_area.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/shadow_terminator_offset.h>
-#include <microshadow/reference/light_quadrature.h>
 #include <microshadow/reference/micro_shadowing_area_exact.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>

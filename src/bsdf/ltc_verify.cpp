@@ -4,7 +4,7 @@
 #include <microshadow/bsdf/specular.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
-#include <microshadow/reference/light_quadrature.h>
+#include <microshadow/reference/micro_shadowing_area_exact.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
@@ -46,14 +46,15 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     for (double sd : {1.0, 10.0, 40.0})
       for (double ed : {90.0, 45.0, 20.0, 5.0, -5.0}) {
         const Vec3d axis(std::cos(ed * deg), 0, std::sin(ed * deg));
-        const double q = reference::integrate_cap(lambert, axis, sd * deg, 1e-8, 1e-14);
-        const double a = reference::sphere_form_factor(axis.z, std::sin(sd * deg));
+        const double q = area::integrate_light(area::Cap{axis, sd * deg}, lambert, {}, {1e-8});
+        const double a = area::sphere_form_factor(axis.z, std::sin(sd * deg));
         rep.reference_check = std::max(rep.reference_check, std::abs(q - a) / std::max(a, 1e-4));
       }
     for (double h : {0.3, 1.0, 4.0}) {
-      const double q = reference::integrate_rect(lambert, Vec3d(0.6, 0.35, h), Vec3d(1, 0, 0), Vec3d(0, 1, 0),
-                                                 0.6, 0.35, 1e-8, 1e-14);
-      const double a = reference::rect_corner_form_factor(1.2, 0.7, h);
+      const double q = area::integrate_light(
+          area::rect_quad(Vec3d(0.6, 0.35, h), Vec3d(1, 0, 0), Vec3d(0, 1, 0), 0.6, 0.35), lambert, {},
+          {1e-8});
+      const double a = area::rect_corner_form_factor(1.2, 0.7, h);
       rep.reference_check = std::max(rep.reference_check, std::abs(q - a) / a);
     }
     if (!(rep.reference_check <= 1e-5))
@@ -75,31 +76,39 @@ LtcVerifyReport verify_ltc_table(const LtcTable& t, const LtcVerifyOptions& o) {
     auto lambert = [](const Vec3d& l) { return std::max(0.0, l.z) * kInvPi<double>; };
     const LtcCoeffs<double> k = t.fetch(p.r, p.mu);
     const double ss = std::sin(sig), norm_s = ss * ss;  // sphere form factor at normal incidence
-    p.ref_sphere = reference::integrate_cap(f, axis, sig, 1e-6, 1e-12) / norm_s;
+    // The lobe peaks at the mirror direction: its z and azimuth are panel edges of the light quadrature.
+    area::IntegrandBreaks lobe;
+    lobe.has_peak = true, lobe.peak = Vec3d(-v.x, 0, v.z);
+    const area::AreaOptions tol{1e-6};
+    p.ref_sphere = area::integrate_light(area::Cap{axis, sig}, f, lobe, tol) / norm_s;
     // The highlight's peak: the same light centred on the mirror direction (relative errors are taken where
     // the light shows at least rel_floor of it).
-    p.peak = reference::integrate_cap(f, Vec3d(-v.x, 0, v.z), sig, 1e-6, 1e-12) / norm_s;
+    p.peak = area::integrate_light(area::Cap{lobe.peak, sig}, f, lobe, tol) / norm_s;
     const auto ls = ltc_shade_sphere(k, n, v, axis, ss, o.polygon_sides, o.clip_surface);
     p.ltc_sphere = ls.value(1.0) / norm_s;
     // The polygon approximation alone: the same LTC over the exact cap (above the surface, as shaded).
     const Frame<double> fr = ltc_view_frame(n, v);
     const Mat3<double> minv = k.inv_m();
+    area::IntegrandBreaks ltc_lobe;  // D_ltc peaks at M·z
+    ltc_lobe.has_peak = true, ltc_lobe.peak = fr.to_world(normalize(minv.inverse() * Vec3d(0, 0, 1)));
+    ltc_lobe.below_horizon = !o.clip_surface;
     p.ltc_cap = k.magnitude *
-                reference::integrate_cap(
-                    [&](const Vec3d& l) {
-                      return l.z >= 0 || !o.clip_surface ? ltc_eval(minv, fr.to_local(l)) : 0.0;
-                    },
-                    axis, sig, 1e-6, 1e-12) /
+                area::integrate_light(
+                    area::Cap{axis, sig}, [&](const Vec3d& l) { return ltc_eval(minv, fr.to_local(l)); },
+                    ltc_lobe, tol) /
                 norm_s;
-    p.ref_diff = reference::integrate_cap(lambert, axis, sig, 1e-8, 1e-14) / norm_s;
+    p.ref_diff = area::integrate_light(area::Cap{axis, sig}, lambert, {}, {1e-8}) / norm_s;
     p.ltc_diff = ltc_shade_sphere(LtcCoeffs<double>{}, n, v, axis, ss, o.polygon_sides).value(1.0) / norm_s;
     // Square light of half-size tan σ at distance 1, facing the point, rotated by a Sobol angle about its
     // axis.
-    const double h = std::tan(sig), rot = 2 * kPi<double> * std::fmod(0.5 + 0.6180339887498949 * i, 1.0);  // golden-ratio sequence: the Sobol set has 5 dimensions
+    const double h = std::tan(sig),
+                 rot = 2 * kPi<double> *
+                       std::fmod(0.5 + 0.6180339887498949 * i,
+                                 1.0);  // golden-ratio sequence: the Sobol set has 5 dimensions
     const Frame<double> lf = Frame<double>::from_z(axis);
     const Vec3d ex = lf.s * std::cos(rot) + lf.t * std::sin(rot), ey = cross(axis, ex);
-    const double norm_r = reference::rect_corner_form_factor(h, h, 1.0) * 4;
-    p.ref_rect = reference::integrate_rect(f, axis, ex, ey, h, h, 1e-6, 1e-12) / norm_r;
+    const double norm_r = area::rect_corner_form_factor(h, h, 1.0) * 4;
+    p.ref_rect = area::integrate_light(area::rect_quad(axis, ex, ey, h, h), f, lobe, tol) / norm_r;
     const auto corners = ltc_rect_polygon(axis, ex, ey, h, h);
     p.ltc_rect = ltc_shade_polygon(k, n, v, corners.data(), 4, o.clip_surface).value(1.0) / norm_r;
     res[size_t(i)] = p;

@@ -2,7 +2,7 @@
 // the exact quadrature (reference/micro_shadowing_area_exact.h) at Sobol inputs over V ∈ [0, 1],
 // N·L ∈ [0, 1] (the cap's centre), light radius ρ ∈ [1°, 40°] (docs/area-lights.md):
 //
-//   microshadow verify area-lights [--points N] [--generic-points M] [--json]
+//   microshadow verify area-lights [--points N] [--generic-points M] [--shape-points K] [--json]
 //
 // Errors are |fast − exact| in units of 1/255 (RMS, p99, max) over all points.
 #include <fmt/format.h>
@@ -27,7 +27,7 @@ namespace {
 constexpr double kDeg = kPi<double> / 180;
 
 struct VerifyArgs {
-  int points = 2048, generic_points = 96;
+  int points = 2048, generic_points = 96, shape_points = 512;
   double rho_min_deg = 1, rho_max_deg = 40;
   bool json = false;
 };
@@ -59,6 +59,8 @@ nlohmann::json summary(std::vector<double> err) {
 
 void run_verify(const VerifyArgs& a) {
   if (a.points < 1 || a.points > (1 << 20)) throw UsageError(fmt::format("--points must be in [1, 2^20]"));
+  if (a.shape_points < 0 || a.shape_points > (1 << 16))
+    throw UsageError(fmt::format("--shape-points must be in [0, 2^16]"));
   if (a.generic_points < 0 || a.generic_points > (1 << 16))
     throw UsageError(fmt::format("--generic-points must be in [0, 2^16]"));
   if (!(a.rho_min_deg >= 0 && a.rho_min_deg <= a.rho_max_deg && a.rho_max_deg <= 90))
@@ -167,7 +169,92 @@ void run_verify(const VerifyArgs& a) {
         mean(in.nl);
   });
 
+  // Disk and rect lights, Lambertian receiver: the equivalent cap (same vector form factor) with the cap
+  // forms, against the exact quadrature over the true shape. Domain: V, centre N·L ∈ [0, 1]; ρ (disk edge,
+  // rect half-width) ∈ [ρmin, ρmax]; rect half-height = ρ · aspect, aspect ∈ [0.25, 1]; tilt ∈ [−60°, 60°]
+  // from facing the point; roll ∈ [0°, 360°).
+  enum SForm {
+    kDiskStep,
+    kDiskStepFloat,
+    kDiskStepPoint,
+    kDiskBm,
+    kDiskBmPoint,
+    kDiskChan,
+    kDiskPart1,
+    kRectStep,
+    kRectStepFloat,
+    kRectStepPoint,
+    kRectBm,
+    kRectBmPoint,
+    kRectChan,
+    kRectPart1,
+    kSForms
+  };
+  static const char* snames[kSForms] = {"disk_step_equivalent_cap",
+                                        "disk_step_equivalent_cap_float",
+                                        "disk_step_point_at_centre",
+                                        "disk_brinck_maximov_2016_equivalent_cap_n4",
+                                        "disk_brinck_maximov_2016_point_at_centre",
+                                        "disk_chan_2018_equivalent_cap_n4",
+                                        "disk_part1_analytic_equivalent_cap_n4",
+                                        "rect_step_equivalent_cap",
+                                        "rect_step_equivalent_cap_float",
+                                        "rect_step_point_at_centre",
+                                        "rect_brinck_maximov_2016_equivalent_cap_n4",
+                                        "rect_brinck_maximov_2016_point_at_centre",
+                                        "rect_chan_2018_equivalent_cap_n4",
+                                        "rect_part1_analytic_equivalent_cap_n4"};
+  std::vector<std::array<double, kSForms>> srows(size_t(a.shape_points));
+  tbb::parallel_for(0, a.shape_points, [&](int i) {
+    const Input in = input_at(uint32_t(i), a);
+    const Vec2d o = sobol_2d<double>(uint32_t(i), 0x3c6eu), w = sobol_2d<double>(uint32_t(i), 0x2545u);
+    const double tilt = (-60 + 120 * o.x) * kDeg, roll = 2 * kPi<double> * o.y, aspect = 0.25 + 0.75 * w.x;
+    const Vec3d c = spherical_direction(in.nl, 0.0);
+    const area::Disk disk = area::disk_tilted(c, in.rho, tilt, roll);
+    const area::Quad quad = area::rect_tilted(c, in.rho, in.rho * aspect, tilt, roll);
+    const Vec3d Fd = micro_shadowing::disk_vector_form_factor(disk.center, disk.normal, disk.radius);
+    const Vec3d Fr = micro_shadowing::polygon_vector_form_factor(quad.corners.data(), 4);
+    std::array<Vec3f, 4> qf;
+    for (int k = 0; k < 4; ++k)
+      qf[size_t(k)] = Vec3f(float(quad.corners[size_t(k)].x), float(quad.corners[size_t(k)].y),
+                            float(quad.corners[size_t(k)].z));
+    auto& r = srows[size_t(i)];
+    auto shape_rows = [&](const area::Shape& sh, const Vec3d& F, float step_float, int base) {
+      auto exact = [&](const auto& t) {
+        return area::area_micro_shadowing_exact(sh, area::Receiver::lambert(), t, {1e-7});
+      };
+      const micro_shadowing::EquivalentCap<double> e = micro_shadowing::equivalent_cap(F);
+      const double step = exact(area::reference_step_term(in.V));
+      r[size_t(base + 0)] = micro_shadowing::reference_step_area_cap(in.V, e.n_dot_l, e.rho) - step;
+      r[size_t(base + 1)] = double(step_float) - step;
+      r[size_t(base + 2)] = micro_shadowing::reference_step(in.V, in.nl) - step;
+      const double bm = exact(area::brinck_maximov_2016_term(in.V));
+      r[size_t(base + 3)] = micro_shadowing::brinck_maximov_2016_area_cap(in.V, e.n_dot_l, e.rho) - bm;
+      r[size_t(base + 4)] = micro_shadowing::brinck_maximov_2016(in.V, in.nl) - bm;
+      r[size_t(base + 5)] =
+          micro_shadowing::chan_2018_area_cap(in.V, e.n_dot_l, e.rho) - exact(area::chan_2018_term(in.V));
+      r[size_t(base + 6)] = micro_shadowing::part1_analytic_area_cap(in.V, e.n_dot_l, e.rho) -
+                            exact(area::part1_analytic_term(in.V));
+    };
+    shape_rows(disk, Fd,
+               micro_shadowing::reference_step_area_equivalent_cap(
+                   float(in.V), micro_shadowing::disk_vector_form_factor(
+                                    Vec3f(float(disk.center.x), float(disk.center.y), float(disk.center.z)),
+                                    Vec3f(float(disk.normal.x), float(disk.normal.y), float(disk.normal.z)),
+                                    float(disk.radius))),
+               kDiskStep);
+    shape_rows(quad, Fr,
+               micro_shadowing::reference_step_area_equivalent_cap(
+                   float(in.V), micro_shadowing::polygon_vector_form_factor(qf.data(), 4)),
+               kRectStep);
+  });
+
   nlohmann::json forms = nlohmann::json::object();
+  for (int f = 0; f < kSForms; ++f) {
+    std::vector<double> e;
+    for (const auto& r : srows) e.push_back(r[size_t(f)]);
+    forms[snames[f]] = summary(e);
+  }
   for (int f = 0; f < kForms; ++f) {
     std::vector<double> e;
     for (const auto& r : rows) e.push_back(r[size_t(f)]);
@@ -189,6 +276,12 @@ void run_verify(const VerifyArgs& a) {
         {"light", "spherical cap centred on the N.L direction, Lambertian receiver unless stated"}}},
       {"points", a.points},
       {"generic_points", a.generic_points},
+      {"shape_points", a.shape_points},
+      {"shape_domain",
+       "disk (edge radius rho) and rect (half-width rho, half-height rho * aspect, aspect in [0.25, 1]) "
+       "centred "
+       "on the N.L direction, tilt in [-60, 60] deg from facing the point, roll in [0, 360) deg; Lambertian "
+       "receiver; fast form = the cap forms at the equivalent cap (same vector form factor)"},
       {"errors", forms}};
   if (a.json) {
     print_json(out);
@@ -209,6 +302,8 @@ void add_area_lights(Groups& g) {
       "at Sobol inputs (docs/area-lights.md): errors in 1/255.");
   c->add_option("--points", a->points, "Sobol points for the closed-form terms")->capture_default_str();
   c->add_option("--generic-points", a->generic_points, "Sobol points for the generic term (slow reference)")
+      ->capture_default_str();
+  c->add_option("--shape-points", a->shape_points, "Sobol points for the disk and rect lights")
       ->capture_default_str();
   c->add_option("--rho-min-deg", a->rho_min_deg, "Smallest light radius (degrees)")
       ->check(Finite)

@@ -1,9 +1,9 @@
 // CLI for the micro-BRDF-aware terms (docs/micro-shadowing-aware.md):
-//   microshadow verify micro-shadowing-aware --method NAME|all [--samples N] [--seed S] [--estimator-samples
-//   K]
-//       [--threads T] [--json]
+//   microshadow verify micro-shadowing-aware --method NAME|all [--samples N] [--seed S]
+//       [--estimator-samples K] [--rel-tol T] [--threads T] [--json]
 //     as-used error of the run-time forms (float) against their exact references at continuous inputs,
-//     through the verify method of lut/runtime/micro_shadowing_verify.h (docs/lut.md, Verify);
+//     through the verify method of lut/runtime/micro_shadowing_verify.h (docs/lut.md, Verify); the -alu
+//     methods: the diffuse-aware ALU fit (occlusion/micro_shadowing_aware_fit.h);
 //   microshadow plot micro-shadowing-aware --out DIR [--size N] [--threads T]
 //     maps.csv: generic, specular-aware and diffuse-aware azimuth means over (V, N·L) per roughness and N·V
 //     (figures: scripts/plot_micro_shadowing_aware.py).
@@ -12,6 +12,7 @@
 #include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/microfacet/roughness.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -29,13 +30,15 @@
 namespace msh::cli {
 namespace {
 
-const std::vector<std::string> kAwareMethods = {"specular-aware-mean", "specular-aware-mean-double",
-                                                "diffuse-aware", "diffuse-aware-flux",
-                                                "generic-vndf-vs-diffuse-aware"};
+const std::vector<std::string> kAwareMethods = {
+    "specular-aware-mean",     "specular-aware-mean-double",    "diffuse-aware",
+    "diffuse-aware-flux",      "generic-vndf-vs-diffuse-aware", "diffuse-aware-alu",
+    "diffuse-aware-alu-at-phi"};
 
 struct VerifyArgs {
   std::string method = "all";
   int samples = 2000, threads = 0, estimator_samples = 64;
+  double rel_tol = 1e-4;  // of the diffuse-aware azimuth mean's quadrature (the ALU fits' reference)
   uint32_t seed = 1;
   bool json = false;
 };
@@ -77,6 +80,27 @@ void run_verify(const VerifyArgs& a) {
         f = [](float V, float nl, float nv, float r, float) {
           return float(micro_shadowing::specular_aware_azimuth_mean<double>(V, double(r) * r, nl, nv));
         };
+    } else if (m == "diffuse-aware-alu" || m == "diffuse-aware-alu-at-phi") {
+      // The ALU fit (float, as the shaders run it) against the lobe-weighted azimuth mean it approximates,
+      // or (-at-phi) against the term at the input's azimuth, which a renderer at full vectors would want.
+      const micro_shadowing::DiffuseAwareForm form = micro_shadowing::DiffuseAwareForm::Reciprocal;
+      const double tol = a.rel_tol;
+      if (m == "diffuse-aware-alu-at-phi") {
+        o.against = lut::VerifyReference::Azimuth;
+        o.reference = [form](double V, double nl, double nv, double r, double cp) {
+          const double al = roughness_to_alpha(r);
+          return micro_shadowing::diffuse_aware_exact(V, al, al, view_dir(nv), light_dir(nl, cp), form);
+        };
+      } else {
+        o.against = lut::VerifyReference::AzimuthMean;
+        o.reference = [form, tol](double V, double nl, double nv, double r, double) {
+          return micro_shadowing::diffuse_aware_exact_azimuth_mean(V, roughness_to_alpha(r), nl, nv, form,
+                                                                   tol);
+        };
+      }
+      f = [](float V, float nl, float nv, float r, float) {
+        return micro_shadowing::diffuse_aware_alu(V, nl, nv, r);
+      };
     } else {
       const micro_shadowing::DiffuseAwareForm form = m == "diffuse-aware-flux"
                                                          ? micro_shadowing::DiffuseAwareForm::Flux
@@ -127,6 +151,7 @@ void run_verify(const VerifyArgs& a) {
           r.all.count);
   }
   out["samples"] = a.samples, out["seed"] = a.seed, out["estimator_samples"] = a.estimator_samples;
+  out["rel_tol"] = a.rel_tol;
   if (a.json) print_json(out);
 }
 
@@ -185,6 +210,10 @@ void add_aware(Groups& g) {
   v->add_option("--seed", va->seed, "Sobol scrambling seed")->capture_default_str();
   v->add_option("--estimator-samples", va->estimator_samples, "VNDF samples of the diffuse-aware estimator")
       ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  v->add_option("--rel-tol", va->rel_tol,
+                "Relative tolerance of the exact diffuse-aware azimuth mean (reference of the -alu methods)")
+      ->check(CLI::Range(1e-9, 1e-2))
       ->capture_default_str();
   v->add_option("--threads", va->threads, "Worker threads (0 = all)")->check(CLI::Range(0, 1024));
   v->add_flag("--json", va->json, "Print one JSON object");

@@ -4,12 +4,17 @@
 // measured error table of docs/micro-shadowing.md ("ALU-only approximation").
 //
 //   microshadow plot micro-shadowing-fit --out FILE.csv [--samples N] [--seed S] [--near-step M]
-//       [--skip-early-out]
+//       [--skip-early-out] [--term generic|diffuse-aware] [--rel-tol T]
+// --term diffuse-aware: the exact azimuth-mean diffuse micro-BRDF-aware term (reciprocal form,
+// diffuse_aware_exact_azimuth_mean, docs/micro-shadowing-aware.md) in place of the generic one, with its ALU
+// approximation (micro_shadowing_aware_fit.h) beside it; data of scripts/fit_micro_shadowing_aware.py.
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <tbb/parallel_for.h>
 
@@ -30,6 +35,8 @@ struct FitDataArgs {
   int samples = 10000, near_step = 0;
   uint32_t seed = 1;
   bool skip_early_out = false;
+  std::string term = "generic";
+  double rel_tol = 1e-4;  // the diffuse-aware quadrature's (the generic term's exact mean has its own)
 };
 
 struct Input {
@@ -72,12 +79,18 @@ void run_fit_data(const FitDataArgs& a) {
   if (a.out.empty()) throw UsageError("--out is required");
   if (a.samples < 1 || a.samples > 10000000) throw UsageError("--samples must be in [1, 1e7]");
   if (a.near_step < 0 || a.near_step > 10000000) throw UsageError("--near-step must be in [0, 1e7]");
+  if (a.term != "generic" && a.term != "diffuse-aware")
+    throw UsageError(fmt::format("--term must be generic or diffuse-aware; got '{}'", a.term));
+  if (!(a.rel_tol >= 1e-9 && a.rel_tol <= 1e-2)) throw UsageError("--rel-tol must be in [1e-9, 1e-2]");
+  const bool generic = a.term == "generic";
+  const auto form = micro_shadowing::DiffuseAwareForm::Reciprocal;
+  // Where the term is exactly 0 without evaluating anything (the diffuse-aware term: for l and for v).
+  const auto early_out = [&](const Input& p) {
+    return micro_shadowing::exact_zero(p.vis, p.nl) || (!generic && micro_shadowing::exact_zero(p.vis, p.nv));
+  };
   Pcg32 rng(a.seed, 0x5eed0a1u);
   std::vector<Input> pts = latin_hypercube(a.samples, rng);
-  if (a.skip_early_out)
-    pts.erase(std::remove_if(pts.begin(), pts.end(),
-                             [](const Input& p) { return micro_shadowing::exact_zero(p.vis, p.nl); }),
-              pts.end());
+  if (a.skip_early_out) pts.erase(std::remove_if(pts.begin(), pts.end(), early_out), pts.end());
   const std::vector<Input> extra = near_step_points(a.near_step, rng);
   pts.insert(pts.end(), extra.begin(), extra.end());
 
@@ -85,13 +98,17 @@ void run_fit_data(const FitDataArgs& a) {
   std::vector<double> exact(pts.size());
   tbb::parallel_for(size_t(0), pts.size(), [&](size_t i) {
     const Input& p = pts[i];
-    exact[i] = micro_shadowing::generic_vndf_exact_azimuth_mean(p.vis, p.r * p.r, p.nl, p.nv);
+    exact[i] = generic ? micro_shadowing::generic_vndf_exact_azimuth_mean(p.vis, p.r * p.r, p.nl, p.nv)
+                       : micro_shadowing::diffuse_aware_exact_azimuth_mean(p.vis, p.r * p.r, p.nl, p.nv, form,
+                                                                           a.rel_tol);
   });
 
   // Errors of the ALU terms (float, the shader precision) and the older terms, overall and per roughness
   // band.
-  const std::vector<std::string> names = {"alu",       "alu_two_stage", "reference", "brinck_maximov_2016",
-                                          "chan_2018", "part1_analytic"};
+  const std::vector<std::string> names =
+      generic ? std::vector<std::string>{"alu",       "alu_two_stage", "reference", "brinck_maximov_2016",
+                                         "chan_2018", "part1_analytic"}
+              : std::vector<std::string>{"aware_alu", "generic_alu_two_stage", "reference"};
   const std::array<double, 4> bands = {0.1, 0.25, 0.55, 1.0 + 1e-12};
   std::vector<std::array<std::vector<double>, 4>> err(names.size());  // [method][band 0..2, all]
   std::ostringstream csv;
@@ -100,16 +117,21 @@ void run_fit_data(const FitDataArgs& a) {
   csv << "\n";
   for (size_t i = 0; i < pts.size(); ++i) {
     const Input& p = pts[i];
-    const float vf = float(p.vis), lf = float(p.nl);
-    const double vals[] = {
-        double(micro_shadowing::generic_vndf_alu(vf, lf, float(p.nv), float(p.r))),
-        double(micro_shadowing::generic_vndf_alu_two_stage(vf, lf, float(p.nv), float(p.r))),
-        micro_shadowing::reference_step(p.vis, p.nl),
-        micro_shadowing::brinck_maximov_2016(p.vis, p.nl),
-        micro_shadowing::chan_2018(p.vis, p.nl),
-        micro_shadowing::part1_analytic(p.vis, p.nl)};
-    csv << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g}", p.vis, p.nl, p.nv, p.r,
-                       micro_shadowing::exact_zero(p.vis, p.nl) ? 1 : 0, exact[i]);
+    const float vf = float(p.vis), lf = float(p.nl), nvf = float(p.nv), rf = float(p.r);
+    std::vector<double> vals;
+    if (generic)
+      vals = {double(micro_shadowing::generic_vndf_alu(vf, lf, nvf, rf)),
+              double(micro_shadowing::generic_vndf_alu_two_stage(vf, lf, nvf, rf)),
+              micro_shadowing::reference_step(p.vis, p.nl),
+              micro_shadowing::brinck_maximov_2016(p.vis, p.nl),
+              micro_shadowing::chan_2018(p.vis, p.nl),
+              micro_shadowing::part1_analytic(p.vis, p.nl)};
+    else
+      vals = {double(micro_shadowing::diffuse_aware_alu(vf, lf, nvf, rf)),
+              double(micro_shadowing::generic_vndf_alu_two_stage(vf, lf, nvf, rf)),
+              micro_shadowing::reference_step(p.vis, p.nl)};
+    csv << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g}", p.vis, p.nl, p.nv, p.r, early_out(p) ? 1 : 0,
+                       exact[i]);
     int band = 0;
     while (band < 2 && p.r >= bands[size_t(band) + 1]) ++band;
     for (size_t m = 0; m < names.size(); ++m) {
@@ -141,6 +163,7 @@ void run_fit_data(const FitDataArgs& a) {
               {"seed", a.seed},
               {"near_step", a.near_step},
               {"skip_early_out", a.skip_early_out},
+              {"term", a.term},
               {"domain", "V in [0,1], N.L in (0,1], N.V in (0,1], roughness in [0.1,1] (Latin hypercube)"},
               {"errors_vs_exact_azimuth_mean", methods}});
 }
@@ -162,6 +185,13 @@ void add_micro_shadowing_fit(Groups& g) {
       ->capture_default_str();
   p->add_flag("--skip-early-out", a->skip_early_out,
               "Drop the stratified points inside the early-out region 2V + N.L < 1 (exact there)");
+  p->add_option(
+       "--term", a->term,
+       "generic (generic_vndf_exact_azimuth_mean) | diffuse-aware (diffuse_aware_exact_azimuth_mean, "
+       "reciprocal form, docs/micro-shadowing-aware.md)")
+      ->capture_default_str();
+  p->add_option("--rel-tol", a->rel_tol, "Relative tolerance of the diffuse-aware quadrature")
+      ->capture_default_str();
   p->callback([a] { run_fit_data(*a); });
 }
 

@@ -154,7 +154,7 @@ void add_render(Groups& g) {
   r->add_option(
       "--method", a->method,
       "Micro-shadowing: none, ao, reference, brinck-maximov-2016, chan-2018, part1, generic-vndf, lut3d, "
-      "lut2d, aware, aware-flux (micro-BRDF-aware: one term per lobe), ground-truth");
+      "lut2d, aware, aware-flux, aware-alu (micro-BRDF-aware: one term per lobe), ground-truth");
   r->add_option("--vndf-samples", a->vndf_samples,
                 "Samples per light for generic-vndf and the diffuse lobe of aware, aware-flux")
       ->check(CLI::Range(1, 1 << 20));

@@ -10,9 +10,11 @@
 #include <microshadow/microfacet/vcavity.h>
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/occlusion/micro_shadowing_early_out.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <microshadow/reference/micro_shadowing_area_exact.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <microshadow/reference/micro_shadowing_vcavity.h>
@@ -32,6 +34,8 @@ struct MicroShadowingEvaluator::Impl {
   std::function<double(const Point&)> eval;
   // LUT methods: the tables (with and without the azimuth harmonics), loaded or baked on first use.
   std::function<std::shared_ptr<const lut::MicroShadowingLut>(bool with_phi)> table;
+  // Where eval is not smooth in l (empty function: unknown, the standard circles).
+  std::function<MicroShadowingBreaks(const Point&)> breaks = nullptr;
 };
 
 namespace {
@@ -102,10 +106,38 @@ Impl lut_method(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& 
           table};
 }
 
+// The diffuse-aware term's ALU-only fit of its azimuth mean (occlusion/micro_shadowing_aware_fit.h,
+// reciprocal form), in float as a shader runs it.
+Impl diffuse_aware_alu() {
+  return {
+      [](const Point& p) {
+        return double(micro_shadowing::diffuse_aware_alu(float(p.V), float(p.nl), float(p.nv), float(p.r)));
+      },
+      nullptr};
+}
+
 // The micro-BRDF-aware terms (docs/micro-shadowing-aware.md). specular-aware: the indicator at φ, the
 // lobe-weighted azimuth mean in closed form (double) without; specular-aware-alu: that closed form in float,
 // as the shaders run it. diffuse-aware(-flux): the exact quadrature (the lobe-weighted mean without φ) or,
 // with samples and φ, the Sobol estimator.
+// The breaks of the aware terms (reference/micro_shadowing_area_exact.h): the specular indicator's two
+// curves about v and their tangent circles; the diffuse terms' early-out and cone circles.
+MicroShadowingBreaks specular_aware_breaks(const Point& p) {
+  MicroShadowingBreaks b;
+  b.known = true;
+  b.z = area::specular_aware_z_breaks(p.V, p.nv);
+  if (p.phi)
+    for (const area::AzimuthBreak& c : area::specular_aware_curves(p.V, lut::study_view_dir(p.nv)))
+      b.curves.push_back({c.axis, c.k0, c.k1, c.k2});
+  return b;
+}
+MicroShadowingBreaks diffuse_aware_breaks(const Point& p) {
+  MicroShadowingBreaks b;
+  b.known = true;
+  b.z = {1 - 2 * p.V, micro_shadowing::cone_cos_from_visibility(p.V)};
+  return b;
+}
+
 Impl specular_aware(bool as_float) {
   return {[as_float](const Point& p) {
             if (p.phi)
@@ -116,7 +148,7 @@ Impl specular_aware(bool as_float) {
                                                                                 float(p.nl), float(p.nv)));
             return micro_shadowing::specular_aware_azimuth_mean<double>(p.V, p.ax, p.nl, p.nv);
           },
-          nullptr};
+          nullptr, specular_aware_breaks};
 }
 Impl diffuse_aware(const MicroShadowingOptions& o, micro_shadowing::DiffuseAwareForm form) {
   return {[o, form](const Point& p) {
@@ -135,7 +167,7 @@ Impl diffuse_aware(const MicroShadowingOptions& o, micro_shadowing::DiffuseAware
                                                           lut::study_light_dir(p.nl, *p.phi), form);
             return micro_shadowing::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
           },
-          nullptr};
+          nullptr, diffuse_aware_breaks};
 }
 
 // The generic term for another microsurface (docs/micro-shadowing.md, "Other microsurface profiles and
@@ -289,6 +321,11 @@ const std::vector<Entry>& entries() {
         "micro-BRDF-aware, Lambertian facets, fraction of the reflected flux leaving through the cone", true,
         true, true, false, true, false},
        [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Flux); }},
+      {{"diffuse-aware-alu",
+        "ALU-only fit of the diffuse-aware (reciprocal) term's azimuth mean (micro_shadowing_aware_fit.h), "
+        "float",
+        true, true, false, false, false, false},
+       [](auto&, auto&) { return diffuse_aware_alu(); }},
       {{"generic-vndf-beckmann",
         "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)", true, true,
         true, true, true, false},
@@ -348,7 +385,8 @@ MicroShadowingEvaluator::MicroShadowingEvaluator(const std::string& method, Micr
   impl_ = std::make_shared<const Impl>(entries()[i].make(options_, *info_));
 }
 
-double MicroShadowingEvaluator::eval(const MicroShadowingQuery& q) const {
+namespace {
+Point validated_point(const MicroShadowingMethodInfo* info_, const MicroShadowingQuery& q) {
   require_unit(q.visibility, "--visibility");
   require_unit(q.n_dot_l, "--ndotl");
   require_unit(q.n_dot_v, "--ndotv");
@@ -367,8 +405,17 @@ double MicroShadowingEvaluator::eval(const MicroShadowingQuery& q) const {
   }
   const double ax = roughness_to_alpha(q.roughness);
   const double ay = q.roughness_y ? roughness_to_alpha(*q.roughness_y) : ax;
-  const Point p{q.visibility, q.n_dot_l, q.n_dot_v, q.roughness, ax, ay, q.phi ? &*q.phi : nullptr};
-  return impl_->eval(p);
+  return Point{q.visibility, q.n_dot_l, q.n_dot_v, q.roughness, ax, ay, q.phi ? &*q.phi : nullptr};
+}
+}  // namespace
+
+double MicroShadowingEvaluator::eval(const MicroShadowingQuery& q) const {
+  return impl_->eval(validated_point(info_, q));
+}
+
+MicroShadowingBreaks MicroShadowingEvaluator::breaks(const MicroShadowingQuery& q) const {
+  if (!impl_->breaks) return {};
+  return impl_->breaks(validated_point(info_, q));
 }
 
 std::shared_ptr<const lut::MicroShadowingLut> MicroShadowingEvaluator::table(bool with_phi) const {

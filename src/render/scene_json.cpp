@@ -26,6 +26,7 @@ const std::vector<std::pair<MicroShadowing, const char*>> kMsNames = {
     {MicroShadowing::Lut2d, "lut2d"},
     {MicroShadowing::Aware, "aware"},
     {MicroShadowing::AwareFlux, "aware-flux"},
+    {MicroShadowing::AwareAlu, "aware-alu"},
     {MicroShadowing::GroundTruth, "ground-truth"}};
 const std::vector<std::pair<Component, const char*>> kComponentNames = {
     {Component::Total, "total"}, {Component::Diffuse, "diffuse"}, {Component::Specular, "specular"}};

@@ -7,6 +7,7 @@
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/render/renderer.h>
 
 #include <functional>
@@ -37,7 +38,10 @@ class MicroShadowingTerm {
       lut_ = load_lut_sampler(s.lut_path, mode_ == MicroShadowing::Lut2d);
     }
   }
-  bool per_lobe() const { return mode_ == MicroShadowing::Aware || mode_ == MicroShadowing::AwareFlux; }
+  bool per_lobe() const {
+    return mode_ == MicroShadowing::Aware || mode_ == MicroShadowing::AwareFlux ||
+           mode_ == MicroShadowing::AwareAlu;
+  }
   // Both lobes' terms; equal for every method but the aware ones.
   LobeTerms eval_lobes(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, const Vec3f& tangent,
                        uint32_t seed) const {
@@ -53,6 +57,9 @@ class MicroShadowingTerm {
     v.z = std::max(v.z, 1e-4f);
     v = normalize(v);
     const Vec3f l = fr.to_local(wi);
+    if (mode_ == MicroShadowing::AwareAlu)  // the diffuse term's ALU fit of its azimuth mean: N·L, N·V only
+      return {micro_shadowing::diffuse_aware_alu(V, l.z, v.z, sp.roughness),
+              micro_shadowing::specular_aware(V, v, l)};
     const GGX<float> ggx(roughness_to_alpha(std::max(sp.roughness, 0.02f)));
     const auto form = mode_ == MicroShadowing::Aware ? micro_shadowing::DiffuseAwareForm::Reciprocal
                                                      : micro_shadowing::DiffuseAwareForm::Flux;
@@ -74,7 +81,8 @@ class MicroShadowingTerm {
     const float V = sp.visibility, nl = dot(n, wi);
     switch (mode_) {
       case MicroShadowing::Aware:
-      case MicroShadowing::AwareFlux: {  // one value for callers that want one: the diffuse lobe's
+      case MicroShadowing::AwareFlux:
+      case MicroShadowing::AwareAlu: {  // one value for callers that want one: the diffuse lobe's
         return eval_lobes(sp, wo, wi, tangent, seed).diffuse;
       }
       case MicroShadowing::None:

@@ -16,7 +16,7 @@ namespace {
 
 const std::vector<std::string> kMethods = {"none",      "ao",    "reference",    "brinck-maximov-2016",
                                            "chan-2018", "part1", "generic-vndf", "lut3d",
-                                           "lut2d",     "aware", "aware-flux"};
+                                           "lut2d",     "aware", "aware-flux",   "aware-alu"};
 const std::vector<std::string> kComponents = {"total", "diffuse", "specular"};
 
 bool is_num(const json& j) { return j.is_number(); }

@@ -238,7 +238,7 @@ struct Variant {
 const MicroShadowing kTerms[] = {
     MicroShadowing::None,  MicroShadowing::AO,    MicroShadowing::Reference,   MicroShadowing::BrinckMaximov,
     MicroShadowing::Chan,  MicroShadowing::Part1, MicroShadowing::GenericVndf, MicroShadowing::Lut3d,
-    MicroShadowing::Lut2d, MicroShadowing::Aware, MicroShadowing::AwareFlux};
+    MicroShadowing::Lut2d, MicroShadowing::Aware, MicroShadowing::AwareFlux,   MicroShadowing::AwareAlu};
 bool uses_nl(MicroShadowing m) { return m != MicroShadowing::None && m != MicroShadowing::AO; }
 
 std::vector<Variant> make_variants(const StudyConfig& c, int k) {

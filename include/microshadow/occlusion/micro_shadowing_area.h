@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace msh::micro_shadowing {
 
@@ -349,6 +350,87 @@ template <class T>
 T generic_vndf_alu_area_cap(T V, T n_dot_l, T n_dot_v, T roughness, T rho, int n = 4) {
   return area_cap_lambert([&](T z) { return generic_vndf_alu(V, z, n_dot_v, roughness); }, n_dot_l, rho,
                           generic_vndf_kinks(V, roughness), n);
+}
+
+// ---- disk and rectangle lights, Lambertian receiver: the equivalent cap
+// ------------------------------------
+//
+// For a term that depends on N·L only and a Lambertian receiver, M_area depends on the light only through the
+// distribution of n·l over its cosine-weighted solid angle. The fast form replaces a disk or a polygon (a
+// rectangle light) by the spherical cap with the same vector form factor F = ∫_Ω l dl (unclipped): axis
+// F/|F|, sin²ρ = |F|/π (a cap of radius ρ about c has F = π sin²ρ c). So the cap has the light's
+// cosine-weighted form factor toward every receiver normal whose horizon does not cut it, is centred on the
+// light's centroid direction, and reuses every cap form above (reference_step_area_cap, area_cap_lambert and
+// the terms built on it); the horizon clipping is then the cap's. The same sphere approximates the horizon-
+// clipped irradiance of a polygon light in Heitz 2017, "Geometric Derivation of the Irradiance of Polygonal
+// Lights". Its error against the exact reference: docs/area-lights.md §5.
+
+template <class T>
+struct EquivalentCap {
+  T n_dot_l = T(1);  // N·L of the cap's axis
+  T rho = T(0);      // its angular radius ∈ [0, π/2]
+};
+
+// The cap of the vector form factor F. A light of zero size (F = 0, or not finite) gives the zero-size cap at
+// `center` (its direction), so the cap forms return the point value there.
+template <class T>
+EquivalentCap<T> equivalent_cap(const Vec3<T>& F, const Vec3<T>& center = Vec3<T>(T(0), T(0), T(1))) {
+  const T len = length(F);
+  EquivalentCap<T> c;
+  if (!(len > T(0)) || !std::isfinite(len)) {
+    const T lc = length(center);
+    c.n_dot_l = lc > T(0) ? clamp(center.z / lc, T(-1), T(1)) : T(1);
+    return c;
+  }
+  c.n_dot_l = clamp(F.z / len, T(-1), T(1));
+  const T q = saturate(len / kPi<T>);
+  c.rho = std::atan2(std::sqrt(q), std::sqrt(T(1) - q));
+  return c;
+}
+
+// F = ∫_Ω l dl of a convex spherical polygon with corners (unit directions, either winding, n ≤ 8): Lambert's
+// formula ½ Σ θ_i n̂_i (θ_i the arc between corners i and i + 1, n̂_i the normal of its great circle; Arvo
+// 1995, "Applications of Irradiance Tensors"), oriented toward the corners' mean.
+template <class T>
+Vec3<T> polygon_vector_form_factor(const Vec3<T>* corners, int n) {
+  Vec3<T> F(T(0), T(0), T(0)), mean(T(0), T(0), T(0));
+  for (int i = 0; i < n; ++i) {
+    const Vec3<T> a = normalize(corners[i]), b = normalize(corners[(i + 1) % n]);
+    const Vec3<T> x = cross(a, b);
+    const T sx = length(x);
+    if (sx > T(0)) F += x * (std::atan2(sx, dot(a, b)) / sx);
+    mean += a;
+  }
+  F = F * T(0.5);
+  return dot(F, mean) < T(0) ? -F : F;
+}
+
+// F = ∫_Ω l dl of a planar disk: centre c (relative to the shading point, any distance > 0), unit normal nd
+// (either sign), radius R. From ∫_Ω l dl = ½ ∮ l × dl (Arvo 1995) on the rim p(a) = c + R(cos a e1 + sin a
+// e2): l × dl = p × p′ / |p|² da with |p|² = A + B cos a + C sin a (A = |c|² + R², B = 2R c·e1, C = 2R c·e2)
+// and p × p′ = R (cos a c × e2 − sin a c × e1) + R² nd, whose integrals are ∫ da/|p|² = 2π/D and ∫ (cos a,
+// sin a) da/|p|² = −2π (B, C)/(D (D + A)), D = √(A² − B² − C²). Oriented toward c.
+template <class T>
+Vec3<T> disk_vector_form_factor(const Vec3<T>& c, const Vec3<T>& nd, T R) {
+  const Vec3<T> n = normalize(nd);
+  const Frame<T> f = Frame<T>::from_z(n);
+  const T r = std::max(R, T(0));
+  const T A = dot(c, c) + r * r, B = T(2) * r * dot(c, f.s), C = T(2) * r * dot(c, f.t);
+  const T hb = std::hypot(B, C);
+  // The point on the rim of a disk seen edge-on (A = |(B, C)|): zero solid angle, the integrals singular.
+  if (!(A - hb > T(8) * std::numeric_limits<T>::epsilon() * A)) return Vec3<T>(T(0), T(0), T(0));
+  const T D = std::sqrt((A - hb) * (A + hb));
+  const T I0 = T(2) * kPi<T> / D, k = -T(2) * kPi<T> / (D * (D + A));
+  const Vec3<T> F = (cross(c, f.t) * (r * k * B) - cross(c, f.s) * (r * k * C) + n * (r * r * I0)) * T(0.5);
+  return dot(F, c) < T(0) ? -F : F;
+}
+
+// The reference step over a disk or polygon light through its equivalent cap (Lambertian receiver).
+template <class T>
+T reference_step_area_equivalent_cap(T V, const Vec3<T>& F,
+                                     const Vec3<T>& center = Vec3<T>(T(0), T(0), T(1))) {
+  const EquivalentCap<T> e = equivalent_cap(F, center);
+  return reference_step_area_cap(V, e.n_dot_l, e.rho);
 }
 
 }  // namespace msh::micro_shadowing

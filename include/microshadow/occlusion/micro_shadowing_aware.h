@@ -112,11 +112,24 @@ T lambert_cap_fraction(T cos_m, T c) {
 //     hemisphere (the fraction leaving through the cone; Lambertian cap fraction above); n·m > c, m·l > c.
 enum class DiffuseAwareForm { Reciprocal, Flux };
 
+// The facet micro-BRDF of the reciprocal form, as a weight π f_facet(l, v about m) that multiplies (m·l)⁺
+// in the cone and in the hemisphere alike: LambertFacet (1) here; the Oren–Nayar facets of
+// docs/micro-shadowing-aware.md §3.1 are reference/micro_shadowing_aware_exact.h's OrenNayarFacet (the
+// occlusion area does not depend on bsdf/). Any callable w(m, l, v) ≥ 0 works.
+struct LambertFacet {
+  template <class T>
+  T operator()(const Vec3<T>&, const Vec3<T>&, const Vec3<T>&) const {
+    return T(1);
+  }
+};
+
 // One VNDF sample of the diffuse-aware term: m from the Dupuy–Benyoub 2023 sampler of v; returns the cone
-// and hemisphere weights (the Smith G2/G1 depends on (v, l) only and cancels; it is left out).
-template <class T>
+// and hemisphere weights (the Smith G2/G1 depends on (v, l) only and cancels; it is left out). facet: the
+// facet micro-BRDF's weight in the Reciprocal form (LambertFacet above); the Flux form keeps Lambert facets
+// (its cap fraction is the Lambertian one).
+template <class T, class FacetWeight = LambertFacet>
 GenericSample<T> diffuse_aware_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l,
-                                      Vec2<T> u, DiffuseAwareForm form) {
+                                      Vec2<T> u, DiffuseAwareForm form, const FacetWeight& facet = {}) {
   const Vec3<T> m = ggx.Sample_wm(v, u);
   const T c = input_domain::clamp_nan(cos_t, T(0), T(1), T(1));
   const T ml = dot(m, l), nm = m.z;
@@ -124,8 +137,8 @@ GenericSample<T> diffuse_aware_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>&
   if (!(ml > T(0)) || !(nm > T(0))) return s;
   const bool in_cone = nm > c && ml > c;
   if (form == DiffuseAwareForm::Reciprocal) {
-    s.hemisphere = ml;
-    s.cone = (in_cone && dot(m, v) > c) ? ml : T(0);
+    s.hemisphere = ml * facet(m, l, v);
+    s.cone = (in_cone && dot(m, v) > c) ? s.hemisphere : T(0);
   } else {
     s.hemisphere = ml * T(0.5) * (T(1) + nm);
     s.cone = in_cone ? ml * lambert_cap_fraction(nm, c) : T(0);
@@ -135,17 +148,18 @@ GenericSample<T> diffuse_aware_sample(T cos_t, const GGX<T>& ggx, const Vec3<T>&
 
 // The diffuse-aware term estimated with n Owen-scrambled Sobol points (seed 0: plain Sobol): Σcone / Σhemi.
 // Exact 0 at the generic term's early-out 2V + N·L < 1 (the diffuse-aware cone region is a subset of the
-// generic one); V = 1 → 1.
-template <class T>
+// generic one); V = 1 → 1. facet: as diffuse_aware_sample (LambertFacet: Lambert facets).
+template <class T, class FacetWeight = LambertFacet>
 T diffuse_aware_estimate(T V, const GGX<T>& ggx, const Vec3<T>& v, const Vec3<T>& l, int n,
-                         DiffuseAwareForm form, uint32_t seed = 1) {
+                         DiffuseAwareForm form, uint32_t seed = 1, const FacetWeight& facet = {}) {
   const T vis = saturate(V);
   if (exact_zero(vis, l.z) || vis == T(0)) return T(0);
   if (vis >= T(1)) return T(1);
   const T c = cone_cos_from_visibility(vis);
   T cone = 0, hemi = 0;
   for (int i = 0; i < n; ++i) {
-    const GenericSample<T> s = diffuse_aware_sample(c, ggx, v, l, sobol_2d<T>(uint32_t(i), seed), form);
+    const GenericSample<T> s =
+        diffuse_aware_sample(c, ggx, v, l, sobol_2d<T>(uint32_t(i), seed), form, facet);
     cone += s.cone;
     hemi += s.hemisphere;
   }

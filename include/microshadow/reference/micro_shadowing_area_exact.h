@@ -43,6 +43,8 @@
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <algorithm>
@@ -92,10 +94,15 @@ inline Cap disk_facing(const Vec3d& center, double edge_angle) { return Cap{norm
 
 // A rectangle light centred at distance 1 along `center`, spanned by the orthonormal axes u, w (units of
 // the distance), half-extents half_u, half_w: its four corner directions.
-inline Quad rect_light(const Vec3d& center, const Vec3d& u, const Vec3d& w, double half_u, double half_w) {
-  const Vec3d c = normalize(center);
+inline Quad rect_light(const Vec3d& center, const Vec3d& u, const Vec3d& w, double half_u, double half_w);
+// The rectangle c ± half_u·u ± half_w·w with its centre c at any distance (not 0; the plane not through the
+// shading point), e.g. a rectangle light given in world units relative to the point.
+inline Quad rect_quad(const Vec3d& c, const Vec3d& u, const Vec3d& w, double half_u, double half_w) {
   return Quad{{normalize(c + half_u * u + half_w * w), normalize(c - half_u * u + half_w * w),
                normalize(c - half_u * u - half_w * w), normalize(c + half_u * u - half_w * w)}};
+}
+inline Quad rect_light(const Vec3d& center, const Vec3d& u, const Vec3d& w, double half_u, double half_w) {
+  return rect_quad(normalize(center), u, w, half_u, half_w);
 }
 
 // The frame of a light facing the shading point: u0 ⟂ center in the plane of (n, center), pointing away
@@ -160,17 +167,33 @@ struct Receiver {
 
 // ---- point-wise terms -----------------------------------------------------------------------------------
 
+// A curve on the sphere where a term jumps or kinks that is not a circle of constant n·l:
+// {l : l·axis = k0 + k1 z + k2 z²}, z = n·l (e.g. the specular-aware term's l·v = 2c² − 1 and n·h = c, i.e.
+// l·v = (z + n·v)²/(2c²) − 1). On each circle of constant z it meets at most two azimuths, in closed form;
+// they become panel edges of the inner (φ) quadrature, and the z where it is tangent to a circle (found by
+// a scan and bisection, or listed among the term's z_breaks) edges of the outer one.
+struct AzimuthBreak {
+  Vec3d axis{0, 0, 1};
+  double k0 = 0, k1 = 0, k2 = 0;
+  double k(double z) const { return k0 + z * (k1 + z * k2); }
+};
+
 // A point term: a callable M(l) → [0, 1] (double(const Vec3d&)), the values of z = n·l where it jumps or
-// kinks (each becomes a panel edge) and whether it depends on z only (then no φ quadrature is needed for a
-// Lambertian receiver). Class template argument deduction: PointTerm{lambda, {breaks...}, z_only}.
+// kinks (each becomes a panel edge), whether it depends on z only (then no φ quadrature is needed for a
+// Lambertian receiver) and, for a term that depends on the azimuth, the curves where it jumps.
+// Class template argument deduction: PointTerm{lambda, {breaks...}, z_only} or
+// PointTerm{lambda, {breaks...}, false, {curves...}}.
 template <class F>
 struct PointTerm {
   F M;
   std::vector<double> z_breaks;
   bool z_only = false;
+  std::vector<AzimuthBreak> phi_breaks = {};
 };
 template <class F>
 PointTerm(F, std::vector<double>, bool) -> PointTerm<F>;
+template <class F>
+PointTerm(F, std::vector<double>, bool, std::vector<AzimuthBreak>) -> PointTerm<F>;
 
 // The circles of constant n·l where a term of occlusion/micro_shadowing.h is not smooth: the cone
 // cos_t = sqrt(1 − V) (reference step, Chan 2018), the early-out 1 − 2V (generic term), 1 − 2V² (Brinck–
@@ -211,6 +234,63 @@ inline auto generic_vndf_term(double V, double alpha_x, double alpha_y, const Ve
       [=](const Vec3d& l) { return micro_shadowing::generic_vndf_exact(V, alpha_x, alpha_y, v, l, rel_tol); },
       {1 - 2 * saturate(V)},
       false};
+}
+
+// ---- the micro-BRDF-aware terms (occlusion/micro_shadowing_aware.h, docs/micro-shadowing-aware.md) -----
+
+// Where the specular-aware indicator χ(n·h > c) χ(h·l > c) (c = sqrt(1 − V)) jumps, for the view v:
+// h·l > c ⇔ l·v > 2c² − 1 (a circle about v), n·h > c ⇔ (z + n·v)² > 2c² (1 + l·v) (a curve
+// l·v = (z + n·v)²/(2c²) − 1). Both are tangent to a circle of constant z where the azimuth-mean closed
+// form's interval ends reach φ = 0 or π: θl = |2t − θv| and θl = θv + 2t (t = acos c, θv = acos n·v) — the
+// kinks of the azimuth mean.
+inline std::vector<double> specular_aware_z_breaks(double V, double n_dot_v) {
+  const double c = micro_shadowing::cone_cos_from_visibility(saturate(V));
+  const double t = std::acos(std::clamp(c, 0.0, 1.0)), tv = std::acos(std::clamp(n_dot_v, 0.0, 1.0));
+  std::vector<double> z = {std::cos(std::abs(2 * t - tv)), 1 - 2 * saturate(V)};
+  if (2 * t + tv < 0.5 * kPi<double>) z.push_back(std::cos(2 * t + tv));
+  return z;
+}
+inline std::vector<AzimuthBreak> specular_aware_curves(double V, const Vec3d& v) {
+  const double c = micro_shadowing::cone_cos_from_visibility(saturate(V)), c2 = std::max(c * c, 1e-300);
+  const Vec3d vn = normalize(v);
+  return {AzimuthBreak{vn, 2 * c * c - 1, 0, 0},
+          AzimuthBreak{vn, vn.z * vn.z / (2 * c2) - 1, vn.z / c2, 1 / (2 * c2)}};
+}
+
+// The specular-aware term at the full direction l (view v): an indicator whose jumps are all panel edges.
+inline auto specular_aware_term(double V, const Vec3d& v) {
+  const Vec3d vn = normalize(v);
+  return PointTerm{[V, vn](const Vec3d& l) { return micro_shadowing::specular_aware(V, vn, l); },
+                   specular_aware_z_breaks(V, vn.z), false, specular_aware_curves(V, vn)};
+}
+// Its GGX-lobe-weighted azimuth mean (closed form; in float: the shaders' form), a function of z only.
+template <class T = double>
+auto specular_aware_azimuth_mean_term(double V, double alpha, double n_dot_v) {
+  return PointTerm{
+      [=](const Vec3d& l) {
+        return double(micro_shadowing::specular_aware_azimuth_mean<T>(T(V), T(alpha), T(l.z), T(n_dot_v)));
+      },
+      specular_aware_z_breaks(V, n_dot_v), true};
+}
+// The diffuse-aware term (exact quadrature over the VNDF) at the full direction, anisotropic GGX, view v:
+// continuous in l except at the generic term's early-out 2V + N·L < 1 (its region is a subset of the
+// generic one), so its breaks are those of the generic term and the cone.
+inline auto diffuse_aware_term(double V, double alpha_x, double alpha_y, const Vec3d& v,
+                               micro_shadowing::DiffuseAwareForm form, double rel_tol = 1e-8) {
+  return PointTerm{[=](const Vec3d& l) {
+                     return micro_shadowing::diffuse_aware_exact(V, alpha_x, alpha_y, v, l, form, rel_tol);
+                   },
+                   {1 - 2 * saturate(V), micro_shadowing::cone_cos_from_visibility(saturate(V))},
+                   false};
+}
+// Its azimuth mean (isotropic), a function of z only.
+inline auto diffuse_aware_azimuth_mean_term(double V, double alpha, double n_dot_v,
+                                            micro_shadowing::DiffuseAwareForm form) {
+  return PointTerm{[=](const Vec3d& l) {
+                     return micro_shadowing::diffuse_aware_exact_azimuth_mean(V, alpha, l.z, n_dot_v, form);
+                   },
+                   {1 - 2 * saturate(V), micro_shadowing::cone_cos_from_visibility(saturate(V))},
+                   true};
 }
 
 struct AreaOptions {
@@ -535,44 +615,95 @@ struct DiskGeom {
   }
 };
 
-template <class G, class F>
-double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* term,
-                       const std::vector<double>& zb, double rel_tol) {
-  const bool lambert = rec.kind == Receiver::Kind::Lambert;
-  const bool z_only = term == nullptr || term->z_only;
-  const double phi_mirror = std::atan2(-rec.v.y, -rec.v.x) + (rec.v.y == 0 && rec.v.x == 0 ? kPi<double> : 0);
-  const double phi_m = phi_mirror < 0 ? phi_mirror + kTwoPi : phi_mirror;
+// The polar-about-n quadrature of §2 for any integrand: ∫ over the light ∩ {z > z_lo} of
+// z_factor(z) · ∫_arcs(z) phi_integrand(l) dφ dz. phi_constant: phi_integrand does not depend on φ (it is
+// evaluated once per circle, times the arcs' length). zb: the z where the integrand jumps or kinks; peak
+// (may be null): a direction where it peaks, whose z and azimuth become panel edges.
+// The azimuths in [0, 2π) where `curve` meets the circle of constant z (at most 2).
+inline int curve_azimuths(const AzimuthBreak& curve, double z, double s, double* out) {
+  const double r = std::hypot(curve.axis.x, curve.axis.y);
+  if (!(s * r > 1e-300)) return 0;
+  const double x = (curve.k(z) - z * curve.axis.z) / (s * r);
+  if (!(std::abs(x) < 1)) return 0;
+  const double p0 = std::atan2(curve.axis.y, curve.axis.x), w = std::acos(x);
+  int n = 0;
+  for (double p : {p0 - w, p0 + w}) {
+    p = std::fmod(p, kTwoPi);
+    out[n++] = p < 0 ? p + kTwoPi : p;
+  }
+  return n;
+}
+
+// The z in (z_lo, 1) where `curve` is tangent to a circle of constant z ((k − z a_z)² = (1 − z²) |a_xy|²):
+// sign changes on a 512-point grid, refined by bisection.
+inline void curve_tangent_z(const AzimuthBreak& curve, double z_lo, std::vector<double>& out) {
+  const double r2 = curve.axis.x * curve.axis.x + curve.axis.y * curve.axis.y;
+  auto g = [&](double z) { return sqr(curve.k(z) - z * curve.axis.z) - (1 - z * z) * r2; };
+  constexpr int kN = 512;
+  double za = z_lo, ga = g(za);
+  for (int i = 1; i <= kN; ++i) {
+    const double zb = z_lo + (1 - z_lo) * i / kN, gb = g(zb);
+    if ((ga < 0) != (gb < 0)) {
+      double a = za, b = zb;
+      for (int it = 0; it < 60; ++it) {
+        const double m = 0.5 * (a + b);
+        ((g(m) < 0) == (ga < 0) ? a : b) = m;
+      }
+      out.push_back(0.5 * (a + b));
+    }
+    za = zb, ga = gb;
+  }
+}
+
+// peak (may be null): a direction where the integrand peaks, whose z and azimuth become panel edges;
+// curves: where it jumps off the circles of constant z (their azimuths are inner panel edges).
+template <class G, class Zf, class Pf>
+double integrate_polar(const G& geom, const Zf& z_factor, const Pf& phi_integrand, bool phi_constant,
+                       const std::vector<double>& zb, const Vec3d* peak, double z_lo, double rel_tol,
+                       const std::vector<AzimuthBreak>& curves = {}) {
+  double phi_peak = -1;
+  if (peak != nullptr && std::hypot(peak->x, peak->y) > 1e-12) {
+    phi_peak = std::atan2(peak->y, peak->x);
+    if (phi_peak < 0) phi_peak += kTwoPi;
+  }
   auto inner = [&](double z) -> double {
-    if (!(z > 0)) return 0.0;
+    if (!(z > z_lo)) return 0.0;
     const double s = std::sqrt(std::max(0.0, 1 - z * z));
     const Arcs arcs = geom.arcs(z, s);
     if (arcs.n == 0) return 0.0;
-    const double mz = (term && z_only) ? term->M(Vec3d(s, 0, z)) : 1.0;
-    if (lambert && z_only) return mz * z * arcs.length();
+    const double zf = z_factor(z, s);
+    if (phi_constant) return zf * phi_integrand(Vec3d(s, 0, z)) * arcs.length();
     double sum = 0;
-    auto f = [&](double p) {
-      const Vec3d l(s * std::cos(p), s * std::sin(p), z);
-      const double w = rec.weight(l);
-      return (term && !z_only) ? w * term->M(l) : w;
-    };
+    auto f = [&](double p) { return phi_integrand(Vec3d(s * std::cos(p), s * std::sin(p), z)); };
     auto panel = [&](double a, double b) {
       const double h = b - a;
       if (!(h > 0)) return 0.0;
       return gauss_kronrod([&](double u) { return f(a + h * u * u * (3 - 2 * u)) * 6 * h * u * (1 - u); },
                            0.0, 1.0, 0.0, 0.25 * rel_tol);
     };
+    double cuts[34];
+    int nc = 0;
+    if (phi_peak >= 0) cuts[nc++] = phi_peak;
+    for (const AzimuthBreak& cv : curves)
+      if (nc + 2 <= 34) nc += curve_azimuths(cv, z, s, cuts + nc);
+    std::sort(cuts, cuts + nc);
     for (int i = 0; i < arcs.n; ++i) {
-      const double a = arcs.iv[size_t(i)].first, b = arcs.iv[size_t(i)].second;
-      if (!lambert && phi_m > a && phi_m < b)
-        sum += panel(a, phi_m) + panel(phi_m, b);
-      else
-        sum += panel(a, b);
+      double a = arcs.iv[size_t(i)].first;
+      const double b = arcs.iv[size_t(i)].second;
+      for (int j = 0; j < nc; ++j)
+        if (cuts[j] > a && cuts[j] < b) sum += panel(a, cuts[j]), a = cuts[j];
+      sum += panel(a, b);
     }
-    return mz * sum;
+    return zf * sum;
   };
-  std::vector<double> pts = {0.0, 1.0};
+  std::vector<double> pts = {z_lo, 1.0};
   for (double z : zb)
-    if (z > 0 && z < 1) pts.push_back(z);
+    if (z > z_lo && z < 1) pts.push_back(z);
+  if (peak != nullptr && peak->z > z_lo && peak->z < 1) pts.push_back(peak->z);
+  std::vector<double> tangents;
+  for (const AzimuthBreak& cv : curves) curve_tangent_z(cv, z_lo, tangents);
+  for (double z : tangents)
+    if (z > z_lo && z < 1) pts.push_back(z);
   std::sort(pts.begin(), pts.end());
   double total = 0;
   for (size_t i = 0; i + 1 < pts.size(); ++i) {
@@ -582,6 +713,25 @@ double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* t
                            0.0, 1.0, 0.0, rel_tol);
   }
   return total;
+}
+
+// The GGX mirror direction of the view (the receiver weight's peak).
+inline Vec3d mirror_direction(const Receiver& rec) { return Vec3d(-rec.v.x, -rec.v.y, rec.v.z); }
+
+template <class G, class F>
+double integrate_shape(const G& geom, const Receiver& rec, const PointTerm<F>* term,
+                       const std::vector<double>& zb, double rel_tol) {
+  const bool lambert = rec.kind == Receiver::Kind::Lambert;
+  const bool z_only = term == nullptr || term->z_only;
+  const Vec3d mirror = mirror_direction(rec);
+  return integrate_polar(
+      geom, [&](double z, double s) { return (term && z_only) ? term->M(Vec3d(s, 0, z)) : 1.0; },
+      [&](const Vec3d& l) {
+        const double w = rec.weight(l);
+        return (term && !z_only) ? w * term->M(l) : w;
+      },
+      lambert && z_only, zb, lambert ? nullptr : &mirror, 0.0, rel_tol,
+      (term && !z_only) ? term->phi_breaks : std::vector<AzimuthBreak>{});
 }
 
 template <class G, class F>
@@ -661,6 +811,59 @@ double area_micro_shadowing_exact(const Shape& shape, const Receiver& rec, const
 inline double light_weight(const Shape& shape, const Receiver& rec, const AreaOptions& opt = {}) {
   return area_integrals(shape, rec, PointTerm<double (*)(const Vec3d&)>{&area_quadrature::one, {}, true}, opt)
       .total;
+}
+
+// ---- any integrand over a light ---------------------------------------------------------------------------
+
+// Where a general integrand g(l) over a light is not smooth, for integrate_light.
+struct IntegrandBreaks {
+  std::vector<double> z;  // values of z = n·l where g jumps or kinks (e.g. the horizon of a clamped cosine)
+  bool has_peak = false;  // g peaks sharply at `peak` (e.g. a GGX lobe's mirror direction): its z and
+  Vec3d peak{0, 0, 1};    //   azimuth about n become panel edges
+  bool below_horizon = false;  // integrate all of the light (z ∈ [−1, 1]); default: only its part with z > 0
+};
+
+// ∫_Ω g(l) dl over the light's solid angle (or its part above the horizon) by the quadrature of §2 above,
+// the one place that integrates over a light: the area terms and the LTC verification (bsdf/runtime/
+// ltc_baker.h) use it. g: a callable double(const Vec3d&) of a unit direction in the frame n = +z.
+// rel_tol: panel-relative Gauss–Kronrod tolerance.
+template <class G>
+double integrate_light(const Shape& shape, const G& g, const IntegrandBreaks& b = {},
+                       const AreaOptions& opt = {}) {
+  return area_quadrature::with_geom<double>(shape, [&](const auto& geom) {
+    if (geom.zero()) return 0.0;
+    std::vector<double> zb = b.z;
+    geom.breaks(zb);
+    const double z_lo = b.below_horizon ? -1.0 : 0.0;
+    if (b.below_horizon) zb.push_back(0.0);
+    return area_quadrature::integrate_polar(
+        geom, [](double, double) { return 1.0; }, g, false, zb, b.has_peak ? &b.peak : nullptr, z_lo,
+        opt.rel_tol);
+  });
+}
+
+// ---- closed forms the quadrature is checked against
+// ----------------------------------------------------------
+
+// Form factor (Lambertian receiver, n = +z) of a sphere of angular radius σ whose centre is at elevation
+// cos ω = n·c, clipped by the horizon (Snyder 1996, "Area light sources for real-time graphics"; the form of
+// Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", eq. 19, divided by π).
+inline double sphere_form_factor(double cos_omega, double sin_sigma) {
+  const double s2 = sin_sigma * sin_sigma;
+  if (cos_omega * cos_omega > s2) return cos_omega > 0 ? s2 * cos_omega : 0.0;
+  const double sin_omega = std::sqrt(std::max(0.0, 1.0 - cos_omega * cos_omega));
+  const double x = std::sqrt(1.0 / s2 - 1.0);
+  const double y = -x * cos_omega / sin_omega;
+  const double sy = sin_omega * std::sqrt(std::max(0.0, 1.0 - y * y));
+  return std::max(0.0, ((cos_omega * std::acos(std::clamp(y, -1.0, 1.0)) - x * sy) * s2 + std::atan(sy / x)) /
+                           kPi<double>);
+}
+
+// Form factor from a differential area to a parallel rectangle a × b at height h with one corner above it
+// (Howell, "A Catalog of Radiation Heat Transfer Configuration Factors", C-11).
+inline double rect_corner_form_factor(double a, double b, double h) {
+  const double x = a / h, y = b / h, sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+  return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * kPi<double>);
 }
 
 }  // namespace msh::area

@@ -17,6 +17,7 @@
 // closed-form jumps of S, independent of the closed form it checks.
 #pragma once
 
+#include <microshadow/bsdf/diffuse.h>
 #include <microshadow/math/quadrature.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
@@ -25,6 +26,34 @@
 #include <cmath>
 
 namespace msh::micro_shadowing {
+
+// The second facet micro-BRDF of the reciprocal form (docs/micro-shadowing-aware.md §3.1): instead of
+// Lambert, the Oren–Nayar qualitative model (Oren & Nayar 1994, "Generalization of Lambert's Reflectance
+// Model"; bsdf::diffuse_oren_nayar_qualitative) on each facet, in the facet's own frame (normal m), with
+// sub-facet slope deviation sigma (radians). Returns π f_ON(ρ = 1; l, v about m) = A + B max(0, cos Δφ) sin α
+// tan β: 1 at sigma = 0 (Lambert), 0 when l or v is below the facet. m, l, v unit.
+template <class T>
+T oren_nayar_facet_weight(T sigma, const Vec3<T>& m, const Vec3<T>& l, const Vec3<T>& v) {
+  const T ml = dot(m, l), mv = dot(m, v);
+  if (!(ml > T(0)) || !(mv > T(0))) return T(0);
+  if (!(sigma > T(0))) return T(1);
+  // l and v in a frame of m: x along l's tangent component (any tangent when l = m: cos Δφ is then unused).
+  const Vec3<T> lt = l - ml * m, vt = v - mv * m;
+  const T sl = std::sqrt(std::max(T(0), dot(lt, lt))), sv2 = std::max(T(0), dot(vt, vt));
+  const T vx = sl > T(1e-12) ? dot(lt, vt) / sl : std::sqrt(sv2);
+  const Vec3<T> l_loc(sl, T(0), std::min(ml, T(1)));
+  const Vec3<T> v_loc(vx, std::sqrt(std::max(T(0), sv2 - vx * vx)), std::min(mv, T(1)));
+  return kPi<T> * bsdf::diffuse_oren_nayar_qualitative<T, T>(T(1), std::min(sigma, T(10)), l_loc, v_loc);
+}
+// The same as a facet weight for diffuse_aware_sample / diffuse_aware_estimate (occlusion/
+// micro_shadowing_aware.h).
+struct OrenNayarFacet {
+  double sigma = 0;
+  template <class T>
+  T operator()(const Vec3<T>& m, const Vec3<T>& l, const Vec3<T>& v) const {
+    return oren_nayar_facet_weight(T(sigma), m, l, v);
+  }
+};
 
 namespace aware_quadrature {
 using namespace exact_quadrature;  // the exact term's azimuth slices and panel integrators
@@ -42,6 +71,7 @@ struct AwareIntegrand {
   bool cone;
   DiffuseAwareForm form;
   double rel_tol;
+  double sigma = 0;  // Oren–Nayar facets (oren_nayar_facet_weight) in the Reciprocal form; 0: Lambert
 
   // [lo, hi] ∩= {θ : x·m > cx} with x·m = p sin θ + q cos θ; false if empty.
   static bool clip(double p, double q, double cx, double& lo, double& hi) {
@@ -68,6 +98,8 @@ struct AwareIntegrand {
       if (!(ml > 0)) return 0.0;
       double w = ml;
       if (form == DiffuseAwareForm::Flux) w *= cone ? lambert_cap_fraction(ct, c) : 0.5 * (1 + ct);
+      if (form == DiffuseAwareForm::Reciprocal && sigma > 0)
+        w *= oren_nayar_facet_weight(sigma, Vec3d(st * pc, st * ps, ct), l, v);
       return w * std::max(0.0, al * su * pv + cu * qv) * su;
     };
     double s = 0;
@@ -84,7 +116,7 @@ struct AwareIntegrand {
 };
 
 inline double aware_region(const GGX<double>& ggx, const Vec3d& v, const Vec3d& l, double c, bool cone,
-                           DiffuseAwareForm form, double abs_tol) {
+                           DiffuseAwareForm form, double abs_tol, double sigma = 0) {
   const AwareIntegrand f{v,
                          l,
                          1 / sqr(ggx.alpha_x()),
@@ -93,7 +125,8 @@ inline double aware_region(const GGX<double>& ggx, const Vec3d& v, const Vec3d& 
                          cone ? c : 0.0,
                          cone,
                          form,
-                         1e-10};
+                         1e-10,
+                         sigma};
   double bp[64];
   int nb = region_breakpoints(v, l, cone ? c : 0.0, bp);
   if (cone && form == DiffuseAwareForm::Reciprocal) {
@@ -109,10 +142,12 @@ inline double aware_region(const GGX<double>& ggx, const Vec3d& v, const Vec3d& 
 // Exact diffuse-aware term at full vectors (anisotropic GGX, αx along x): cone / hemisphere integrals of the
 // DiffuseAwareForm weights over the VNDF of v. V = 0 or the early-out 2V + N·L < 1 → 0; V = 1 → 1; v.z < 0
 // mirrored; NaN/Inf → 0. rel_tol bounds the quadrature error relative to the denominator (measured in
-// docs/micro-shadowing-aware.md).
+// docs/micro-shadowing-aware.md). facet_sigma > 0: Oren–Nayar facets in the Reciprocal form (§3.1; the Flux
+// form keeps Lambert facets); NaN → 0.
 inline double diffuse_aware_exact(double V, double alpha_x, double alpha_y, const Vec3d& v, const Vec3d& l,
-                                  DiffuseAwareForm form, double rel_tol = 1e-7) {
+                                  DiffuseAwareForm form, double rel_tol = 1e-7, double facet_sigma = 0) {
   if (!is_finite(v) || !is_finite(l) || std::isnan(alpha_x) || std::isnan(alpha_y)) return 0.0;
+  const double sg = std::isnan(facet_sigma) ? 0.0 : std::clamp(facet_sigma, 0.0, 10.0);
   const double vis = saturate(V);
   Vec3d vn = normalize(v), ln = normalize(l);
   if (vn.z < 0) vn = -vn;
@@ -120,9 +155,9 @@ inline double diffuse_aware_exact(double V, double alpha_x, double alpha_y, cons
   if (vis == 1.0) return 1.0;
   const GGX<double> ggx(std::min(alpha_x, 1e4), std::min(alpha_y, 1e4));
   const double c = cone_cos_from_visibility(vis);
-  const double den = aware_quadrature::aware_region(ggx, vn, ln, c, false, form, 1e-9);
+  const double den = aware_quadrature::aware_region(ggx, vn, ln, c, false, form, 1e-9, sg);
   if (!(den > 1e-300)) return 0.0;
-  const double num = aware_quadrature::aware_region(ggx, vn, ln, c, true, form, rel_tol * den);
+  const double num = aware_quadrature::aware_region(ggx, vn, ln, c, true, form, rel_tol * den, sg);
   return saturate(num / den);
 }
 

@@ -142,6 +142,8 @@ enum class MicroShadowing {
   Aware,          // micro-BRDF-aware (docs/micro-shadowing-aware.md): specular-aware on the specular lobe,
                   // diffuse-aware (reciprocal form, vndf_samples per light) on the diffuse lobe
   AwareFlux,      // the same with the diffuse-aware flux form (Lambertian cap fraction)
+  AwareAlu,       // specular-aware on the specular lobe, the diffuse-aware term's ALU fit of its azimuth mean
+                  // (occlusion/micro_shadowing_aware_fit.h, reciprocal form) on the diffuse lobe
   GroundTruth     // height map rendered as real ray-traced micro-geometry, no normal or visibility map
 };
 const char* to_string(MicroShadowing m);

@@ -87,9 +87,10 @@ namespace msh::bsdf {
 // in [sigma_min_deg, sigma_max_deg], light centre elevation uniform in [0°, 90°] and azimuth in [0°, 180°]
 // from the mirror direction's side — the LTC-shaded sphere light (ltc_shade_sphere, N-gon) and square light
 // (half-size tan σ at distance 1, facing the point) with the table fetched bilinearly, against nested
-// Gauss–Kronrod quadrature of f(v,l)(n·l) over the light (reference/light_quadrature.h), F = 1.
-// Values are normalized by the light's form factor at normal incidence (the light scaled so a white Lambert
-// surface facing it reflects 1), so absolute errors read in display units (×255 = 8-bit steps).
+// Gauss–Kronrod quadrature of f(v,l)(n·l) over the light (area::integrate_light,
+// reference/micro_shadowing_area_exact.h), F = 1. Values are normalized by the light's form factor at normal
+// incidence (the light scaled so a white Lambert surface facing it reflects 1), so absolute errors read in
+// display units (×255 = 8-bit steps).
 struct LtcVerifyOptions {
   int points = 256;
   double roughness_min = 0.1, cos_min = 0.05, sigma_min_deg = 1, sigma_max_deg = 40;

@@ -57,6 +57,21 @@ const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& n
 // "a, b, c" of every method name (for error messages and --help).
 std::string micro_shadowing_method_names();
 
+// Where a method's value, as a function of the light direction l (n·l = l.z, φ = the azimuth of l; v in
+// the xz plane at azimuth 0, as in MicroShadowingQuery), jumps or kinks: circles of constant n·l (z) and
+// curves {l : l·axis = k0 + k1 n·l + k2 (n·l)²}. The area-light quadrature makes them panel edges
+// (reference/runtime/micro_shadowing_area_method.h). known = false: the method lists none, and the circles of
+// every built-in term of occlusion/micro_shadowing.h are used.
+struct MicroShadowingBreaks {
+  struct Curve {
+    Vec3d axis{0, 0, 1};
+    double k0 = 0, k1 = 0, k2 = 0;
+  };
+  bool known = false;
+  std::vector<double> z;
+  std::vector<Curve> curves;
+};
+
 // A method bound to its options. eval() is const and thread-safe. Errors (an unknown method, an option the
 // method does not accept, an input outside [0, 1] or φ outside [0, π], an unreadable table) throw
 // msh::InputError with the message the CLI prints.
@@ -64,6 +79,8 @@ class MicroShadowingEvaluator {
  public:
   explicit MicroShadowingEvaluator(const std::string& method, MicroShadowingOptions options = {});
   double eval(const MicroShadowingQuery& q) const;
+  // The breaks of eval() in l at the query's V, N·V, roughness (and whether φ is set); n_dot_l is ignored.
+  MicroShadowingBreaks breaks(const MicroShadowingQuery& q) const;
   const MicroShadowingMethodInfo& info() const { return *info_; }
   const MicroShadowingOptions& options() const { return options_; }
   // LUT methods: the table eval() reads for a query with or without φ (baked or loaded on first use; the

@@ -17,7 +17,9 @@ namespace msh::occlusion {
 // The point term of method m at query q as a function of l (local frame, v in the xz plane at azimuth 0, as
 // in docs/micro-shadowing.md): n_dot_l = l.z (clamped to [0, 1]); when q.phi is set (and the method accepts
 // it) φ = the relative azimuth |atan2(l.y, l.x)| ∈ [0, π], else the method's azimuth mean, which depends on
-// l.z only. Breaks: area::standard_z_breaks(V), every circle where a built-in term is not smooth.
+// l.z only. Breaks: the method's own (MicroShadowingEvaluator::breaks: circles of constant n·l and, with φ,
+// curves such as the specular-aware indicator's), else area::standard_z_breaks(V), every circle where a
+// built-in term is not smooth.
 // The point term type of a registered method (type-erased: the method is chosen at run time).
 using AreaPointTerm = area::PointTerm<std::function<double(const Vec3d&)>>;
 
@@ -25,7 +27,10 @@ inline AreaPointTerm area_point_term(const MicroShadowingEvaluator& m, const Mic
   const bool uses_phi = q.phi.has_value() && m.info().accepts_phi;
   AreaPointTerm t;
   t.z_only = !uses_phi;
-  t.z_breaks = area::standard_z_breaks(q.visibility);
+  const MicroShadowingBreaks b = m.breaks(q);
+  t.z_breaks = b.known ? b.z : area::standard_z_breaks(q.visibility);
+  if (uses_phi)
+    for (const MicroShadowingBreaks::Curve& c : b.curves) t.phi_breaks.push_back({c.axis, c.k0, c.k1, c.k2});
   t.M = [&m, q, uses_phi](const Vec3d& l) {
     MicroShadowingQuery p = q;
     p.n_dot_l = std::clamp(l.z, 0.0, 1.0);
