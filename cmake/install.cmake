@@ -104,6 +104,6 @@ if(MSH_BUILD_TESTS)
   # builds of one-file programs.
   add_test(NAME test_package_consumer COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR}
            -DSOURCE_DIR=${CMAKE_SOURCE_DIR} -DCXX=${CMAKE_CXX_COMPILER} -DGENERATOR=${CMAKE_GENERATOR}
-           -P ${CMAKE_SOURCE_DIR}/tests/package/consumer_test.cmake)
+           -DSANITIZE=${MSH_SANITIZE} -P ${CMAKE_SOURCE_DIR}/tests/package/consumer_test.cmake)
   set_tests_properties(test_core_headers test_package_consumer PROPERTIES TIMEOUT 600)
 endif()

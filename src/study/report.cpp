@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 namespace msh::study {
 
@@ -391,8 +392,11 @@ std::string plot_svg(const json& results, bool use_bias) {
     return L + (scales.size() > 1 ? double(i) / double(scales.size() - 1) : 0.5) * (W - L - R);
   };
   auto Y = [&](double y) { return T + (1 - y / ymax) * (H - T - B); };
-  const char* colors[] = {"#000",    "#888",    "#e41a1c", "#377eb8", "#4daf4a",
-                          "#984ea3", "#ff7f00", "#a65628", "#f781bf"};
+  // One colour per entry of kMethods (ColorBrewer Set1, then Dark2); the check keeps the two lists in step.
+  static const std::vector<std::string> colors = {"#000",    "#888",    "#e41a1c", "#377eb8",
+                                                  "#4daf4a", "#984ea3", "#ff7f00", "#a65628",
+                                                  "#f781bf", "#1b9e77", "#d95f02", "#7570b3"};
+  if (colors.size() < kMethods.size()) throw std::logic_error("plot_svg: fewer colours than methods");
   std::string s =
       fmt::format("<svg width={} height={} xmlns='http://www.w3.org/2000/svg' font-size='11'>", W, H);
   s += fmt::format("<line x1={} y1={} x2={} y2={} stroke='#000'/>", L, H - B, W - R, H - B);

@@ -3,7 +3,8 @@
 #     run; its output is checked;
 #  2. the installed CLI runs (--version) and reads the installed default table's sidecar;
 #  3. one-file programs compiled with pkg-config (microshadow-core.pc, microshadow.pc) and run.
-# -DBUILD_DIR=... -DSOURCE_DIR=... -DCXX=... -DGENERATOR=...
+# -DBUILD_DIR=... -DSOURCE_DIR=... -DCXX=... -DGENERATOR=... [-DSANITIZE=ON: the installed library is
+# ASan/UBSan-instrumented (MSH_SANITIZE), so every consumer is compiled and linked with the same runtime]
 cmake_policy(VERSION 3.25)
 string(RANDOM LENGTH 8 tag)
 if(DEFINED ENV{TMPDIR})
@@ -50,13 +51,19 @@ get_filename_component(pcdir ${pcs} DIRECTORY)
 
 # 1. find_package against the prefix only (CMAKE_FIND_USE_PACKAGE_REGISTRY off: never the build tree).
 set(launcher)
+set(san_flags)
+set(san_cmake)
+if(SANITIZE)
+  set(san_flags -fsanitize=address,undefined)
+  set(san_cmake -DCMAKE_CXX_FLAGS=-fsanitize=address,undefined -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined)
+endif()
 find_program(ccache ccache)
 if(ccache)
   set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${ccache})
 endif()
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/consumer -B ${root}/consumer -G ${GENERATOR}
     -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
-    -DCMAKE_BUILD_TYPE=Release ${launcher})
+    -DCMAKE_BUILD_TYPE=Release ${launcher} ${san_cmake})
 run(${CMAKE_COMMAND} --build ${root}/consumer)
 run(${root}/consumer/consumer)
 # Independent values: Chan 2018 at V = 0.6, N·L = 0.4 is (0.4 / sqrt(0.4))² = 0.4; Brinck–Maximov 2016 is
@@ -78,13 +85,13 @@ find_program(pkgconfig pkg-config REQUIRED)
 set(ENV{PKG_CONFIG_PATH} ${pcdir})
 run(${pkgconfig} --cflags microshadow-core)
 separate_arguments(core_flags UNIX_COMMAND "${out}")
-run(${CXX} -std=c++20 -Wall -Wextra -Werror ${core_flags} ${SOURCE_DIR}/tests/package/pkgconfig_core.cpp
+run(${CXX} -std=c++20 -Wall -Wextra -Werror ${san_flags} ${core_flags} ${SOURCE_DIR}/tests/package/pkgconfig_core.cpp
     -o ${root}/pkgconfig_core)
 run(${root}/pkgconfig_core)
 expect("${out}" "chan_2018 1\\.000000")
 run(${pkgconfig} --cflags --libs microshadow)
 separate_arguments(lib_flags UNIX_COMMAND "${out}")
-run(${CXX} -std=c++20 ${SOURCE_DIR}/tests/package/pkgconfig_lib.cpp ${lib_flags} -o ${root}/pkgconfig_lib)
+run(${CXX} -std=c++20 ${san_flags} ${SOURCE_DIR}/tests/package/pkgconfig_lib.cpp ${lib_flags} -o ${root}/pkgconfig_lib)
 run(${root}/pkgconfig_lib ${root}/roundtrip.npy)
 expect("${out}" "round trip ok")
 

@@ -1,5 +1,6 @@
 """eval_micro_shadowing: the CLI's values, the registry's scalar path, broadcasting, dtypes, errors, leaks."""
 import math
+import os
 import sys
 import tracemalloc
 
@@ -219,7 +220,11 @@ def test_no_leaks():
         msh.eval_micro_shadowing("chan-2018", v, nl)
     rss1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     assert sys.getrefcount(v) == rv and sys.getrefcount(nl) == rn
-    assert rss1 - rss0 < 4096  # KiB; 10^5 calls leaking 64 bytes each would show 6 MiB
+    # Under MSH_SANITIZE (libasan preloaded) freed memory sits in ASan's quarantine, so the peak RSS grows by
+    # design (and its leak checker is off for the interpreter); the reference counts and tracemalloc below
+    # remain the checks.
+    if "libasan" not in os.environ.get("LD_PRELOAD", ""):
+        assert rss1 - rss0 < 4096  # KiB; 10^5 calls leaking 64 bytes each would show 6 MiB
     tracemalloc.start()
     before = tracemalloc.get_traced_memory()[0]
     for _ in range(8000):
