@@ -1,7 +1,7 @@
-// Deterministic 1D quadrature, the one module of the project: adaptive Gauss-Kronrod (7/15) and
-// Gauss-Legendre rules on [−1, 1] and on [0, 1]. Nodes and sums in double precision; GaussLegendre01<T>
-// stores them as T. Used by the GTR Λ table, the GGX albedo reference, the BRDF averages (F̄, Ē) and the
-// table bakers.
+// Deterministic 1D quadrature, the one module of the project: adaptive Gauss-Kronrod (7/15), Gauss-Legendre
+// rules on [−1, 1] and on [0, 1], and the product rule against a distribution given by its CDF (the
+// area-light fast forms). Nodes and sums in double precision; GaussLegendre01<T> stores them as T. Used by
+// the GTR Λ table, the GGX albedo reference, the BRDF averages (F̄, Ē) and the table bakers.
 #pragma once
 
 #include <algorithm>
@@ -150,6 +150,79 @@ struct GaussLegendre01 {
 template <class T, class F>
 auto gauss_legendre_01(int n, F&& f) {
   return GaussLegendre01<T>(n).integrate(f);
+}
+
+// Gauss–Legendre rules on [0, 1] for n = 1..4 nodes (ascending) and their weights.
+template <class T>
+struct GaussLegendreSmall {
+  static void get(int n, T* x, T* w) {
+    switch (n) {
+      case 1:
+        x[0] = T(0.5), w[0] = T(1);
+        break;
+      case 2:
+        x[0] = T(0.21132486540518711775), x[1] = T(0.78867513459481288225);
+        w[0] = w[1] = T(0.5);
+        break;
+      case 3:
+        x[0] = T(0.11270166537925831148), x[1] = T(0.5), x[2] = T(0.88729833462074168852);
+        w[0] = w[2] = T(0.27777777777777777778), w[1] = T(0.44444444444444444444);
+        break;
+      default:
+        x[0] = T(0.06943184420297371239), x[1] = T(0.33000947820757186760);
+        x[2] = T(0.66999052179242813240), x[3] = T(0.93056815579702628761);
+        w[0] = w[3] = T(0.17392742256872692869), w[1] = w[2] = T(0.32607257743127307131);
+        break;
+    }
+  }
+};
+
+// ∫ M dP over [z_lo, z_hi] for a distribution P on the line given by its complementary CDF S (S(z_lo) = 1,
+// S(z_hi) = 0): the product rule "by parts" of docs/area-lights.md §5. The range is split at pts[0..count−1]
+// (ascending; pts[0] = z_lo; points outside [z_lo, z_hi] are clamped to it, so empty panels drop out). On
+// each panel [a, b] M is replaced by its interpolating polynomial Σ M(z_i) L_i(z) at the n ∈ [1, 4]
+// Gauss–Legendre nodes z_i and integrated against dP exactly:
+//   ∫_a^b L_i dP = L_i(a) S(a) − L_i(b) S(b) + ∫_a^b L_i'(z) S(z) dz,
+// the last integral by the same n-point rule. S is only ever evaluated, never differentiated, so P may have
+// integrable singular densities (a square-root edge) inside S. Put M's kinks at panel edges: within a panel
+// the rule is exact for M of degree < n and S of degree ≤ n. Cost per panel: n evaluations of M, n + 1 of S.
+template <class T, class F, class S>
+T integrate_by_ccdf(F&& M, S&& ccdf, const T* pts, int count, T z_hi, int n = 4) {
+  n = std::clamp(n, 1, 4);
+  T x[4], w[4], L0[4], L1[4], D[4][4];
+  GaussLegendreSmall<T>::get(n, x, w);
+  for (int i = 0; i < n; ++i) {  // Lagrange basis at 0 and 1, and its derivative at the nodes
+    L0[i] = L1[i] = T(1);
+    for (int q = 0; q < n; ++q)
+      if (q != i) L0[i] *= (T(0) - x[q]) / (x[i] - x[q]), L1[i] *= (T(1) - x[q]) / (x[i] - x[q]);
+    for (int j = 0; j < n; ++j) {
+      T d = T(0);
+      for (int m = 0; m < n; ++m) {
+        if (m == i) continue;
+        T p = T(1) / (x[i] - x[m]);
+        for (int q = 0; q < n; ++q)
+          if (q != i && q != m) p *= (x[j] - x[q]) / (x[i] - x[q]);
+        d += p;
+      }
+      D[j][i] = d;
+    }
+  }
+  const T z_lo = pts[0];
+  T sum = T(0), a = z_lo, Sa = T(1);
+  for (int p = 1; p < count; ++p) {
+    const T b = pts[p] > z_lo ? std::min(pts[p], z_hi) : z_lo;
+    if (!(b > a)) continue;
+    const T h = b - a, Sb = ccdf(b);
+    T Sj[4], Mj[4];
+    for (int j = 0; j < n; ++j) Sj[j] = ccdf(a + h * x[j]), Mj[j] = M(a + h * x[j]);
+    for (int i = 0; i < n; ++i) {
+      T W = L0[i] * Sa - L1[i] * Sb;
+      for (int j = 0; j < n; ++j) W += w[j] * D[j][i] * Sj[j];
+      sum += W * Mj[i];
+    }
+    a = b, Sa = Sb;
+  }
+  return sum;
 }
 
 }  // namespace msh

@@ -27,6 +27,7 @@
 // input (NaN → 0 as in occlusion/micro_shadowing.h).
 #pragma once
 
+#include <microshadow/math/quadrature.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
@@ -213,31 +214,6 @@ struct CapLightLambert {
   }
 };
 
-// Gauss–Legendre rules on [0, 1] for n = 1..4 nodes (ascending) and their weights.
-template <class T>
-struct GaussLegendreSmall {
-  static void get(int n, T* x, T* w) {
-    switch (n) {
-      case 1:
-        x[0] = T(0.5), w[0] = T(1);
-        break;
-      case 2:
-        x[0] = T(0.21132486540518711775), x[1] = T(0.78867513459481288225);
-        w[0] = w[1] = T(0.5);
-        break;
-      case 3:
-        x[0] = T(0.11270166537925831148), x[1] = T(0.5), x[2] = T(0.88729833462074168852);
-        w[0] = w[2] = T(0.27777777777777777778), w[1] = T(0.44444444444444444444);
-        break;
-      default:
-        x[0] = T(0.06943184420297371239), x[1] = T(0.33000947820757186760);
-        x[2] = T(0.66999052179242813240), x[3] = T(0.93056815579702628761);
-        w[0] = w[3] = T(0.17392742256872692869), w[1] = w[2] = T(0.32607257743127307131);
-        break;
-    }
-  }
-};
-
 // Kinks (in N·L) of the point terms: the panel edges of area_cap_lambert (−1: none).
 template <class T>
 std::array<T, 2> brinck_maximov_2016_kinks(T V) {
@@ -285,46 +261,14 @@ T area_cap_lambert(F&& M, T n_dot_l, T rho, const std::array<T, K>& kinks, int n
   if (!(rho > T(0))) return M(nl);
   const CapLightLambert<T> c = CapLightLambert<T>::make(nl, rho);
   if (!(c.den > T(0)) || !(c.z_hi > c.z_lo)) return T(0);
-  n = std::clamp(n, 1, 4);
-  T x[4], w[4], L0[4], L1[4], D[4][4];
-  GaussLegendreSmall<T>::get(n, x, w);
-  for (int i = 0; i < n; ++i) {  // Lagrange basis at 0 and 1, and its derivative at the nodes
-    L0[i] = L1[i] = T(1);
-    for (int q = 0; q < n; ++q)
-      if (q != i) L0[i] *= (T(0) - x[q]) / (x[i] - x[q]), L1[i] *= (T(1) - x[q]) / (x[i] - x[q]);
-    for (int j = 0; j < n; ++j) {
-      T d = T(0);
-      for (int m = 0; m < n; ++m) {
-        if (m == i) continue;
-        T p = T(1) / (x[i] - x[m]);
-        for (int q = 0; q < n; ++q)
-          if (q != i && q != m) p *= (x[j] - x[q]) / (x[i] - x[q]);
-        d += p;
-      }
-      D[j][i] = d;
-    }
-  }
   constexpr int kPts = int(K) + 3;
   T pts[kPts];
   pts[0] = c.z_lo, pts[kPts - 2] = c.z_b, pts[kPts - 1] = c.z_hi;
   for (size_t i = 0; i < K; ++i) pts[i + 1] = kinks[i];
   for (int i = 1; i < kPts - 1; ++i)  // sort the interior points
     for (int j = i; j > 1 && pts[j - 1] > pts[j]; --j) std::swap(pts[j - 1], pts[j]);
-  T sum = T(0), a = c.z_lo, Sa = T(1);
-  for (int p = 1; p < kPts; ++p) {
-    const T b = pts[p] > c.z_lo ? std::min(pts[p], c.z_hi) : c.z_lo;
-    if (!(b > a)) continue;
-    const T h = b - a, Sb = c.ccdf(b);
-    T Sj[4], Mj[4];
-    for (int j = 0; j < n; ++j) Sj[j] = c.ccdf(a + h * x[j]), Mj[j] = M(a + h * x[j]);
-    for (int i = 0; i < n; ++i) {
-      T W = L0[i] * Sa - L1[i] * Sb;
-      for (int j = 0; j < n; ++j) W += w[j] * D[j][i] * Sj[j];
-      sum += W * Mj[i];
-    }
-    a = b, Sa = Sb;
-  }
-  return saturate(sum);
+  return saturate(integrate_by_ccdf(
+      M, [&c](T z) { return c.ccdf(z); }, pts, kPts, c.z_hi, n));
 }
 
 // The area forms of the closed-form terms of occlusion/micro_shadowing.h (Lambertian receiver, cap light).
