@@ -296,7 +296,7 @@ float msh_ltc_cone_ccdf(MshLtcCone c, float z) {
   for (int i = 0; i < MSH_LTC_MAX_VERTS; ++i) a[i] = c.p[i];  // the rest is never read
   int m = c.n;
   vec3 u0 = vec3(r, 0.0, z), u = u0;
-  for (int i = 0; i < MSH_LTC_CONE_SIDES; i += 2) {  // ping-pong a -> b -> a
+  for (int i = 0; i < MSH_LTC_CONE_SIDES && m > 0; i += 2) {  // ping-pong a -> b -> a
     float ph = 2.0 * MSH_LTC_PI * float(i + 1) / k;
     vec3 w = vec3(r * cos(ph), r * sin(ph), z);
     m = msh_ltc_clip_plane(a, m, cross(u, w), b);
