@@ -253,6 +253,8 @@ void check(const char* lang, const std::vector<Record>& recs, const std::vector<
 TEST(ShadersLtcMicroShadowing, Compiles) {
   vk::expect_compiles(kernel(false));
   vk::expect_compiles(kernel(true));
+  // Not vacuous: a type error inside the cone clip (GLSL and HLSL) must be rejected.
+  vk::expect_broken_source_rejected(kernel(false), "float db = dot(d, b);", "float db = dot(d, b, b);");
 }
 
 TEST(ShadersLtcMicroShadowing, RunsOnVulkanAndMatches) {
