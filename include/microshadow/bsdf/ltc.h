@@ -110,10 +110,12 @@ Vec3<T> ltc_sample(const Mat3<T>& m, Vec2<T> u) {
 
 // The contribution of the great-circle arc a→b (unit vectors) to the vector form factor:
 // θ n̂ = acos(a·b) (a×b)/|a×b| (Baum, Rushmeier, Winget 1989, eq. 4; times 1/2π by the caller). θ from atan2
-// so that nearly parallel or antiparallel vertices stay exact.
+// so that nearly parallel or antiparallel vertices stay exact; a × (b − a) = a × b, but without the
+// cancellation of two nearly equal products when a ≈ b (in float, a × b of two unit vectors 1e-5 apart has
+// an error larger than a tiny light's whole integral; the shaders do the same).
 template <class T>
 Vec3<T> ltc_edge_vector(const Vec3<T>& a, const Vec3<T>& b) {
-  const Vec3<T> c = cross(a, b);
+  const Vec3<T> c = cross(a, b - a);
   const T s = length(c);
   const T th = std::atan2(s, dot(a, b));
   const T k = s > T(1e-30) ? th / s : T(1);
