@@ -58,6 +58,16 @@ struct KernelFrame {
 Kernel framed_kernel(std::vector<std::string> glsl_files, std::vector<std::string> hlsl_files,
                      const KernelFrame& frame, const std::string& glsl_types, const std::string& glsl_body,
                      const std::string& hlsl_types, const std::string& hlsl_body);
+// The same with the types and the body written once, in GLSL (the HLSL copy is derived by hlsl_spelling),
+// around the shader libraries named by `libraries`: shaders/glsl/<name>.glsl and shaders/hlsl/<name>.hlsl,
+// in include order.
+Kernel framed_kernel(const std::vector<std::string>& libraries, const KernelFrame& frame,
+                     const std::string& glsl_types, const std::string& glsl_body);
+
+// GLSL test-kernel code in HLSL spelling, for bodies that use only what both languages share: vecN, ivecN,
+// uvecN -> floatN, intN, uintN, and every texture of `frame` passed as an argument (`tex,`) gains its
+// SamplerState (`tex, tex_smp,`), as the HLSL shader libraries take them.
+std::string hlsl_spelling(const std::string& glsl, const KernelFrame& frame);
 
 using Buffers = std::vector<std::vector<float>>;
 
@@ -104,6 +114,20 @@ bool run(Context& ctx, const std::string& source, Lang lang, const Dispatch& d, 
 // after each. Records a failure if a compilation or a run fails; without a device see the header comment.
 void run_glsl_and_hlsl(const Kernel& k, const Dispatch& d,
                        const std::function<void(const char* label, const Buffers& out)>& check);
+
+// The usual dispatch: `records` in buffer 0, `out_floats` floats per record in buffer 1, one invocation per
+// record, push constants `push` (empty: the record count as one uint32); check(label, buffer 1) after each
+// language.
+template <class Rec>
+void run_records(const Kernel& k, const std::vector<Rec>& records, std::size_t out_floats,
+                 const std::function<void(const char* label, const std::vector<float>& out)>& check,
+                 std::vector<std::byte> push = {}) {
+  Dispatch d;
+  d.buffers = {to_floats(records), std::vector<float>(records.size() * out_floats)};
+  d.push = push.empty() ? push_constants(uint32_t(records.size())) : std::move(push);
+  d.invocations = records.size();
+  run_glsl_and_hlsl(k, d, [&](const char* label, const Buffers& out) { check(label, out[1]); });
+}
 
 // EXPECTs that the kernel compiles as GLSL 450, GLSL ES 320 and HLSL to a non-trivial module (the compiler
 // log in the failure message); fails at once if glslangValidator is missing.
