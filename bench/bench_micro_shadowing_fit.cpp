@@ -8,6 +8,8 @@
 
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 using namespace msh;
@@ -32,22 +34,12 @@ const std::vector<Input>& inputs() {
 }
 
 void BM_AluOneCall(benchmark::State& st) {
-  const auto& p = inputs();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Input& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_alu(q.V, q.nl, q.nv, q.r));
-  }
+  bench::per_call(st, inputs(), [](const Input& q) { return generic_vndf_alu(q.V, q.nl, q.nv, q.r); });
 }
 BENCHMARK(BM_AluOneCall);
 
 void BM_AluTwoStagePixel(benchmark::State& st) {
-  const auto& p = inputs();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Input& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_alu_pixel(q.V, q.nv, q.r));
-  }
+  bench::per_call(st, inputs(), [](const Input& q) { return generic_vndf_alu_pixel(q.V, q.nv, q.r); });
 }
 BENCHMARK(BM_AluTwoStagePixel);
 
@@ -64,12 +56,8 @@ void BM_AluTwoStageLight(benchmark::State& st) {
 BENCHMARK(BM_AluTwoStageLight);
 
 void BM_AluTwoStageBoth(benchmark::State& st) {
-  const auto& p = inputs();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Input& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_alu_two_stage(q.V, q.nl, q.nv, q.r));
-  }
+  bench::per_call(st, inputs(),
+                  [](const Input& q) { return generic_vndf_alu_two_stage(q.V, q.nl, q.nv, q.r); });
 }
 BENCHMARK(BM_AluTwoStageBoth);
 

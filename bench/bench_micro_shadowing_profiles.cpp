@@ -12,6 +12,8 @@
 
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 using namespace msh;
@@ -64,34 +66,23 @@ BENCHMARK(BM_Estimate16<Beckmann<float>>)->Name("profiles/estimate_16/beckmann")
 BENCHMARK(BM_Estimate16<BeckmannVCavity<float>>)->Name("profiles/estimate_16/vcavity");
 
 void BM_ExactBeckmann(benchmark::State& st) {
-  const auto& p = points();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Point& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_exact(q.V, Beckmann<double>(q.ax, q.ay), q.v, q.l));
-  }
+  bench::per_call(st, points(), [](const Point& q) {
+    return generic_vndf_exact(q.V, Beckmann<double>(q.ax, q.ay), q.v, q.l);
+  });
 }
 BENCHMARK(BM_ExactBeckmann)->Name("profiles/exact/beckmann");
 
 void BM_ExactVCavity(benchmark::State& st) {
-  const auto& p = points();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Point& q = p[i++ & 255];
-    benchmark::DoNotOptimize(
-        generic_vcavity_exact(q.V, BeckmannVCavity<double>(Beckmann<double>(q.ax, q.ay)), q.v, q.l));
-  }
+  bench::per_call(st, points(), [](const Point& q) {
+    return generic_vcavity_exact(q.V, BeckmannVCavity<double>(Beckmann<double>(q.ax, q.ay)), q.v, q.l);
+  });
 }
 BENCHMARK(BM_ExactVCavity)->Name("profiles/exact/vcavity");
 
 void BM_ProjectedRoughness(benchmark::State& st) {
-  const auto& p = points();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Point& q = p[i++ & 255];
-    benchmark::DoNotOptimize(
-        micro_shadowing_isotropic_roughness(float(q.ax), float(q.ay), Vec3f(q.v), Vec3f(q.l)));
-  }
+  bench::per_call(st, points(), [](const Point& q) {
+    return micro_shadowing_isotropic_roughness(float(q.ax), float(q.ay), Vec3f(q.v), Vec3f(q.l));
+  });
 }
 BENCHMARK(BM_ProjectedRoughness)->Name("profiles/projected_roughness/float");
 
