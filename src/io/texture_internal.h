@@ -28,6 +28,20 @@ struct PixelInfo {
 };
 PixelInfo pixel_info(PixelFormat pf);
 
+// Every PixelFormat, in declaration order.
+inline constexpr PixelFormat kPixelFormats[] = {
+    PixelFormat::RGBA8Unorm, PixelFormat::RGBA16Float, PixelFormat::RGBA32Float,
+    PixelFormat::RG16Float,  PixelFormat::RG32Float,   PixelFormat::R16Float,
+    PixelFormat::R32Float,   PixelFormat::R8Unorm,     PixelFormat::RG8Unorm};
+
+// The reverse of a file format's code table code(pf) (DXGI, vkFormat): false when no format has `value`.
+template <class Code>
+bool pixel_format_from_code(std::uint32_t value, Code code, PixelFormat& pf) {
+  for (PixelFormat p : kPixelFormats)
+    if (code(p) == value) return pf = p, true;
+  return false;
+}
+
 // Dimensions positive and within limits, data.size() consistent, every value finite; InputError naming
 // `path`.
 void validate_volume(const Volume& v, const std::filesystem::path& path, int min_channels = 1,
