@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
@@ -25,6 +26,17 @@ void per_index(benchmark::State& st, F&& f) {
 template <class P, class F>
 void per_call(benchmark::State& st, const std::vector<P>& pool, F&& f) {
   per_index<256>(st, [&](std::size_t k) { return f(pool[k]); });
+}
+
+// A pool of 256 inputs outside the early-out region: draw(rng) from Pcg32(seed) until 256 are kept
+// (std::nullopt rejects a draw).
+template <class P, class Draw>
+std::vector<P> pool_of_256(uint64_t seed, Draw draw) {
+  std::vector<P> r;
+  Pcg32 rng(seed);
+  while (r.size() < 256)
+    if (const std::optional<P> q = draw(rng)) r.push_back(*q);
+  return r;
 }
 
 // 4096 direction pairs (wo, wi) uniform over the upper hemisphere from Pcg32(seed); with `with_u` each pair

@@ -21,19 +21,14 @@ struct Point {
 };
 
 const std::vector<Point>& points() {
-  static const std::vector<Point> p = [] {
-    std::vector<Point> r;
-    Pcg32 rng(11);
-    while (r.size() < 256) {
-      Point q;
-      q.V = rng.next_double(), q.nl = rng.next_double(), q.nv = rng.next_double();
-      q.alpha = sqr(0.1 + 0.9 * rng.next_double()), q.phi = kPi<double> * rng.next_double();
-      if (exact_zero(q.V, q.nl)) continue;
-      q.v = spherical_direction(q.nv, 0.0), q.l = spherical_direction(q.nl, q.phi);
-      r.push_back(q);
-    }
-    return r;
-  }();
+  static const std::vector<Point> p = bench::pool_of_256<Point>(11, [](Pcg32& rng) -> std::optional<Point> {
+    Point q;
+    q.V = rng.next_double(), q.nl = rng.next_double(), q.nv = rng.next_double();
+    q.alpha = sqr(0.1 + 0.9 * rng.next_double()), q.phi = kPi<double> * rng.next_double();
+    if (exact_zero(q.V, q.nl)) return std::nullopt;
+    q.v = spherical_direction(q.nv, 0.0), q.l = spherical_direction(q.nl, q.phi);
+    return q;
+  });
   return p;
 }
 

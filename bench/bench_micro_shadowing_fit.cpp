@@ -20,16 +20,12 @@ struct Input {
 };
 
 const std::vector<Input>& inputs() {
-  static const std::vector<Input> p = [] {
-    std::vector<Input> out;
-    Pcg32 rng(12);
-    while (out.size() < 256) {
-      const Input q{rng.next_float(), 1 - rng.next_float(), 1 - rng.next_float(),
-                    0.1f + 0.9f * rng.next_float()};
-      if (!exact_zero(q.V, q.nl)) out.push_back(q);
-    }
-    return out;
-  }();
+  static const std::vector<Input> p = bench::pool_of_256<Input>(12, [](Pcg32& rng) -> std::optional<Input> {
+    const Input q{rng.next_float(), 1 - rng.next_float(), 1 - rng.next_float(),
+                  0.1f + 0.9f * rng.next_float()};
+    if (exact_zero(q.V, q.nl)) return std::nullopt;
+    return q;
+  });
   return p;
 }
 

@@ -25,21 +25,16 @@ struct Point {
 };
 
 const std::vector<Point>& points() {
-  static const std::vector<Point> p = [] {
-    std::vector<Point> r;
-    Pcg32 rng(13);
-    while (r.size() < 256) {
-      Point q;
-      q.V = rng.next_double();
-      const double nl = rng.next_double(), nv = 0.05 + 0.95 * rng.next_double();
-      q.ax = sqr(0.1 + 0.9 * rng.next_double()), q.ay = sqr(0.1 + 0.9 * rng.next_double());
-      if (exact_zero(q.V, nl)) continue;
-      q.v = spherical_direction(nv, 2 * kPi<double> * rng.next_double());
-      q.l = spherical_direction(nl, 2 * kPi<double> * rng.next_double());
-      r.push_back(q);
-    }
-    return r;
-  }();
+  static const std::vector<Point> p = bench::pool_of_256<Point>(13, [](Pcg32& rng) -> std::optional<Point> {
+    Point q;
+    q.V = rng.next_double();
+    const double nl = rng.next_double(), nv = 0.05 + 0.95 * rng.next_double();
+    q.ax = sqr(0.1 + 0.9 * rng.next_double()), q.ay = sqr(0.1 + 0.9 * rng.next_double());
+    if (exact_zero(q.V, nl)) return std::nullopt;
+    q.v = spherical_direction(nv, 2 * kPi<double> * rng.next_double());
+    q.l = spherical_direction(nl, 2 * kPi<double> * rng.next_double());
+    return q;
+  });
   return p;
 }
 
