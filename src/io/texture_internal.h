@@ -28,17 +28,24 @@ struct PixelInfo {
 };
 PixelInfo pixel_info(PixelFormat pf);
 
-// Every PixelFormat, in declaration order.
-inline constexpr PixelFormat kPixelFormats[] = {
-    PixelFormat::RGBA8Unorm, PixelFormat::RGBA16Float, PixelFormat::RGBA32Float,
-    PixelFormat::RG16Float,  PixelFormat::RG32Float,   PixelFormat::R16Float,
-    PixelFormat::R32Float,   PixelFormat::R8Unorm,     PixelFormat::RG8Unorm};
+// Every PixelFormat, in declaration order: its name (pixel_format_from_name) and layout (pixel_info).
+struct PixelFormatEntry {
+  PixelFormat pf;
+  const char* name;
+  PixelInfo info;
+};
+inline constexpr PixelFormatEntry kPixelFormats[] = {
+    {PixelFormat::RGBA8Unorm, "rgba8", {4, 1, false}},   {PixelFormat::RGBA16Float, "rgba16f", {4, 2, true}},
+    {PixelFormat::RGBA32Float, "rgba32f", {4, 4, true}}, {PixelFormat::RG16Float, "rg16f", {2, 2, true}},
+    {PixelFormat::RG32Float, "rg32f", {2, 4, true}},     {PixelFormat::R16Float, "r16f", {1, 2, true}},
+    {PixelFormat::R32Float, "r32f", {1, 4, true}},       {PixelFormat::R8Unorm, "r8", {1, 1, false}},
+    {PixelFormat::RG8Unorm, "rg8", {2, 1, false}}};
 
 // The reverse of a file format's code table code(pf) (DXGI, vkFormat): false when no format has `value`.
 template <class Code>
 bool pixel_format_from_code(std::uint32_t value, Code code, PixelFormat& pf) {
-  for (PixelFormat p : kPixelFormats)
-    if (code(p) == value) return pf = p, true;
+  for (const PixelFormatEntry& e : kPixelFormats)
+    if (code(e.pf) == value) return pf = e.pf, true;
   return false;
 }
 
