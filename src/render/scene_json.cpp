@@ -312,6 +312,19 @@ Light parse_light(const Ctx& c, const json& j, const std::string& w) {
   return l;
 }
 
+// j[key], if present, as a name that from_string turns into `out`; its InputError is reported at `w.key`.
+template <class T, class FromString>
+void parse_named(const Ctx& c, const json& j, const std::string& w, const char* key, FromString from_string,
+                 T& out) {
+  if (!j.contains(key)) return;
+  const std::string where = w + "." + key;
+  try {
+    out = from_string(c.str(j[key], where));
+  } catch (const InputError& e) {
+    c.fail(where, e.what());
+  }
+}
+
 void parse_settings(const Ctx& c, const json& j, Settings& s) {
   const std::string w = "settings";
   c.keys(j, w,
@@ -321,31 +334,13 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   if (j.contains("width")) s.width = c.integer(j["width"], w + ".width", 1, 16384);
   if (j.contains("height")) s.height = c.integer(j["height"], w + ".height", 1, 16384);
   if (j.contains("spp")) s.spp = c.integer(j["spp"], w + ".spp", 1, 65536);
-  if (j.contains("micro_shadowing")) {
-    try {
-      s.micro_shadowing = micro_shadowing_from_string(c.str(j["micro_shadowing"], w + ".micro_shadowing"));
-    } catch (const InputError& e) {
-      c.fail(w + ".micro_shadowing", e.what());
-    }
-  }
-  if (j.contains("component")) {
-    try {
-      s.component = component_from_string(c.str(j["component"], w + ".component"));
-    } catch (const InputError& e) {
-      c.fail(w + ".component", e.what());
-    }
-  }
+  parse_named(c, j, w, "micro_shadowing", micro_shadowing_from_string, s.micro_shadowing);
+  parse_named(c, j, w, "component", component_from_string, s.component);
   if (j.contains("error_batches"))
     s.error_batches = c.integer(j["error_batches"], w + ".error_batches", 1, 1 << 16);
   if (j.contains("vndf_samples"))
     s.vndf_samples = c.integer(j["vndf_samples"], w + ".vndf_samples", 1, 1 << 20);
-  if (j.contains("bump_terminator")) {
-    try {
-      s.bump_terminator = bump_terminator_from_string(c.str(j["bump_terminator"], w + ".bump_terminator"));
-    } catch (const InputError& e) {
-      c.fail(w + ".bump_terminator", e.what());
-    }
-  }
+  parse_named(c, j, w, "bump_terminator", bump_terminator_from_string, s.bump_terminator);
   if (j.contains("micro_shadowing_normal")) {
     const std::string n = c.str(j["micro_shadowing_normal"], w + ".micro_shadowing_normal");
     if (n != "shading" && n != "smooth")
@@ -360,13 +355,7 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   }
   if (j.contains("hanika_offset")) s.hanika_offset = c.boolean(j["hanika_offset"], w + ".hanika_offset");
   if (j.contains("area_lights")) s.area_lights = c.boolean(j["area_lights"], w + ".area_lights");
-  if (j.contains("area_ms")) {
-    try {
-      s.area_ms = area_ms_from_string(c.str(j["area_ms"], w + ".area_ms"));
-    } catch (const InputError& e) {
-      c.fail(w + ".area_ms", e.what());
-    }
-  }
+  parse_named(c, j, w, "area_ms", area_ms_from_string, s.area_ms);
   if (j.contains("area_samples"))
     s.area_samples = c.integer(j["area_samples"], w + ".area_samples", 1, 1 << 16);
   if (j.contains("exposure")) s.exposure = c.num(j["exposure"], w + ".exposure", -30, 30);
