@@ -364,13 +364,23 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   if (j.contains("lut")) s.lut_path = c.path(j["lut"], w + ".lut").string();
   if (j.contains("seed")) s.seed = uint32_t(c.integer(j["seed"], w + ".seed", 0, 2147483647));
 }
-}  // namespace
 
-const char* to_string(MicroShadowing m) {
-  for (const auto& [k, n] : kMsNames)
-    if (k == m) return n;
+// The name of `key` in a (value, name) table ("?" if absent), and the value named `name` (nullptr if none).
+template <class E>
+const char* name_of(const std::vector<std::pair<E, const char*>>& table, E key) {
+  for (const auto& [k, n] : table)
+    if (k == key) return n;
   return "?";
 }
+template <class E>
+const E* value_of(const std::vector<std::pair<E, const char*>>& table, const std::string& name) {
+  for (const auto& [k, n] : table)
+    if (name == n) return &k;
+  return nullptr;
+}
+}  // namespace
+
+const char* to_string(MicroShadowing m) { return name_of(kMsNames, m); }
 std::vector<std::string> micro_shadowing_names() {
   std::vector<std::string> r;
   for (const auto& kn : kMsNames) r.push_back(kn.second);
@@ -384,24 +394,14 @@ MicroShadowing micro_shadowing_from_string(const std::string& s) {
   }
   throw InputError(fmt::format("unknown micro-shadowing method '{}' (known: {})", s, list));
 }
-const char* to_string(Component c) {
-  for (const auto& [k, n] : kComponentNames)
-    if (k == c) return n;
-  return "?";
-}
+const char* to_string(Component c) { return name_of(kComponentNames, c); }
 Component component_from_string(const std::string& s) {
-  for (const auto& [k, n] : kComponentNames)
-    if (s == n) return k;
+  if (const auto* k = value_of(kComponentNames, s)) return *k;
   throw InputError(fmt::format("unknown component '{}' (known: total, diffuse, specular)", s));
 }
-const char* to_string(AreaMs a) {
-  for (const auto& [k, n] : kAreaMsNames)
-    if (k == a) return n;
-  return "?";
-}
+const char* to_string(AreaMs a) { return name_of(kAreaMsNames, a); }
 AreaMs area_ms_from_string(const std::string& s) {
-  for (const auto& [k, n] : kAreaMsNames)
-    if (s == n) return k;
+  if (const auto* k = value_of(kAreaMsNames, s)) return *k;
   throw InputError(fmt::format(
       "unknown area-light micro-shadowing mode '{}' (known: sampled, representative, integrated)", s));
 }
@@ -410,14 +410,9 @@ float light_area(const Light& l) {
   if (l.type == LightType::Rect) return 4 * l.half_size.x * l.half_size.y;
   return 0.0f;
 }
-const char* to_string(BumpTerminator b) {
-  for (const auto& [k, n] : kBtNames)
-    if (k == b) return n;
-  return "?";
-}
+const char* to_string(BumpTerminator b) { return name_of(kBtNames, b); }
 BumpTerminator bump_terminator_from_string(const std::string& s) {
-  for (const auto& [k, n] : kBtNames)
-    if (s == n) return k;
+  if (const auto* k = value_of(kBtNames, s)) return *k;
   throw InputError(fmt::format("unknown bump-terminator mode '{}' (known: off, conty-2019, chiang-2019)", s));
 }
 
