@@ -151,4 +151,9 @@ void expect_broken_source_rejected(const Kernel& k, const std::string& needle, c
       << "HLSL accepted '" << broken << "'";
 }
 
+void expect_compiles(const Kernel& k, const BrokenEdit& must_fail) {
+  expect_compiles(k);
+  expect_broken_source_rejected(k, must_fail.needle, must_fail.broken, must_fail.hlsl);
+}
+
 }  // namespace msh::test::vk

@@ -116,17 +116,16 @@ void run_glsl_and_hlsl(const Kernel& k, const Dispatch& d,
                        const std::function<void(const char* label, const Buffers& out)>& check);
 
 // The usual dispatch: `records` in buffer 0, `out_floats` floats per record in buffer 1, one invocation per
-// record, push constants `push` (empty: the record count as one uint32); check(label, buffer 1) after each
-// language.
-template <class Rec>
-void run_records(const Kernel& k, const std::vector<Rec>& records, std::size_t out_floats,
-                 const std::function<void(const char* label, const std::vector<float>& out)>& check,
+// record, push constants `push` (empty: the record count as one uint32); check(label, records, buffer 1)
+// after each language.
+template <class Rec, class Check>
+void run_records(const Kernel& k, const std::vector<Rec>& records, std::size_t out_floats, Check&& check,
                  std::vector<std::byte> push = {}) {
   Dispatch d;
   d.buffers = {to_floats(records), std::vector<float>(records.size() * out_floats)};
   d.push = push.empty() ? push_constants(uint32_t(records.size())) : std::move(push);
   d.invocations = records.size();
-  run_glsl_and_hlsl(k, d, [&](const char* label, const Buffers& out) { check(label, out[1]); });
+  run_glsl_and_hlsl(k, d, [&](const char* label, const Buffers& out) { check(label, records, out[1]); });
 }
 
 // EXPECTs that the kernel compiles as GLSL 450, GLSL ES 320 and HLSL to a non-trivial module (the compiler
@@ -137,5 +136,13 @@ void expect_compiles(const Kernel& k);
 // if `hlsl`, in the HLSL) source must make the compilation fail.
 void expect_broken_source_rejected(const Kernel& k, const std::string& needle, const std::string& broken,
                                    bool hlsl = true);
+
+// Both checks of a shader test's Compiles case: expect_compiles(k), then the edit `needle` -> `broken` (in
+// the HLSL too if `hlsl`) must be rejected.
+struct BrokenEdit {
+  std::string needle, broken;
+  bool hlsl = true;
+};
+void expect_compiles(const Kernel& k, const BrokenEdit& must_fail);
 
 }  // namespace msh::test::vk
