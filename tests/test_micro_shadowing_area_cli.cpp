@@ -5,8 +5,10 @@
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/occlusion/micro_shadowing_area.h>
 #include <microshadow/reference/micro_shadowing_area_exact.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -130,10 +132,35 @@ TEST(AreaLightsCli, BadInputExitsTwo) {
 }
 
 TEST(AreaLightsCli, VerifyRuns) {
-  const test::CliResult r = test::run_cli("verify area-lights --points 32 --generic-points 2 --json");
+  // A small LTC table (bake ltc, 6²) keeps the LTC block quick; its accuracy is tested in
+  // test_micro_shadowing_area_ltc.
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("msh_area_verify." + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string table = (dir / "ltc6.npy").string();
+  ASSERT_EQ(test::run_cli("bake ltc --size 6 --error-samples 8 --iterations 30 --moment-samples 256 --quiet "
+                          "--out " +
+                          table)
+                .code,
+            0);
+  const test::CliResult r = test::run_cli(
+      "verify area-lights --points 32 --generic-points 2 --shape-points 8 --ltc-points 8 "
+      "--aware-points 2 --ltc " +
+      table + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_LT(j["errors"]["step_cosine_closed_form"]["max_255"].get<double>(), 1e-6);
   EXPECT_GT(j["errors"]["step_point_at_centre"]["max_255"].get<double>(), 1.0);
+  // The Lambertian cone clip is exact up to the 16-gons (verify at 256 points: max 7.4/255).
+  EXPECT_LT(j["errors"]["ltc_rect_step_lambert_cone_clip"]["max_255"].get<double>(), 10.0);
+  EXPECT_EQ(j["errors"]["ltc_cap_step_ggx_cone_clip"]["count"].get<int>(), 8);
+  EXPECT_EQ(j["errors"]["ggx_cap_specular_aware_mean_ltc_cone_clip_n4"]["count"].get<int>(), 2);
+  EXPECT_TRUE(j["errors"]["lambert_cap_diffuse_aware_alu_product_rule_n4_float"].is_null());
   EXPECT_EQ(test::run_cli("verify area-lights --points 0").code, 2);
+  EXPECT_EQ(test::run_cli("verify area-lights --points 4 --ltc-points -1").code, 2);
+  const test::CliResult missing =
+      test::run_cli("verify area-lights --points 4 --ltc-points 2 --ltc " + (dir / "none.npy").string());
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << missing.err;
+  std::filesystem::remove_all(dir);
 }

@@ -3,8 +3,10 @@
 // and rectangle lights, and the combination with a micro-shadowing factor for the light (docs/ltc.md):
 //   L_o,spec = L · (F0 · magnitude + (1 − F0) · fresnel) · ∫_light D_ltc · ms_area
 //   L_o,diff = L · ρ · ∫_light (n·l)/π dl · ms_area_diffuse
-// ms_area is the light-averaged micro-shadowing M_area (issue 12, item 1); until its fast forms exist, the
-// point term at ltc_representative_direction is the stand-in (ltc_ms_at_representative). Header-only; no I/O.
+// ms_area is the light-averaged micro-shadowing M_area (docs/area-lights.md §1). Its fast form here is the
+// cone-clipped LTC (LtcLightCone, below: the light's polygon clipped by the visibility cone); the point term
+// at ltc_representative_direction (ltc_ms_at_representative) is the cheap stand-in, measured far worse
+// (docs/area-lights.md §5). Header-only; no I/O.
 #pragma once
 
 #include <microshadow/bsdf/ltc.h>
@@ -95,7 +97,7 @@ LtcLightResult<T> ltc_shade_polygon(const LtcCoeffs<T>& k, const Vec3<T>& n, con
   return ltc_result::ltc_finish(k, f, minv, ltc_integrate_polygon(minv, q.data(), count, clip_surface));
 }
 
-// The stand-in for M_area until the fast forms exist: the point micro-shadowing term (any callable
+// The cheap stand-in for M_area: the point micro-shadowing term (any callable
 // ms_point(n_dot_l) → factor, e.g. [&](double nl) { return micro_shadowing::reference_step(V, nl); })
 // evaluated at the LTC's representative direction (the "most representative point" of the light for this
 // lobe).

@@ -246,6 +246,23 @@ std::array<T, 4> generic_vndf_kinks(T V, T roughness) {
   return {T(1) - T(2) * v, c, c - T(4) * w, c + T(4) * w};
 }
 
+// The micro-BRDF-aware terms' azimuth means (docs/micro-shadowing-aware.md): the specular-aware mean kinks
+// where its closed form's interval ends reach φ = 0 or π, θl = |2t − θv| and θl = θv + 2t (t the cone's
+// half-angle, θv = acos N·V), and is 0 below the early-out 1 − 2V; the diffuse-aware mean is continuous
+// apart from the early-out and the cone (−1: none).
+template <class T>
+std::array<T, 3> specular_aware_kinks(T V, T n_dot_v) {
+  const T v = saturate(V), c = cone_cos_from_visibility(v);
+  const T t = std::acos(clamp(c, T(0), T(1))), tv = std::acos(saturate(n_dot_v));
+  return {std::cos(std::abs(T(2) * t - tv)), T(1) - T(2) * v,
+          T(2) * t + tv < T(0.5) * kPi<T> ? std::cos(T(2) * t + tv) : T(-1)};
+}
+template <class T>
+std::array<T, 2> diffuse_aware_kinks(T V) {
+  const T v = saturate(V);
+  return {T(1) - T(2) * v, cone_cos_from_visibility(v)};
+}
+
 // M_area over a cap light, Lambertian receiver, of any point term M(N·L) that depends on N·L only (the
 // closed-form terms; the azimuth mean of the generic term through its LUT or ALU fit: for a Lambertian
 // receiver the azimuth mean of M_area is exactly M_area of the azimuth-mean term, docs/area-lights.md §5).

@@ -43,6 +43,7 @@
 #include <microshadow/math/vec.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_area.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
@@ -244,10 +245,9 @@ inline auto generic_vndf_term(double V, double alpha_x, double alpha_y, const Ve
 // form's interval ends reach φ = 0 or π: θl = |2t − θv| and θl = θv + 2t (t = acos c, θv = acos n·v) — the
 // kinks of the azimuth mean.
 inline std::vector<double> specular_aware_z_breaks(double V, double n_dot_v) {
-  const double c = micro_shadowing::cone_cos_from_visibility(saturate(V));
-  const double t = std::acos(std::clamp(c, 0.0, 1.0)), tv = std::acos(std::clamp(n_dot_v, 0.0, 1.0));
-  std::vector<double> z = {std::cos(std::abs(2 * t - tv)), 1 - 2 * saturate(V)};
-  if (2 * t + tv < 0.5 * kPi<double>) z.push_back(std::cos(2 * t + tv));
+  std::vector<double> z;
+  for (double k : micro_shadowing::specular_aware_kinks(V, n_dot_v))
+    if (k > -1) z.push_back(k);
   return z;
 }
 inline std::vector<AzimuthBreak> specular_aware_curves(double V, const Vec3d& v) {
