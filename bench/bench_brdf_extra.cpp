@@ -10,37 +10,16 @@
 
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 using namespace msh;
 using namespace msh::bsdf;
 
-template <class T>
-struct Pairs {
-  std::vector<Vec3<T>> wo, wi;
-};
-template <class T>
-const Pairs<T>& pairs() {
-  static const Pairs<T> p = [] {
-    Pairs<T> r;
-    Pcg32 rng(7);
-    for (int i = 0; i < 4096; ++i) {
-      r.wo.push_back(Vec3<T>(sample_uniform_hemisphere(Vec2d(rng.next_double(), rng.next_double()))));
-      r.wi.push_back(Vec3<T>(sample_uniform_hemisphere(Vec2d(rng.next_double(), rng.next_double()))));
-    }
-    return r;
-  }();
-  return p;
-}
-
 template <class T, class F>
-void run_pairs(benchmark::State& state, F&& f) {
-  const auto& p = pairs<T>();
-  size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(f(p.wo[i], p.wi[i]));
-    i = (i + 1) & 4095;
-  }
+void run_pairs(benchmark::State& s, F&& f) {
+  bench::per_pair(s, bench::dir_pool<T, 7, false>(), f);
 }
 
 template <class T>

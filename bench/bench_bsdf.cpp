@@ -10,45 +10,17 @@
 
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 using namespace msh;
 using namespace msh::bsdf;
 
 template <class T>
-struct DirPool {
-  std::vector<Vec3<T>> wo, wi;
-  std::vector<Vec2<T>> u;
-};
-template <class T>
-const DirPool<T>& dir_pool() {
-  static const DirPool<T> p = [] {
-    DirPool<T> r;
-    Pcg32 rng(99);
-    for (int i = 0; i < 4096; ++i) {
-      r.wo.push_back(Vec3<T>(sample_uniform_hemisphere(Vec2d(rng.next_double(), rng.next_double()))));
-      r.wi.push_back(Vec3<T>(sample_uniform_hemisphere(Vec2d(rng.next_double(), rng.next_double()))));
-      r.u.push_back(Vec2<T>(T(rng.next_double()), T(rng.next_double())));
-    }
-    return r;
-  }();
-  return p;
-}
-
-template <class T, class F>
-void run_pairs(benchmark::State& state, F&& f) {
-  const auto& p = dir_pool<T>();
-  size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(f(p.wo[i], p.wi[i], p.u[i]));
-    i = (i + 1) & 4095;
-  }
-}
-
-template <class T>
 void BM_BsdfGgxSchlick(benchmark::State& s) {
   const GGX<T> g(T(0.25));
-  run_pairs<T>(s, [&](auto& wo, auto& wi, auto&) {
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(), [&](auto& wo, auto& wi, auto&) {
     const auto e = microfacet_specular(g, wo, wi);
     return fresnel_schlick(T(0.04), e.cos_hl) * e.f1;
   });
@@ -56,7 +28,7 @@ void BM_BsdfGgxSchlick(benchmark::State& s) {
 template <class T>
 void BM_BsdfGgxConductor(benchmark::State& s) {
   const GGX<T> g(T(0.25));
-  run_pairs<T>(s, [&](auto& wo, auto& wi, auto&) {
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(), [&](auto& wo, auto& wi, auto&) {
     const auto e = microfacet_specular(g, wo, wi);
     return fresnel_conductor(e.cos_hl, T(0.143), T(3.983)) * e.f1;
   });
@@ -65,7 +37,7 @@ template <class T>
 void BM_BsdfGgxMultiscatter(benchmark::State& s) {
   const GGX<T> g(T(0.49));
   const T favg = fresnel_average_schlick<T>(T(0.5));
-  run_pairs<T>(s, [&](auto& wo, auto& wi, auto&) {
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(), [&](auto& wo, auto& wi, auto&) {
     const auto e = microfacet_specular(g, wo, wi);
     return fresnel_schlick(T(0.5), e.cos_hl) * e.f1 + ggx_multiscatter(favg, T(0.7), wi, wo);
   });
@@ -73,38 +45,43 @@ void BM_BsdfGgxMultiscatter(benchmark::State& s) {
 template <class T>
 void BM_BsdfGgxDualLobe(benchmark::State& s) {
   const GGXMixture<T> m(GGX<T>(T(0.04)), GGX<T>(T(0.5)), T(0.3));
-  run_pairs<T>(s, [&](auto& wo, auto& wi, auto&) { return microfacet_specular(m, wo, wi).f1; });
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(),
+                  [&](auto& wo, auto& wi, auto&) { return microfacet_specular(m, wo, wi).f1; });
 }
 template <class T>
 void BM_BsdfGgxSampleVndf(benchmark::State& s) {
   const GGX<T> g(T(0.25));
-  run_pairs<T>(s, [&](auto& wo, auto&, auto& u) {
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(), [&](auto& wo, auto&, auto& u) {
     const auto r = sample_microfacet_specular(g, wo, u);
     return r ? r->weight_f1 : T(0);
   });
 }
 template <class T>
 void BM_BsdfDisneyDiffuse(benchmark::State& s) {
-  run_pairs<T>(s, [&](auto& wo, auto& wi, auto&) { return diffuse_disney(T(0.8), T(0.5), T(0.3), wi, wo); });
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(),
+                  [&](auto& wo, auto& wi, auto&) { return diffuse_disney(T(0.8), T(0.5), T(0.3), wi, wo); });
 }
 template <class T>
 void BM_BsdfHammon(benchmark::State& s) {
-  run_pairs<T>(s,
-               [&](auto& wo, auto& wi, auto&) { return diffuse_hammon(T(0.8), T(0.25), T(0.04), wi, wo); });
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(), [&](auto& wo, auto& wi, auto&) {
+    return diffuse_hammon(T(0.8), T(0.25), T(0.04), wi, wo);
+  });
 }
 template <class T>
 void BM_BsdfOrenNayar(benchmark::State& s) {
-  run_pairs<T>(s, [&](auto& wo, auto& wi, auto&) { return diffuse_oren_nayar(T(0.8), T(0.5), wi, wo); });
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(),
+                  [&](auto& wo, auto& wi, auto&) { return diffuse_oren_nayar(T(0.8), T(0.5), wi, wo); });
 }
 template <class T>
 void BM_BsdfOrenNayarQualitative(benchmark::State& s) {
-  run_pairs<T>(
-      s, [&](auto& wo, auto& wi, auto&) { return diffuse_oren_nayar_qualitative(T(0.8), T(0.5), wi, wo); });
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(), [&](auto& wo, auto& wi, auto&) {
+    return diffuse_oren_nayar_qualitative(T(0.8), T(0.5), wi, wo);
+  });
 }
 template <class T>
 void BM_BsdfKsk(benchmark::State& s) {
   const T ravg = ggx_albedo_schlick_avg(T(0.04), T(0.5));
-  run_pairs<T>(s, [&](auto& wo, auto& wi, auto&) {
+  bench::per_pair(s, bench::dir_pool<T, 99, true>(), [&](auto& wo, auto& wi, auto&) {
     return diffuse_ksk(T(0.8), ggx_albedo_schlick(T(0.04), wi.z, T(0.5)),
                        ggx_albedo_schlick(T(0.04), wo.z, T(0.5)), ravg, wi, wo);
   });

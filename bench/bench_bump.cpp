@@ -8,6 +8,8 @@
 #include <array>
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 using namespace msh;
@@ -37,11 +39,7 @@ const Inputs<T>& inputs() {
 template <class T, bump::Method M>
 void BM_BumpTerm(benchmark::State& state) {
   const Inputs<T>& in = inputs<T>();
-  size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(bump::term(M, in.ng[i], in.ns[i], in.l[i]));
-    i = (i + 1) & 4095;
-  }
+  bench::per_index<4096>(state, [&](std::size_t i) { return bump::term(M, in.ng[i], in.ns[i], in.l[i]); });
 }
 BENCHMARK(BM_BumpTerm<float, bump::Method::kConty2019>)->Name("bump/conty2019/float");
 BENCHMARK(BM_BumpTerm<double, bump::Method::kConty2019>)->Name("bump/conty2019/double");

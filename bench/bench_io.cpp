@@ -37,27 +37,30 @@ void BM_Read(benchmark::State& state, FileFormat ff, PixelFormat pf, const char*
   std::filesystem::remove(p);
 }
 
-BENCHMARK_CAPTURE(BM_Write, dds_rgba16f, FileFormat::Dds, PixelFormat::RGBA16Float, ".dds")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Write, ktx2_rgba16f, FileFormat::Ktx2, PixelFormat::RGBA16Float, ".ktx2")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Write, exr_half, FileFormat::Exr, PixelFormat::RGBA16Float, ".exr")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Write, npy_f32, FileFormat::Npy, PixelFormat::RGBA32Float, ".npy")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Write, c_header, FileFormat::CHeader, PixelFormat::RGBA32Float, ".h")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Write, png_8bit, FileFormat::Png, PixelFormat::RGBA8Unorm, ".png")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Read, dds_rgba16f, FileFormat::Dds, PixelFormat::RGBA16Float, ".dds")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Read, ktx2_rgba16f, FileFormat::Ktx2, PixelFormat::RGBA16Float, ".ktx2")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Read, exr_half, FileFormat::Exr, PixelFormat::RGBA16Float, ".exr")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Read, npy_f32, FileFormat::Npy, PixelFormat::RGBA32Float, ".npy")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Read, png_8bit, FileFormat::Png, PixelFormat::RGBA8Unorm, ".png")
-    ->Unit(benchmark::kMillisecond);
+struct IoCase {
+  const char* name;
+  FileFormat ff;
+  PixelFormat pf;
+  const char* ext;
+  bool readable;  // C headers are written only
+};
+constexpr IoCase kIoCases[] = {{"dds_rgba16f", FileFormat::Dds, PixelFormat::RGBA16Float, ".dds", true},
+                               {"ktx2_rgba16f", FileFormat::Ktx2, PixelFormat::RGBA16Float, ".ktx2", true},
+                               {"exr_half", FileFormat::Exr, PixelFormat::RGBA16Float, ".exr", true},
+                               {"npy_f32", FileFormat::Npy, PixelFormat::RGBA32Float, ".npy", true},
+                               {"c_header", FileFormat::CHeader, PixelFormat::RGBA32Float, ".h", false},
+                               {"png_8bit", FileFormat::Png, PixelFormat::RGBA8Unorm, ".png", true}};
+
+// BM_Write/<name> for every case, then BM_Read/<name> for the readable ones.
+const bool kIoRegistered = [] {
+  for (const IoCase& c : kIoCases)
+    benchmark::RegisterBenchmark((std::string("BM_Write/") + c.name).c_str(), BM_Write, c.ff, c.pf, c.ext)
+        ->Unit(benchmark::kMillisecond);
+  for (const IoCase& c : kIoCases)
+    if (c.readable)
+      benchmark::RegisterBenchmark((std::string("BM_Read/") + c.name).c_str(), BM_Read, c.ff, c.pf, c.ext)
+          ->Unit(benchmark::kMillisecond);
+  return true;
+}();
 
 }  // namespace

@@ -1,17 +1,15 @@
 // Benchmarks of the micro-shadowing LUT (docs/lut.md quotes these numbers):
-//   BM_LutBakeDefault         full default bake (arg 0: cone layout, the default; 1: seed 64³ × 4; arg 2:
-//   2D),
-//                             wall time on all threads and process CPU time
-//   BM_LutVerifyAllTexels     the default bake against the semi-analytic exact term on EVERY texel (counters)
-//   BM_LutStraightforwardMC   Zurita 2026b's per-texel Monte Carlo loop on a texel subset, extrapolated to the
-//   full
-//                             table at the binned baker's error (the speed-up ratio at equal error)
-//   BM_LutAzimuthError        what ignoring the azimuth costs at random (v, l), and the azimuth-aware table
-//   BM_LutSample*             runtime sampler throughput
+//   BM_LutBakeDefault: full default bake (arg 0: cone layout, the default; 1: seed 64³ × 4; arg 2: 2D),
+//     wall time on all threads and process CPU time
+//   BM_LutVerifyAllTexels: the default bake against the semi-analytic exact term on EVERY texel (counters)
+//   BM_LutStraightforwardMC: Zurita 2026b's per-texel Monte Carlo loop on a texel subset, extrapolated to the
+//     full table at the binned baker's error (the speed-up ratio at equal error)
+//   BM_LutAzimuthError: what ignoring the azimuth costs at random (v, l), and the azimuth-aware table
+//   BM_LutSample*: runtime sampler throughput
 #include <benchmark/benchmark.h>
+#include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
-#include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
@@ -23,6 +21,8 @@
 #include <cmath>
 #include <mutex>
 #include <vector>
+
+#include "bench_common.h"
 
 namespace {
 
@@ -253,11 +253,10 @@ void BM_LutSamplePlain(benchmark::State& state) {
   Pcg32 rng(3);
   std::vector<float> in(4096 * 4);
   for (auto& x : in) x = rng.next_float();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const float* p = &in[(i++ & 4095) * 4];
-    benchmark::DoNotOptimize(sample_micro_shadowing<float>(view, p[0], p[1], p[2], p[3]));
-  }
+  bench::per_index<4096>(state, [&](std::size_t k) {
+    const float* p = &in[k * 4];
+    return sample_micro_shadowing<float>(view, p[0], p[1], p[2], p[3]);
+  });
 }
 BENCHMARK(BM_LutSamplePlain)->Arg(0)->Arg(1);
 
@@ -268,12 +267,10 @@ void BM_LutSampleAzimuth(benchmark::State& state) {
   Pcg32 rng(3);
   std::vector<float> in(4096 * 5);
   for (auto& x : in) x = rng.next_float();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const float* p = &in[(i++ & 4095) * 5];
-    benchmark::DoNotOptimize(
-        sample_micro_shadowing_azimuth<float>(view, p[0], p[1], p[2], p[3], 2.0f * p[4] - 1.0f));
-  }
+  bench::per_index<4096>(state, [&](std::size_t k) {
+    const float* p = &in[k * 5];
+    return sample_micro_shadowing_azimuth<float>(view, p[0], p[1], p[2], p[3], 2.0f * p[4] - 1.0f);
+  });
 }
 BENCHMARK(BM_LutSampleAzimuth)->Arg(0)->Arg(1);
 

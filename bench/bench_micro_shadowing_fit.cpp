@@ -8,6 +8,8 @@
 
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 using namespace msh;
@@ -18,36 +20,22 @@ struct Input {
 };
 
 const std::vector<Input>& inputs() {
-  static const std::vector<Input> p = [] {
-    std::vector<Input> out;
-    Pcg32 rng(12);
-    while (out.size() < 256) {
-      const Input q{rng.next_float(), 1 - rng.next_float(), 1 - rng.next_float(),
-                    0.1f + 0.9f * rng.next_float()};
-      if (!exact_zero(q.V, q.nl)) out.push_back(q);
-    }
-    return out;
-  }();
+  static const std::vector<Input> p = bench::pool_of_256<Input>(12, [](Pcg32& rng) -> std::optional<Input> {
+    const Input q{rng.next_float(), 1 - rng.next_float(), 1 - rng.next_float(),
+                  0.1f + 0.9f * rng.next_float()};
+    if (exact_zero(q.V, q.nl)) return std::nullopt;
+    return q;
+  });
   return p;
 }
 
 void BM_AluOneCall(benchmark::State& st) {
-  const auto& p = inputs();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Input& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_alu(q.V, q.nl, q.nv, q.r));
-  }
+  bench::per_call(st, inputs(), [](const Input& q) { return generic_vndf_alu(q.V, q.nl, q.nv, q.r); });
 }
 BENCHMARK(BM_AluOneCall);
 
 void BM_AluTwoStagePixel(benchmark::State& st) {
-  const auto& p = inputs();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Input& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_alu_pixel(q.V, q.nv, q.r));
-  }
+  bench::per_call(st, inputs(), [](const Input& q) { return generic_vndf_alu_pixel(q.V, q.nv, q.r); });
 }
 BENCHMARK(BM_AluTwoStagePixel);
 
@@ -64,12 +52,8 @@ void BM_AluTwoStageLight(benchmark::State& st) {
 BENCHMARK(BM_AluTwoStageLight);
 
 void BM_AluTwoStageBoth(benchmark::State& st) {
-  const auto& p = inputs();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Input& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_alu_two_stage(q.V, q.nl, q.nv, q.r));
-  }
+  bench::per_call(st, inputs(),
+                  [](const Input& q) { return generic_vndf_alu_two_stage(q.V, q.nl, q.nv, q.r); });
 }
 BENCHMARK(BM_AluTwoStageBoth);
 

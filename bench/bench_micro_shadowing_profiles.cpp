@@ -12,6 +12,8 @@
 
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 using namespace msh;
@@ -23,21 +25,16 @@ struct Point {
 };
 
 const std::vector<Point>& points() {
-  static const std::vector<Point> p = [] {
-    std::vector<Point> r;
-    Pcg32 rng(13);
-    while (r.size() < 256) {
-      Point q;
-      q.V = rng.next_double();
-      const double nl = rng.next_double(), nv = 0.05 + 0.95 * rng.next_double();
-      q.ax = sqr(0.1 + 0.9 * rng.next_double()), q.ay = sqr(0.1 + 0.9 * rng.next_double());
-      if (exact_zero(q.V, nl)) continue;
-      q.v = spherical_direction(nv, 2 * kPi<double> * rng.next_double());
-      q.l = spherical_direction(nl, 2 * kPi<double> * rng.next_double());
-      r.push_back(q);
-    }
-    return r;
-  }();
+  static const std::vector<Point> p = bench::pool_of_256<Point>(13, [](Pcg32& rng) -> std::optional<Point> {
+    Point q;
+    q.V = rng.next_double();
+    const double nl = rng.next_double(), nv = 0.05 + 0.95 * rng.next_double();
+    q.ax = sqr(0.1 + 0.9 * rng.next_double()), q.ay = sqr(0.1 + 0.9 * rng.next_double());
+    if (exact_zero(q.V, nl)) return std::nullopt;
+    q.v = spherical_direction(nv, 2 * kPi<double> * rng.next_double());
+    q.l = spherical_direction(nl, 2 * kPi<double> * rng.next_double());
+    return q;
+  });
   return p;
 }
 
@@ -64,34 +61,23 @@ BENCHMARK(BM_Estimate16<Beckmann<float>>)->Name("profiles/estimate_16/beckmann")
 BENCHMARK(BM_Estimate16<BeckmannVCavity<float>>)->Name("profiles/estimate_16/vcavity");
 
 void BM_ExactBeckmann(benchmark::State& st) {
-  const auto& p = points();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Point& q = p[i++ & 255];
-    benchmark::DoNotOptimize(generic_vndf_exact(q.V, Beckmann<double>(q.ax, q.ay), q.v, q.l));
-  }
+  bench::per_call(st, points(), [](const Point& q) {
+    return generic_vndf_exact(q.V, Beckmann<double>(q.ax, q.ay), q.v, q.l);
+  });
 }
 BENCHMARK(BM_ExactBeckmann)->Name("profiles/exact/beckmann");
 
 void BM_ExactVCavity(benchmark::State& st) {
-  const auto& p = points();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Point& q = p[i++ & 255];
-    benchmark::DoNotOptimize(
-        generic_vcavity_exact(q.V, BeckmannVCavity<double>(Beckmann<double>(q.ax, q.ay)), q.v, q.l));
-  }
+  bench::per_call(st, points(), [](const Point& q) {
+    return generic_vcavity_exact(q.V, BeckmannVCavity<double>(Beckmann<double>(q.ax, q.ay)), q.v, q.l);
+  });
 }
 BENCHMARK(BM_ExactVCavity)->Name("profiles/exact/vcavity");
 
 void BM_ProjectedRoughness(benchmark::State& st) {
-  const auto& p = points();
-  size_t i = 0;
-  for (auto _ : st) {
-    const Point& q = p[i++ & 255];
-    benchmark::DoNotOptimize(
-        micro_shadowing_isotropic_roughness(float(q.ax), float(q.ay), Vec3f(q.v), Vec3f(q.l)));
-  }
+  bench::per_call(st, points(), [](const Point& q) {
+    return micro_shadowing_isotropic_roughness(float(q.ax), float(q.ay), Vec3f(q.v), Vec3f(q.l));
+  });
 }
 BENCHMARK(BM_ProjectedRoughness)->Name("profiles/projected_roughness/float");
 

@@ -11,6 +11,8 @@
 
 #include <vector>
 
+#include "bench_common.h"
+
 using namespace msh;
 
 namespace {
@@ -59,86 +61,55 @@ template <class NDF>
 void BM_D(benchmark::State& st) {
   const NDF ndf = make<NDF>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) benchmark::DoNotOptimize(ndf.D(d.m[i++ & (kN - 1)]));
+  bench::per_index<kN>(st, [&](size_t k) { return ndf.D(d.m[k]); });
 }
 template <class NDF>
 void BM_Lambda(benchmark::State& st) {
   const NDF ndf = make<NDF>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) benchmark::DoNotOptimize(ndf.Lambda(d.w[i++ & (kN - 1)]));
+  bench::per_index<kN>(st, [&](size_t k) { return ndf.Lambda(d.w[k]); });
 }
 template <class NDF>
 void BM_G2(benchmark::State& st) {
   const NDF ndf = make<NDF>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(ndf.G2(d.w[i & (kN - 1)], d.l[i & (kN - 1)]));
-    ++i;
-  }
+  bench::per_index<kN>(st, [&](size_t k) { return ndf.G2(d.w[k], d.l[k]); });
 }
 template <class NDF>
 void BM_SampleNdf(benchmark::State& st) {
   const NDF ndf = make<NDF>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) benchmark::DoNotOptimize(ndf.sample_ndf(d.u[i++ & (kN - 1)]));
+  bench::per_index<kN>(st, [&](size_t k) { return ndf.sample_ndf(d.u[k]); });
 }
 template <class NDF>
 void BM_SampleVndf(benchmark::State& st) {
   const NDF ndf = make<NDF>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(ndf.Sample_wm(d.w[i & (kN - 1)], d.u[i & (kN - 1)]));
-    ++i;
-  }
+  bench::per_index<kN>(st, [&](size_t k) { return ndf.Sample_wm(d.w[k], d.u[k]); });
 }
 void BM_GgxHeitz2018(benchmark::State& st) {
   const GGX<float> g = make<GGX<float>>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(g.sample_vndf_heitz2018(d.w[i & (kN - 1)], d.u[i & (kN - 1)]));
-    ++i;
-  }
+  bench::per_index<kN>(st, [&](size_t k) { return g.sample_vndf_heitz2018(d.w[k], d.u[k]); });
 }
 void BM_GgxBoundedVndf(benchmark::State& st) {
   const GGX<float> g = make<GGX<float>>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(sample_bounded_vndf(g, d.w[i & (kN - 1)], d.u[i & (kN - 1)]));
-    ++i;
-  }
+  bench::per_index<kN>(st, [&](size_t k) { return sample_bounded_vndf(g, d.w[k], d.u[k]); });
 }
 void BM_GgxBoundedVndfPdf(benchmark::State& st) {
   const GGX<float> g = make<GGX<float>>(st.range(0));
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(pdf_bounded_vndf_reflection(g, d.w[i & (kN - 1)], d.l[i & (kN - 1)]));
-    ++i;
-  }
+  bench::per_index<kN>(st, [&](size_t k) { return pdf_bounded_vndf_reflection(g, d.w[k], d.l[k]); });
 }
 void BM_GgxVisibility943(benchmark::State& st) {
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(
-        ggx_visibility_height_correlated(d.w[i & (kN - 1)].z, d.l[i & (kN - 1)].z, 0.3f));
-    ++i;
-  }
+  bench::per_index<kN>(st,
+                       [&](size_t k) { return ggx_visibility_height_correlated(d.w[k].z, d.l[k].z, 0.3f); });
 }
 void BM_HammonVisibility945(benchmark::State& st) {
   const Data& d = data();
-  size_t i = 0;
-  for (auto _ : st) {
-    benchmark::DoNotOptimize(hammon_visibility(d.w[i & (kN - 1)].z, d.l[i & (kN - 1)].z, 0.3f));
-    ++i;
-  }
+  bench::per_index<kN>(st, [&](size_t k) { return hammon_visibility(d.w[k].z, d.l[k].z, 0.3f); });
 }
 void BM_GgxAlbedoQuadrature(benchmark::State& st) {
   const double alpha = st.range(0) / 100.0;

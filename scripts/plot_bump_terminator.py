@@ -37,20 +37,16 @@ def main():
     cmap = plt.get_cmap("viridis")
     colors = {dl: cmap(i / max(1, len(deltas) - 1)) for i, dl in enumerate(deltas)}
 
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
-    ax = axes[0][0]
-    for dl in deltas:
-        x, y = series("conty-2019", dl, 0.0)
-        ax.plot(x, y, color=colors[dl], label=f"θd = {dl:g}°")
-    ax.set_title("(a) Conty Estevez et al. 2019: G1 with α² = tan²θd / 8")
-    ax.legend(fontsize=8, loc="lower left")
+    def every_delta(ax, method, title):
+        for dl in deltas:
+            x, y = series(method, dl, 0.0)
+            ax.plot(x, y, color=colors[dl], label=f"θd = {dl:g}°")
+        ax.set_title(title)
+        ax.legend(fontsize=8, loc="lower left")
 
-    ax = axes[0][1]
-    for dl in deltas:
-        x, y = series("chiang-2019", dl, 0.0)
-        ax.plot(x, y, color=colors[dl], label=f"θd = {dl:g}°")
-    ax.set_title("(b) Chiang et al. 2019, N_s tilted toward the light")
-    ax.legend(fontsize=8, loc="lower left")
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
+    every_delta(axes[0][0], "conty-2019", "(a) Conty Estevez et al. 2019: G1 with α² = tan²θd / 8")
+    every_delta(axes[0][1], "chiang-2019", "(b) Chiang et al. 2019, N_s tilted toward the light")
 
     ax = axes[1][0]
     for dl in (5.0, 20.0, 45.0, 75.0):

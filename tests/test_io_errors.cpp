@@ -11,23 +11,17 @@ namespace {
 using namespace test;
 namespace fs = std::filesystem;
 
-const FileFormat kFormats[] = {FileFormat::Dds, FileFormat::Ktx2,    FileFormat::Exr,
-                               FileFormat::Npy, FileFormat::CHeader, FileFormat::Png};
+// Every file format with the extension its files are written under.
+struct FormatExt {
+  FileFormat format;
+  const char* ext;
+};
+constexpr FormatExt kFormatExts[] = {{FileFormat::Dds, ".dds"},   {FileFormat::Ktx2, ".ktx2"},
+                                     {FileFormat::Exr, ".exr"},   {FileFormat::Npy, ".npy"},
+                                     {FileFormat::CHeader, ".h"}, {FileFormat::Png, ".png"}};
 const char* ext(FileFormat f) {
-  switch (f) {
-    case FileFormat::Dds:
-      return ".dds";
-    case FileFormat::Ktx2:
-      return ".ktx2";
-    case FileFormat::Exr:
-      return ".exr";
-    case FileFormat::Npy:
-      return ".npy";
-    case FileFormat::CHeader:
-      return ".h";
-    case FileFormat::Png:
-      return ".png";
-  }
+  for (const FormatExt& fe : kFormatExts)
+    if (fe.format == f) return fe.ext;
   return "";
 }
 
@@ -49,7 +43,8 @@ TEST(IoErrors, Names) {
 TEST(IoErrors, UnwritableDirectoryNaNAndChannelMismatchLeaveNoFile) {
   const auto dir = scratch_dir();
   const Volume v = make_volume(4, 3, 2, 4, 0.f, 1.f);
-  for (FileFormat f : kFormats) {
+  for (const FormatExt& fe : kFormatExts) {
+    const FileFormat f = fe.format;
     SCOPED_TRACE(ext(f));
     EXPECT_THROW(write_volume(dir / "missing" / (std::string("a") + ext(f)), v, f), InputError);
     Volume nan = v;

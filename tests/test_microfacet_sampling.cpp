@@ -47,40 +47,37 @@ const Case kVndfCases[] = {{0.5, 0.5, 0.7, 0.3},   {0.2, 0.6, 1.2, 0.9},
 
 }  // namespace
 
-TEST(MicrofacetSampling, GgxSphericalCapsMatchesVndf) {
-  uint64_t seed = 100;
+namespace {
+
+// A GGX VNDF sampler sample(g, w, u) against the VNDF pdf (chi-square) at every kVndfCases case, then at the
+// peaked anisotropic α = (0.05, 0.1) on a stretched grid; seeds from `seed` on.
+template <class Sample>
+void expect_ggx_vndf_sampler_matches(uint64_t seed, Sample sample) {
   for (const Case& c : kVndfCases) {
     const GGX<double> g(c.ax, c.ay);
     const Vec3d w = dir(c.theta, c.phi);
     auto r = run(
-        seed++, [&](Vec2d u) { return g.sample_vndf_spherical_caps(w, u); },
-        [&](const Vec3d& m) { return g.PDF(w, m); });
+        seed++, [&](Vec2d u) { return sample(g, w, u); }, [&](const Vec3d& m) { return g.PDF(w, m); });
     EXPECT_TRUE(r.pass) << c.ax << "," << c.ay << " theta " << c.theta << "\n" << r.table;
   }
   const GGX<double> g(0.05, 0.1);
   const Vec3d w = dir(1.0, 0.4);
   auto r = run(
-      seed++, [&](Vec2d u) { return g.sample_vndf_spherical_caps(w, u); },
-      [&](const Vec3d& m) { return g.PDF(w, m); }, 0.05, 0.1);
+      seed++, [&](Vec2d u) { return sample(g, w, u); }, [&](const Vec3d& m) { return g.PDF(w, m); }, 0.05,
+      0.1);
   EXPECT_TRUE(r.pass) << r.table;
 }
 
+}  // namespace
+
+TEST(MicrofacetSampling, GgxSphericalCapsMatchesVndf) {
+  expect_ggx_vndf_sampler_matches(
+      100, [](const GGX<double>& g, const Vec3d& w, Vec2d u) { return g.sample_vndf_spherical_caps(w, u); });
+}
+
 TEST(MicrofacetSampling, GgxHeitz2018MatchesVndf) {
-  uint64_t seed = 200;
-  for (const Case& c : kVndfCases) {
-    const GGX<double> g(c.ax, c.ay);
-    const Vec3d w = dir(c.theta, c.phi);
-    auto r = run(
-        seed++, [&](Vec2d u) { return g.sample_vndf_heitz2018(w, u); },
-        [&](const Vec3d& m) { return g.PDF(w, m); });
-    EXPECT_TRUE(r.pass) << c.ax << "," << c.ay << " theta " << c.theta << "\n" << r.table;
-  }
-  const GGX<double> g(0.05, 0.1);
-  const Vec3d w = dir(1.0, 0.4);
-  auto r = run(
-      seed++, [&](Vec2d u) { return g.sample_vndf_heitz2018(w, u); },
-      [&](const Vec3d& m) { return g.PDF(w, m); }, 0.05, 0.1);
-  EXPECT_TRUE(r.pass) << r.table;
+  expect_ggx_vndf_sampler_matches(
+      200, [](const GGX<double>& g, const Vec3d& w, Vec2d u) { return g.sample_vndf_heitz2018(w, u); });
 }
 
 TEST(MicrofacetSampling, GgxBoundedVndfOverNormalsAndReflections) {

@@ -507,17 +507,28 @@ TEST(RenderComponent, DiffuseAndSpecularMatchClosedForms) {
   EXPECT_THROW(component_from_string("both"), InputError);
 }
 
-// render_with_error: with one batch the mean is render() bit for bit; with 8 batches the stated standard
-// error matches the scatter of the pixel means over 24 independent seeds (a noisy sphere light with one area
-// sample per camera sample).
-TEST(RenderError, StandardErrorMatchesScatterOverSeeds) {
-  const char* json = R"({
+namespace {
+
+// A plane under a sphere light with one area sample per camera sample (a noisy image), size x size pixels.
+Scene noisy_sphere_light_scene(int size, int spp) {
+  const std::string json = R"({
     "camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
     "materials": {"m": {"base_color": 0.5, "roughness": 0.4}},
     "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
     "lights": [{"type": "sphere", "position": [0.5, 0, 1.5], "radius": 1.0, "intensity": 10}],
-    "settings": {"width": 6, "height": 6, "spp": 16, "area_lights": true, "area_samples": 1}})";
-  Scene s = parse_scene(json, "inline.json", ".");
+    "settings": {"width": )" +
+                           std::to_string(size) + R"(, "height": )" + std::to_string(size) + R"(, "spp": )" +
+                           std::to_string(spp) + R"(, "area_lights": true, "area_samples": 1}})";
+  return parse_scene(json, "inline.json", ".");
+}
+
+}  // namespace
+
+// render_with_error: with one batch the mean is render() bit for bit; with 8 batches the stated standard
+// error matches the scatter of the pixel means over 24 independent seeds (a noisy sphere light with one area
+// sample per camera sample).
+TEST(RenderError, StandardErrorMatchesScatterOverSeeds) {
+  Scene s = noisy_sphere_light_scene(6, 16);
   s.settings.error_batches = 1;
   {
     const Renderer r(s);
@@ -553,6 +564,33 @@ TEST(RenderError, StandardErrorMatchesScatterOverSeeds) {
   EXPECT_THROW(Renderer(s).render_with_error(), InputError);
 }
 
+namespace {
+
+// Top view (orthographic, ortho_height) of a plane of size × 64 with the V-groove height field
+// |x mod 8 − 4| / 4 (size × 64 texels), Lambert ρ = 0.5, one directional light of intensity 2 at 20°
+// elevation, width × height pixels of 64 spp, ground-truth micro-shadowing.
+Scene v_groove_scene(int ortho_height, int size, int width, int height) {
+  const std::string json = R"({
+    "camera": {"eye": [0, 0, 50], "target": [0, 0, 0], "up": [0, 1, 0], "projection": "orthographic",
+               "ortho_height": )" +
+                           std::to_string(ortho_height) + R"(},
+    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5}},
+    "objects": [{"type": "plane", "material": "m", "size": [)" +
+                           std::to_string(size) + R"(, 64]}],
+    "lights": [{"type": "directional", "elevation_deg": 20, "azimuth_deg": 0, "intensity": 2}],
+    "settings": {"width": )" +
+                           std::to_string(width) + R"(, "height": )" + std::to_string(height) +
+                           R"(, "spp": 64, "micro_shadowing": "ground-truth"}})";
+  Scene s = parse_scene(json, "inline.json", ".");
+  Texture h(size, 64, 1);
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < size; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
+  s.materials[0].height = h;
+  return s;
+}
+
+}  // namespace
+
 // Ground truth against a closed form: a V-groove height field (period 8 texels, walls at slope angle β, kinks
 // on vertices so the walls are planar), pure Lambert (specular 0), one directional light from +x at
 // elevation e, seen straight down by an orthographic camera over two whole periods. Per period (x ∈ [0, 8],
@@ -561,25 +599,14 @@ TEST(RenderError, StandardErrorMatchesScatterOverSeeds) {
 // away (N·L = sin(e − β)) is lit, unshadowed, when e > β. Mean radiance = ρE/(8π) [x_lit sin(e+β) + 4 max(0,
 // sin(e−β))]. Checked to 4 standard errors of the image mean (render_with_error) + 2e-4 relative.
 TEST(RenderGroundTruth, VGrooveMeanRadianceMatchesClosedForm) {
-  const char* json = R"({
-    "camera": {"eye": [0, 0, 50], "target": [0, 0, 0], "up": [0, 1, 0], "projection": "orthographic",
-               "ortho_height": 16},
-    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5}},
-    "objects": [{"type": "plane", "material": "m", "size": [64, 64]}],
-    "lights": [{"type": "directional", "elevation_deg": 20, "azimuth_deg": 0, "intensity": 2}],
-    "settings": {"width": 32, "height": 32, "spp": 64, "micro_shadowing": "ground-truth"}})";
   struct Case {
     double beta, el;
   };
   for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree})
     for (const Case cs : {Case{45, 20}, Case{45, 60}, Case{26.565, 10}, Case{26.565, 35}, Case{60, 75}}) {
-      Scene s = parse_scene(json, "inline.json", ".");
+      Scene s = v_groove_scene(16, 64, 32, 32);
       s.settings.gt_intersector = gi;
       const double tb = std::tan(cs.beta * kPi<double> / 180), te = std::tan(cs.el * kPi<double> / 180);
-      Texture h(64, 64, 1);
-      for (int j = 0; j < 64; ++j)
-        for (int i = 0; i < 64; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
-      s.materials[0].height = h;
       s.materials[0].height_texels = float(4 * tb);
       s.lights[0].direction = direction_from_angles(float(cs.el), 0);
       const RenderResult res = Renderer(s).render_with_error();
@@ -602,21 +629,10 @@ TEST(RenderGroundTruth, VGrooveMeanRadianceMatchesClosedForm) {
 // (orthographic, the whole field in view): the multiscale ground truth's setting, grid coordinates up to
 // 2048.
 TEST(RenderGroundTruth, FineVGroove2048SixteenTexelsPerPixel) {
-  const char* json = R"({
-    "camera": {"eye": [0, 0, 50], "target": [0, 0, 0], "up": [0, 1, 0], "projection": "orthographic",
-               "ortho_height": 64},
-    "materials": {"m": {"base_color": 0.5, "specular": 0, "roughness": 0.5}},
-    "objects": [{"type": "plane", "material": "m", "size": [2048, 64]}],
-    "lights": [{"type": "directional", "elevation_deg": 20, "azimuth_deg": 0, "intensity": 2}],
-    "settings": {"width": 128, "height": 4, "spp": 64, "micro_shadowing": "ground-truth"}})";
   const double tb = 1, te = std::tan(20 * kPi<double> / 180);
-  Texture h(2048, 64, 1);
-  for (int j = 0; j < 64; ++j)
-    for (int i = 0; i < 2048; ++i) h.at(i, j, 0) = float(std::abs(i % 8 - 4)) / 4.0f;
   for (const GtIntersector gi : {GtIntersector::HeightField, GtIntersector::Embree}) {
-    Scene s = parse_scene(json, "inline.json", ".");
+    Scene s = v_groove_scene(64, 2048, 128, 4);
     s.settings.gt_intersector = gi;
-    s.materials[0].height = h;
     s.materials[0].height_texels = 4;
     const RenderResult res = Renderer(s).render_with_error();
     // Skip the first and last pixel columns: the shadow of the plane's far edge (no geometry beyond it).
@@ -737,13 +753,7 @@ TEST(RenderGroundTruth, SameImageWhateverTheThreadCount) {
 // previous spp would not have (its render, repeated through render_with_error, is above it), and the returned
 // image is the render_with_error image at that spp bit for bit.
 TEST(RenderError, RenderToErrorStopsAtTheTarget) {
-  const char* json = R"({
-    "camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
-    "materials": {"m": {"base_color": 0.5, "roughness": 0.4}},
-    "objects": [{"type": "plane", "material": "m", "size": [4, 4]}],
-    "lights": [{"type": "sphere", "position": [0.5, 0, 1.5], "radius": 1.0, "intensity": 10}],
-    "settings": {"width": 8, "height": 8, "spp": 8, "area_lights": true, "area_samples": 1}})";
-  Scene s = parse_scene(json, "inline.json", ".");
+  Scene s = noisy_sphere_light_scene(8, 8);
   const double target = 2e-3;
   const RenderResult res = Renderer(s).render_to_error(target, 4096);
   EXPECT_LE(rms_std_error(res.std_error), target);

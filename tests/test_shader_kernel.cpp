@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "support/shader_kernel.h"
@@ -77,4 +78,21 @@ TEST(ShaderKernel, RunsBothLanguagesExactly) {
   if (!IsSkipped()) {
     EXPECT_EQ(checked, 2);
   }
+}
+
+// The single-body framed_kernel derives the HLSL body by hlsl_spelling: GLSL vector types become HLSL's
+// (whole words only) and each framed texture passed as an argument gains its SamplerState.
+TEST(ShaderKernel, HlslSpellingOfAGlslBody) {
+  const vk::KernelFrame frame{{"in vec4 rec", "out vec4 o"}, {"3d lut3", "2d lut"}, ""};
+  EXPECT_EQ(
+      vk::hlsl_spelling("vec4 a = vec4(f(lut3, x), g(lut , y), lut3x, 0.0); uvec2 u; ivec3 k; vec4x w;",
+                        frame),
+      "float4 a = float4(f(lut3, lut3_smp, x), g(lut, lut_smp, y), lut3x, 0.0); uint2 u; int3 k; vec4x w;");
+  const vk::Kernel k = vk::framed_kernel({"micro_shadowing_fit"}, {{"in vec4 rec", "out vec2 o"}, {}, ""},
+                                         "struct S { vec3 p; };\n", "  o[i] = rec[i].xy;\n");
+  EXPECT_EQ(k.glsl_files, std::vector<std::string>{"shaders/glsl/micro_shadowing_fit.glsl"});
+  EXPECT_EQ(k.hlsl_files, std::vector<std::string>{"shaders/hlsl/micro_shadowing_fit.hlsl"});
+  EXPECT_NE(k.hlsl_main.find("struct S { float3 p; };"), std::string::npos) << k.hlsl_main;
+  EXPECT_NE(k.hlsl_main.find("StructuredBuffer<float4> rec;"), std::string::npos) << k.hlsl_main;
+  EXPECT_NE(k.glsl_main.find("  o[i] = rec[i].xy;\n"), std::string::npos) << k.glsl_main;
 }

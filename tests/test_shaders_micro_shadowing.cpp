@@ -31,12 +31,11 @@ constexpr int kHarmonics = 2;  // azimuth-aware test table
 // One record: a = (vis, N.L, alpha_x, alpha_y), v = (view, cos_phi), l = (light, sobol index),
 // u = (u1, u2, perceptual roughness, N.V). Outputs o[0..7], see the kernels.
 
-const vk::Kernel kKernel =
-    vk::framed_kernel({"shaders/glsl/micro_shadowing.glsl"}, {"shaders/hlsl/micro_shadowing.hlsl"},
-                      {{"in Rec rec", "out vec4 o"},
-                       {"3d lut3", "3d lut_az", "2d lut2"},
-                       "int n_est; uint seed; uint n_points;"},
-                      "struct Rec { vec4 a; vec4 v; vec4 l; vec4 u; };\n", R"(
+const vk::Kernel kKernel = vk::framed_kernel({"micro_shadowing"},
+                                             {{"in Rec rec", "out vec4 o"},
+                                              {"3d lut3", "3d lut_az", "2d lut2"},
+                                              "int n_est; uint seed; uint n_points;"},
+                                             "struct Rec { vec4 a; vec4 v; vec4 l; vec4 u; };\n", R"(
   Rec r = rec[i];
   float vis = r.a.x, nl = r.a.y;
   vec2 alpha = r.a.zw;
@@ -61,32 +60,6 @@ const vk::Kernel kKernel =
                    msh_ms_lut_roughness(msh_ms_lut_fetch(lut3, vis, nl, r.u.w), r.u.z, vec4(0.1, 0.4, 0.7, 1.0), 4),
                    0.0);
   o[k + 7u] = vec4(msh_sobol_2d(idx, pc.seed), msh_sobol_2d(idx, 0u).x, msh_hammersley_2d(idx, pc.n_points).y);
-)",
-                      "struct Rec { float4 a; float4 v; float4 l; float4 u; };\n", R"(
-  Rec r = rec[i];
-  float vis = r.a.x, nl = r.a.y;
-  float2 alpha = r.a.zw;
-  float3 v = r.v.xyz, l = r.l.xyz;
-  uint k = i * 8u;
-  o[k + 0u] = float4(msh_ms_reference_step(vis, nl), msh_ms_brinck_maximov2016(vis, nl), msh_ms_chan2018(vis, nl),
-                     msh_ms_part1_analytic(vis, nl));
-  float av = msh_ggx_projected_alpha(v, alpha), al = msh_ggx_projected_alpha(l, alpha);
-  o[k + 1u] = float4(msh_ms_exact_zero(vis, nl) ? 1.0 : 0.0, msh_ms_cone_cos(vis), av, al);
-  o[k + 2u] = float4(msh_ggx_sample_vndf(v, alpha, r.u.xy), msh_ggx_g1_projected(v, av));
-  float c = msh_ms_cone_cos(vis), cone, hemi, w;
-  msh_ms_generic_vndf_sample(c, alpha, v, l, r.u.xy, true, cone, hemi, w);
-  o[k + 3u] = float4(cone, hemi, w, msh_ms_smith_g2_over_g1(msh_ggx_g1_projected(l, al), msh_ggx_g1_projected(v, av), false));
-  msh_ms_generic_vndf_sample_isotropic(c, alpha.x, v, l, r.u.xy, false, cone, hemi, w);
-  o[k + 4u] = float4(cone, hemi, w, msh_ms_relative_azimuth_cos(v, l));
-  o[k + 5u] = float4(msh_ms_generic_vndf_estimate(vis, alpha, v, l, pc.n_est, true, 1u),
-                     msh_ms_generic_vndf_estimate(vis, alpha.xx, v, l, pc.n_est, false, 0u),
-                     msh_ms_lut_sample(lut3, lut3_smp, vis, nl, r.u.w, r.u.z), msh_ms_lut_sample_2d(lut2, lut2_smp, vis, nl, r.u.z));
-  uint idx = uint(r.l.w);
-  o[k + 6u] = float4(msh_ms_lut_sample_azimuth(lut_az, lut_az_smp, 2, vis, nl, r.u.w, r.u.z, r.v.w),
-                     msh_ms_lut_sample_azimuth(lut3, lut3_smp, 0, vis, nl, r.u.w, r.u.z, r.v.w),
-                     msh_ms_lut_roughness(msh_ms_lut_fetch(lut3, lut3_smp, vis, nl, r.u.w), r.u.z, float4(0.1, 0.4, 0.7, 1.0), 4),
-                     0.0);
-  o[k + 7u] = float4(msh_sobol_2d(idx, pc.seed), msh_sobol_2d(idx, 0u).x, msh_hammersley_2d(idx, pc.n_points).y);
 )");
 
 struct Record {
@@ -433,20 +406,13 @@ TEST(ShadersMicroShadowing, RunsOnVulkanAndMatches) {
 namespace {
 
 const vk::Kernel kConeKernel =
-    vk::framed_kernel({"shaders/glsl/micro_shadowing.glsl"}, {"shaders/hlsl/micro_shadowing.hlsl"},
+    vk::framed_kernel({"micro_shadowing"},
                       {{"in vec4 rec", "out vec4 o"}, {"3d lut_plain", "3d lut_az"}, "int n_rough;"}, "", R"(
   vec4 a = rec[2u * i], b = rec[2u * i + 1u];  // (vis, N.L, N.V, roughness), (cos_phi, -, -, -)
   o[i] = vec4(msh_ms_lut_sample_cone(lut_plain, pc.n_rough, a.x, a.y, a.z, a.w),
               msh_ms_lut_sample_cone_azimuth(lut_az, pc.n_rough, 3, a.x, a.y, a.z, a.w, b.x),
               msh_ms_lut_sample_cone_azimuth(lut_az, pc.n_rough, 1, a.x, a.y, a.z, a.w, b.x),
               msh_ms_lut_fetch_cone(lut_az, pc.n_rough, a.x, a.y, a.z, a.w).w);
-)",
-                      "", R"(
-  float4 a = rec[2u * i], b = rec[2u * i + 1u];
-  o[i] = float4(msh_ms_lut_sample_cone(lut_plain, lut_plain_smp, pc.n_rough, a.x, a.y, a.z, a.w),
-                msh_ms_lut_sample_cone_azimuth(lut_az, lut_az_smp, pc.n_rough, 3, a.x, a.y, a.z, a.w, b.x),
-                msh_ms_lut_sample_cone_azimuth(lut_az, lut_az_smp, pc.n_rough, 1, a.x, a.y, a.z, a.w, b.x),
-                msh_ms_lut_fetch_cone(lut_az, lut_az_smp, pc.n_rough, a.x, a.y, a.z, a.w).w);
 )");
 
 struct ConeLuts {

@@ -120,17 +120,14 @@ TEST(StudyMetrics, EmptyOrDarkRegions) {
 }
 
 namespace {
+// The quick configuration (plaster, plane and cylinder, azimuth 0, no point light) shrunk to seconds.
 StudyConfig tiny() {
-  StudyConfig c;
+  StudyConfig c = quick_config();
   c.name = "tiny";
-  c.materials = {"plaster"};
-  c.shapes = {"plane", "cylinder"};
   c.fine_size = 64;
   c.ao_rays = 4;
   c.scales = {1, 4};
   c.elevations = {25};
-  c.azimuths = {0};
-  c.point_light = false;
   c.sphere_light = true;
   c.area_samples = 4;
   c.image_size = 16;

@@ -157,6 +157,16 @@ std::pair<std::string, std::string> http_get(const std::string& url, const std::
   return {resp.substr(0, eol), body == std::string::npos ? "" : resp.substr(body + 4)};
 }
 
+// A small cone-layout table (2 roughness slabs, 4 x 4 x 2 texels) at `out`; the CLI's exit code.
+int bake_small_cone_table(const fs::path& out) {
+  return run_cli(
+             "bake micro-shadowing --size-t 4 --size-nl 4 --size-nv 2 --roughness-slabs 2 --samples 16 "
+             "--phi-nodes 2 --quiet --out " +
+                 out.string(),
+             out.parent_path())
+      .code;
+}
+
 TEST(ViewerServer, RefusesNonLoopbackHosts) {
   const fs::path dir = scratch_dir("viewer");
   for (const char* host : {"0.0.0.0", "192.168.1.10", "::", "example.com", "128.0.0.1"}) {
@@ -209,13 +219,7 @@ TEST(ViewerServer, RefusesBadTexturesAndTables) {
                 .code,
             0);
   expect_one_line("--lut " + (dir / "seed.npy").string(), "seed-layout");
-  ASSERT_EQ(
-      run_cli("bake micro-shadowing --size-t 4 --size-nl 4 --size-nv 2 --roughness-slabs 2 --samples 16 "
-              "--phi-nodes 2 --quiet --out " +
-                  (dir / "cone.npy").string(),
-              dir)
-          .code,
-      0);
+  ASSERT_EQ(bake_small_cone_table(dir / "cone.npy"), 0);
   std::string side = slurp(dir / "cone.npy.json");
   const auto p = side.find("\"size_n_dot_l\"");
   ASSERT_NE(p, std::string::npos) << side;
@@ -255,13 +259,7 @@ TEST(ViewerServer, ExportsAStaticCopyAndServesIt) {
 // floats.
 TEST(ViewerServer, UsesAGivenConeTable) {
   const fs::path dir = scratch_dir("viewer");
-  ASSERT_EQ(
-      run_cli("bake micro-shadowing --size-t 4 --size-nl 4 --size-nv 2 --roughness-slabs 2 --samples 16 "
-              "--phi-nodes 2 --quiet --out " +
-                  (dir / "cone.npy").string(),
-              dir)
-          .code,
-      0);
+  ASSERT_EQ(bake_small_cone_table(dir / "cone.npy"), 0);
   const auto r = run_cli("view --export " + (dir / "v").string() + " --cache " + kCache.string() + " --lut " +
                              (dir / "cone.npy").string(),
                          dir);

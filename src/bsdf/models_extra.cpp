@@ -116,125 +116,121 @@ Vec3d vec_param(const BrdfParams& p, const std::string& name) {
   return Vec3d(v[0], v[1], v[2]);
 }
 
+// The two sampling set-ups of most models here: the cosine lobe alone (diffuse-like models), or half cosine,
+// half the model's own NDF (cloth, reciprocal and energy-conserving).
+std::unique_ptr<BrdfModel> cosine_sampled(LambdaModel::F f, bool reciprocal, bool energy) {
+  return std::make_unique<LambdaModel>(std::move(f), std::vector<Lobe>{cosine_lobe(1)}, reciprocal, energy);
+}
+template <class Ndf>
+std::unique_ptr<BrdfModel> cosine_and_ndf_sampled(LambdaModel::F f, const Ndf& ndf) {
+  return std::make_unique<LambdaModel>(std::move(f), cosine_and_ndf_lobes(ndf), true, true);
+}
+
 ModelInfo uncharted2() {
-  ModelInfo m;
-  m.name = "uncharted2-cloth";
-  m.summary = "Uncharted 2 cloth diffuse: view-dependent rim + inner + Lambert terms (empirical)";
-  m.source = "RTR4 eq. 9.70 (Hable 2010)";
-  m.params = {rgb_param("base-color", "diffuse albedo rho_ss", 0.8),
-              num_param("k-rim", "rim scale", 0.3, 0, 1),
-              num_param("rim-exponent", "rim falloff exponent a_rim", 2, 0, 64),
-              num_param("k-inner", "inner (forward-facing) scale", 0.2, 0, 1),
-              num_param("inner-exponent", "inner falloff exponent a_inner", 2, 0, 64),
-              num_param("k-diff", "Lambert scale", 0.5, 0, 1)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const Rgbd rho = p.rgb("base-color");
-    const double kr = p.get("k-rim"), ar = p.get("rim-exponent"), ki = p.get("k-inner"),
-                 ai = p.get("inner-exponent"), kd = p.get("k-diff");
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) {
-          if (!(wo.z > 0 && wi.z > 0)) return Rgbd(0);
-          return uncharted2_cloth_diffuse(rho, wo.z, kr, ar, ki, ai, kd);
-        },
-        std::vector<Lobe>{cosine_lobe(1)}, /*reciprocal=*/false, /*energy=*/false);
-  };
-  return m;
+  return ModelInfo{
+      "uncharted2-cloth",
+      "Uncharted 2 cloth diffuse: view-dependent rim + inner + Lambert terms (empirical)",
+      "RTR4 eq. 9.70 (Hable 2010)",
+      {rgb_param("base-color", "diffuse albedo rho_ss", 0.8), num_param("k-rim", "rim scale", 0.3, 0, 1),
+       num_param("rim-exponent", "rim falloff exponent a_rim", 2, 0, 64),
+       num_param("k-inner", "inner (forward-facing) scale", 0.2, 0, 1),
+       num_param("inner-exponent", "inner falloff exponent a_inner", 2, 0, 64),
+       num_param("k-diff", "Lambert scale", 0.5, 0, 1)},
+      [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+        const Rgbd rho = p.rgb("base-color");
+        const double kr = p.get("k-rim"), ar = p.get("rim-exponent"), ki = p.get("k-inner"),
+                     ai = p.get("inner-exponent"), kd = p.get("k-diff");
+        return cosine_sampled(
+            [=](const Vec3d& wo, const Vec3d& wi) {
+              if (!(wo.z > 0 && wi.z > 0)) return Rgbd(0);
+              return uncharted2_cloth_diffuse(rho, wo.z, kr, ar, ki, ai, kd);
+            },
+            /*reciprocal=*/false, /*energy=*/false);
+      }};
 }
 
 ModelInfo wrap() {
-  ModelInfo m;
-  m.name = "wrap-diffuse";
-  m.summary =
-      "Uncharted 4 wrap-lighting diffuse with scatter colour (empirical; f = term / (n.l), l above n)";
-  m.source = "RTR4 eq. 9.71";
-  m.params = {rgb_param("base-color", "diffuse albedo rho_ss", 0.8),
-              rgb_param("scatter-color", "scattering colour c_scatter", 0.0),
-              num_param("wrap", "wrap width w", 0.5, 0, 1)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const Rgbd rho = p.rgb("base-color"), cs = p.rgb("scatter-color");
-    const double w = p.get("wrap");
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) {
-          if (!(wo.z > 0)) return Rgbd(0);
-          return wrap_diffuse_brdf(rho, cs, wi.z, w);
-        },
-        std::vector<Lobe>{cosine_lobe(1)}, false, false);
-  };
-  return m;
+  return ModelInfo{
+      "wrap-diffuse",
+      "Uncharted 4 wrap-lighting diffuse with scatter colour (empirical; f = term / (n.l), l above n)",
+      "RTR4 eq. 9.71",
+      {rgb_param("base-color", "diffuse albedo rho_ss", 0.8),
+       rgb_param("scatter-color", "scattering colour c_scatter", 0.0),
+       num_param("wrap", "wrap width w", 0.5, 0, 1)},
+      [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+        const Rgbd rho = p.rgb("base-color"), cs = p.rgb("scatter-color");
+        const double w = p.get("wrap");
+        return cosine_sampled(
+            [=](const Vec3d& wo, const Vec3d& wi) {
+              if (!(wo.z > 0)) return Rgbd(0);
+              return wrap_diffuse_brdf(rho, cs, wi.z, w);
+            },
+            false, false);
+      }};
 }
 
 ModelInfo disney_sheen_model() {
-  ModelInfo m;
-  m.name = "disney-sheen";
-  m.summary = "Disney sheen lobe k_sheen c_sheen (1 - h.l)^5 (asperity scattering; add to a diffuse)";
-  m.source = "RTR4 eq. 9.72 (Burley 2012)";
-  m.params = {rgb_param("base-color", "rho_ss, source of the sheen tint", 0.8),
-              num_param("sheen", "k_sheen", 1, 0, 1),
-              num_param("sheen-tint", "blend white -> rho/lum(rho)", 0, 0, 1)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const Rgbd c = disney_sheen_color(p.rgb("base-color"), p.get("sheen-tint"));
-    const double k = p.get("sheen");
-    // Tinting divides by luminance, so a component can exceed 1: no energy claim.
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) { return disney_sheen(wo, wi, c, k); },
-        std::vector<Lobe>{cosine_lobe(1)}, true, false);
-  };
-  return m;
+  return ModelInfo{"disney-sheen",
+                   "Disney sheen lobe k_sheen c_sheen (1 - h.l)^5 (asperity scattering; add to a diffuse)",
+                   "RTR4 eq. 9.72 (Burley 2012)",
+                   {rgb_param("base-color", "rho_ss, source of the sheen tint", 0.8),
+                    num_param("sheen", "k_sheen", 1, 0, 1),
+                    num_param("sheen-tint", "blend white -> rho/lum(rho)", 0, 0, 1)},
+                   [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+                     const Rgbd c = disney_sheen_color(p.rgb("base-color"), p.get("sheen-tint"));
+                     const double k = p.get("sheen");
+                     // Tinting divides by luminance, so a component can exceed 1: no energy claim.
+                     return cosine_sampled(
+                         [=](const Vec3d& wo, const Vec3d& wi) { return disney_sheen(wo, wi, c, k); }, true,
+                         false);
+                   }};
 }
 
 ModelInfo velvet() {
-  ModelInfo m;
-  m.name = "velvet-cloth";
-  m.summary =
-      "The Order: 1886 cloth: generalized velvet (inverted Gaussian) NDF, Ashikhmin-Premoze denominator";
-  m.source = "RTR4 eqs. 9.73-9.74 (Ashikhmin & Premoze 2007; Neubelt & Pettineo 2013)";
-  m.params = {rgb_param("base-color", "diffuse albedo rho_ss", 0.5),
-              rgb_param("specular", "Schlick F0", 0.04),
-              num_param("alpha", "width of the inverted Gaussian", 0.5, 0.01, 1),
-              num_param("k-amp", "amplitude k_amp of the inverted Gaussian", 1, 0, 10)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const Rgbd rho = p.rgb("base-color"), f0 = p.rgb("specular");
-    const VelvetNdf<double> ndf(p.get("alpha"), p.get("k-amp"));
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) { return velvet_cloth(wo, wi, rho, f0, ndf); },
-        cosine_and_ndf_lobes(ndf), true, true);
-  };
-  return m;
+  return ModelInfo{
+      "velvet-cloth",
+      "The Order: 1886 cloth: generalized velvet (inverted Gaussian) NDF, Ashikhmin-Premoze denominator",
+      "RTR4 eqs. 9.73-9.74 (Ashikhmin & Premoze 2007; Neubelt & Pettineo 2013)",
+      {rgb_param("base-color", "diffuse albedo rho_ss", 0.5), rgb_param("specular", "Schlick F0", 0.04),
+       num_param("alpha", "width of the inverted Gaussian", 0.5, 0.01, 1),
+       num_param("k-amp", "amplitude k_amp of the inverted Gaussian", 1, 0, 10)},
+      [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+        const Rgbd rho = p.rgb("base-color"), f0 = p.rgb("specular");
+        const VelvetNdf<double> ndf(p.get("alpha"), p.get("k-amp"));
+        return cosine_and_ndf_sampled(
+            [=](const Vec3d& wo, const Vec3d& wi) { return velvet_cloth(wo, wi, rho, f0, ndf); }, ndf);
+      }};
 }
 
 ModelInfo iw_sheen() {
-  ModelInfo m;
-  m.name = "imageworks-sheen";
-  m.summary = "Imageworks sheen: inverted sin^(1/a) NDF with the Estevez-Kulla fitted Smith Lambda";
-  m.source = "RTR4 eq. 9.75; Estevez & Kulla 2017 (Lambda fit)";
-  m.params = {rgb_param("sheen-color", "sheen colour", 1.0),
-              num_param("roughness", "perceptual roughness r, alpha = r^2 (clamped >= 1e-3)", 0.5, 0, 1)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const Rgbd c = p.rgb("sheen-color");
-    const SheenNdf<double> ndf(roughness_to_alpha(p.get("roughness")));
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) { return imageworks_sheen(wo, wi, c, ndf); },
-        cosine_and_ndf_lobes(ndf), true, true);
-  };
-  return m;
+  return ModelInfo{
+      "imageworks-sheen",
+      "Imageworks sheen: inverted sin^(1/a) NDF with the Estevez-Kulla fitted Smith Lambda",
+      "RTR4 eq. 9.75; Estevez & Kulla 2017 (Lambda fit)",
+      {rgb_param("sheen-color", "sheen colour", 1.0),
+       num_param("roughness", "perceptual roughness r, alpha = r^2 (clamped >= 1e-3)", 0.5, 0, 1)},
+      [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+        const Rgbd c = p.rgb("sheen-color");
+        const SheenNdf<double> ndf(roughness_to_alpha(p.get("roughness")));
+        return cosine_and_ndf_sampled(
+            [=](const Vec3d& wo, const Vec3d& wi) { return imageworks_sheen(wo, wi, c, ndf); }, ndf);
+      }};
 }
 
 ModelInfo kk() {
-  ModelInfo m;
-  m.name = "kajiya-kay";
-  m.summary =
-      "Kajiya-Kay micro-cylinder (fibers along the tangent x): k_d/pi + k_s/pi cos^p(beta), unnormalized";
-  m.source = "Kajiya & Kay 1989; Banks 1994; RTR4 sec. 9.10.3";
-  m.params = {rgb_param("diffuse", "k_d", 0.3), rgb_param("specular", "k_s", 0.2),
-              num_param("exponent", "cone-lobe exponent p", 32, 0, 4096)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const Rgbd kd = p.rgb("diffuse"), ks = p.rgb("specular");
-    const double e = p.get("exponent");
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) { return kajiya_kay(wo, wi, Vec3d(1, 0, 0), kd, ks, e); },
-        std::vector<Lobe>{cosine_lobe(1)}, true, false);
-  };
-  return m;
+  return ModelInfo{
+      "kajiya-kay",
+      "Kajiya-Kay micro-cylinder (fibers along the tangent x): k_d/pi + k_s/pi cos^p(beta), unnormalized",
+      "Kajiya & Kay 1989; Banks 1994; RTR4 sec. 9.10.3",
+      {rgb_param("diffuse", "k_d", 0.3), rgb_param("specular", "k_s", 0.2),
+       num_param("exponent", "cone-lobe exponent p", 32, 0, 4096)},
+      [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+        const Rgbd kd = p.rgb("diffuse"), ks = p.rgb("specular");
+        const double e = p.get("exponent");
+        return cosine_sampled(
+            [=](const Vec3d& wo, const Vec3d& wi) { return kajiya_kay(wo, wi, Vec3d(1, 0, 0), kd, ks, e); },
+            true, false);
+      }};
 }
 
 Lobe ggx_vndf_lobe(double w, const GGX<double>& g) {
@@ -254,76 +250,73 @@ double ggx_spec(const GGX<double>& g, const Vec3d& wo, const Vec3d& wi) {
 }
 
 ModelInfo thin_film() {
-  ModelInfo m;
-  m.name = "thin-film";
-  m.summary = "GGX specular with thin-film interference Fresnel (film over dielectric/conductor substrate)";
-  m.source = "Belcour & Barla 2017; RTR4 sec. 9.11.2";
-  m.params = {num_param("roughness", "perceptual roughness r, alpha = r^2", 0.3, 0, 1),
-              num_param("thickness", "film thickness d in nm", 400, 0, 2000),
-              num_param("film-ior", "film IOR eta2 (relative to air)", 1.45, 1, 3),
-              num_param("substrate-ior", "substrate IOR eta3", 2.9, 0.05, 10),
-              num_param("substrate-k", "substrate extinction kappa3 (0 = dielectric)", 3.0, 0, 10)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const GGX<double> g(roughness_to_alpha(p.get("roughness")));
-    ThinFilm<double> tf;
-    tf.thickness_nm = p.get("thickness"), tf.film_ior = p.get("film-ior");
-    tf.substrate_ior = p.get("substrate-ior"), tf.substrate_k = p.get("substrate-k");
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) {
-          const double s = ggx_spec(g, wo, wi);
-          if (!(s > 0)) return Rgbd(0);
-          return tf.reflectance(dot(normalize(wo + wi), wi)) * s;
-        },
-        std::vector<Lobe>{ggx_vndf_lobe(1, g)}, true, true);
-  };
-  return m;
+  return ModelInfo{
+      "thin-film",
+      "GGX specular with thin-film interference Fresnel (film over dielectric/conductor substrate)",
+      "Belcour & Barla 2017; RTR4 sec. 9.11.2",
+      {num_param("roughness", "perceptual roughness r, alpha = r^2", 0.3, 0, 1),
+       num_param("thickness", "film thickness d in nm", 400, 0, 2000),
+       num_param("film-ior", "film IOR eta2 (relative to air)", 1.45, 1, 3),
+       num_param("substrate-ior", "substrate IOR eta3", 2.9, 0.05, 10),
+       num_param("substrate-k", "substrate extinction kappa3 (0 = dielectric)", 3.0, 0, 10)},
+      [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+        const GGX<double> g(roughness_to_alpha(p.get("roughness")));
+        ThinFilm<double> tf;
+        tf.thickness_nm = p.get("thickness"), tf.film_ior = p.get("film-ior");
+        tf.substrate_ior = p.get("substrate-ior"), tf.substrate_k = p.get("substrate-k");
+        return std::make_unique<LambdaModel>(
+            [=](const Vec3d& wo, const Vec3d& wi) {
+              const double s = ggx_spec(g, wo, wi);
+              if (!(s > 0)) return Rgbd(0);
+              return tf.reflectance(dot(normalize(wo + wi), wi)) * s;
+            },
+            std::vector<Lobe>{ggx_vndf_lobe(1, g)}, true, true);
+      }};
 }
 
 ModelInfo clearcoat() {
-  ModelInfo m;
-  m.name = "clearcoat";
-  m.summary = "Clear coat (GGX dielectric, own normal, Beer-Lambert tint) over a Lambert/GGX-metal base";
-  m.source = "RTR4 sec. 9.12; Fresnel trade-off (Burley 2012), Beer-Lambert path (RTR4 sec. 14.1.2)";
-  m.params = {
-      rgb_param("base-color", "base albedo (diffuse) or F0 (metal)", 0.5),
-      num_param("metallic", "base: 0 = Lambert, 1 = GGX conductor (Schlick F0 = base-color)", 0, 0, 1),
-      num_param("base-roughness", "base GGX perceptual roughness", 0.5, 0, 1),
-      num_param("coat-roughness", "coat GGX perceptual roughness", 0.1, 0, 1),
-      num_param("coat-ior", "coat IOR (relative to air)", 1.5, 1, 3),
-      rgb_param("coat-tint", "coat transmittance for one vertical traversal (1 = clear)", 1.0),
-      make_param("coat-normal", "coat normal in the shading frame (normalized)", {0, 0, 1}, -1, 1)};
-  m.make = [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
-    const Rgbd base = p.rgb("base-color");
-    const double metal = p.get("metallic");
-    const GGX<double> gb(roughness_to_alpha(p.get("base-roughness")));
-    const double ac = roughness_to_alpha(p.get("coat-roughness"));
-    const ClearCoat<double> coat(p.get("coat-ior"), ac, p.rgb("coat-tint"), vec_param(p, "coat-normal"));
-    const GGX<double> gc(std::max(ac, GGX<double>::kMinAlpha));
-    const Frame<double> cf = Frame<double>::from_z(coat.normal);
-    Lobe coat_lobe = reflect_lobe(
-        0.3,
-        [gc, cf](const Vec3d& wo, Vec2d u) {
-          const Vec3d o = cf.to_local(wo);
-          return o.z > 0 ? cf.to_world(gc.Sample_wm(o, u)) : Vec3d(0, 0, 0);  // zero m: no sample
-        },
-        [gc, cf](const Vec3d& wo, const Vec3d& mm) {
-          const Vec3d o = cf.to_local(wo), ml = cf.to_local(mm);
-          return o.z > 0 ? gc.PDF(o, ml) : 0.0;
-        });
-    std::vector<Lobe> lobes{coat_lobe, cosine_lobe(0.7 * (1 - metal) + 1e-3)};
-    if (metal > 0) lobes.push_back(ggx_vndf_lobe(0.7 * metal, gb));
-    return std::make_unique<LambdaModel>(
-        [=](const Vec3d& wo, const Vec3d& wi) {
-          if (!(wo.z > 0 && wi.z > 0)) return Rgbd(0);
-          const Vec3d h = normalize(wo + wi);
-          const double w5 = std::pow(1 - saturate(dot(h, wi)), 5.0);
-          const Rgbd F = base + (Rgbd(1) - base) * w5;
-          const Rgbd fb = base * ((1 - metal) * kInvPi<double>)+F * (metal * ggx_spec(gb, wo, wi));
-          return coat.f(wo, wi, fb);
-        },
-        std::move(lobes), true, true);
-  };
-  return m;
+  return ModelInfo{
+      "clearcoat",
+      "Clear coat (GGX dielectric, own normal, Beer-Lambert tint) over a Lambert/GGX-metal base",
+      "RTR4 sec. 9.12; Fresnel trade-off (Burley 2012), Beer-Lambert path (RTR4 sec. 14.1.2)",
+      {rgb_param("base-color", "base albedo (diffuse) or F0 (metal)", 0.5),
+       num_param("metallic", "base: 0 = Lambert, 1 = GGX conductor (Schlick F0 = base-color)", 0, 0, 1),
+       num_param("base-roughness", "base GGX perceptual roughness", 0.5, 0, 1),
+       num_param("coat-roughness", "coat GGX perceptual roughness", 0.1, 0, 1),
+       num_param("coat-ior", "coat IOR (relative to air)", 1.5, 1, 3),
+       rgb_param("coat-tint", "coat transmittance for one vertical traversal (1 = clear)", 1.0),
+       make_param("coat-normal", "coat normal in the shading frame (normalized)", {0, 0, 1}, -1, 1)},
+      [](const BrdfParams& p) -> std::unique_ptr<BrdfModel> {
+        const Rgbd base = p.rgb("base-color");
+        const double metal = p.get("metallic");
+        const GGX<double> gb(roughness_to_alpha(p.get("base-roughness")));
+        const double ac = roughness_to_alpha(p.get("coat-roughness"));
+        const ClearCoat<double> coat(p.get("coat-ior"), ac, p.rgb("coat-tint"), vec_param(p, "coat-normal"));
+        const GGX<double> gc(std::max(ac, GGX<double>::kMinAlpha));
+        const Frame<double> cf = Frame<double>::from_z(coat.normal);
+        Lobe coat_lobe = reflect_lobe(
+            0.3,
+            [gc, cf](const Vec3d& wo, Vec2d u) {
+              const Vec3d o = cf.to_local(wo);
+              return o.z > 0 ? cf.to_world(gc.Sample_wm(o, u)) : Vec3d(0, 0, 0);  // zero m: no sample
+            },
+            [gc, cf](const Vec3d& wo, const Vec3d& mm) {
+              const Vec3d o = cf.to_local(wo), ml = cf.to_local(mm);
+              return o.z > 0 ? gc.PDF(o, ml) : 0.0;
+            });
+        std::vector<Lobe> lobes{coat_lobe, cosine_lobe(0.7 * (1 - metal) + 1e-3)};
+        if (metal > 0) lobes.push_back(ggx_vndf_lobe(0.7 * metal, gb));
+        return std::make_unique<LambdaModel>(
+            [=](const Vec3d& wo, const Vec3d& wi) {
+              if (!(wo.z > 0 && wi.z > 0)) return Rgbd(0);
+              const Vec3d h = normalize(wo + wi);
+              const double w5 = std::pow(1 - saturate(dot(h, wi)), 5.0);
+              const Rgbd F = base + (Rgbd(1) - base) * w5;
+              const Rgbd fb = base * ((1 - metal) * kInvPi<double>)+F * (metal * ggx_spec(gb, wo, wi));
+              return coat.f(wo, wi, fb);
+            },
+            std::move(lobes), true, true);
+      }};
 }
 
 }  // namespace

@@ -205,12 +205,13 @@ void run_bake_shipped(const BakeArgs& a) {
 }
 
 void add_brdf(Groups& g) {
-  auto eval_args = std::make_shared<EvalBrdfArgs>();
-  CLI::App* e = g.eval->add_subcommand("brdf",
-                                       "Evaluate a BRDF model f(v, l) (no cosine) at N.V = --ndotv, view in "
-                                       "the xz plane, light --light (default: "
-                                       "the mirror direction), or its directional albedo with --albedo. "
-                                       "--list shows every model and parameter.");
+  const auto [e, eval_args] =
+      add_command<EvalBrdfArgs>(g.eval, "brdf",
+                                "Evaluate a BRDF model f(v, l) (no cosine) at N.V = --ndotv, view in "
+                                "the xz plane, light --light (default: "
+                                "the mirror direction), or its directional albedo with --albedo. "
+                                "--list shows every model and parameter.",
+                                run_eval_brdf);
   e->add_option("--model", eval_args->model, "Model name (see --list)");
   e->add_option("--ndotv", eval_args->ndotv, "N.V of the view direction, in [0, 1]")
       ->check(Finite)
@@ -239,21 +240,19 @@ void add_brdf(Groups& g) {
       e->add_option_function<std::string>(
           "--" + name, [eval_args, name](const std::string& s) { eval_args->raw[name] = s; }, help);
     }
-  e->callback([eval_args] { run_eval_brdf(*eval_args); });
 }
 
 void add_brdf_bake(Groups& g) {
-  auto ba = std::make_shared<BakeArgs>();
-  CLI::App* b = g.bake->add_subcommand(
-      "ggx-albedo",
+  const auto [b, ba] = add_command<BakeArgs>(
+      g.bake, "ggx-albedo",
       "Bake the GGX (height-correlated Smith, F = 1) directional albedo E(mu, r): x = N.V = i/(n-1), y = "
       "perceptual "
-      "roughness r = j/(n-1) (alpha = r^2). Channels: 1 -> E; 2 -> E, Ebar(r); 4 -> E, Ebar, E_Fc, Ebar_Fc.");
+      "roughness r = j/(n-1) (alpha = r^2). Channels: 1 -> E; 2 -> E, Ebar(r); 4 -> E, Ebar, E_Fc, Ebar_Fc.",
+      run_bake_ggx_albedo);
   b->add_option("--out", ba->out, "Output file: .dds .ktx2 .exr .npy .h")->required();
   b->add_option("--size", ba->size, "Texels per axis")->default_val(32);
   b->add_option("--samples", ba->samples, "QMC samples per texel")->default_val(1u << 14);
   b->add_option("--pixel-format", ba->pixel_format, "r16f, rg16f, rgba16f, r32f, rg32f (default), rgba32f");
-  b->callback([ba] { run_bake_ggx_albedo(*ba); });
 
   auto bd = std::make_shared<BakeArgs>();
   bd->size = 128;
@@ -271,12 +270,11 @@ void add_brdf_bake(Groups& g) {
   d->add_option("--pixel-format", bd->pixel_format, "rg16f (default), rgba16f, rg32f, rgba32f");
   d->callback([bd] { run_bake_dfg(*bd); });
 
-  auto bs = std::make_shared<BakeArgs>();
-  CLI::App* s = g.bake->add_subcommand(
-      "brdf-shipped",
-      "Regenerate include/microshadow/bsdf/tables_data.h (32x32 GGX E and E_Fc, 2^16 samples)");
+  const auto [s, bs] = add_command<BakeArgs>(
+      g.bake, "brdf-shipped",
+      "Regenerate include/microshadow/bsdf/tables_data.h (32x32 GGX E and E_Fc, 2^16 samples)",
+      run_bake_shipped);
   s->add_option("--out", bs->out, "Output C++ header")->required();
-  s->callback([bs] { run_bake_shipped(*bs); });
 }
 
 // ---- Sphere-grid figures.
@@ -318,7 +316,8 @@ std::vector<SphereFigure> sphere_figures(int cols) {
       for (const double ms : {0.0, 1.0}) {
         std::vector<std::unique_ptr<bsdf::BrdfModel>> row;
         for (double r : rs)
-          row.push_back(bsdf::make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {fr}}, {"multiscatter", {ms}}}));
+          row.push_back(
+              bsdf::make_brdf("ggx", {{"roughness", {r}}, {"fresnel", {fr}}, {"multiscatter", {ms}}}));
         f.rows.push_back(std::move(row));
       }
     figs.push_back(std::move(f));
@@ -354,9 +353,12 @@ std::vector<SphereFigure> sphere_figures(int cols) {
     };
     row_of([&](double) { return bsdf::make_brdf("lambert", {{"rho", rho}}); });
     row_of([&](double) { return bsdf::make_brdf("shirley", {{"rho", rho}}); });
-    row_of([&](double t) { return bsdf::make_brdf("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}}); });
     row_of([&](double t) {
-      return bsdf::make_brdf("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}, {"subsurface", {1.0}}});
+      return bsdf::make_brdf("disney-diffuse", {{"base-color", rho}, {"roughness", {t}}});
+    });
+    row_of([&](double t) {
+      return bsdf::make_brdf("disney-diffuse",
+                             {{"base-color", rho}, {"roughness", {t}}, {"subsurface", {1.0}}});
     });
     row_of([&](double t) { return bsdf::make_brdf("hammon", {{"rho", rho}, {"roughness", {t}}}); });
     row_of([&](double t) { return bsdf::make_brdf("oren-nayar", {{"rho", rho}, {"sigma", {1.2 * t}}}); });
@@ -399,16 +401,16 @@ void run_plot_spheres(const PlotArgs& a) {
 }
 
 void add_brdf_plot(Groups& g) {
-  auto pa = std::make_shared<PlotArgs>();
-  CLI::App* p = g.plot->add_subcommand("brdf-figures",
-                                       "Render sphere grids of the BRDF models (uniform white environment + "
-                                       "one directional light, orthographic): "
-                                       "spheres_multiscatter.png (RTR4 fig. 9.39), spheres_ksk.png (fig. "
-                                       "9.41), spheres_diffuse.png, spheres.txt");
+  const auto [p, pa] =
+      add_command<PlotArgs>(g.plot, "brdf-figures",
+                            "Render sphere grids of the BRDF models (uniform white environment + "
+                            "one directional light, orthographic): "
+                            "spheres_multiscatter.png (RTR4 fig. 9.39), spheres_ksk.png (fig. "
+                            "9.41), spheres_diffuse.png, spheres.txt",
+                            run_plot_spheres);
   p->add_option("--out", pa->out, "Output directory (must exist)")->required();
   p->add_option("--size", pa->size, "Pixels per sphere")->default_val(96);
   p->add_option("--columns", pa->cols, "Spheres per row (roughness steps)")->default_val(6);
-  p->callback([pa] { run_plot_spheres(*pa); });
 }
 
 }  // namespace

@@ -135,16 +135,15 @@ void run_plot(const PlotOptions& o) {
 }
 
 void add_brdf_extra(Groups& g) {
-  auto o = std::make_shared<PlotOptions>();
-  CLI::App* p = g.plot->add_subcommand(
-      "brdf-spheres",
-      "Grid of analytically shaded spheres: one row per model, one sphere per swept parameter value");
+  const auto [p, o] = add_command<PlotOptions>(
+      g.plot, "brdf-spheres",
+      "Grid of analytically shaded spheres: one row per model, one sphere per swept parameter value",
+      run_plot);
   p->add_option("--out", o->out, "Output PNG (8-bit sRGB)")->required();
   p->add_option("--row", o->rows, "MODEL:PARAM=v1,v2,...[:OTHER=x[,y,z]] (repeatable; see eval brdf --list)")
       ->required();
   p->add_option("--size", o->size, "Sphere cell size in pixels")->capture_default_str();
   p->add_option("--exposure", o->exposure, "Exposure in stops")->check(Finite)->capture_default_str();
-  p->callback([o] { run_plot(*o); });
 }
 
 }  // namespace

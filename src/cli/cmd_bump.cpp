@@ -178,11 +178,11 @@ void run_plot(const PlotOptions& o) {
 }
 
 void add_bump(Groups& g) {
-  auto eo = std::make_shared<EvalOptions>();
-  CLI::App* e = g.eval->add_subcommand(
-      "bump-terminator",
+  const auto [e, eo] = add_command<EvalOptions>(
+      g.eval, "bump-terminator",
       "Bump-terminator shadowing factor for one light (Conty Estevez et al. 2019 or Chiang et al. 2019). "
-      "Vectors need not be normalized; a zero or non-finite vector is an error.");
+      "Vectors need not be normalized; a zero or non-finite vector is an error.",
+      run_eval);
   e->add_option("--method", eo->method,
                 "conty-2019 (GGX G1 with alpha from the normal perturbation), "
                 "chiang-2019 (cubic-smoothed ratio), or none")
@@ -197,15 +197,13 @@ void add_bump(Groups& g) {
               "Return 0 unless N_g.L > 0 and N_s.L > 0 (light above both hemispheres). Off by default: the "
               "published terms use |cos| and are symmetric in the sign of each vector");
   e->add_flag("--json", eo->json, "Print one JSON object (value, angles, alpha2 or g)");
-  e->callback([eo] { run_eval(*eo); });
 
-  auto po = std::make_shared<PlotOptions>();
-  CLI::App* p = g.plot->add_subcommand(
-      "bump-terminator",
+  const auto [p, po] = add_command<PlotOptions>(
+      g.plot, "bump-terminator",
       "Write the bump-terminator figure data (CSV, like Ray Tracing Gems fig. 12.4) and a Conty-vs-Chiang "
-      "comparison (JSON) into DIR; scripts/plot_bump_terminator.py draws the PNG");
+      "comparison (JSON) into DIR; scripts/plot_bump_terminator.py draws the PNG",
+      run_plot);
   p->add_option("--out", po->out, "Output directory (created if missing)")->required();
-  p->callback([po] { run_plot(*po); });
 }
 
 }  // namespace

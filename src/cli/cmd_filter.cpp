@@ -179,10 +179,10 @@ void run_filter(const FilterOptions& o) {
 }
 
 void add_filter(Groups& g) {
-  auto o = std::make_shared<FilterOptions>();
-  CLI::App* c = g.root->add_subcommand(
-      "filter",
-      "Roughness mip chain from a normal + roughness texture pair (Toksvig 9.76 / variance mapping / LEAN)");
+  const auto [c, o] = add_command<FilterOptions>(
+      g.root, "filter",
+      "Roughness mip chain from a normal + roughness texture pair (Toksvig 9.76 / variance mapping / LEAN)",
+      run_filter);
   c->add_option("--normal", o->normal, "Tangent-space normal map (.png: n = 2c - 1; .exr: as stored)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -207,7 +207,6 @@ void add_filter(Groups& g) {
   c->add_option("--format", o->format, "png (16-bit) | exr (float)")->capture_default_str();
   c->add_flag("--write-normals", o->write_normals, "Also write the renormalized mean normal per level");
   c->add_flag("--json", o->json, "Print one JSON object instead of the table");
-  c->callback([o] { run_filter(*o); });
 }
 
 }  // namespace

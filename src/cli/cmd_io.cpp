@@ -59,9 +59,10 @@ void run_convert(const ConvertOptions& o) {
 }
 
 void add_io(Groups& g) {
-  auto o = std::make_shared<ConvertOptions>();
-  CLI::App* c = g.root->add_subcommand(
-      "convert", "Convert a texture/volume between DDS, KTX2, EXR, NPY, PNG and C header (docs/formats.md)");
+  const auto [c, o] = add_command<ConvertOptions>(
+      g.root, "convert",
+      "Convert a texture/volume between DDS, KTX2, EXR, NPY, PNG and C header (docs/formats.md)",
+      run_convert);
   c->add_option("IN", o->in, "Input file (.dds .ktx2 .exr .npy .png)")->required();
   c->add_option("OUT", o->out, "Output file; the format follows the extension unless --format is given")
       ->required();
@@ -72,7 +73,6 @@ void add_io(Groups& g) {
       "with the input's channel count; 8-bit for PNG input). EXR: *16f = half, else float. PNG: *8 = 8 "
       "bits, else 16");
   c->add_option("--symbol", o->symbol, "C identifier of the array in a C header")->capture_default_str();
-  c->callback([o] { run_convert(*o); });
 }
 
 }  // namespace

@@ -127,12 +127,12 @@ void run_verify_ltc(const VerifyLtcOptions& a) {
 }
 
 void add_ltc(Groups& g) {
-  auto b = std::make_shared<BakeLtcOptions>();
-  CLI::App* c = g.bake->add_subcommand(
-      "ltc",
+  const auto [c, b] = add_command<BakeLtcOptions>(
+      g.bake, "ltc",
       "Fit the linearly transformed cosines table of GGX (height-correlated Smith; Heitz et al. 2016) over "
       "(roughness, sqrt(1 - N.V)): writes OUT (M^-1 entries a,b,c,d in RGBA), <stem>_amp<ext> (magnitude, "
-      "fresnel in RG) and OUT.json. See docs/ltc.md.");
+      "fresnel in RG) and OUT.json. See docs/ltc.md.",
+      run_bake_ltc);
   c->add_option("--out", b->out, "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
       ->required();
   c->add_option("--format", b->format, "dds, ktx2, exr, npy or h (overrides the extension)");
@@ -147,14 +147,14 @@ void add_ltc(Groups& g) {
   c->add_option("--threads", b->threads, "Worker threads (0 = all); the output does not depend on it")
       ->capture_default_str();
   c->add_flag("--quiet", b->quiet, "No progress on stderr");
-  c->callback([b] { run_bake_ltc(*b); });
 
-  auto v = std::make_shared<VerifyLtcOptions>();
-  CLI::App* vc = g.verify->add_subcommand("ltc",
-                                          "As-used error of an LTC table (bilinear fetch off the grid): "
-                                          "sphere and square lights of angular radius "
-                                          "1-40 deg at elevations 0-90 deg, LTC shading vs quadrature of GGX "
-                                          "x cosine over the light. See docs/ltc.md.");
+  const auto [vc, v] =
+      add_command<VerifyLtcOptions>(g.verify, "ltc",
+                                    "As-used error of an LTC table (bilinear fetch off the grid): "
+                                    "sphere and square lights of angular radius "
+                                    "1-40 deg at elevations 0-90 deg, LTC shading vs quadrature of GGX "
+                                    "x cosine over the light. See docs/ltc.md.",
+                                    run_verify_ltc);
   vc->add_option("file", v->file, "The table written by bake ltc (its _amp file beside it)")->required();
   vc->add_option("--points", v->v.points, "Sobol points (roughness, N.V, light size, elevation, azimuth)")
       ->capture_default_str();
@@ -170,7 +170,6 @@ void add_ltc(Groups& g) {
       "Clip lights in the LTC's space only (Heitz et al. 2016), not also to the surface's horizon");
   vc->add_option("--threads", v->threads, "Worker threads (0 = all); results do not depend on it")
       ->capture_default_str();
-  vc->callback([v] { run_verify_ltc(*v); });
 }
 
 }  // namespace

@@ -242,15 +242,15 @@ void run_plot(const PlotLutOptions& o) {
 }
 
 void add_lut(Groups& g) {
-  auto o = std::make_shared<BakeLutOptions>();
-  CLI::App* c = g.bake->add_subcommand(
-      "micro-shadowing",
+  const auto [c, o] = add_command<BakeLutOptions>(
+      g.bake, "micro-shadowing",
       "Bake the micro-shadowing LUT (Zurita 2026, generic VNDF-based term, isotropic Smith-GGX): each texel "
       "is the mean over the relative azimuth of the exact term. Default cone layout (t relative to the cone "
       "x N.L x N.V x 16 roughness slabs, 1.5 MiB, 2 fetches); --layout seed: x = Visibility, y = N.L, z = "
       "N.V, "
       "one channel per roughness. Also writes OUT.json (layout, roughness, harmonics, settings). See "
-      "docs/lut.md.");
+      "docs/lut.md.",
+      run_bake);
   c->add_option("--out", o->out, "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
       ->required();
   c->add_option("--format", o->format, "dds, ktx2, exr, npy or h (overrides the extension)");
@@ -286,19 +286,17 @@ void add_lut(Groups& g) {
       ->capture_default_str();
   c->add_option("--symbol", o->symbol, "C identifier for the .h output")->capture_default_str();
   c->add_flag("--quiet", o->quiet, "No progress on stderr");
-  c->callback([o] { run_bake(*o); });
 
-  auto p = std::make_shared<PlotLutOptions>();
-  CLI::App* pc = g.plot->add_subcommand(
-      "micro-shadowing-lut",
+  const auto [pc, p] = add_command<PlotLutOptions>(
+      g.plot, "micro-shadowing-lut",
       "Exact azimuth-mean micro-shadowing on N.V slices of a baked LUT's grid (NPY + JSON with error "
       "summaries of "
-      "the 3D LUT and, with --lut2d, of the 2D LUT); scripts/plot_lut.py draws the slice and error figures.");
+      "the 3D LUT and, with --lut2d, of the 2D LUT); scripts/plot_lut.py draws the slice and error figures.",
+      run_plot);
   pc->add_option("--lut", p->lut, "The baked 3D LUT (any format bake micro-shadowing writes)")->required();
   pc->add_option("--lut2d", p->lut2d, "The baked 2D LUT of the same size (optional)");
   pc->add_option("--slices", p->slices, "N.V texel indices of the slices")->capture_default_str();
   pc->add_option("--out", p->out, "Output directory")->required();
-  pc->callback([p] { run_plot(*p); });
 }
 
 }  // namespace

@@ -14,9 +14,9 @@
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
-#include <microshadow/reference/runtime/micro_shadowing_area_method.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
+#include <microshadow/reference/runtime/micro_shadowing_area_method.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -294,13 +294,14 @@ void run_plot(const PlotArgs& a) {
 }
 
 void add_micro_shadowing(Groups& g) {
-  auto ea = std::make_shared<EvalArgs>();
-  CLI::App* e = g.eval->add_subcommand("micro-shadowing",
-                                       "Micro-shadowing term at one point (docs/micro-shadowing.md). "
-                                       "generic-vndf without --phi: the mean over the "
-                                       "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
-                                       "exact term at that azimuth. Without "
-                                       "--samples the generic term is the exact quadrature (error < 1e-6).");
+  const auto [e, ea] =
+      add_command<EvalArgs>(g.eval, "micro-shadowing",
+                            "Micro-shadowing term at one point (docs/micro-shadowing.md). "
+                            "generic-vndf without --phi: the mean over the "
+                            "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
+                            "exact term at that azimuth. Without "
+                            "--samples the generic term is the exact quadrature (error < 1e-6).",
+                            run_eval);
   e->add_option("--method", ea->method, occlusion::micro_shadowing_method_names())->capture_default_str();
   e->add_option("--visibility", ea->visibility,
                 "Micro-occlusion visibility V in [0, 1] (projected solid angle)")
@@ -352,24 +353,22 @@ void add_micro_shadowing(Groups& g) {
                                    "at --roughness and --ndotv, F = 1, times (n.l))")
                          ->capture_default_str();
   e->add_flag("--json", ea->json, "Print one JSON object");
-  e->callback([ea] { run_eval(*ea); });
 
-  auto pa = std::make_shared<PlotArgs>();
-  CLI::App* p = g.plot->add_subcommand(
-      "micro-shadowing",
+  const auto [p, pa] = add_command<PlotArgs>(
+      g.plot, "micro-shadowing",
       "Figure data for the micro-shadowing terms: maps.csv (every method over Visibility x N.L for roughness "
       "0, 0.1, "
       "0.4, 0.7, 1 and N.V 1, 0.5, 0.1), errors.csv (older terms vs the exact generic term), "
       "azimuth_error.csv "
       "(exact term vs its azimuth mean at random configurations), validation.csv (exact vs Monte Carlo), "
-      "summary.json. PNGs: scripts/plot_micro_shadowing.py.");
+      "summary.json. PNGs: scripts/plot_micro_shadowing.py.",
+      run_plot);
   p->add_option("--out", pa->out, "Output directory (created if missing)")->required();
   p->add_option("--size", pa->size, "Grid points per axis of the maps")->capture_default_str();
   p->add_option("--azimuth-configs", pa->azimuth_configs, "Random configurations of the azimuth study")
       ->capture_default_str();
   p->add_option("--mc-samples", pa->mc_samples, "Monte Carlo samples per validation point (0: skip)")
       ->capture_default_str();
-  p->callback([pa] { run_plot(*pa); });
 }
 
 }  // namespace

@@ -199,11 +199,11 @@ void run_plot(const PlotArgs& a) {
 }
 
 void add_aware(Groups& g) {
-  auto va = std::make_shared<VerifyArgs>();
-  CLI::App* v = g.verify->add_subcommand(
-      "micro-shadowing-aware",
+  const auto [v, va] = add_command<VerifyArgs>(
+      g.verify, "micro-shadowing-aware",
       "As-used error of the micro-BRDF-aware run-time forms (float) against their exact references at "
-      "continuous Sobol inputs (docs/micro-shadowing-aware.md)");
+      "continuous Sobol inputs (docs/micro-shadowing-aware.md)",
+      run_verify);
   v->add_option("--method", va->method, "all | " + fmt::format("{}", fmt::join(kAwareMethods, " | ")))
       ->capture_default_str();
   v->add_option("--samples", va->samples, "Inputs")->check(CLI::Range(1, 10000000))->capture_default_str();
@@ -217,17 +217,16 @@ void add_aware(Groups& g) {
       ->capture_default_str();
   v->add_option("--threads", va->threads, "Worker threads (0 = all)")->check(CLI::Range(0, 1024));
   v->add_flag("--json", va->json, "Print one JSON object");
-  v->callback([va] { run_verify(*va); });
 
-  auto pa = std::make_shared<PlotArgs>();
-  CLI::App* p = g.plot->add_subcommand("micro-shadowing-aware",
-                                       "Generic, specular-aware and diffuse-aware azimuth means over (V, "
-                                       "N.L) per roughness and N.V (maps.csv; "
-                                       "figures: scripts/plot_micro_shadowing_aware.py)");
+  const auto [p, pa] =
+      add_command<PlotArgs>(g.plot, "micro-shadowing-aware",
+                            "Generic, specular-aware and diffuse-aware azimuth means over (V, "
+                            "N.L) per roughness and N.V (maps.csv; "
+                            "figures: scripts/plot_micro_shadowing_aware.py)",
+                            run_plot);
   p->add_option("--out", pa->out, "Output directory")->required();
   p->add_option("--size", pa->size, "Grid points per axis")->capture_default_str();
   p->add_option("--threads", pa->threads, "Worker threads (0 = all)")->check(CLI::Range(0, 1024));
-  p->callback([pa] { run_plot(*pa); });
 }
 
 }  // namespace

@@ -169,13 +169,13 @@ void run_fit_data(const FitDataArgs& a) {
 }
 
 void add_micro_shadowing_fit(Groups& g) {
-  auto a = std::make_shared<FitDataArgs>();
-  CLI::App* p = g.plot->add_subcommand(
-      "micro-shadowing-fit",
+  const auto [p, a] = add_command<FitDataArgs>(
+      g.plot, "micro-shadowing-fit",
       "The exact azimuth-mean micro-shadowing term at stratified random inputs (V, N.L, N.V, roughness in "
       "[0.1, 1]) with the ALU-only approximation and the older terms beside it: CSV for "
       "scripts/fit_micro_shadowing.py and an error summary (RMS, p99, max in 1/255 per roughness band) on "
-      "stdout (docs/micro-shadowing.md).");
+      "stdout (docs/micro-shadowing.md).",
+      run_fit_data);
   p->add_option("--out", a->out, "Output CSV (written atomically)")->required();
   p->add_option("--samples", a->samples, "Stratified random points over the domain")->capture_default_str();
   p->add_option("--seed", a->seed, "Random seed (training and validation sets use different seeds)")
@@ -192,7 +192,6 @@ void add_micro_shadowing_fit(Groups& g) {
       ->capture_default_str();
   p->add_option("--rel-tol", a->rel_tol, "Relative tolerance of the diffuse-aware quadrature")
       ->capture_default_str();
-  p->callback([a] { run_fit_data(*a); });
 }
 
 }  // namespace

@@ -84,10 +84,9 @@ void run(const EvalMicrofacetArgs& a) {
 }
 
 void add_microfacet(Groups& g) {
-  auto args = std::make_shared<EvalMicrofacetArgs>();
-  CLI::App* c = g.eval->add_subcommand(
-      "microfacet",
-      "Evaluate an NDF's D, Smith Lambda and G1 at a view direction, or the GGX albedo E(mu, alpha)");
+  const auto [c, args] = add_command<EvalMicrofacetArgs>(
+      g.eval, "microfacet",
+      "Evaluate an NDF's D, Smith Lambda and G1 at a view direction, or the GGX albedo E(mu, alpha)", run);
   c->add_option("--ndf", args->ndf, "ggx | beckmann | blinn-phong | gtr")->capture_default_str();
   c->add_option("--alpha", args->alpha,
                 "roughness alpha (alpha_x if anisotropic; Beckmann-equivalent for "
@@ -104,7 +103,6 @@ void add_microfacet(Groups& g) {
       ->capture_default_str();
   c->add_flag("--albedo", args->albedo, "print the GGX directional albedo E(ndotv, alpha) instead (F = 1)");
   c->add_flag("--json", args->json, "one JSON object on stdout");
-  c->callback([args] { run(*args); });
 }
 
 }  // namespace

@@ -141,9 +141,8 @@ void render_one(const render::Scene& scene, const std::string& prefix, bool quie
 }
 
 void add_render(Groups& g) {
-  auto a = std::make_shared<RenderArgs>();
-  CLI::App* r = g.root->add_subcommand(
-      "render", "Render a scene JSON file to PREFIX.exr (linear) and PREFIX.png (sRGB)");
+  const auto [r, a] = add_command<RenderArgs>(
+      g.root, "render", "Render a scene JSON file to PREFIX.exr (linear) and PREFIX.png (sRGB)", run_render);
   r->add_option("scene", a->scene, "Scene JSON file (see docs/renderer.md, examples/)")->required();
   r->add_option("--out", a->out, "Output prefix: writes PREFIX.exr and PREFIX.png")->required();
   r->add_option("--width", a->width, "Override settings.width")->check(CLI::Range(1, 16384));
@@ -189,7 +188,6 @@ void add_render(Groups& g) {
       ->check(CLI::Range(-360.0, 360.0));
   r->add_option("--exposure", a->exposure, "PNG exposure in stops")->check(CLI::Range(-30.0, 30.0));
   r->add_flag("--quiet", a->quiet, "No progress on stderr");
-  r->callback([a] { run_render(*a); });
 
   auto m = std::make_shared<render::GenOptions>();
   auto mdir = std::make_shared<std::string>();

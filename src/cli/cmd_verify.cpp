@@ -1,4 +1,5 @@
-// CLI for the as-used accuracy measurement (include/microshadow/lut/runtime/micro_shadowing_verify.h, docs/lut.md):
+// CLI for the as-used accuracy measurement (include/microshadow/lut/runtime/micro_shadowing_verify.h,
+// docs/lut.md):
 //   microshadow verify micro-shadowing-lut FILE [--samples N] [--seed S] [--against mean|azimuth]
 //       [--sampler auto|plain|azimuth] [--gpu-weights BITS] [--json]
 //   microshadow verify micro-shadowing-term --method NAME|all [--samples N] [--against mean|azimuth] [--json]
@@ -7,8 +8,8 @@
 // occlusion/micro_shadowing*.h.
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
-#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
@@ -367,12 +368,12 @@ void add_common(CLI::App* c, CommonArgs& a) {
 }
 
 void add_verify(Groups& g) {
-  auto la = std::make_shared<LutArgs>();
-  CLI::App* l = g.verify->add_subcommand(
-      "micro-shadowing-lut",
+  const auto [l, la] = add_command<LutArgs>(
+      g.verify, "micro-shadowing-lut",
       "Accuracy of a baked micro-shadowing table as an engine samples it: N stratified random continuous "
       "inputs (V, N.L, N.V, roughness over the table's range, azimuth), through the library's sampler, "
-      "against the exact term (docs/lut.md, Verify)");
+      "against the exact term (docs/lut.md, Verify)",
+      run_lut);
   l->add_option("file", la->file, "Table file (from `bake micro-shadowing`, with its .json sidecar)")
       ->required();
   l->add_option("--sampler", la->sampler,
@@ -387,18 +388,16 @@ void add_verify(Groups& g) {
   l->add_option("--roughness", la->roughness, "Roughness per channel (overrides the sidecar)");
   l->add_option("--harmonics", la->harmonics, "Harmonic count (overrides the sidecar)");
   add_common(l, *la);
-  l->callback([la] { run_lut(*la); });
 
-  auto ta = std::make_shared<TermArgs>();
-  CLI::App* t = g.verify->add_subcommand(
-      "micro-shadowing-term",
+  const auto [t, ta] = add_command<TermArgs>(
+      g.verify, "micro-shadowing-term",
       "The same measure for the closed-form terms (reference step, Brinck-Maximov 2016, Chan 2018, Part 1 "
       "analytic), the ALU-only fits (alu, alu-two-stage) and the exact azimuth mean, on one shared set of "
-      "inputs");
+      "inputs",
+      run_term);
   t->add_option("--method", ta->method, "all | " + fmt::format("{}", fmt::join(kTerms, " | ")))
       ->capture_default_str();
   add_common(t, *ta);
-  t->callback([ta] { run_term(*ta); });
 }
 
 }  // namespace

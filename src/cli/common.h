@@ -5,8 +5,10 @@
 #include <microshadow/math/vec.h>
 
 #include <cmath>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "registry.h"
@@ -26,6 +28,18 @@ using ::msh::require_range;
 
 // Prints one JSON object on stdout, one line, with full double precision.
 void print_json(const nlohmann::json& j);
+
+// A subcommand of `parent` with its own options struct, created here: CLI11 parses into *args and the
+// subcommand's callback is run(*args). Use: const auto [c, o] = add_command<Opts>(g.bake, "x", "help",
+// run_x);
+template <class Args, class Run>
+std::pair<CLI::App*, std::shared_ptr<Args>> add_command(CLI::App* parent, const std::string& name,
+                                                        const std::string& help, Run run) {
+  auto args = std::make_shared<Args>();
+  CLI::App* c = parent->add_subcommand(name, help);
+  c->callback([args, run] { run(*args); });
+  return {c, args};
+}
 
 // A CLI11 validator that rejects NaN/Inf (CLI11's own number parsing accepts "nan").
 extern const CLI::Validator Finite;

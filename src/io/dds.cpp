@@ -44,13 +44,6 @@ std::uint32_t dxgi_format(PixelFormat pf) {
   }
   return 0;
 }
-bool pixel_format_from_dxgi(std::uint32_t dxgi, PixelFormat& pf) {
-  for (PixelFormat p : {PixelFormat::RGBA8Unorm, PixelFormat::RGBA16Float, PixelFormat::RGBA32Float,
-                        PixelFormat::RG16Float, PixelFormat::RG32Float, PixelFormat::R16Float,
-                        PixelFormat::R32Float, PixelFormat::R8Unorm, PixelFormat::RG8Unorm})
-    if (dxgi_format(p) == dxgi) return pf = p, true;
-  return false;
-}
 }  // namespace
 
 void write_dds(const fs::path& path, const Volume& v, PixelFormat pf) {
@@ -104,7 +97,8 @@ Volume read_dds(const fs::path& path) {
   const std::uint32_t caps2 = r.u32(4 + 108);
   const std::uint32_t dxgi = r.u32(128), dim = r.u32(132), misc = r.u32(136), array_size = r.u32(140);
   PixelFormat pf;
-  if (!pixel_format_from_dxgi(dxgi, pf)) fail(path, fmt::format("unsupported DXGI format {}", dxgi));
+  if (!pixel_format_from_code(dxgi, dxgi_format, pf))
+    fail(path, fmt::format("unsupported DXGI format {}", dxgi));
   if (misc & 0x4) fail(path, "cube maps are not supported");
   if (array_size > 1) fail(path, "texture arrays are not supported");
   long long depth = 1;

@@ -39,13 +39,6 @@ std::uint32_t vk_format(PixelFormat pf) {
   }
   return 0;
 }
-bool pixel_format_from_vk(std::uint32_t vk, PixelFormat& pf) {
-  for (PixelFormat p : {PixelFormat::RGBA8Unorm, PixelFormat::RGBA16Float, PixelFormat::RGBA32Float,
-                        PixelFormat::RG16Float, PixelFormat::RG32Float, PixelFormat::R16Float,
-                        PixelFormat::R32Float, PixelFormat::R8Unorm, PixelFormat::RG8Unorm})
-    if (vk_format(p) == vk) return pf = p, true;
-  return false;
-}
 
 // Basic DFD for an unpacked little-endian RGBA-ordered format (KDFS 1.3 §5; one sample per channel).
 std::vector<std::byte> basic_dfd(PixelFormat pf) {
@@ -141,7 +134,7 @@ Volume read_ktx2(const fs::path& path) {
   const std::uint32_t vk = r.u32(12), width = r.u32(20), height = r.u32(24), depth = r.u32(28);
   const std::uint32_t layers = r.u32(32), faces = r.u32(36), levels = r.u32(40), scheme = r.u32(44);
   PixelFormat pf;
-  if (!pixel_format_from_vk(vk, pf)) fail(path, fmt::format("unsupported vkFormat {}", vk));
+  if (!pixel_format_from_code(vk, vk_format, pf)) fail(path, fmt::format("unsupported vkFormat {}", vk));
   if (scheme != 0) fail(path, "supercompressed KTX2 files are not supported");
   if (layers > 1 || faces != 1) fail(path, "KTX2 arrays and cube maps are not supported");
   if (height == 0) fail(path, "1D KTX2 textures are not supported");

@@ -44,23 +44,9 @@ FileFormat file_format_from_name(const std::string& name) {
   throw InputError(fmt::format("unknown file format '{}' (expected dds, ktx2, exr, npy, h, png)", name));
 }
 
-namespace {
-struct PfName {
-  PixelFormat pf;
-  const char* name;
-};
-constexpr PfName kPixelFormats[] = {
-    {PixelFormat::RGBA8Unorm, "rgba8"},    {PixelFormat::RGBA16Float, "rgba16f"},
-    {PixelFormat::RGBA32Float, "rgba32f"}, {PixelFormat::RG16Float, "rg16f"},
-    {PixelFormat::RG32Float, "rg32f"},     {PixelFormat::R16Float, "r16f"},
-    {PixelFormat::R32Float, "r32f"},       {PixelFormat::R8Unorm, "r8"},
-    {PixelFormat::RG8Unorm, "rg8"},
-};
-}  // namespace
-
 PixelFormat pixel_format_from_name(const std::string& name) {
   const std::string n = lower(name);
-  for (const PfName& p : kPixelFormats)
+  for (const codecs::PixelFormatEntry& p : codecs::kPixelFormats)
     if (n == p.name) return p.pf;
   throw InputError(fmt::format(
       "unknown pixel format '{}' (expected rgba8, rgba16f, rgba32f, rg16f, rg32f, r16f, r32f, r8, rg8)",
@@ -68,7 +54,7 @@ PixelFormat pixel_format_from_name(const std::string& name) {
 }
 
 std::string pixel_format_name(PixelFormat pf) {
-  for (const PfName& p : kPixelFormats)
+  for (const codecs::PixelFormatEntry& p : codecs::kPixelFormats)
     if (pf == p.pf) return p.name;
   return "unknown";
 }
@@ -153,26 +139,8 @@ void fail(const fs::path& path, const std::string& what) {
 }
 
 PixelInfo pixel_info(PixelFormat pf) {
-  switch (pf) {
-    case PixelFormat::RGBA8Unorm:
-      return {4, 1, false};
-    case PixelFormat::RGBA16Float:
-      return {4, 2, true};
-    case PixelFormat::RGBA32Float:
-      return {4, 4, true};
-    case PixelFormat::RG16Float:
-      return {2, 2, true};
-    case PixelFormat::RG32Float:
-      return {2, 4, true};
-    case PixelFormat::R16Float:
-      return {1, 2, true};
-    case PixelFormat::R32Float:
-      return {1, 4, true};
-    case PixelFormat::R8Unorm:
-      return {1, 1, false};
-    case PixelFormat::RG8Unorm:
-      return {2, 1, false};
-  }
+  for (const PixelFormatEntry& e : kPixelFormats)
+    if (e.pf == pf) return e.info;
   throw InputError("invalid pixel format");
 }
 

@@ -28,6 +28,27 @@ struct PixelInfo {
 };
 PixelInfo pixel_info(PixelFormat pf);
 
+// Every PixelFormat, in declaration order: its name (pixel_format_from_name) and layout (pixel_info).
+struct PixelFormatEntry {
+  PixelFormat pf;
+  const char* name;
+  PixelInfo info;
+};
+inline constexpr PixelFormatEntry kPixelFormats[] = {
+    {PixelFormat::RGBA8Unorm, "rgba8", {4, 1, false}},   {PixelFormat::RGBA16Float, "rgba16f", {4, 2, true}},
+    {PixelFormat::RGBA32Float, "rgba32f", {4, 4, true}}, {PixelFormat::RG16Float, "rg16f", {2, 2, true}},
+    {PixelFormat::RG32Float, "rg32f", {2, 4, true}},     {PixelFormat::R16Float, "r16f", {1, 2, true}},
+    {PixelFormat::R32Float, "r32f", {1, 4, true}},       {PixelFormat::R8Unorm, "r8", {1, 1, false}},
+    {PixelFormat::RG8Unorm, "rg8", {2, 1, false}}};
+
+// The reverse of a file format's code table code(pf) (DXGI, vkFormat): false when no format has `value`.
+template <class Code>
+bool pixel_format_from_code(std::uint32_t value, Code code, PixelFormat& pf) {
+  for (const PixelFormatEntry& e : kPixelFormats)
+    if (code(e.pf) == value) return pf = e.pf, true;
+  return false;
+}
+
 // Dimensions positive and within limits, data.size() consistent, every value finite; InputError naming
 // `path`.
 void validate_volume(const Volume& v, const std::filesystem::path& path, int min_channels = 1,

@@ -180,6 +180,15 @@ void draw_samples(const NodePoints& pts, std::size_t n, double alpha, double zv,
   }
 }
 
+// draw_samples at every φ node (points[k] at azimuth phi[k]) for one (α, N·V) pair.
+std::vector<NodeSamples> draw_node_samples(const std::vector<NodePoints>& points, std::size_t n, double alpha,
+                                           double zv, const std::vector<double>& phi) {
+  std::vector<NodeSamples> smp(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k)
+    draw_samples(points[k], n, alpha, zv, std::cos(phi[k]), std::sin(phi[k]), smp[k]);
+  return smp;
+}
+
 // One (N·L, φ) pass: cumulative counts of samples with min(n·m, m·l) > c_i for every Visibility texel i.
 // Bin b = floor((n−1)(1 − key²)) + 1 is the first texel whose threshold the key exceeds (key > c_i ⟺
 // i > (n−1)(1 − key²)); bin n collects key ≤ 0 (not lit even by the hemisphere).
@@ -283,9 +292,7 @@ io::Volume bake_cone(const BakeOptions& o) {
     const float a = cone_warp_width(o.cone, float(rough[l]));
     const double zv = o.two_d ? 1.0 : cone_nv_of_coord(o.cone, double(z) / (n_nv - 1), rough[l]);
     const std::size_t n_samples = std::size_t(samples_for_roughness(o, rough[l]));
-    std::vector<NodeSamples> smp(K);
-    for (int k = 0; k < K; ++k)
-      draw_samples(points[k], n_samples, alpha, zv, std::cos(phi[k]), std::sin(phi[k]), smp[k]);
+    const std::vector<NodeSamples> smp = draw_node_samples(points, n_samples, alpha, zv, phi);
     std::vector<int32_t> bins;
     std::vector<uint32_t> hist;
     std::vector<double> acc((H + 1) * n_t), ratio(n_t);
@@ -353,9 +360,7 @@ io::Volume bake_micro_shadowing_lut(const BakeOptions& o) {
     const double alpha = std::max(roughness_to_alpha(o.roughness[r]), double(GGX<double>::kMinAlpha));
     const double zv = o.two_d ? 1.0 : double(z) / (n_nv - 1);
     const std::size_t n_samples = std::size_t(samples_for_roughness(o, o.roughness[r]));
-    std::vector<NodeSamples> smp(K);
-    for (int k = 0; k < K; ++k)
-      draw_samples(points[k], n_samples, alpha, zv, std::cos(phi[k]), std::sin(phi[k]), smp[k]);
+    const std::vector<NodeSamples> smp = draw_node_samples(points, n_samples, alpha, zv, phi);
     std::vector<int32_t> bins;
     std::vector<uint32_t> hist;
     std::vector<double> acc((H + 1) * n_vis), ratio(n_vis);

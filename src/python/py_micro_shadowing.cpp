@@ -150,42 +150,27 @@ pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle 
 
     std::size_t bad = 0;
     pyb::object out;
+    // The terms of (V, N·L) alone.
+    const auto closed_form = [&](auto term) {
+      return fast_loop<T>(
+          b, [term](const auto&, std::size_t, double v, double nl, double, double) { return term(v, nl); },
+          bad);
+    };
     switch (kind) {
       case Fast::Ao:
-        out = fast_loop<T>(
-            b, [](const auto&, std::size_t, double v, double, double, double) { return v; }, bad);
+        out = closed_form([](double v, double) { return v; });
         break;
       case Fast::Reference:
-        out = fast_loop<T>(
-            b,
-            [](const auto&, std::size_t, double v, double nl, double, double) {
-              return micro_shadowing::reference_step(v, nl);
-            },
-            bad);
+        out = closed_form([](double v, double nl) { return micro_shadowing::reference_step(v, nl); });
         break;
       case Fast::BrinckMaximov:
-        out = fast_loop<T>(
-            b,
-            [](const auto&, std::size_t, double v, double nl, double, double) {
-              return micro_shadowing::brinck_maximov_2016(v, nl);
-            },
-            bad);
+        out = closed_form([](double v, double nl) { return micro_shadowing::brinck_maximov_2016(v, nl); });
         break;
       case Fast::Chan:
-        out = fast_loop<T>(
-            b,
-            [](const auto&, std::size_t, double v, double nl, double, double) {
-              return micro_shadowing::chan_2018(v, nl);
-            },
-            bad);
+        out = closed_form([](double v, double nl) { return micro_shadowing::chan_2018(v, nl); });
         break;
       case Fast::Part1:
-        out = fast_loop<T>(
-            b,
-            [](const auto&, std::size_t, double v, double nl, double, double) {
-              return micro_shadowing::part1_analytic(v, nl);
-            },
-            bad);
+        out = closed_form([](double v, double nl) { return micro_shadowing::part1_analytic(v, nl); });
         break;
       default: {
         // The registry's own table (a file loaded once, or the default table baked on first use).

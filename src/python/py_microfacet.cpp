@@ -97,6 +97,32 @@ pyb::object one_dir(const std::string& ndf, pyb::handle w, const char* wname, py
   });
 }
 
+// Quantities of a direction w and a microfacet normal m (G1(w, m), D_w(m)): f(dist, w, m).
+template <class F>
+pyb::object two_dir(const std::string& ndf, pyb::handle w, pyb::handle wm, pyb::handle alpha,
+                    pyb::handle alpha_y, double gamma, F&& f) {
+  const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
+  std::vector<ArgSpec> args = {{w, "w", 3}, {wm, "m", 3}, {alpha, "alpha"}};
+  if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y"});
+  const Broadcast b = broadcast(args);
+  return map_scalar(b, [&](const auto& r, std::size_t i) {
+    const auto [ax, ay] = alphas(a, r, i, 2, 3);
+    const Vec3d v = r.vec(0, i), h = r.vec(1, i);
+    return with_ndf(a, ax, ay, [&](const auto& d) { return f(d, v, h); });
+  });
+}
+
+// Binds name(ndf, <dir>, alpha=0.5, alpha_y=None, gamma=2) -> one_dir(..., f).
+template <class F>
+void def_one_dir(pyb::module_& m, const char* name, const char* dir, F f, const std::string& doc) {
+  m.def(
+      name,
+      [dir, f](const std::string& ndf, pyb::handle w, pyb::handle alpha, pyb::handle alpha_y, double gamma) {
+        return one_dir(ndf, w, dir, alpha, alpha_y, gamma, f);
+      },
+      "ndf"_a, pyb::arg(dir), "alpha"_a = 0.5, "alpha_y"_a = pyb::none(), "gamma"_a = 2.0, doc.c_str());
+}
+
 enum class G2Kind { HeightCorrelated, Separable, DirectionCorrelated, HeightDirectionCorrelated };
 
 G2Kind parse_g2(const std::string& s) {
@@ -120,28 +146,16 @@ void register_microfacet(pyb::module_& m) {
       "[0.05, 20] (2 = GGX). Directions are arrays of shape (..., 3) in the local frame (n = +z), broadcast "
       "against each other and against alpha like numpy ufuncs; float32 in -> float32 out.";
 
-  m.def(
-      "ndf_D",
-      [](const std::string& ndf, pyb::handle wm, pyb::handle alpha, pyb::handle alpha_y, double gamma) {
-        return one_dir(ndf, wm, "m", alpha, alpha_y, gamma,
-                       [](const auto& d, const Vec3d& v) { return double(d.D(v)); });
-      },
-      "ndf"_a, "m"_a, "alpha"_a = 0.5, "alpha_y"_a = pyb::none(), "gamma"_a = 2.0,
-      (std::string("NDF D(m) (RTR4 eq. 9.52 Beckmann, 9.53 GGX; GTR: Burley 2012), normalized so that "
-                   "the integral of D(m)(n.m) over the sphere is 1; 0 for m.z <= 0.") +
-       common)
-          .c_str());
-  m.def(
-      "ndf_lambda",
-      [](const std::string& ndf, pyb::handle w, pyb::handle alpha, pyb::handle alpha_y, double gamma) {
-        return one_dir(ndf, w, "w", alpha, alpha_y, gamma,
-                       [](const auto& d, const Vec3d& v) { return double(d.Lambda(v)); });
-      },
-      "ndf"_a, "w"_a, "alpha"_a = 0.5, "alpha_y"_a = pyb::none(), "gamma"_a = 2.0,
-      (std::string("Smith Lambda(w) of the NDF (RTR4 eq. 9.37 for GGX; exact Beckmann form; GTR from its "
-                   "numerical table).") +
-       common)
-          .c_str());
+  def_one_dir(
+      m, "ndf_D", "m", [](const auto& d, const Vec3d& v) { return double(d.D(v)); },
+      std::string("NDF D(m) (RTR4 eq. 9.52 Beckmann, 9.53 GGX; GTR: Burley 2012), normalized so that "
+                  "the integral of D(m)(n.m) over the sphere is 1; 0 for m.z <= 0.") +
+          common);
+  def_one_dir(
+      m, "ndf_lambda", "w", [](const auto& d, const Vec3d& v) { return double(d.Lambda(v)); },
+      std::string("Smith Lambda(w) of the NDF (RTR4 eq. 9.37 for GGX; exact Beckmann form; GTR from its "
+                  "numerical table).") +
+          common);
   m.def(
       "ndf_G1",
       [](const std::string& ndf, pyb::handle w, pyb::handle wm, pyb::handle alpha, pyb::handle alpha_y,
@@ -149,15 +163,8 @@ void register_microfacet(pyb::module_& m) {
         if (wm.is_none())
           return one_dir(ndf, w, "w", alpha, alpha_y, gamma,
                          [](const auto& d, const Vec3d& v) { return double(d.G1(v)); });
-        const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
-        std::vector<ArgSpec> args = {{w, "w", 3}, {wm, "m", 3}, {alpha, "alpha"}};
-        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y"});
-        const Broadcast b = broadcast(args);
-        return map_scalar(b, [&](const auto& r, std::size_t i) {
-          const auto [ax, ay] = alphas(a, r, i, 2, 3);
-          const Vec3d v = r.vec(0, i), h = r.vec(1, i);
-          return with_ndf(a, ax, ay, [&](const auto& d) { return double(d.G1(v, h)); });
-        });
+        return two_dir(ndf, w, wm, alpha, alpha_y, gamma,
+                       [](const auto& d, const Vec3d& v, const Vec3d& h) { return double(d.G1(v, h)); });
       },
       "ndf"_a, "w"_a, "m"_a = pyb::none(), "alpha"_a = 0.5, "alpha_y"_a = pyb::none(), "gamma"_a = 2.0,
       (std::string("Smith masking G1(w) = 1/(1 + Lambda(w)) (RTR4 eq. 9.24); with m, times the chi+ factor "
@@ -212,15 +219,8 @@ void register_microfacet(pyb::module_& m) {
       "vndf_pdf",
       [](const std::string& ndf, pyb::handle w, pyb::handle wm, pyb::handle alpha, pyb::handle alpha_y,
          double gamma) {
-        const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
-        std::vector<ArgSpec> args = {{w, "w", 3}, {wm, "m", 3}, {alpha, "alpha"}};
-        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y"});
-        const Broadcast b = broadcast(args);
-        return map_scalar(b, [&](const auto& r, std::size_t i) {
-          const auto [ax, ay] = alphas(a, r, i, 2, 3);
-          const Vec3d v = r.vec(0, i), h = r.vec(1, i);
-          return with_ndf(a, ax, ay, [&](const auto& d) { return double(d.D(v, h)); });
-        });
+        return two_dir(ndf, w, wm, alpha, alpha_y, gamma,
+                       [](const auto& d, const Vec3d& v, const Vec3d& h) { return double(d.D(v, h)); });
       },
       "ndf"_a, "w"_a, "m"_a, "alpha"_a = 0.5, "alpha_y"_a = pyb::none(), "gamma"_a = 2.0,
       (std::string("Distribution of visible normals D_w(m) = G1(w)(w.m)+ D(m)/|w.z| (Heitz 2014), the "

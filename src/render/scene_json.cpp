@@ -312,6 +312,19 @@ Light parse_light(const Ctx& c, const json& j, const std::string& w) {
   return l;
 }
 
+// j[key], if present, as a name that from_string turns into `out`; its InputError is reported at `w.key`.
+template <class T, class FromString>
+void parse_named(const Ctx& c, const json& j, const std::string& w, const char* key, FromString from_string,
+                 T& out) {
+  if (!j.contains(key)) return;
+  const std::string where = w + "." + key;
+  try {
+    out = from_string(c.str(j[key], where));
+  } catch (const InputError& e) {
+    c.fail(where, e.what());
+  }
+}
+
 void parse_settings(const Ctx& c, const json& j, Settings& s) {
   const std::string w = "settings";
   c.keys(j, w,
@@ -321,31 +334,13 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   if (j.contains("width")) s.width = c.integer(j["width"], w + ".width", 1, 16384);
   if (j.contains("height")) s.height = c.integer(j["height"], w + ".height", 1, 16384);
   if (j.contains("spp")) s.spp = c.integer(j["spp"], w + ".spp", 1, 65536);
-  if (j.contains("micro_shadowing")) {
-    try {
-      s.micro_shadowing = micro_shadowing_from_string(c.str(j["micro_shadowing"], w + ".micro_shadowing"));
-    } catch (const InputError& e) {
-      c.fail(w + ".micro_shadowing", e.what());
-    }
-  }
-  if (j.contains("component")) {
-    try {
-      s.component = component_from_string(c.str(j["component"], w + ".component"));
-    } catch (const InputError& e) {
-      c.fail(w + ".component", e.what());
-    }
-  }
+  parse_named(c, j, w, "micro_shadowing", micro_shadowing_from_string, s.micro_shadowing);
+  parse_named(c, j, w, "component", component_from_string, s.component);
   if (j.contains("error_batches"))
     s.error_batches = c.integer(j["error_batches"], w + ".error_batches", 1, 1 << 16);
   if (j.contains("vndf_samples"))
     s.vndf_samples = c.integer(j["vndf_samples"], w + ".vndf_samples", 1, 1 << 20);
-  if (j.contains("bump_terminator")) {
-    try {
-      s.bump_terminator = bump_terminator_from_string(c.str(j["bump_terminator"], w + ".bump_terminator"));
-    } catch (const InputError& e) {
-      c.fail(w + ".bump_terminator", e.what());
-    }
-  }
+  parse_named(c, j, w, "bump_terminator", bump_terminator_from_string, s.bump_terminator);
   if (j.contains("micro_shadowing_normal")) {
     const std::string n = c.str(j["micro_shadowing_normal"], w + ".micro_shadowing_normal");
     if (n != "shading" && n != "smooth")
@@ -360,13 +355,7 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   }
   if (j.contains("hanika_offset")) s.hanika_offset = c.boolean(j["hanika_offset"], w + ".hanika_offset");
   if (j.contains("area_lights")) s.area_lights = c.boolean(j["area_lights"], w + ".area_lights");
-  if (j.contains("area_ms")) {
-    try {
-      s.area_ms = area_ms_from_string(c.str(j["area_ms"], w + ".area_ms"));
-    } catch (const InputError& e) {
-      c.fail(w + ".area_ms", e.what());
-    }
-  }
+  parse_named(c, j, w, "area_ms", area_ms_from_string, s.area_ms);
   if (j.contains("area_samples"))
     s.area_samples = c.integer(j["area_samples"], w + ".area_samples", 1, 1 << 16);
   if (j.contains("exposure")) s.exposure = c.num(j["exposure"], w + ".exposure", -30, 30);
@@ -375,13 +364,23 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   if (j.contains("lut")) s.lut_path = c.path(j["lut"], w + ".lut").string();
   if (j.contains("seed")) s.seed = uint32_t(c.integer(j["seed"], w + ".seed", 0, 2147483647));
 }
-}  // namespace
 
-const char* to_string(MicroShadowing m) {
-  for (const auto& [k, n] : kMsNames)
-    if (k == m) return n;
+// The name of `key` in a (value, name) table ("?" if absent), and the value named `name` (nullptr if none).
+template <class E>
+const char* name_of(const std::vector<std::pair<E, const char*>>& table, E key) {
+  for (const auto& [k, n] : table)
+    if (k == key) return n;
   return "?";
 }
+template <class E>
+const E* value_of(const std::vector<std::pair<E, const char*>>& table, const std::string& name) {
+  for (const auto& [k, n] : table)
+    if (name == n) return &k;
+  return nullptr;
+}
+}  // namespace
+
+const char* to_string(MicroShadowing m) { return name_of(kMsNames, m); }
 std::vector<std::string> micro_shadowing_names() {
   std::vector<std::string> r;
   for (const auto& kn : kMsNames) r.push_back(kn.second);
@@ -395,24 +394,14 @@ MicroShadowing micro_shadowing_from_string(const std::string& s) {
   }
   throw InputError(fmt::format("unknown micro-shadowing method '{}' (known: {})", s, list));
 }
-const char* to_string(Component c) {
-  for (const auto& [k, n] : kComponentNames)
-    if (k == c) return n;
-  return "?";
-}
+const char* to_string(Component c) { return name_of(kComponentNames, c); }
 Component component_from_string(const std::string& s) {
-  for (const auto& [k, n] : kComponentNames)
-    if (s == n) return k;
+  if (const auto* k = value_of(kComponentNames, s)) return *k;
   throw InputError(fmt::format("unknown component '{}' (known: total, diffuse, specular)", s));
 }
-const char* to_string(AreaMs a) {
-  for (const auto& [k, n] : kAreaMsNames)
-    if (k == a) return n;
-  return "?";
-}
+const char* to_string(AreaMs a) { return name_of(kAreaMsNames, a); }
 AreaMs area_ms_from_string(const std::string& s) {
-  for (const auto& [k, n] : kAreaMsNames)
-    if (s == n) return k;
+  if (const auto* k = value_of(kAreaMsNames, s)) return *k;
   throw InputError(fmt::format(
       "unknown area-light micro-shadowing mode '{}' (known: sampled, representative, integrated)", s));
 }
@@ -421,14 +410,9 @@ float light_area(const Light& l) {
   if (l.type == LightType::Rect) return 4 * l.half_size.x * l.half_size.y;
   return 0.0f;
 }
-const char* to_string(BumpTerminator b) {
-  for (const auto& [k, n] : kBtNames)
-    if (k == b) return n;
-  return "?";
-}
+const char* to_string(BumpTerminator b) { return name_of(kBtNames, b); }
 BumpTerminator bump_terminator_from_string(const std::string& s) {
-  for (const auto& [k, n] : kBtNames)
-    if (s == n) return k;
+  if (const auto* k = value_of(kBtNames, s)) return *k;
   throw InputError(fmt::format("unknown bump-terminator mode '{}' (known: off, conty-2019, chiang-2019)", s));
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <regex>
 #include <sstream>
 
 namespace msh::test::vk {
@@ -54,6 +55,28 @@ Kernel framed_kernel(std::vector<std::string> glsl_files, std::vector<std::strin
        "return;\n" +
        hlsl_body + "}\n";
   return Kernel{std::move(glsl_files), g, std::move(hlsl_files), h};
+}
+
+std::string hlsl_spelling(const std::string& glsl, const KernelFrame& frame) {
+  std::string h = std::regex_replace(glsl, std::regex(R"(\bvec([234])\b)"), "float$1");
+  h = std::regex_replace(h, std::regex(R"(\bivec([234])\b)"), "int$1");
+  h = std::regex_replace(h, std::regex(R"(\buvec([234])\b)"), "uint$1");
+  for (const std::string& t : frame.textures) {
+    const std::string name = t.substr(3);
+    h = std::regex_replace(h, std::regex("\\b" + name + "\\s*,"), name + ", " + name + "_smp,");
+  }
+  return h;
+}
+
+Kernel framed_kernel(const std::vector<std::string>& libraries, const KernelFrame& frame,
+                     const std::string& glsl_types, const std::string& glsl_body) {
+  std::vector<std::string> glsl_files, hlsl_files;
+  for (const std::string& name : libraries) {
+    glsl_files.push_back("shaders/glsl/" + name + ".glsl");
+    hlsl_files.push_back("shaders/hlsl/" + name + ".hlsl");
+  }
+  return framed_kernel(std::move(glsl_files), std::move(hlsl_files), frame, glsl_types, glsl_body,
+                       hlsl_spelling(glsl_types, frame), hlsl_spelling(glsl_body, frame));
 }
 
 bool run(Context& ctx, const std::string& source, Lang lang, const Dispatch& d, Buffers* out,
@@ -126,6 +149,11 @@ void expect_broken_source_rejected(const Kernel& k, const std::string& needle, c
   h.replace(h.find(needle), needle.size(), broken);
   EXPECT_FALSE(compile_shader(h, Lang::kHlsl, &spv, &log, k.hlsl_entry))
       << "HLSL accepted '" << broken << "'";
+}
+
+void expect_compiles(const Kernel& k, const BrokenEdit& must_fail) {
+  expect_compiles(k);
+  expect_broken_source_rejected(k, must_fail.needle, must_fail.broken, must_fail.hlsl);
 }
 
 }  // namespace msh::test::vk

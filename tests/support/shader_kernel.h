@@ -58,6 +58,16 @@ struct KernelFrame {
 Kernel framed_kernel(std::vector<std::string> glsl_files, std::vector<std::string> hlsl_files,
                      const KernelFrame& frame, const std::string& glsl_types, const std::string& glsl_body,
                      const std::string& hlsl_types, const std::string& hlsl_body);
+// The same with the types and the body written once, in GLSL (the HLSL copy is derived by hlsl_spelling),
+// around the shader libraries named by `libraries`: shaders/glsl/<name>.glsl and shaders/hlsl/<name>.hlsl,
+// in include order.
+Kernel framed_kernel(const std::vector<std::string>& libraries, const KernelFrame& frame,
+                     const std::string& glsl_types, const std::string& glsl_body);
+
+// GLSL test-kernel code in HLSL spelling, for bodies that use only what both languages share: vecN, ivecN,
+// uvecN -> floatN, intN, uintN, and every texture of `frame` passed as an argument (`tex,`) gains its
+// SamplerState (`tex, tex_smp,`), as the HLSL shader libraries take them.
+std::string hlsl_spelling(const std::string& glsl, const KernelFrame& frame);
 
 using Buffers = std::vector<std::vector<float>>;
 
@@ -105,6 +115,19 @@ bool run(Context& ctx, const std::string& source, Lang lang, const Dispatch& d, 
 void run_glsl_and_hlsl(const Kernel& k, const Dispatch& d,
                        const std::function<void(const char* label, const Buffers& out)>& check);
 
+// The usual dispatch: `records` in buffer 0, `out_floats` floats per record in buffer 1, one invocation per
+// record, push constants `push` (empty: the record count as one uint32); check(label, records, buffer 1)
+// after each language.
+template <class Rec, class Check>
+void run_records(const Kernel& k, const std::vector<Rec>& records, std::size_t out_floats, Check&& check,
+                 std::vector<std::byte> push = {}) {
+  Dispatch d;
+  d.buffers = {to_floats(records), std::vector<float>(records.size() * out_floats)};
+  d.push = push.empty() ? push_constants(uint32_t(records.size())) : std::move(push);
+  d.invocations = records.size();
+  run_glsl_and_hlsl(k, d, [&](const char* label, const Buffers& out) { check(label, records, out[1]); });
+}
+
 // EXPECTs that the kernel compiles as GLSL 450, GLSL ES 320 and HLSL to a non-trivial module (the compiler
 // log in the failure message); fails at once if glslangValidator is missing.
 void expect_compiles(const Kernel& k);
@@ -113,5 +136,13 @@ void expect_compiles(const Kernel& k);
 // if `hlsl`, in the HLSL) source must make the compilation fail.
 void expect_broken_source_rejected(const Kernel& k, const std::string& needle, const std::string& broken,
                                    bool hlsl = true);
+
+// Both checks of a shader test's Compiles case: expect_compiles(k), then the edit `needle` -> `broken` (in
+// the HLSL too if `hlsl`) must be rejected.
+struct BrokenEdit {
+  std::string needle, broken;
+  bool hlsl = true;
+};
+void expect_compiles(const Kernel& k, const BrokenEdit& must_fail);
 
 }  // namespace msh::test::vk

@@ -62,28 +62,35 @@ T pdf_bounded_vndf(const GGX<T>& g, const Vec3<T>& w, const Vec3<T>& wm) {
   return den > T(0) ? g.D(wm) * T(2) * wim / den : T(0);
 }
 
-// pdf over the reflected direction wo = reflect(wi, m) of the bounded sampler: pdf_bounded_vndf / (4 wi·m)
-// = D(m) / (2(k wi.z + t)) inside the cap (Eto & Tokuyoshi 2023, Eq. 8 times the reflection Jacobian).
-template <class T>
-T pdf_bounded_vndf_reflection(const GGX<T>& g, const Vec3<T>& w, const Vec3<T>& wo) {
+namespace reflection_jacobian {
+// pdf over wo = reflect(wi, m) of a sampler of normals m with solid-angle pdf pdf_m(wi, m): pdf_m / (4 wi·m)
+// at the half vector m = normalize(wi + wo), wi = w flipped into the upper hemisphere; 0 where the half
+// vector is undefined or faces away from wi.
+template <class T, class PdfM>
+T reflected_pdf(const Vec3<T>& w, const Vec3<T>& wo, PdfM pdf_m) {
   const Vec3<T> wi = w.z < T(0) ? -w : w;
   const Vec3<T> sum = wi + wo;
   if (!(dot(sum, sum) > T(0))) return T(0);
   const Vec3<T> wm = normalize(sum);
   const T wim = dot(wi, wm);
-  return wim > T(0) ? pdf_bounded_vndf(g, wi, wm) / (T(4) * wim) : T(0);
+  return wim > T(0) ? pdf_m(wi, wm) / (T(4) * wim) : T(0);
+}
+}  // namespace reflection_jacobian
+
+// pdf over the reflected direction wo = reflect(wi, m) of the bounded sampler: pdf_bounded_vndf / (4 wi·m)
+// = D(m) / (2(k wi.z + t)) inside the cap (Eto & Tokuyoshi 2023, Eq. 8 times the reflection Jacobian).
+template <class T>
+T pdf_bounded_vndf_reflection(const GGX<T>& g, const Vec3<T>& w, const Vec3<T>& wo) {
+  return reflection_jacobian::reflected_pdf(
+      w, wo, [&g](const Vec3<T>& wi, const Vec3<T>& wm) { return pdf_bounded_vndf(g, wi, wm); });
 }
 
 // pdf over wo of the unbounded VNDF reflection sampler (GGX<T>::Sample_wm then reflect), for comparison:
 // D_wi(m) / (4 wi·m) = G1(wi) D(m) / (4 wi.z).
 template <class T>
 T pdf_vndf_reflection(const GGX<T>& g, const Vec3<T>& w, const Vec3<T>& wo) {
-  const Vec3<T> wi = w.z < T(0) ? -w : w;
-  const Vec3<T> sum = wi + wo;
-  if (!(dot(sum, sum) > T(0))) return T(0);
-  const Vec3<T> wm = normalize(sum);
-  const T wim = dot(wi, wm);
-  return wim > T(0) ? g.PDF(wi, wm) / (T(4) * wim) : T(0);
+  return reflection_jacobian::reflected_pdf(
+      w, wo, [&g](const Vec3<T>& wi, const Vec3<T>& wm) { return g.PDF(wi, wm); });
 }
 
 }  // namespace msh

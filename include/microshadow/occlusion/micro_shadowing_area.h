@@ -150,39 +150,42 @@ T cap_theta(T n_dot_l) {
   return spherical_geometry::clamp_acos(spherical_geometry::clean(n_dot_l, T(-1), T(1)));
 }
 
-// The reference step (lit iff N·L > cos_t) over a cap light, Lambertian receiver, exact:
-// E(cap ∩ cone) / E(cap ∩ hemisphere). ρ = 0: the point value reference_step(V, N·L).
-template <class T>
-T reference_step_area_cap(T V, T n_dot_l, T rho) {
+namespace cap_ratio {
+// The frame the reference_step_area_cap* forms share: ρ = 0 is the point value reference_step(V, N·L);
+// otherwise measure(ρ, θc, t) / measure(ρ, θc, π/2) for the cone half-angle t, in [0, 1] (0 if the light
+// is below the horizon). measure(ρ, θc, t) is a measure of the cap ∩ the cone of half-angle t about n.
+template <class T, class Measure>
+T cone_over_hemisphere(T V, T n_dot_l, T rho, Measure measure) {
   using namespace spherical_geometry;
   rho = clean(rho, T(0), kPi<T> / 2);
   if (!(rho > T(0))) return reference_step(V, n_dot_l);
   const T th = cap_theta(n_dot_l), t = cone_angle(V);
-  const T den = cap_cone_projected_solid_angle(rho, th, kPi<T> / 2);
-  return den > T(0) ? saturate(cap_cone_projected_solid_angle(rho, th, t) / den) : T(0);
+  const T den = measure(rho, th, kPi<T> / 2);
+  return den > T(0) ? saturate(measure(rho, th, t) / den) : T(0);
+}
+}  // namespace cap_ratio
+
+// The reference step (lit iff N·L > cos_t) over a cap light, Lambertian receiver, exact:
+// E(cap ∩ cone) / E(cap ∩ hemisphere). ρ = 0: the point value reference_step(V, N·L).
+template <class T>
+T reference_step_area_cap(T V, T n_dot_l, T rho) {
+  return cap_ratio::cone_over_hemisphere(
+      V, n_dot_l, rho, [](T r, T th, T t) { return cap_cone_projected_solid_angle(r, th, t); });
 }
 
 // The same ratio with plain solid angles, Ω(cap ∩ cone) / Ω(cap ∩ hemisphere) (Mazonka 2012): the (n·l)
 // weight inside the light is dropped. Its cost against reference_step_area_cap: docs/area-lights.md §4.
 template <class T>
 T reference_step_area_cap_solid_angle(T V, T n_dot_l, T rho) {
-  using namespace spherical_geometry;
-  rho = clean(rho, T(0), kPi<T> / 2);
-  if (!(rho > T(0))) return reference_step(V, n_dot_l);
-  const T th = cap_theta(n_dot_l), t = cone_angle(V);
-  const T den = cap_intersection_solid_angle(rho, kPi<T> / 2, th);
-  return den > T(0) ? saturate(cap_intersection_solid_angle(rho, t, th) / den) : T(0);
+  return cap_ratio::cone_over_hemisphere(
+      V, n_dot_l, rho, [](T r, T th, T t) { return cap_intersection_solid_angle(r, t, th); });
 }
 
 // The same with Oat & Sander 2007's approximation for both solid angles.
 template <class T>
 T reference_step_area_cap_oat_sander(T V, T n_dot_l, T rho) {
-  using namespace spherical_geometry;
-  rho = clean(rho, T(0), kPi<T> / 2);
-  if (!(rho > T(0))) return reference_step(V, n_dot_l);
-  const T th = cap_theta(n_dot_l), t = cone_angle(V);
-  const T den = cap_intersection_solid_angle_oat_sander(rho, kPi<T> / 2, th);
-  return den > T(0) ? saturate(cap_intersection_solid_angle_oat_sander(rho, t, th) / den) : T(0);
+  return cap_ratio::cone_over_hemisphere(
+      V, n_dot_l, rho, [](T r, T th, T t) { return cap_intersection_solid_angle_oat_sander(r, t, th); });
 }
 
 // A cap light of angular radius ρ centred at N·L = cos θc with a Lambertian receiver, prepared once per
