@@ -140,7 +140,7 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
       json set;
       try {
         set = json::parse(in);
-      } catch (const json::parse_error& e) {
+      } catch (const json::exception& e) {  // parse_error, and out_of_range for a number overflow
         c.fail(w + ".height", fmt::format("{}: malformed JSON: {}", mj.string(), e.what()));
       }
       if (set.is_object() && set.contains("height_texels")) {
@@ -427,7 +427,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& source,
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number overflow
     throw InputError(fmt::format("{}: malformed JSON: {}", c.file, e.what()));
   }
   c.keys(j, "scene", {"camera", "materials", "objects", "lights", "settings", "description"});
