@@ -101,8 +101,8 @@ TEST(LtcLightCone, ClippingConservesTheFormFactor) {
 TEST(LtcLightCone, LambertianReceiverMatchesTheExactReference) {
   // Identity LTC, no tail: S(z) of a rect light is the exact cosine-weighted fraction up to the cone's
   // 16-gon. The reference step and Brinck–Maximov 2016 (n = 4) over random tilted rects (the verify domain)
-  // against the exact quadrature; bounds from verify area-lights (256 Sobol points: step RMS 0.53/255, max
-  // 7.4/255; BM RMS 0.11/255, max 0.83/255) with margin. The cone's K-gon converges: K = 4 is worse.
+  // against the exact quadrature; bounds from verify area-lights (512 Sobol points: step RMS 0.79/255, max
+  // 15.3/255; BM RMS 0.12/255, max 0.83/255) with margin. The cone's K-gon converges: K = 4 is worse.
   Pcg32 g(2026);
   Stats step, step4, bm;
   for (int i = 0; i < 64; ++i) {
@@ -126,7 +126,7 @@ TEST(LtcLightCone, LambertianReceiverMatchesTheExactReference) {
   std::printf("step rms %.3f max %.3f (K = 4: rms %.3f), BM rms %.3f max %.3f (1/255)\n", 255 * step.rms(),
               255 * step.mx, 255 * step4.rms(), 255 * bm.rms(), 255 * bm.mx);
   EXPECT_LT(255 * step.rms(), 1.5);
-  EXPECT_LT(255 * step.mx, 10.0);
+  EXPECT_LT(255 * step.mx, 20.0);
   EXPECT_LT(255 * bm.rms(), 0.3);
   EXPECT_LT(255 * bm.mx, 1.5);
   EXPECT_GT(step4.rms(), 2 * step.rms());
@@ -151,9 +151,9 @@ TEST(LtcLightCone, SphereLightLambertMatchesTheClosedForm) {
 
 TEST(LtcLightCone, GgxReceiverBeatsTheLambertFormAgainstTheExactReference) {
   // GGX receiver, a 12² table fetched off the grid, the cosine tail: the step and BM over sphere and rect
-  // lights against the exact GGX-weighted quadrature. verify area-lights (64² table, 256 Sobol points)
-  // measured step RMS 6.6/255 (cap) and 6.0/255 (rect), BM 2.9/255, where the Lambertian forms for the same
-  // lights are 16–22/255 (step) and 6.5/255 (BM). Required: RMS below 12/255 (step) and 6/255 (BM), and at
+  // lights against the exact GGX-weighted quadrature. verify area-lights (64² table, 512 Sobol points)
+  // measured step RMS 7.3/255 (cap) and 6.9/255 (rect), BM 3.0/255, where the Lambertian forms for the same
+  // lights are 20–25/255 (step) and 6.7/255 (BM). Required: RMS below 12/255 (step) and 6/255 (BM), and at
   // most 0.6 × the Lambertian form's RMS (0.8 for the cap step: on these 48 points the Lambert closed form
   // happens to do well, 8.5/255), so a weight that ignores the GGX lobe fails.
   const bsdf::LtcTable& t = small_table();
