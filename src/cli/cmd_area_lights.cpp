@@ -43,14 +43,25 @@ struct VerifyArgs {
 };
 
 // One input point: padded 2D Owen-scrambled Sobol (independent seeds per pair of dimensions).
+// Disk and rect lights also take a tilt ∈ [−60°, 60°] from facing the point, a roll ∈ [0°, 360°) and an
+// aspect ∈ [0.25, 1] (rect half-height / half-width).
 struct Input {
   double V, nl, rho, nv, r, phi_v;
+  double tilt, roll, aspect;
 };
 Input input_at(uint32_t i, const VerifyArgs& a) {
   const Vec2d p = sobol_2d<double>(i, 0x51u), q = sobol_2d<double>(i, 0x9e37u),
-              s = sobol_2d<double>(i, 0x7f4au);
-  return {p.x, p.y, (a.rho_min_deg + (a.rho_max_deg - a.rho_min_deg) * q.x) * kDeg,
-          q.y, s.x, s.y * kPi<double>};
+              s = sobol_2d<double>(i, 0x7f4au), o = sobol_2d<double>(i, 0x3c6eu),
+              w = sobol_2d<double>(i, 0x2545u);
+  return {p.x,
+          p.y,
+          (a.rho_min_deg + (a.rho_max_deg - a.rho_min_deg) * q.x) * kDeg,
+          q.y,
+          s.x,
+          s.y * kPi<double>,
+          (-60 + 120 * o.x) * kDeg,
+          2 * kPi<double> * o.y,
+          0.25 + 0.75 * w.x};
 }
 
 nlohmann::json summary(std::vector<double> err) {
@@ -238,8 +249,7 @@ void run_verify(const VerifyArgs& a) {
   std::vector<std::array<double, kSForms>> srows(size_t(a.shape_points));
   tbb::parallel_for(0, a.shape_points, [&](int i) {
     const Input in = input_at(uint32_t(i), a);
-    const Vec2d o = sobol_2d<double>(uint32_t(i), 0x3c6eu), w = sobol_2d<double>(uint32_t(i), 0x2545u);
-    const double tilt = (-60 + 120 * o.x) * kDeg, roll = 2 * kPi<double> * o.y, aspect = 0.25 + 0.75 * w.x;
+    const double tilt = in.tilt, roll = in.roll, aspect = in.aspect;
     const Vec3d c = spherical_direction(in.nl, 0.0);
     const area::Disk disk = area::disk_tilted(c, in.rho, tilt, roll);
     const area::Quad quad = area::rect_tilted(c, in.rho, in.rho * aspect, tilt, roll);
@@ -343,8 +353,7 @@ void run_verify(const VerifyArgs& a) {
   {
     tbb::parallel_for(0, a.ltc_points, [&](int i) {
       const Input in = input_at(uint32_t(i), a);
-      const Vec2d o = sobol_2d<double>(uint32_t(i), 0x3c6eu), w = sobol_2d<double>(uint32_t(i), 0x2545u);
-      const double tilt = (-60 + 120 * o.x) * kDeg, roll = 2 * kPi<double> * o.y, aspect = 0.25 + 0.75 * w.x;
+      const double tilt = in.tilt, roll = in.roll, aspect = in.aspect;
       const double nv = std::max(0.05, in.nv), r = std::max(0.1, in.r), alpha = roughness_to_alpha(r);
       const Vec3d n(0, 0, 1), v = spherical_direction(nv, in.phi_v), c = spherical_direction(in.nl, 0.0);
       const area::Cap cap{c, in.rho};
@@ -528,31 +537,19 @@ void run_verify(const VerifyArgs& a) {
   });
 
   nlohmann::json forms = nlohmann::json::object();
-  for (int f = 0; f < kSForms; ++f) {
-    std::vector<double> e;
-    for (const auto& r : srows) e.push_back(r[size_t(f)]);
-    forms[snames[f]] = summary(e);
-  }
-  for (int f = 0; f < kForms; ++f) {
-    std::vector<double> e;
-    for (const auto& r : rows) e.push_back(r[size_t(f)]);
-    forms[names[f]] = summary(e);
-  }
-  for (int f = 0; f < kGForms; ++f) {
-    std::vector<double> e;
-    for (const auto& r : grows) e.push_back(r[size_t(f)]);
-    forms[gnames[f]] = summary(e);
-  }
-  for (int f = 0; f < kLForms; ++f) {
-    std::vector<double> e;
-    for (const auto& r : lrows) e.push_back(r[size_t(f)]);
-    forms[lnames[f]] = summary(e);
-  }
-  for (int f = 0; f < kAForms; ++f) {
-    std::vector<double> e;
-    for (const auto& r : arows) e.push_back(r[size_t(f)]);
-    forms[anames[f]] = summary(e);
-  }
+  // One summary per form (column) of a table of rows.
+  auto add_forms = [&forms](const auto& table, const char* const* form_names, int count) {
+    for (int f = 0; f < count; ++f) {
+      std::vector<double> e;
+      for (const auto& r : table) e.push_back(r[size_t(f)]);
+      forms[form_names[f]] = summary(e);
+    }
+  };
+  add_forms(srows, snames, kSForms);
+  add_forms(rows, names, kForms);
+  add_forms(grows, gnames, kGForms);
+  add_forms(lrows, lnames, kLForms);
+  add_forms(arows, anames, kAForms);
   forms["lambert_cap_diffuse_aware_alu_product_rule_n4_float"] = summary(daware);
   forms["lambert_cap_diffuse_aware_alu_point_at_centre"] = summary(daware_point);
   const nlohmann::json out = {

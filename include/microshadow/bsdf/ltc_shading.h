@@ -254,8 +254,7 @@ T ltc_micro_shadowing_area(F&& M, const LtcLightCone<T>& light, const std::array
   T pts[kPts];
   pts[0] = light.z_lo, pts[kPts - 1] = light.z_hi;
   for (size_t i = 0; i < K; ++i) pts[i + 1] = kinks[i];
-  for (int i = 1; i < kPts - 1; ++i)  // sort the interior points
-    for (int j = i; j > 1 && pts[j - 1] > pts[j]; --j) std::swap(pts[j - 1], pts[j]);
+  sort_interior(pts, kPts);
   return saturate(integrate_by_ccdf(
       M, [&light](T z) { return light.ccdf(z); }, pts, kPts, light.z_hi, n));
 }

@@ -177,6 +177,14 @@ struct GaussLegendreSmall {
   }
 };
 
+// Sorts pts[1..count−2] ascending in place, keeping both ends (the panel edges of integrate_by_ccdf: z_lo first,
+// the range's top last; insertion sort, a handful of points).
+template <class T>
+void sort_interior(T* pts, int count) {
+  for (int i = 1; i < count - 1; ++i)
+    for (int j = i; j > 1 && pts[j - 1] > pts[j]; --j) std::swap(pts[j - 1], pts[j]);
+}
+
 // ∫ M dP over [z_lo, z_hi] for a distribution P on the line given by its complementary CDF S (S(z_lo) = 1,
 // S(z_hi) = 0): the product rule "by parts" of docs/area-lights.md §5. The range is split at pts[0..count−1]
 // (ascending; pts[0] = z_lo; points outside [z_lo, z_hi] are clamped to it, so empty panels drop out). On

@@ -285,8 +285,7 @@ T area_cap_lambert(F&& M, T n_dot_l, T rho, const std::array<T, K>& kinks, int n
   T pts[kPts];
   pts[0] = c.z_lo, pts[kPts - 2] = c.z_b, pts[kPts - 1] = c.z_hi;
   for (size_t i = 0; i < K; ++i) pts[i + 1] = kinks[i];
-  for (int i = 1; i < kPts - 1; ++i)  // sort the interior points
-    for (int j = i; j > 1 && pts[j - 1] > pts[j]; --j) std::swap(pts[j - 1], pts[j]);
+  sort_interior(pts, kPts);
   return saturate(integrate_by_ccdf(
       M, [&c](T z) { return c.ccdf(z); }, pts, kPts, c.z_hi, n));
 }
