@@ -112,7 +112,7 @@ T ltc_ms_at_representative(const LtcLightResult<T>& r, Fn&& ms_point) {
 // §1) depends on the light only through the distribution of z = n·l under the weight w over the light. With
 // w = f(v, l)(n·l) ≈ magnitude · D_ltc(l) (GGX receiver) or w = (n·l)/π (Lambertian receiver: the identity
 // LTC, exact) its complementary CDF is a ratio of two LTC polygon integrals,
-//   S(z) = ∫_{Ω ∩ {n·l > z}} D_ltc / ∫_Ω D_ltc,
+//   S(z) = ∫_{Ω ∩ {n·l > z}} w / ∫_Ω w,  w = D_ltc + tail · (n·l)/π (the tail: see ltc_tail_weight),
 // and the cap {n·l > z} is a cone about n, which we replace by the regular K-gon of the same gnomonic area
 // (as ltc_sphere_polygon does for a sphere light) and clip the light's polygon by (Sutherland–Hodgman against
 // the K planes through the shading point). So the reference step is S(cos_t) (one clipped polygon integral),
