@@ -35,7 +35,7 @@ namespace {
 constexpr double kDeg = kPi<double> / 180;
 
 struct VerifyArgs {
-  int points = 2048, generic_points = 96, shape_points = 512, ltc_points = 512, aware_points = 32,
+  int points = 2048, generic_points = 96, shape_points = 512, ltc_points = 512, aware_points = 16,
       diffuse_aware_points = 0;
   std::string ltc;  // LTC table file; empty: fit a 16² table
   double rho_min_deg = 1, rho_max_deg = 40;
@@ -611,7 +611,7 @@ void add_area_lights(Groups& g) {
       ->capture_default_str();
   c->add_option("--aware-points", a->aware_points,
                 "Sobol points for the generic and specular-aware terms over a sphere light, GGX receiver "
-                "(exact full-direction reference, about 0.1 s CPU each)")
+                "(exact full-direction reference: 0.1 s to minutes of CPU each)")
       ->capture_default_str();
   c->add_option("--diffuse-aware-points", a->diffuse_aware_points,
                 "Sobol points for the diffuse-aware ALU fit over a sphere light, Lambertian receiver (exact "
