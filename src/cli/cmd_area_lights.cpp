@@ -615,7 +615,7 @@ void add_area_lights(Groups& g) {
       ->capture_default_str();
   c->add_option("--diffuse-aware-points", a->diffuse_aware_points,
                 "Sobol points for the diffuse-aware ALU fit over a sphere light, Lambertian receiver (exact "
-                "reference: about 10 s CPU each)")
+                "reference: 8 s to minutes of CPU each)")
       ->capture_default_str();
   c->add_option("--ltc", a->ltc, "LTC table (bake ltc); default: fit a 16x16 table here (about 9 s CPU)");
   c->add_flag("--json", a->json, "Print one JSON object");
