@@ -91,7 +91,7 @@ namespace {
 // ~2 GB attribute of an unknown type made every read take seconds under ASan (fuzzing: a 10 s timeout).
 // Walk the header(s) first and require every declared size to fit in the file. The InputFile constructor
 // also allocates and clears line buffers for the whole data window (a 312-byte file declaring a 10⁹ × 65537
-// window timed out the same way), so the data window is checked against our limits here too.
+// window timed out the same way), so every data window in the file is checked against our limits here too.
 void check_exr_attribute_sizes(const fs::path& path) {
   const std::vector<std::byte> bytes = read_file(path);
   const ByteReader r{bytes, &path};
@@ -105,29 +105,31 @@ void check_exr_attribute_sizes(const fs::path& path) {
   };
   for (bool more = true; more;) {
     bool empty = true;
-    for (std::size_t name = pos; skip_string() != 0; name = pos) {  // name, type, size, value; "" ends it
+    while (skip_string() != 0) {  // name, type, size, value; an empty name ends the header
       empty = false;
-      const std::size_t type = pos;
       skip_string();
       const std::uint32_t size = r.u32(pos);
       pos += 4;
       if (size > bytes.size() - pos)
         fail(path, fmt::format("EXR header attribute of {} bytes in a file of {} bytes (corrupt header)",
                                size, bytes.size()));
-      auto is = [&](std::size_t at, const char* text) {
-        return std::strcmp(reinterpret_cast<const char*>(bytes.data() + at), text) == 0;
-      };
-      if (is(name, "dataWindow") && is(type, "box2i") && size == 16) {
-        const auto i32 = [&](std::size_t at) { return (long long)std::int32_t(r.u32(at)); };
-        // The window stacks a volume's slices (height = depth × slice height): width and total size only.
-        const long long w = i32(pos + 8) - i32(pos) + 1, h = i32(pos + 12) - i32(pos + 4) + 1;
-        check_dimensions(path, w, 1, 1, 1);
-        if (h < 1 || std::size_t(w) * std::size_t(h) > kMaxElements)
-          fail(path, fmt::format("EXR data window {}x{} exceeds the size limit", w, h));
-      }
       pos += size;
     }
     more = multipart && !empty;  // multi-part: headers follow one another, an empty one ends the list
+  }
+  // Every "dataWindow" box2i attribute anywhere in the file (OpenEXR parses some attribute values by their
+  // content, not by their declared size, so a walk by sizes can miss the one it reads: a fuzzed chlist did):
+  // the window stacks a volume's slices (height = depth × slice height), so width and total size only.
+  static constexpr char kWindow[] = "dataWindow\0box2i\0\x10\0\0\0";
+  constexpr std::size_t kLen = sizeof(kWindow) - 1;
+  for (std::size_t at = 0; at + kLen + 16 <= bytes.size(); ++at) {
+    if (std::memcmp(bytes.data() + at, kWindow, kLen) != 0) continue;
+    const std::size_t v = at + kLen;
+    const auto i32 = [&](std::size_t o) { return (long long)std::int32_t(r.u32(o)); };
+    const long long w = i32(v + 8) - i32(v) + 1, h = i32(v + 12) - i32(v + 4) + 1;
+    check_dimensions(path, w, 1, 1, 1);
+    if (h < 1 || std::size_t(w) * std::size_t(h) > kMaxElements)
+      fail(path, fmt::format("EXR data window {}x{} exceeds the size limit", w, h));
   }
 }
 }  // namespace
