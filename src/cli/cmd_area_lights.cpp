@@ -64,6 +64,39 @@ Input input_at(uint32_t i, const VerifyArgs& a) {
           0.25 + 0.75 * w.x};
 }
 
+// The disk and rect lights of a point (centred on its N·L direction), and the rect's corners in float.
+struct ShapeLights {
+  area::Disk disk;
+  area::Quad quad;
+  std::array<Vec3f, 4> quad_float;
+};
+ShapeLights shape_lights(const Input& in) {
+  const Vec3d c = spherical_direction(in.nl, 0.0);
+  ShapeLights s{area::disk_tilted(c, in.rho, in.tilt, in.roll),
+                area::rect_tilted(c, in.rho, in.rho * in.aspect, in.tilt, in.roll),
+                {}};
+  for (size_t k = 0; k < 4; ++k) s.quad_float[k] = Vec3f(s.quad.corners[k]);
+  return s;
+}
+
+// The view and roughness of a point in the LTC and aware blocks' domain: N·V ≥ 0.05, roughness ≥ 0.1.
+struct ClampedView {
+  double nv, r, alpha;
+  Vec3d v;
+};
+ClampedView clamped_view(const Input& in) {
+  const double nv = std::max(0.05, in.nv), r = std::max(0.1, in.r);
+  return {nv, r, roughness_to_alpha(r), spherical_direction(nv, in.phi_v)};
+}
+
+// A sphere light's cone-clipped LTC in float (with the tail), as a shader evaluates it.
+bsdf::LtcLightCone<float> sphere_cone_float(const bsdf::LtcCoeffs<double>& k, const ClampedView& g,
+                                            const Vec3d& c, double rho) {
+  const bsdf::LtcCoeffs<float> kf = {float(k.a), float(k.b), float(k.c), float(k.d)};
+  return bsdf::ltc_light_cone_sphere(kf.inv_m(), Vec3f(0, 0, 1), Vec3f(g.v), Vec3f(c), float(std::sin(rho)),
+                                     bsdf::ltc_tail_weight(float(g.alpha)));
+}
+
 nlohmann::json summary(std::vector<double> err) {
   if (err.empty()) return nullptr;
   double ss = 0, bias = 0;
@@ -249,16 +282,11 @@ void run_verify(const VerifyArgs& a) {
   std::vector<std::array<double, kSForms>> srows(size_t(a.shape_points));
   tbb::parallel_for(0, a.shape_points, [&](int i) {
     const Input in = input_at(uint32_t(i), a);
-    const double tilt = in.tilt, roll = in.roll, aspect = in.aspect;
-    const Vec3d c = spherical_direction(in.nl, 0.0);
-    const area::Disk disk = area::disk_tilted(c, in.rho, tilt, roll);
-    const area::Quad quad = area::rect_tilted(c, in.rho, in.rho * aspect, tilt, roll);
+    const ShapeLights sl = shape_lights(in);
+    const area::Disk& disk = sl.disk;
+    const area::Quad& quad = sl.quad;
     const Vec3d Fd = micro_shadowing::disk_vector_form_factor(disk.center, disk.normal, disk.radius);
     const Vec3d Fr = micro_shadowing::polygon_vector_form_factor(quad.corners.data(), 4);
-    std::array<Vec3f, 4> qf;
-    for (int k = 0; k < 4; ++k)
-      qf[size_t(k)] = Vec3f(float(quad.corners[size_t(k)].x), float(quad.corners[size_t(k)].y),
-                            float(quad.corners[size_t(k)].z));
     auto& r = srows[size_t(i)];
     auto shape_rows = [&](const area::Shape& sh, const Vec3d& F, float step_float, int base) {
       auto exact = [&](const auto& t) {
@@ -286,7 +314,7 @@ void run_verify(const VerifyArgs& a) {
                kDiskStep);
     shape_rows(quad, Fr,
                micro_shadowing::reference_step_area_equivalent_cap(
-                   float(in.V), micro_shadowing::polygon_vector_form_factor(qf.data(), 4)),
+                   float(in.V), micro_shadowing::polygon_vector_form_factor(sl.quad_float.data(), 4)),
                kRectStep);
   });
 
@@ -350,102 +378,89 @@ void run_verify(const VerifyArgs& a) {
                                         "ltc_rect_chan_2018_lambert_cone_clip_n4",
                                         "ltc_rect_part1_analytic_lambert_cone_clip_n4"};
   std::vector<std::array<double, kLForms>> lrows(size_t(a.ltc_points));
-  {
-    tbb::parallel_for(0, a.ltc_points, [&](int i) {
-      const Input in = input_at(uint32_t(i), a);
-      const double tilt = in.tilt, roll = in.roll, aspect = in.aspect;
-      const double nv = std::max(0.05, in.nv), r = std::max(0.1, in.r), alpha = roughness_to_alpha(r);
-      const Vec3d n(0, 0, 1), v = spherical_direction(nv, in.phi_v), c = spherical_direction(in.nl, 0.0);
-      const area::Cap cap{c, in.rho};
-      const area::Disk disk = area::disk_tilted(c, in.rho, tilt, roll);
-      const area::Quad quad = area::rect_tilted(c, in.rho, in.rho * aspect, tilt, roll);
-      const area::Receiver ggx = area::Receiver::ggx(alpha, v), lam = area::Receiver::lambert();
-      auto exact = [&](const area::Shape& sh, const area::Receiver& rc, const auto& t) {
-        return area::area_micro_shadowing_exact(sh, rc, t, {1e-7});
-      };
-      const double V = in.V, ct = micro_shadowing::cone_cos_from_visibility(V);
-      const auto step_t = area::reference_step_term(V);
-      const auto bm_t = area::brinck_maximov_2016_term(V);
-      auto bm = [V](double z) { return micro_shadowing::brinck_maximov_2016(V, z); };
-      auto chan = [V](double z) { return micro_shadowing::chan_2018(V, z); };
-      auto part1 = [V](double z) { return micro_shadowing::part1_analytic(V, z); };
-      const auto bk = micro_shadowing::brinck_maximov_2016_kinks(V);
-      const bsdf::LtcCoeffs<double> k = table.fetch(r, nv);
-      const bsdf::Mat3<double> minv = k.inv_m(), id{};
-      const double tail = bsdf::ltc_tail_weight(alpha);
-      const auto lc = bsdf::ltc_light_cone_sphere(minv, n, v, c, std::sin(in.rho), tail);
-      const auto ld = bsdf::ltc_light_cone_disk(minv, n, v, disk.center, disk.normal, disk.radius, tail);
-      const auto lr = bsdf::ltc_light_cone_polygon(minv, n, v, quad.corners.data(), 4, tail);
-      const auto ldl = bsdf::ltc_light_cone_disk(id, n, v, disk.center, disk.normal, disk.radius);
-      const auto lrl = bsdf::ltc_light_cone_polygon(id, n, v, quad.corners.data(), 4);
-      const auto rep_cap = bsdf::ltc_shade_sphere(k, n, v, c, std::sin(in.rho));
-      const auto rep_rect = bsdf::ltc_shade_polygon(k, n, v, quad.corners.data(), 4);
-      const auto eqd = micro_shadowing::equivalent_cap(
-          micro_shadowing::disk_vector_form_factor(disk.center, disk.normal, disk.radius));
-      const auto eqr = micro_shadowing::equivalent_cap(
-          micro_shadowing::polygon_vector_form_factor(quad.corners.data(), 4));
-      auto& row = lrows[size_t(i)];
-      const double sc = exact(cap, ggx, step_t), bc = exact(cap, ggx, bm_t);
-      row[kCapStepGgx] = bsdf::ltc_reference_step_area(lc, ct) - sc;
-      {
-        const bsdf::LtcCoeffs<float> kf = {float(k.a), float(k.b), float(k.c), float(k.d)};
-        const Vec3f nf(0, 0, 1), vf(float(v.x), float(v.y), float(v.z)),
-            cf(float(c.x), float(c.y), float(c.z));
-        const auto lf = bsdf::ltc_light_cone_sphere(kf.inv_m(), nf, vf, cf, float(std::sin(in.rho)),
-                                                    bsdf::ltc_tail_weight(float(alpha)));
-        row[kCapStepGgxFloat] = double(bsdf::ltc_reference_step_area(lf, float(ct))) - sc;
-        std::array<Vec3f, 4> qf;
-        for (int j = 0; j < 4; ++j) {
-          const Vec3d& q = quad.corners[size_t(j)];
-          qf[size_t(j)] = Vec3f(float(q.x), float(q.y), float(q.z));
-        }
-        const auto lrf = bsdf::ltc_light_cone_polygon(bsdf::Mat3<float>{}, nf, vf, qf.data(), 4);
-        row[kRectStepLambertFloat] =
-            double(bsdf::ltc_reference_step_area(lrf, float(ct))) - exact(quad, lam, step_t);
-      }
-      row[kCapStepGgxNoTail] =
-          bsdf::ltc_reference_step_area(bsdf::ltc_light_cone_sphere(minv, n, v, c, std::sin(in.rho)), ct) -
-          sc;
-      row[kCapStepGgxLambertClosedForm] = micro_shadowing::reference_step_area_cap(V, in.nl, in.rho) - sc;
-      row[kCapStepGgxRepresentative] =
-          bsdf::ltc_ms_at_representative(rep_cap,
-                                         [&](double z) { return micro_shadowing::reference_step(V, z); }) -
-          sc;
-      row[kCapBmGgx] = bsdf::ltc_micro_shadowing_area(bm, lc, bk) - bc;
-      row[kCapBmGgxLambertProductRule] = micro_shadowing::brinck_maximov_2016_area_cap(V, in.nl, in.rho) - bc;
-      row[kCapBmGgxRepresentative] = bsdf::ltc_ms_at_representative(rep_cap, bm) - bc;
-      row[kCapChanGgx] = bsdf::ltc_micro_shadowing_area(chan, lc, micro_shadowing::chan_2018_kinks(V)) -
-                         exact(cap, ggx, area::chan_2018_term(V));
-      row[kCapPart1Ggx] =
-          bsdf::ltc_micro_shadowing_area(part1, lc, micro_shadowing::part1_analytic_kinks(V)) -
-          exact(cap, ggx, area::part1_analytic_term(V));
-      const double sd = exact(disk, ggx, step_t), sr = exact(quad, ggx, step_t);
-      row[kDiskStepGgx] = bsdf::ltc_reference_step_area(ld, ct) - sd;
-      row[kDiskStepGgxEquivalentCap] = micro_shadowing::reference_step_area_cap(V, eqd.n_dot_l, eqd.rho) - sd;
-      row[kDiskBmGgx] = bsdf::ltc_micro_shadowing_area(bm, ld, bk) - exact(disk, ggx, bm_t);
-      row[kRectStepGgx] = bsdf::ltc_reference_step_area(lr, ct) - sr;
-      row[kRectStepGgxEquivalentCap] = micro_shadowing::reference_step_area_cap(V, eqr.n_dot_l, eqr.rho) - sr;
-      row[kRectStepGgxRepresentative] =
-          bsdf::ltc_ms_at_representative(rep_rect,
-                                         [&](double z) { return micro_shadowing::reference_step(V, z); }) -
-          sr;
-      row[kRectBmGgx] = bsdf::ltc_micro_shadowing_area(bm, lr, bk) - exact(quad, ggx, bm_t);
-      row[kDiskStepLambert] = bsdf::ltc_reference_step_area(ldl, ct) - exact(disk, lam, step_t);
-      row[kDiskBmLambert] = bsdf::ltc_micro_shadowing_area(bm, ldl, bk) - exact(disk, lam, bm_t);
-      row[kDiskChanLambert] = bsdf::ltc_micro_shadowing_area(chan, ldl, micro_shadowing::chan_2018_kinks(V)) -
-                              exact(disk, lam, area::chan_2018_term(V));
-      row[kDiskPart1Lambert] =
-          bsdf::ltc_micro_shadowing_area(part1, ldl, micro_shadowing::part1_analytic_kinks(V)) -
-          exact(disk, lam, area::part1_analytic_term(V));
-      row[kRectStepLambert] = bsdf::ltc_reference_step_area(lrl, ct) - exact(quad, lam, step_t);
-      row[kRectBmLambert] = bsdf::ltc_micro_shadowing_area(bm, lrl, bk) - exact(quad, lam, bm_t);
-      row[kRectChanLambert] = bsdf::ltc_micro_shadowing_area(chan, lrl, micro_shadowing::chan_2018_kinks(V)) -
-                              exact(quad, lam, area::chan_2018_term(V));
-      row[kRectPart1Lambert] =
-          bsdf::ltc_micro_shadowing_area(part1, lrl, micro_shadowing::part1_analytic_kinks(V)) -
-          exact(quad, lam, area::part1_analytic_term(V));
-    });
-  }
+  tbb::parallel_for(0, a.ltc_points, [&](int i) {
+    const Input in = input_at(uint32_t(i), a);
+    const ClampedView g = clamped_view(in);
+    const double nv = g.nv, r = g.r, alpha = g.alpha;
+    const Vec3d n(0, 0, 1), v = g.v, c = spherical_direction(in.nl, 0.0);
+    const area::Cap cap{c, in.rho};
+    const ShapeLights sl = shape_lights(in);
+    const area::Disk& disk = sl.disk;
+    const area::Quad& quad = sl.quad;
+    const area::Receiver ggx = area::Receiver::ggx(alpha, v), lam = area::Receiver::lambert();
+    auto exact = [&](const area::Shape& sh, const area::Receiver& rc, const auto& t) {
+      return area::area_micro_shadowing_exact(sh, rc, t, {1e-7});
+    };
+    const double V = in.V, ct = micro_shadowing::cone_cos_from_visibility(V);
+    const auto step_t = area::reference_step_term(V);
+    const auto bm_t = area::brinck_maximov_2016_term(V);
+    auto bm = [V](double z) { return micro_shadowing::brinck_maximov_2016(V, z); };
+    auto chan = [V](double z) { return micro_shadowing::chan_2018(V, z); };
+    auto part1 = [V](double z) { return micro_shadowing::part1_analytic(V, z); };
+    const auto bk = micro_shadowing::brinck_maximov_2016_kinks(V);
+    const bsdf::LtcCoeffs<double> k = table.fetch(r, nv);
+    const bsdf::Mat3<double> minv = k.inv_m(), id{};
+    const double tail = bsdf::ltc_tail_weight(alpha);
+    const auto lc = bsdf::ltc_light_cone_sphere(minv, n, v, c, std::sin(in.rho), tail);
+    const auto ld = bsdf::ltc_light_cone_disk(minv, n, v, disk.center, disk.normal, disk.radius, tail);
+    const auto lr = bsdf::ltc_light_cone_polygon(minv, n, v, quad.corners.data(), 4, tail);
+    const auto ldl = bsdf::ltc_light_cone_disk(id, n, v, disk.center, disk.normal, disk.radius);
+    const auto lrl = bsdf::ltc_light_cone_polygon(id, n, v, quad.corners.data(), 4);
+    const auto rep_cap = bsdf::ltc_shade_sphere(k, n, v, c, std::sin(in.rho));
+    const auto rep_rect = bsdf::ltc_shade_polygon(k, n, v, quad.corners.data(), 4);
+    const auto eqd = micro_shadowing::equivalent_cap(
+        micro_shadowing::disk_vector_form_factor(disk.center, disk.normal, disk.radius));
+    const auto eqr =
+        micro_shadowing::equivalent_cap(micro_shadowing::polygon_vector_form_factor(quad.corners.data(), 4));
+    auto& row = lrows[size_t(i)];
+    const double sc = exact(cap, ggx, step_t), bc = exact(cap, ggx, bm_t);
+    row[kCapStepGgx] = bsdf::ltc_reference_step_area(lc, ct) - sc;
+    row[kCapStepGgxFloat] =
+        double(bsdf::ltc_reference_step_area(sphere_cone_float(k, g, c, in.rho), float(ct))) - sc;
+    const auto lrf =
+        bsdf::ltc_light_cone_polygon(bsdf::Mat3<float>{}, Vec3f(0, 0, 1), Vec3f(v), sl.quad_float.data(), 4);
+    row[kRectStepLambertFloat] =
+        double(bsdf::ltc_reference_step_area(lrf, float(ct))) - exact(quad, lam, step_t);
+    row[kCapStepGgxNoTail] =
+        bsdf::ltc_reference_step_area(bsdf::ltc_light_cone_sphere(minv, n, v, c, std::sin(in.rho)), ct) - sc;
+    row[kCapStepGgxLambertClosedForm] = micro_shadowing::reference_step_area_cap(V, in.nl, in.rho) - sc;
+    row[kCapStepGgxRepresentative] =
+        bsdf::ltc_ms_at_representative(rep_cap,
+                                       [&](double z) { return micro_shadowing::reference_step(V, z); }) -
+        sc;
+    row[kCapBmGgx] = bsdf::ltc_micro_shadowing_area(bm, lc, bk) - bc;
+    row[kCapBmGgxLambertProductRule] = micro_shadowing::brinck_maximov_2016_area_cap(V, in.nl, in.rho) - bc;
+    row[kCapBmGgxRepresentative] = bsdf::ltc_ms_at_representative(rep_cap, bm) - bc;
+    row[kCapChanGgx] = bsdf::ltc_micro_shadowing_area(chan, lc, micro_shadowing::chan_2018_kinks(V)) -
+                       exact(cap, ggx, area::chan_2018_term(V));
+    row[kCapPart1Ggx] = bsdf::ltc_micro_shadowing_area(part1, lc, micro_shadowing::part1_analytic_kinks(V)) -
+                        exact(cap, ggx, area::part1_analytic_term(V));
+    const double sd = exact(disk, ggx, step_t), sr = exact(quad, ggx, step_t);
+    row[kDiskStepGgx] = bsdf::ltc_reference_step_area(ld, ct) - sd;
+    row[kDiskStepGgxEquivalentCap] = micro_shadowing::reference_step_area_cap(V, eqd.n_dot_l, eqd.rho) - sd;
+    row[kDiskBmGgx] = bsdf::ltc_micro_shadowing_area(bm, ld, bk) - exact(disk, ggx, bm_t);
+    row[kRectStepGgx] = bsdf::ltc_reference_step_area(lr, ct) - sr;
+    row[kRectStepGgxEquivalentCap] = micro_shadowing::reference_step_area_cap(V, eqr.n_dot_l, eqr.rho) - sr;
+    row[kRectStepGgxRepresentative] =
+        bsdf::ltc_ms_at_representative(rep_rect,
+                                       [&](double z) { return micro_shadowing::reference_step(V, z); }) -
+        sr;
+    row[kRectBmGgx] = bsdf::ltc_micro_shadowing_area(bm, lr, bk) - exact(quad, ggx, bm_t);
+    row[kDiskStepLambert] = bsdf::ltc_reference_step_area(ldl, ct) - exact(disk, lam, step_t);
+    row[kDiskBmLambert] = bsdf::ltc_micro_shadowing_area(bm, ldl, bk) - exact(disk, lam, bm_t);
+    row[kDiskChanLambert] = bsdf::ltc_micro_shadowing_area(chan, ldl, micro_shadowing::chan_2018_kinks(V)) -
+                            exact(disk, lam, area::chan_2018_term(V));
+    row[kDiskPart1Lambert] =
+        bsdf::ltc_micro_shadowing_area(part1, ldl, micro_shadowing::part1_analytic_kinks(V)) -
+        exact(disk, lam, area::part1_analytic_term(V));
+    row[kRectStepLambert] = bsdf::ltc_reference_step_area(lrl, ct) - exact(quad, lam, step_t);
+    row[kRectBmLambert] = bsdf::ltc_micro_shadowing_area(bm, lrl, bk) - exact(quad, lam, bm_t);
+    row[kRectChanLambert] = bsdf::ltc_micro_shadowing_area(chan, lrl, micro_shadowing::chan_2018_kinks(V)) -
+                            exact(quad, lam, area::chan_2018_term(V));
+    row[kRectPart1Lambert] =
+        bsdf::ltc_micro_shadowing_area(part1, lrl, micro_shadowing::part1_analytic_kinks(V)) -
+        exact(quad, lam, area::part1_analytic_term(V));
+  });
 
   // The generic and micro-BRDF-aware terms over a sphere light. GGX receiver (same domain as the LTC block):
   // the azimuth means (generic: exact mean and its ALU fit; specular-aware: closed form) through the
@@ -473,18 +488,16 @@ void run_verify(const VerifyArgs& a) {
   std::vector<std::array<double, kAForms>> arows(size_t(a.aware_points));
   tbb::parallel_for(0, a.aware_points, [&](int i) {
     const Input in = input_at(uint32_t(i), a);
-    const double nv = std::max(0.05, in.nv), r = std::max(0.1, in.r), alpha = roughness_to_alpha(r);
-    const Vec3d n(0, 0, 1), v = spherical_direction(nv, in.phi_v), c = spherical_direction(in.nl, 0.0);
+    const ClampedView g = clamped_view(in);
+    const double nv = g.nv, r = g.r, alpha = g.alpha;
+    const Vec3d n(0, 0, 1), v = g.v, c = spherical_direction(in.nl, 0.0);
     const area::Cap cap{c, in.rho};
     const area::Receiver ggx = area::Receiver::ggx(alpha, v);
     const double V = in.V;
     const bsdf::LtcCoeffs<double> k = table.fetch(r, nv);
     const auto lc =
         bsdf::ltc_light_cone_sphere(k.inv_m(), n, v, c, std::sin(in.rho), bsdf::ltc_tail_weight(alpha));
-    const bsdf::LtcCoeffs<float> kf = {float(k.a), float(k.b), float(k.c), float(k.d)};
-    const Vec3f nf(0, 0, 1), vf(float(v.x), float(v.y), float(v.z)), cf(float(c.x), float(c.y), float(c.z));
-    const auto lf = bsdf::ltc_light_cone_sphere(kf.inv_m(), nf, vf, cf, float(std::sin(in.rho)),
-                                                bsdf::ltc_tail_weight(float(alpha)));
+    const auto lf = sphere_cone_float(k, g, c, in.rho);
     const Vec3d rep = bsdf::ltc_shade_sphere(k, n, v, c, std::sin(in.rho)).direction;
     auto& row = arows[size_t(i)];
     const double gen =
@@ -522,7 +535,8 @@ void run_verify(const VerifyArgs& a) {
   std::vector<double> daware(size_t(a.diffuse_aware_points)), daware_point(daware.size());
   tbb::parallel_for(0, a.diffuse_aware_points, [&](int i) {
     const Input in = input_at(uint32_t(i), a);
-    const double nv = std::max(0.05, in.nv), r = std::max(0.1, in.r), alpha = roughness_to_alpha(r);
+    const ClampedView g = clamped_view(in);
+    const double nv = g.nv, r = g.r, alpha = g.alpha;
     const area::Cap cap{spherical_direction(in.nl, 0.0), in.rho};
     const double ex = area::area_micro_shadowing_exact(
         cap, area::Receiver::lambert(),
