@@ -63,10 +63,8 @@ const LtcTable& table() {
   return t;
 }
 
-void put(float* d, const Vec3d& x, double w = 0) {
-  d[0] = float(x.x), d[1] = float(x.y), d[2] = float(x.z), d[3] = float(w);
-}
-Vec3d get(const float* d) { return Vec3d(d[0], d[1], d[2]); }
+using vk::get;
+using vk::put;
 
 std::vector<Record> make_records() {
   std::vector<Record> rs;

@@ -17,6 +17,8 @@
 // MSH_ALLOW_NO_VULKAN=1 is set, in which case it is a GTEST_SKIP.
 #pragma once
 
+#include <microshadow/math/vec.h>
+
 #include <cstddef>
 #include <cstring>
 #include <functional>
@@ -144,5 +146,11 @@ struct BrokenEdit {
   bool hlsl = true;
 };
 void expect_compiles(const Kernel& k, const BrokenEdit& must_fail);
+
+// A record's vec4 slot: xyz from a direction or point, w a scalar (float, as the shader reads it); and back.
+inline void put(float* d, const Vec3d& x, double w = 0) {
+  d[0] = float(x.x), d[1] = float(x.y), d[2] = float(x.z), d[3] = float(w);
+}
+inline Vec3d get(const float* d) { return Vec3d(d[0], d[1], d[2]); }
 
 }  // namespace msh::test::vk
