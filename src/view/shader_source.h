@@ -1,6 +1,6 @@
 // A shader library file with its `#include "..."` lines replaced by the files they name, recursively
-// (paths relative to the including file, as glslang, DXC and the C preprocessor resolve them). The shaders are
-// written once in a portable dialect (shaders/portable/*.h) over a per-language prelude, and the entry
+// (paths relative to the including file, as glslang, DXC and the C preprocessor resolve them). The shaders
+// are written once in a portable dialect (shaders/portable/*.h) over a per-language prelude, and the entry
 // points shaders/glsl/*.glsl and shaders/hlsl/*.hlsl include them (docs/shaders.md). WebGL2 has no #include:
 // the viewer's server sends the expanded text (docs/viewer.md); the shader tests compile the same text.
 #pragma once

@@ -1,8 +1,6 @@
 // The browser viewer's content and HTTP server (docs/viewer.md). cpp-httplib (header-only) serves it.
 #include "viewer_server.h"
 
-#include "shader_source.h"
-
 #include <Imath/half.h>
 #include <fmt/format.h>
 #include <httplib.h>
@@ -31,6 +29,8 @@
 #include <regex>
 #include <thread>
 #include <vector>
+
+#include "shader_source.h"
 
 namespace fs = std::filesystem;
 
