@@ -338,7 +338,7 @@ float msh_ltc_ms_step_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, f
   return msh_ltc_cone_ccdf(msh_ltc_cone_rect(t, n, v, p0, p1, p2, p3, tail), cos_t);
 }
 
-// M_area of Brinck & Maximov 2016's term msh_saturate(N.L + 2 vis^2 - 1) (the point term of micro_shadowing.hlsl,
+// M_area of Brinck & Maximov 2016's term saturate(N.L + 2 vis^2 - 1) (the point term of micro_shadowing,
 // written inline so that this file stays includable alone) over a prepared light: the product rule of the C++
 // ltc_micro_shadowing_area with the term's kinks, which for this piecewise-linear term reduces by parts to
 // M(z_lo) + integral of S over its sloped panel [max(z_lo, 1 - 2 vis^2), min(z_hi, 2 - 2 vis^2)], by `nodes` (1..4)

@@ -37,13 +37,13 @@ float msh_ms_reference_step(float vis, float n_dot_l) {
   return clamp(n_dot_l, 0.0, 1.0) > msh_ms_cone_cos(vis) ? 1.0 : 0.0;
 }
 
-// Brinck & Maximov 2016 (Naughty Dog, Uncharted 4), AO = vis: msh_saturate(N.L + 2 vis^2 - 1). |err| <= 2.4e-7.
+// Brinck & Maximov 2016 (Naughty Dog, Uncharted 4), AO = vis: saturate(N.L + 2 vis^2 - 1). |err| <= 2.4e-7.
 float msh_ms_brinck_maximov2016(float vis, float n_dot_l) {
   float v = clamp(vis, 0.0, 1.0);
   return clamp(clamp(n_dot_l, 0.0, 1.0) + 2.0 * v * v - 1.0, 0.0, 1.0);
 }
 
-// Chan 2018 (Activision, CoD WWII; Filament's computeMicroShadowing): msh_saturate(N.L / sqrt(1 - vis))^2.
+// Chan 2018 (Activision, CoD WWII; Filament's computeMicroShadowing): saturate(N.L / sqrt(1 - vis))^2.
 // vis = 1 gives 1 for N.L > 0, else 0 (the limit). |err| <= 1e-6 (1.6e-7 measured).
 float msh_ms_chan2018(float vis, float n_dot_l) {
   float nl = clamp(n_dot_l, 0.0, 1.0);
@@ -54,7 +54,7 @@ float msh_ms_chan2018(float vis, float n_dot_l) {
 }
 
 // Part 1 "analytical alternative" (Zurita 2026, Part 1, as reported by third-party copies): vis in {0,1} returns vis; else
-// pow(msh_saturate(N.L / sqrt(1 - vis^5)), 0.75 / vis). Precision limited by pow (exp2/log2): |err| <= 2e-6 for
+// pow(saturate(N.L / sqrt(1 - vis^5)), 0.75 / vis). Precision limited by pow (exp2/log2): |err| <= 2e-6 for
 // vis >= 0.05 (1.1e-6 measured); below, the exponent 0.75/vis is large: |err| <= 2e-5 (6.5e-6 measured).
 float msh_ms_part1_analytic(float vis, float n_dot_l) {
   float v = clamp(vis, 0.0, 1.0);
