@@ -20,6 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from figure_grid import label_panel  # noqa: E402
 
 
 def grid(values, rows, roughness, title, path, cmap, vmin, vmax, label):
@@ -34,13 +35,7 @@ def grid(values, rows, roughness, title, path, cmap, vmin, vmax, label):
                            vmax=vmax, interpolation="nearest")
             ax.set_xticks([0, 0.5, 1])
             ax.set_yticks([0, 0.5, 1])
-            ax.tick_params(labelsize=6)
-            if r == 0:
-                ax.set_title(f"roughness {roughness[c]:g}", fontsize=9)
-            if c == 0:
-                ax.set_ylabel(f"N.V = {rows[r]:.3g}\nN.L", fontsize=8)
-            if r == n_rows - 1:
-                ax.set_xlabel("Visibility", fontsize=8)
+            label_panel(ax, r, c, n_rows, f"roughness {roughness[c]:g}", f"N.V = {rows[r]:.3g}\nN.L", title_size=9)
     fig.suptitle(title, fontsize=10)
     fig.colorbar(im, ax=axes, shrink=0.6, label=label)
     fig.savefig(path, dpi=110)

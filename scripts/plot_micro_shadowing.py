@@ -17,6 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from figure_grid import label_panel  # noqa: E402
 
 METHODS = ["reference", "brinck_maximov_2016", "chan_2018", "part1_analytic", "generic_vndf"]
 LABELS = {
@@ -56,13 +57,7 @@ def main():
             for j, m in enumerate(METHODS):
                 ax = axes[i, j]
                 im = ax.imshow(grid(d, r, nv, m), extent=ext, vmin=0, vmax=1, cmap="magma", aspect="auto")
-                if i == 0:
-                    ax.set_title(LABELS[m], fontsize=8)
-                if j == 0:
-                    ax.set_ylabel(f"roughness {r:g}\nN·L", fontsize=8)
-                if i == len(roughs) - 1:
-                    ax.set_xlabel("Visibility", fontsize=8)
-                ax.tick_params(labelsize=6)
+                label_panel(ax, i, j, len(roughs), LABELS[m], f"roughness {r:g}\nN·L")
         fig.colorbar(im, ax=axes, shrink=0.6)
         fig.suptitle(f"Micro-shadowing, N·V = {nv:g} (generic: mean over the relative azimuth)")
         fig.savefig(os.path.join(out, f"maps_ndotv_{nv:g}.png"), dpi=90)
@@ -104,12 +99,8 @@ def main():
                 e = grid(d, r, nv, m) - g
                 ax = axes[i, j]
                 im = ax.imshow(e, extent=ext, vmin=-1, vmax=1, cmap="RdBu_r", aspect="auto")
-                ax.set_title(f"{LABELS[m]}  rms {np.sqrt(np.mean(e ** 2)):.3f}", fontsize=7)
-                if j == 0:
-                    ax.set_ylabel(f"roughness {r:g}\nN·L", fontsize=8)
-                if i == len(roughs) - 1:
-                    ax.set_xlabel("Visibility", fontsize=8)
-                ax.tick_params(labelsize=6)
+                label_panel(ax, i, j, len(roughs), f"{LABELS[m]}  rms {np.sqrt(np.mean(e ** 2)):.3f}",
+                            f"roughness {r:g}\nN·L", title_size=7, every_title=True)
         fig.colorbar(im, ax=axes, shrink=0.6, label="term − exact generic")
         fig.suptitle(f"Error of the older terms vs the exact generic VNDF term, N·V = {nv:g}")
         fig.savefig(os.path.join(out, f"error_maps_ndotv_{nv:g}.png"), dpi=90)

@@ -15,6 +15,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from figure_grid import label_panel  # noqa: E402
 
 TERMS = [
     ("generic_vndf", "generic VNDF"),
@@ -43,13 +44,8 @@ def main(d):
                           interpolation="bilinear")
                 ax.set_xticks([0, 0.5, 1])
                 ax.set_yticks([0, 0.5, 1])
-                ax.tick_params(labelsize=6)
-                if i == 0:
-                    ax.set_title(f"roughness {r:g}", fontsize=8)
-                if j == 0:
-                    ax.set_ylabel(f"{label}\nN.L", fontsize=7)
-                if i == len(TERMS) - 1:
-                    ax.set_xlabel("Visibility", fontsize=7)
+                label_panel(ax, i, j, len(TERMS), f"roughness {r:g}", f"{label}\nN.L", fontsize=7,
+                            title_size=8)
         fig.suptitle(f"azimuth means, N.V = {nv:g}", fontsize=9)
         fig.tight_layout()
         out = os.path.join(d, f"aware_ndotv_{nv:g}.png")
