@@ -618,11 +618,11 @@ void run_verify(const VerifyArgs& a) {
 }
 
 void add_area_lights(Groups& g) {
-  const auto [c, a] = add_command<VerifyArgs>(
-      g.verify, "area-lights",
+  auto a = std::make_shared<VerifyArgs>();
+  CLI::App* c = g.verify->add_subcommand(
+      "area-lights",
       "Area-light micro-shadowing fast forms (occlusion/micro_shadowing_area.h) against the exact quadrature "
-      "at Sobol inputs (docs/area-lights.md): errors in 1/255.",
-      run_verify);
+      "at Sobol inputs (docs/area-lights.md): errors in 1/255.");
   c->add_option("--points", a->points, "Sobol points for the closed-form terms")->capture_default_str();
   c->add_option("--generic-points", a->generic_points, "Sobol points for the generic term (slow reference)")
       ->capture_default_str();
@@ -647,6 +647,7 @@ void add_area_lights(Groups& g) {
       ->capture_default_str();
   c->add_option("--ltc", a->ltc, "LTC table (bake ltc); default: fit a 16x16 table here (about 9 s CPU)");
   c->add_flag("--json", a->json, "Print one JSON object");
+  c->callback([a] { run_verify(*a); });
 }
 
 }  // namespace

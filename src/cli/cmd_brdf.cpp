@@ -254,21 +254,21 @@ void add_brdf_bake(Groups& g) {
   b->add_option("--samples", ba->samples, "QMC samples per texel")->default_val(1u << 14);
   b->add_option("--pixel-format", ba->pixel_format, "r16f, rg16f, rgba16f, r32f, rg32f (default), rgba32f");
 
-  const auto [d, bd] =
-      add_command<BakeArgs>(g.bake, "dfg",
-                            "Bake the split-sum DFG table: x = N.V = i/(n-1), y = perceptual "
-                            "roughness r = j/(n-1). split-sum (Karis): "
-                            "(scale, bias), E = F0*scale + bias; multiscatter (Filament): (DFG.x, "
-                            "DFG.y), E = mix(x, y, F0), y = E(F=1). "
-                            "RGBA adds the cosine-weighted averages over N.V of R and G.",
-                            run_bake_dfg);
+  auto bd = std::make_shared<BakeArgs>();
   bd->size = 128;
   bd->samples = 1u << 12;
+  CLI::App* d = g.bake->add_subcommand("dfg",
+                                       "Bake the split-sum DFG table: x = N.V = i/(n-1), y = perceptual "
+                                       "roughness r = j/(n-1). split-sum (Karis): "
+                                       "(scale, bias), E = F0*scale + bias; multiscatter (Filament): (DFG.x, "
+                                       "DFG.y), E = mix(x, y, F0), y = E(F=1). "
+                                       "RGBA adds the cosine-weighted averages over N.V of R and G.");
   d->add_option("--out", bd->out, "Output file: .dds .ktx2 .exr .npy .h")->required();
   d->add_option("--size", bd->size, "Texels per axis")->default_val(128);
   d->add_option("--samples", bd->samples, "QMC samples per texel")->default_val(1u << 12);
   d->add_option("--variant", bd->variant, "split-sum or multiscatter")->default_val("split-sum");
   d->add_option("--pixel-format", bd->pixel_format, "rg16f (default), rgba16f, rg32f, rgba32f");
+  d->callback([bd] { run_bake_dfg(*bd); });
 
   const auto [s, bs] = add_command<BakeArgs>(
       g.bake, "brdf-shipped",

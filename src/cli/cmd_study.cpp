@@ -20,62 +20,12 @@ struct StudyArgs {
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
 };
 
-void run_study_command(const StudyArgs& a) {
-  std::unique_ptr<tbb::global_control> limit;
-  if (a.threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                  std::size_t(a.threads));
-  study::StudyConfig c = a.area    ? study::area_config(a.quick)
-                         : a.quick ? study::quick_config()
-                                   : study::full_config();
-  auto split = [](const std::string& text) {
-    std::vector<std::string> v;
-    std::string rest = text;
-    while (!rest.empty()) {
-      const auto comma = rest.find(',');
-      v.push_back(rest.substr(0, comma));
-      rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-    }
-    return v;
-  };
-  if (!a.materials.empty()) c.materials = split(a.materials);
-  if (!a.shapes.empty()) c.shapes = split(a.shapes);
-  if (!a.area_ms.empty()) c.area_ms_modes = split(a.area_ms);
-  if (!a.scales.empty()) {
-    c.scales.clear();
-    for (const std::string& k : split(a.scales)) {
-      char* end = nullptr;
-      const long v = std::strtol(k.c_str(), &end, 10);
-      if (k.empty() || *end != '\0' || v < 1 || v > 4096)
-        throw InputError(fmt::format("--scales: '{}' is not a scale in [1, 4096]", k));
-      c.scales.push_back(int(v));
-    }
-  }
-  if (a.fine_size) c.fine_size = a.fine_size;
-  if (a.image_size) c.image_size = a.image_size;
-  if (a.gt_max_spp) c.gt_max_spp = a.gt_max_spp;
-  c.material_cache = a.cache;
-  const bool quiet = a.quiet;
-  const auto res = study::run_study(c, a.out, [quiet](const std::string& line) {
-    if (!quiet) std::cerr << line << std::endl;
-  });
-  int met = 0;
-  for (const auto& gt : res["ground_truth"]) met += gt["floors_met"].get<bool>();
-  print_json({{"out", a.out},
-              {"study", c.name},
-              {"rows", res["rows"].size()},
-              {"ground_truth_configurations", res["ground_truth"].size()},
-              {"floors_met", met},
-              {"results", a.out + "/results.json"},
-              {"html", a.out + "/study.html"}});
-}
-
 void add_study(Groups& g) {
-  const auto [s, a] = add_command<StudyArgs>(
-      g.root, "study",
+  auto a = std::make_shared<StudyArgs>();
+  CLI::App* s = g.root->add_subcommand(
+      "study",
       "Multiscale study: every micro-shadowing term on coarse texture sets against a ray-traced fine height "
-      "field; writes DIR/results.json, results.csv, summary.md, study.html",
-      run_study_command);
+      "field; writes DIR/results.json, results.csv, summary.md, study.html");
   s->add_option("--out", a->out, "Output directory (created)")->required();
   s->add_flag("--quick", a->quick,
               "Reduced study for make demo (one material, three lights, smaller images)");
@@ -84,9 +34,8 @@ void add_study(Groups& g) {
       "Area-light section instead (docs/area-lights.md): sphere lights of 1-40 degrees angular "
       "radius, a disk and a rect; micro-shadowing per sample, at the representative point, integrated; "
       "also writes DIR/area_summary.md");
-  s->add_option(
-      "--area-ms", a->area_ms,
-      "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
+  s->add_option("--area-ms", a->area_ms,
+                "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
   s->add_option("--materials", a->materials, "Comma-separated material kinds (default: the study's list)");
   s->add_option("--scales", a->scales, "Comma-separated scales k (default: the study's list)");
   s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
@@ -101,6 +50,55 @@ void add_study(Groups& g) {
   s->add_option("--threads", a->threads, "Worker threads (0 = all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024));
   s->add_flag("--quiet", a->quiet, "No progress on stderr");
+  s->callback([a] {
+    std::unique_ptr<tbb::global_control> limit;
+    if (a->threads > 0)
+      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    std::size_t(a->threads));
+    study::StudyConfig c = a->area    ? study::area_config(a->quick)
+                           : a->quick ? study::quick_config()
+                                      : study::full_config();
+    auto split = [](const std::string& text) {
+      std::vector<std::string> v;
+      std::string rest = text;
+      while (!rest.empty()) {
+        const auto comma = rest.find(',');
+        v.push_back(rest.substr(0, comma));
+        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+      }
+      return v;
+    };
+    if (!a->materials.empty()) c.materials = split(a->materials);
+    if (!a->shapes.empty()) c.shapes = split(a->shapes);
+    if (!a->area_ms.empty()) c.area_ms_modes = split(a->area_ms);
+    if (!a->scales.empty()) {
+      c.scales.clear();
+      for (const std::string& k : split(a->scales)) {
+        char* end = nullptr;
+        const long v = std::strtol(k.c_str(), &end, 10);
+        if (k.empty() || *end != '\0' || v < 1 || v > 4096)
+          throw InputError(fmt::format("--scales: '{}' is not a scale in [1, 4096]", k));
+        c.scales.push_back(int(v));
+      }
+    }
+    if (a->fine_size) c.fine_size = a->fine_size;
+    if (a->image_size) c.image_size = a->image_size;
+    if (a->gt_max_spp) c.gt_max_spp = a->gt_max_spp;
+    c.material_cache = a->cache;
+    const bool quiet = a->quiet;
+    const auto res = study::run_study(c, a->out, [quiet](const std::string& line) {
+      if (!quiet) std::cerr << line << std::endl;
+    });
+    int met = 0;
+    for (const auto& gt : res["ground_truth"]) met += gt["floors_met"].get<bool>();
+    print_json({{"out", a->out},
+                {"study", c.name},
+                {"rows", res["rows"].size()},
+                {"ground_truth_configurations", res["ground_truth"].size()},
+                {"floors_met", met},
+                {"results", a->out + "/results.json"},
+                {"html", a->out + "/study.html"}});
+  });
 }
 
 }  // namespace

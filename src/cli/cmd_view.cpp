@@ -47,35 +47,12 @@ struct ViewArgs {
   std::string material, lut, root, exp, cache;
 };
 
-void run_view(const ViewArgs& a) {
-  // Before any thread starts (the table bake uses TBB): SIGINT/SIGTERM go to the server's stop thread.
-  view::block_stop_signals();
-  view::ViewerOptions o = a.o;
-  o.material = a.material;
-  o.lut = a.lut;
-  o.root = a.root;
-  o.cache = a.cache;
-  if (!a.exp.empty()) {
-    if (!a.root.empty()) throw UsageError("--export and --root are exclusive");
-    o.assets = find_assets();
-    view::export_viewer(o, a.exp);
-    print_json({{"dir", a.exp}});
-    return;
-  }
-  if (o.root.empty()) o.assets = find_assets();
-  view::serve(o, [](const std::string& url) {
-    fmt::print("microshadow view: serving {} (open it in a browser; Ctrl-C stops the server)\n", url);
-    std::fflush(stdout);
-  });
-}
-
 void register_view(Groups& g) {
-  const auto [c, a] =
-      add_command<ViewArgs>(g.root, "view",
-                            "Interactive micro-shadowing viewer in the browser (WebGL2, the "
-                            "project's GLSL and tables): serves it on "
-                            "127.0.0.1 and prints the URL; Ctrl-C stops it. See docs/viewer.md",
-                            run_view);
+  auto a = std::make_shared<ViewArgs>();
+  CLI::App* c = g.root->add_subcommand("view",
+                                       "Interactive micro-shadowing viewer in the browser (WebGL2, the "
+                                       "project's GLSL and tables): serves it on "
+                                       "127.0.0.1 and prints the URL; Ctrl-C stops it. See docs/viewer.md");
   c->add_option("--material", a->material,
                 "Texture set: a gen-material folder (default: the built-in plaster, "
                 "generated once into the cache directory)");
@@ -92,6 +69,27 @@ void register_view(Groups& g) {
   c->add_option("--cache", a->cache,
                 "Cache directory for the built-in plaster (default $XDG_CACHE_HOME/"
                 "microshadow or ~/.cache/microshadow)");
+  c->callback([a] {
+    // Before any thread starts (the table bake uses TBB): SIGINT/SIGTERM go to the server's stop thread.
+    view::block_stop_signals();
+    view::ViewerOptions o = a->o;
+    o.material = a->material;
+    o.lut = a->lut;
+    o.root = a->root;
+    o.cache = a->cache;
+    if (!a->exp.empty()) {
+      if (!a->root.empty()) throw UsageError("--export and --root are exclusive");
+      o.assets = find_assets();
+      view::export_viewer(o, a->exp);
+      print_json({{"dir", a->exp}});
+      return;
+    }
+    if (o.root.empty()) o.assets = find_assets();
+    view::serve(o, [](const std::string& url) {
+      fmt::print("microshadow view: serving {} (open it in a browser; Ctrl-C stops the server)\n", url);
+      std::fflush(stdout);
+    });
+  });
 }
 
 MSH_CLI_REGISTER(register_view, 95);

@@ -492,15 +492,33 @@ std::string csv_line(const json& r) {
   return s + "," + csv_value(r["ssim"]) + "\n";
 }
 
-// results.json "config": these StudyConfig fields under their own names (to_json below; the area section's
-// fields follow in config_json_area).
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StudyConfig, name, materials, fine_size, ao_rays, scales, shapes,
-                                   elevations, azimuths, point_light, sphere_light, image_size,
-                                   view_elevation, method_spp, vndf_samples, area_samples, gt_spp, gt_max_spp,
-                                   footprint, delta_bias, delta_rmse, widened, normal_ablation, seed)
+json config_json(const StudyConfig& c) {
+  return {{"name", c.name},
+          {"materials", c.materials},
+          {"fine_size", c.fine_size},
+          {"ao_rays", c.ao_rays},
+          {"scales", c.scales},
+          {"shapes", c.shapes},
+          {"elevations", c.elevations},
+          {"azimuths", c.azimuths},
+          {"point_light", c.point_light},
+          {"sphere_light", c.sphere_light},
+          {"image_size", c.image_size},
+          {"view_elevation", c.view_elevation},
+          {"method_spp", c.method_spp},
+          {"vndf_samples", c.vndf_samples},
+          {"area_samples", c.area_samples},
+          {"gt_spp", c.gt_spp},
+          {"gt_max_spp", c.gt_max_spp},
+          {"footprint", c.footprint},
+          {"delta_bias", c.delta_bias},
+          {"delta_rmse", c.delta_rmse},
+          {"widened", c.widened},
+          {"normal_ablation", c.normal_ablation},
+          {"seed", c.seed}};
+}
 json config_json_area(const StudyConfig& c) {
-  json j;
-  to_json(j, c);
+  json j = config_json(c);
   if (area_section(c))
     j["area"] = {{"radii_deg", c.area_radii_deg},
                  {"elevations", c.area_elevations},
