@@ -5,6 +5,7 @@
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -26,6 +27,21 @@ void per_index(benchmark::State& st, F&& f) {
 template <class P, class F>
 void per_call(benchmark::State& st, const std::vector<P>& pool, F&& f) {
   per_index<256>(st, [&](std::size_t k) { return f(pool[k]); });
+}
+
+// 4096 rows of K uniform floats in [0, 1) from Pcg32(seed), drawn row after row; per_row calls f(row i mod
+// 4096).
+template <std::size_t K>
+std::vector<std::array<float, K>> uniform_rows(uint64_t seed) {
+  std::vector<std::array<float, K>> r(4096);
+  Pcg32 rng(seed);
+  for (auto& row : r)
+    for (float& x : row) x = rng.next_float();
+  return r;
+}
+template <std::size_t K, class F>
+void per_row(benchmark::State& st, const std::vector<std::array<float, K>>& rows, F&& f) {
+  per_index<4096>(st, [&](std::size_t k) { return f(rows[k]); });
 }
 
 // A pool of 256 inputs outside the early-out region: draw(rng) from Pcg32(seed) until 256 are kept

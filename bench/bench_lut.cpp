@@ -250,13 +250,8 @@ BENCHMARK(BM_LutAzimuthError)->Iterations(1)->Unit(benchmark::kMillisecond);
 void BM_LutSamplePlain(benchmark::State& state) {
   const auto lut = default_micro_shadowing_lut(false, 0, layout_arg(state.range(0)));
   const MicroShadowingLutView view = lut->view();
-  Pcg32 rng(3);
-  std::vector<float> in(4096 * 4);
-  for (auto& x : in) x = rng.next_float();
-  bench::per_index<4096>(state, [&](std::size_t k) {
-    const float* p = &in[k * 4];
-    return sample_micro_shadowing<float>(view, p[0], p[1], p[2], p[3]);
-  });
+  bench::per_row(state, bench::uniform_rows<4>(3),
+                 [&](const auto& p) { return sample_micro_shadowing<float>(view, p[0], p[1], p[2], p[3]); });
 }
 BENCHMARK(BM_LutSamplePlain)->Arg(0)->Arg(1);
 
@@ -264,11 +259,7 @@ void BM_LutSampleAzimuth(benchmark::State& state) {
   const LutLayout layout = layout_arg(state.range(0));
   const auto lut = default_micro_shadowing_lut(false, layout == LutLayout::Cone ? 3 : 2, layout);
   const MicroShadowingLutView view = lut->view();
-  Pcg32 rng(3);
-  std::vector<float> in(4096 * 5);
-  for (auto& x : in) x = rng.next_float();
-  bench::per_index<4096>(state, [&](std::size_t k) {
-    const float* p = &in[k * 5];
+  bench::per_row(state, bench::uniform_rows<5>(3), [&](const auto& p) {
     return sample_micro_shadowing_azimuth<float>(view, p[0], p[1], p[2], p[3], 2.0f * p[4] - 1.0f);
   });
 }

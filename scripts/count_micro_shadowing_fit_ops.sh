@@ -4,7 +4,7 @@
 # (glslangValidator -V), optimized (spirv-opt -O) and its float instructions counted by opcode. Needs
 # glslang-tools and spirv-tools. Usage: scripts/count_micro_shadowing_fit_ops.sh
 set -euo pipefail
-src="$(cd "$(dirname "$0")/.." && pwd)/shaders/glsl/micro_shadowing_fit.glsl"
+inc="$(cd "$(dirname "$0")/.." && pwd)/shaders/glsl"  # micro_shadowing_fit.glsl includes its prelude and body
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 declare -A body=(
@@ -15,13 +15,14 @@ declare -A body=(
 for f in one-call pixel light; do
   {
     echo '#version 450'
-    cat "$src"
+    echo '#extension GL_GOOGLE_include_directive : require'
+    echo '#include "micro_shadowing_fit.glsl"'
     echo 'layout(local_size_x = 64) in;'
     echo 'layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };'
     echo 'layout(std430, binding = 1) writeonly buffer Out { float o[]; };'
     echo "void main() { uint i = gl_GlobalInvocationID.x; vec4 r = rec[2u * i]; vec4 q = rec[2u * i + 1u]; ${body[$f]} }"
   } > "$tmp/k.comp"
-  glslangValidator -V "$tmp/k.comp" -o "$tmp/k.spv" > /dev/null
+  glslangValidator -V -I"$inc" "$tmp/k.comp" -o "$tmp/k.spv" > /dev/null
   spirv-opt -O "$tmp/k.spv" -o "$tmp/ko.spv"
   # The kernel's own glue (the pixel kernel's 7 adds summing the struct, the light kernel's q.x * q.y) is
   # counted too: subtract it (docs/micro-shadowing.md).

@@ -9,8 +9,10 @@ before any runtime early-out) are printed as a Markdown table. Usage: scripts/lu
 import os, re, subprocess, sys, tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LIB = open(os.path.join(ROOT, "shaders/glsl/micro_shadowing.glsl")).read()
+INC = os.path.join(ROOT, "shaders/glsl")  # micro_shadowing.glsl includes its prelude and body (docs/shaders.md)
+LIB = '#include "micro_shadowing.glsl"\n'
 HEAD = """#version 450
+#extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
 layout(std430, binding = 1) writeonly buffer Out { float o[]; };
@@ -40,7 +42,7 @@ void main() {
     with tempfile.TemporaryDirectory() as d:
         comp, spv, opt = (os.path.join(d, n) for n in ("s.comp", "s.spv", "o.spv"))
         open(comp, "w").write(src)
-        subprocess.run(["glslangValidator", "-V", "-S", "comp", comp, "-o", spv], check=True,
+        subprocess.run(["glslangValidator", "-V", "-I" + INC, "-S", "comp", comp, "-o", spv], check=True,
                        stdout=subprocess.DEVNULL)
         subprocess.run(["spirv-opt", "-O", spv, "-o", opt], check=True)
         dis = subprocess.run(["spirv-dis", "--raw-id", opt], check=True, capture_output=True, text=True).stdout

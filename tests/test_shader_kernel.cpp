@@ -2,8 +2,12 @@
 // out[i] = in[i] * 2 + offset (powers of two and small integers: exact in float on any device), with the
 // HLSL entry function not called main, several buffers and a push-constant block.
 #include <gtest/gtest.h>
+#include <microshadow/io/error.h>
+#include <unistd.h>
 
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -95,4 +99,33 @@ TEST(ShaderKernel, HlslSpellingOfAGlslBody) {
   EXPECT_NE(k.hlsl_main.find("struct S { float3 p; };"), std::string::npos) << k.hlsl_main;
   EXPECT_NE(k.hlsl_main.find("StructuredBuffer<float4> rec;"), std::string::npos) << k.hlsl_main;
   EXPECT_NE(k.glsl_main.find("  o[i] = rec[i].xy;\n"), std::string::npos) << k.glsl_main;
+}
+
+// The include expansion the shader tests and the viewer's server use (src/view/shader_source.h): paths
+// relative to the including file, nested; every entry point expands to its prelude and its portable body with
+// no #include left; a missing file, a cycle and an unquoted path are one-line InputErrors.
+TEST(ShaderKernel, ExpandsIncludesRelativeToTheIncludingFile) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("msh_include_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "a" / "b");
+  std::ofstream(dir / "a" / "top.glsl") << "top\n  #include \"b/mid.h\"\nend\n";
+  std::ofstream(dir / "a" / "b" / "mid.h") << "mid\n#include \"../leaf.h\"\n";
+  std::ofstream(dir / "a" / "leaf.h") << "leaf\n";
+  EXPECT_EQ(msh::view::expand_shader_includes(dir / "a" / "top.glsl"), "top\nmid\nleaf\nend\n");
+  std::ofstream(dir / "a" / "missing.glsl") << "#include \"nothing.h\"\n";
+  EXPECT_THROW(msh::view::expand_shader_includes(dir / "a" / "missing.glsl"), msh::InputError);
+  std::ofstream(dir / "a" / "cycle.glsl") << "#include \"cycle.glsl\"\n";
+  EXPECT_THROW(msh::view::expand_shader_includes(dir / "a" / "cycle.glsl"), msh::InputError);
+  std::ofstream(dir / "a" / "unquoted.glsl") << "#include <x.h>\n";
+  EXPECT_THROW(msh::view::expand_shader_includes(dir / "a" / "unquoted.glsl"), msh::InputError);
+  fs::remove_all(dir);
+  for (const char* lang : {"glsl", "hlsl"})
+    for (const auto& e : fs::directory_iterator(fs::path(MSH_SOURCE_DIR) / "shaders" / lang)) {
+      const std::string text = msh::view::expand_shader_includes(e.path());
+      EXPECT_EQ(text.find("\n#include"), std::string::npos) << e.path();
+      EXPECT_NE(text.find(std::string("#define MSH_PRELUDE_") + (lang[0] == 'g' ? "GLSL" : "HLSL")),
+                std::string::npos)
+          << e.path();
+    }
 }

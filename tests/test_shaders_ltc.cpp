@@ -11,6 +11,7 @@
 
 #include <array>
 
+#include "support/ltc_test_table.h"
 #include "support/shader_kernel.h"
 
 using namespace msh;
@@ -55,11 +56,7 @@ struct Record {
 };
 
 const LtcTable& table() {
-  static const LtcTable t = [] {
-    LtcFitOptions o;
-    o.size = 8, o.error_samples = 16, o.max_iterations = 60, o.moment_samples = 512;
-    return fit_ltc_table(o);
-  }();
+  static const LtcTable t = test::small_ltc_table(8, 16, 60, 512);
   return t;
 }
 

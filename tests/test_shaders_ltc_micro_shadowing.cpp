@@ -22,6 +22,7 @@
 #include <map>
 #include <string>
 
+#include "support/ltc_test_table.h"
 #include "support/shader_kernel.h"
 
 using namespace msh;
@@ -84,11 +85,7 @@ struct Record {
 };
 
 const LtcTable& table() {
-  static const LtcTable t = [] {
-    LtcFitOptions o;
-    o.size = 4, o.error_samples = 12, o.max_iterations = 40, o.moment_samples = 256;
-    return fit_ltc_table(o);
-  }();
+  static const LtcTable t = test::small_ltc_table(4, 12, 40, 256);
   return t;
 }
 

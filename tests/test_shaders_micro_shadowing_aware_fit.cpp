@@ -20,10 +20,7 @@ namespace vk = msh::test::vk;
 namespace {
 
 const vk::Kernel kKernel =
-    vk::framed_kernel({"micro_shadowing_aware_fit"}, {{"in vec4 rec", "out float o"}, {}, ""}, "", R"(
-  vec4 r = rec[i];
-  o[i] = msh_ms_diffuse_aware_alu(r.x, r.y, r.z, r.w);
-)");
+    test::fit_kernel("micro_shadowing_aware_fit", "float", "msh_ms_diffuse_aware_alu(r.x, r.y, r.z, r.w)");
 
 using Rec = test::FitInput;
 

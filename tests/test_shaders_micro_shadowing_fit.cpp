@@ -20,12 +20,10 @@ namespace vk = msh::test::vk;
 
 namespace {
 
-const vk::Kernel kKernel =
-    vk::framed_kernel({"micro_shadowing_fit"}, {{"in vec4 rec", "out vec2 o"}, {}, ""}, "", R"(
-  vec4 r = rec[i];
-  o[i] = vec2(msh_ms_generic_vndf_alu(r.x, r.y, r.z, r.w),
-              msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(r.x, r.z, r.w), r.y));
-)");
+const vk::Kernel kKernel = test::fit_kernel(
+    "micro_shadowing_fit", "vec2",
+    "vec2(msh_ms_generic_vndf_alu(r.x, r.y, r.z, r.w),\n"
+    "              msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(r.x, r.z, r.w), r.y))");
 
 using Rec = test::FitInput;
 

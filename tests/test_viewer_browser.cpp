@@ -29,6 +29,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "../src/view/shader_source.h"
 #include "support/cli_test_util.h"
 
 namespace fs = std::filesystem;
@@ -236,9 +237,14 @@ TEST(ViewerServer, ExportsAStaticCopyAndServesIt) {
   for (const char* f : {"index.html", "viewer.js", "methods.js", "data/manifest.json", "data/lut3d.f16",
                         "data/material/micro_occlusion.png"})
     EXPECT_TRUE(fs::is_regular_file(copy / f)) << f;
-  // The GLSL files are the project's own, byte for byte.
-  EXPECT_EQ(slurp(copy / "shaders/glsl/micro_shadowing.glsl"),
-            slurp(fs::path(MSH_SOURCE_DIR) / "shaders/glsl/micro_shadowing.glsl"));
+  // The GLSL files are the project's own with their includes expanded (the prelude and the portable body in
+  // the text, no #include left: WebGL2 has none).
+  const std::string ms = slurp(copy / "shaders/glsl/micro_shadowing.glsl");
+  EXPECT_EQ(
+      ms, msh::view::expand_shader_includes(fs::path(MSH_SOURCE_DIR) / "shaders/glsl/micro_shadowing.glsl"));
+  EXPECT_EQ(ms.find("\n#include"), std::string::npos);
+  EXPECT_NE(ms.find("#define MSH_PRELUDE_GLSL"), std::string::npos);
+  EXPECT_NE(ms.find("float msh_ms_cone_cos(float vis)"), std::string::npos);
   const auto man = nlohmann::json::parse(slurp(copy / "data/manifest.json"));
   const auto& L = man["luts"]["lut3d"];
   EXPECT_EQ(fs::file_size(copy / "data/lut3d.f16"), std::size_t(L["size"][0].get<int>()) *
@@ -274,7 +280,8 @@ TEST(ViewerServer, UsesAGivenConeTable) {
 }
 
 // Every shaders/glsl/*.glsl file compiles as GLSL ES 3.00 (WebGL2), the way the page concatenates them (all
-// files, sorted, one fragment shader), with glslangValidator: a check that needs no browser.
+// files, sorted, includes expanded as the server sends them, one fragment shader), with glslangValidator: a
+// check that needs no browser.
 TEST(ViewerShaders, GlslFilesCompileAsGlslEs300) {
   const fs::path dir = scratch_dir("viewer");
   std::vector<fs::path> files;
@@ -285,7 +292,7 @@ TEST(ViewerShaders, GlslFilesCompileAsGlslEs300) {
   std::string src =
       "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
       "precision highp sampler3D;\n";
-  for (const auto& f : files) src += slurp(f) + "\n";
+  for (const auto& f : files) src += msh::view::expand_shader_includes(f) + "\n";
   src += "out vec4 o;\nvoid main() { o = vec4(1.0); }\n";
   std::ofstream(dir / "all.frag") << src;
   const int rc = std::system(

@@ -12,7 +12,8 @@ fi
 # A per-light micro-shadowing pass: LUT (3D, early-out), the 2D LUT, Chan 2018, and a 16-point estimate.
 {
   echo '#version 450'
-  cat shaders/glsl/micro_shadowing.glsl
+  echo '#extension GL_GOOGLE_include_directive : require'
+  echo '#include "micro_shadowing.glsl"'  # with -I shaders/glsl, as a user includes it (docs/shaders.md)
   cat <<'GLSL'
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Px { vec4 px[]; };   // (vis, roughness, unused, unused)
@@ -30,7 +31,7 @@ void main() {
 GLSL
 } > "$D/micro_shadowing_example.comp"
 {
-  cat shaders/hlsl/micro_shadowing.hlsl
+  echo '#include "micro_shadowing.hlsl"'
   cat <<'HLSL'
 [[vk::binding(0)]] StructuredBuffer<float4> px;
 [[vk::binding(1)]] StructuredBuffer<float4> dir;
@@ -50,8 +51,8 @@ void main(uint3 id : SV_DispatchThreadID) {
 }
 HLSL
 } > "$D/micro_shadowing_example.hlsl"
-"$GLSLANG" -V --target-env vulkan1.1 -o "$D/micro_shadowing_example_glsl.spv" "$D/micro_shadowing_example.comp" > "$D/glslang.log"
-"$GLSLANG" -V --target-env vulkan1.1 -D -S comp -e main -o "$D/micro_shadowing_example_hlsl.spv" \
+"$GLSLANG" -V --target-env vulkan1.1 -I"$PWD/shaders/glsl" -o "$D/micro_shadowing_example_glsl.spv" "$D/micro_shadowing_example.comp" > "$D/glslang.log"
+"$GLSLANG" -V --target-env vulkan1.1 -I"$PWD/shaders/hlsl" -D -S comp -e main -o "$D/micro_shadowing_example_hlsl.spv" \
   "$D/micro_shadowing_example.hlsl" >> "$D/glslang.log"
 # The measured precision (skips the Vulkan part, with the reason, where no device exists).
 T="$BUILD/bin/test_shaders_micro_shadowing"

@@ -1,64 +1,10 @@
-// microshadow: ALU-only diffuse micro-BRDF-aware micro-shadowing for HLSL (SM 5.0+ / DXC /
-// glslang's HLSL front end). Include-only; needs nothing else.
-// Port of msh::micro_shadowing::diffuse_aware_alu (include/microshadow/occlusion/micro_shadowing_aware_fit.h):
-// ALU-only fit of the azimuth-mean diffuse micro-BRDF-aware term (reciprocal form, Lambertian facets;
-// docs/micro-shadowing-aware.md, "Run-time form of the diffuse-aware term"). vis = micro-occlusion visibility
-// in projected solid angle (cone cos_t = sqrt(1 - vis)); n_dot_l, n_dot_v the shading cosines; roughness
-// perceptual (GGX alpha = roughness^2). Fitted over vis in [0,1], N.L and N.V in (0,1], roughness in [0.1,1];
-// inputs clamped to [0,1] (roughness to [0.01,1]); NaN inputs are not guaranteed on GPUs. The early-outs
-// 2 vis + N.L < 1 and 2 vis + N.V < 1 return exactly 0 (and N.L = 0), vis = 1 returns 1, as in C++.
+// microshadow: ALU-only diffuse micro-BRDF-aware micro-shadowing, the HLSL entry point.
+// SM 5.0+: DXC, FXC, glslang's HLSL front end.
+// Use: `#include "<share>/shaders/hlsl/micro_shadowing_aware_fit.hlsl"` (the compiler resolves the includes inside,
+// relative to this file).
+// The functions, written once for both languages, with sources and precision: shaders/portable/micro_shadowing_aware_fit.h.
 #ifndef MSH_MICRO_SHADOWING_AWARE_FIT_HLSL
 #define MSH_MICRO_SHADOWING_AWARE_FIT_HLSL
-
-// Cubic forms a, q, g in (r, cos_t, w), 20 coefficients each (kDiffuseAwareAluReciprocal).
-static const float MSH_AWARE_ALU_P[60] = {
-    4.7413, -9.98672, 5.60447, 2.29771, 10.7242, 14.5875, -7.79898, -27.395, 4.65937, -5.50467,
-    1.63791, -6.25831, 1.13435, 8.15713, -19.3248, 2.49487, -3.68374, 13.559, -5.30555, 15.5449,
-    13.9158, -21.439, -1.45917, 7.31156, 16.3105, -56.2036, -6.02686, 14.636, -20.0127, 20.4968,
-    -3.89923, 47.3793, -6.68909, -11.7598, 4.66624, 19.3493, -37.9807, 9.45357, 18.7872, -4.47527,
-    -5.54821, -3.8796, 22.6404, 3.55435, -0.856421, -33.7625, -4.80667, 25.9747, -21.5183, 4.97385,
-    3.87288, 25.9899, 2.75697, -10.9443, 4.71002, -28.2844, -15.3595, -1.21187, -0.210605, 32.2277};
-
-// fit_basis::fit_cubic at offset o (1, x, y, z, x2, y2, z2, xy, xz, yz, x3, y3, z3, x2y, x2z, y2x, y2z, z2x,
-// z2y, xyz), grouped as in C++.
-float msh_ms_aware_alu_cubic(int o, float x, float y, float z) {
-  float px = MSH_AWARE_ALU_P[o + 1] + x * (MSH_AWARE_ALU_P[o + 4] + MSH_AWARE_ALU_P[o + 10] * x +
-             MSH_AWARE_ALU_P[o + 13] * y + MSH_AWARE_ALU_P[o + 14] * z) +
-             y * (MSH_AWARE_ALU_P[o + 7] + MSH_AWARE_ALU_P[o + 15] * y + MSH_AWARE_ALU_P[o + 19] * z) +
-             z * (MSH_AWARE_ALU_P[o + 8] + MSH_AWARE_ALU_P[o + 17] * z);
-  float py = MSH_AWARE_ALU_P[o + 2] + y * (MSH_AWARE_ALU_P[o + 5] + MSH_AWARE_ALU_P[o + 11] * y +
-             MSH_AWARE_ALU_P[o + 16] * z) + z * (MSH_AWARE_ALU_P[o + 9] + MSH_AWARE_ALU_P[o + 18] * z);
-  float pz = MSH_AWARE_ALU_P[o + 3] + z * (MSH_AWARE_ALU_P[o + 6] + MSH_AWARE_ALU_P[o + 12] * z);
-  return MSH_AWARE_ALU_P[o] + x * px + y * py + z * pz;
-}
-
-// T_x L_x of one direction (aware_fit_terms::cone_factor).
-float msh_ms_aware_alu_cone(float v, float c, float s, float nx, float a, float g) {
-  float a2 = a * a, oma2 = 1.0 - a2;
-  float nx2 = nx * nx, sx = sqrt(1.0 - nx2);
-  float d = s * nx - c * sx;
-  float inv_st = sqrt(a2 + oma2 * v) / max(s, 1e-6);
-  float p1 = 1.0 + d / sqrt(a2 + oma2 * (d * d)) * inv_st;
-  float p2 = 1.0 + nx / sqrt(a2 + oma2 * nx2);
-  return p1 * (v + g * (1.0 - v) * (nx - 1.0)) / (v * p2);
-}
-
-// Precision vs the C++ float function: |diff| <= 1e-5, measured 3.6e-7 (tests/test_shaders_micro_shadowing_aware_fit.cpp,
-// lavapipe, 19,123 random, boundary and degenerate inputs).
-float msh_ms_diffuse_aware_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
-  float v = saturate(vis), nl = saturate(n_dot_l), nv = saturate(n_dot_v);
-  float r = clamp(roughness, 0.01, 1.0);
-  if (!(nl > 0.0) || 2.0 * v + nl < 1.0 || 2.0 * v + nv < 1.0 || !(v > 0.0)) return 0.0;  // exact early-outs
-  if (!(v < 1.0)) return 1.0;
-  float omv = 1.0 - v, c = sqrt(omv), s = sqrt(v), alpha = r * r;
-  float wl = nl / sqrt(nl * nl + alpha * alpha * (1.0 - nl * nl));
-  float wv = nv / sqrt(nv * nv + alpha * alpha * (1.0 - nv * nv));
-  float a_l = alpha * exp2(msh_ms_aware_alu_cubic(0, r, c, wv));
-  float a_v = alpha * exp2(msh_ms_aware_alu_cubic(0, r, c, wl));
-  float q = alpha * alpha * exp2(msh_ms_aware_alu_cubic(20, r, c, wl * wv));
-  float fl = msh_ms_aware_alu_cone(v, c, s, nl, a_l, msh_ms_aware_alu_cubic(40, r, c, wv));
-  float fv = msh_ms_aware_alu_cone(v, c, s, nv, a_v, msh_ms_aware_alu_cubic(40, r, c, wl));
-  return saturate(fl * fv * (v / (v + omv * q)));
-}
-
+#include "msh_prelude.hlsl"
+#include "../portable/micro_shadowing_aware_fit.h"
 #endif  // MSH_MICRO_SHADOWING_AWARE_FIT_HLSL

@@ -1,99 +1,10 @@
-// microshadow: ALU-only approximations (no texture) of the azimuth-mean generic VNDF micro-shadowing term for
-// HLSL (SM 5.0+ / DXC / glslang's HLSL front end). Include-only; needs nothing else. Ports of
-// include/microshadow/occlusion/micro_shadowing_fit.h (form, coefficients, fit, operation counts and
-// measured error: docs/micro-shadowing.md, "ALU-only approximation").
-//
-// vis = micro-occlusion visibility in projected solid angle (cone cos_t = sqrt(1 - vis)); n_dot_l, n_dot_v
-// the shading cosines; roughness perceptual (GGX alpha = roughness^2), isotropic Smith-GGX. Fitted over vis
-// in [0,1], N.L and N.V in (0,1], roughness in [0.1,1]. Inputs are clamped to [0,1] (roughness to [0.01,1]);
-// NaN inputs are not guaranteed on GPUs (compilers may assume finite math).
-// Precision vs the C++ float functions: |diff| <= 1e-5 (tests/test_shaders_micro_shadowing_fit.cpp on
-// lavapipe, 2^14 random and degenerate inputs); the early-out 2 vis + N.L < 1 returns exactly 0 as in C++.
+// microshadow: ALU-only generic VNDF micro-shadowing fits, the HLSL entry point.
+// SM 5.0+: DXC, FXC, glslang's HLSL front end.
+// Use: `#include "<share>/shaders/hlsl/micro_shadowing_fit.hlsl"` (the compiler resolves the includes inside,
+// relative to this file).
+// The functions, written once for both languages, with sources and precision: shaders/portable/micro_shadowing_fit.h.
 #ifndef MSH_MICRO_SHADOWING_FIT_HLSL
 #define MSH_MICRO_SHADOWING_FIT_HLSL
-
-// One call: port of msh::ms::generic_vndf_alu. 40 arithmetic operations after the input clamps
-// (docs/micro-shadowing.md). Error vs the exact azimuth mean (20000 stratified random inputs over the domain):
-// RMS 4.2/255, p99 17/255, max 37/255 (docs/micro-shadowing.md).
-float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
-  float v = saturate(vis), nl = saturate(n_dot_l), nv = saturate(n_dot_v);
-  float r = clamp(roughness, 0.01, 1.0);
-  if (2.0 * v + nl < 1.0) return 0.0;  // exact early-out (msh::ms::exact_zero)
-  float omv = 1.0 - v;
-  float c = sqrt(omv), s = sqrt(v);              // cos, sin of the cone half-angle
-  float nl2 = nl * nl, sl = sqrt(1.0 - nl2);
-  float d = s * nl - c * sl;                     // sin(theta_c - theta_l)
-  float alpha = r * r;
-  float k = nv / (nv + alpha);
-  float a = alpha * (1.39397 - 0.796604 * r + 0.332797 * v - 0.467188 * k);
-  float a2 = a * a, oma2 = 1.0 - a2;
-  float q = a2 * (6.28222 + 0.384725 * v - 6.03135 * k);
-  float g = (-0.00902245 + 0.555965 * r) * omv;
-  float p1 = 1.0 + d * rsqrt(mad(oma2, d * d, a2));
-  float p2 = 1.0 + nl * rsqrt(mad(oma2, nl2, a2));
-  return saturate(p1 * (v + g * (nl - 1.0)) / ((v + omv * q) * p2));
-}
-
-// Two stages: ports of msh::ms::generic_vndf_alu_pixel (once per pixel, 80 operations) and
-// msh::ms::generic_vndf_alu_light (per light, 23 operations). More accurate than the one-call form: see
-// docs/micro-shadowing.md: RMS 0.95/255, p99 3.2/255, max 9.0/255 (5.2/255 for N.V >= 0.1).
-struct MshMsAluPixel {
-  float vis, c, s, a2, oma2, inv_st, g, den;
-};
-
-float msh_ms_alu_cubic_a(float x, float y, float z) {
-  float px = -2.9439 + x * (0.471315 + 0.396493 * x - 0.427877 * y - 0.437596 * z) + y * (1.08175 + 0.634181 * y - 1.61536 * z) +
-             z * (1.66018 + 1.05468 * z);
-  float py = 2.9061 + y * (-3.2708 + 0.342605 * y + 2.39379 * z) + z * (-2.8354 + 0.407305 * z);
-  float pz = -0.670065 + z * (-0.396618 + 0.0423424 * z);
-  return 1.0217 + x * px + y * py + z * pz;
-}
-
-float msh_ms_alu_cubic_q(float x, float y, float z) {
-  float px = -9.6416 + x * (7.56448 - 2.27743 * x - 0.05405 * y - 2.87783 * z) + y * (6.01259 - 1.88619 * y - 1.3212 * z) +
-             z * (0.966796 + 2.61554 * z);
-  float py = -26.1472 + y * (26.5267 - 9.77157 * y - 6.78087 * z) + z * (8.15792 + 3.37417 * z);
-  float pz = -0.739559 + z * (-4.27069 - 1.07619 * z);
-  return 11.644 + x * px + y * py + z * pz;
-}
-
-float msh_ms_alu_cubic_g(float x, float y, float z) {
-  float px = 3.81808 + x * (1.04404 - 0.682536 * x - 0.962631 * y + 0.460372 * z) + y * (-5.48228 + 2.19737 * y + 2.98356 * z) +
-             z * (-3.36957 + 0.488589 * z);
-  float py = 2.24386 + y * (-2.27448 + 1.15732 * y - 0.0851906 * z) + z * (-0.812951 + 0.139112 * z);
-  float pz = 0.55774 + z * (0.640291 - 0.665058 * z);
-  return -0.9204 + x * px + y * py + z * pz;
-}
-
-MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roughness) {
-  float v = saturate(vis), nv = saturate(n_dot_v);
-  float r = clamp(roughness, 0.01, 1.0);
-  MshMsAluPixel px;
-  float omv = 1.0 - v;
-  px.vis = v;
-  px.c = sqrt(omv);
-  px.s = sqrt(v);
-  float alpha = r * r, nv2 = nv * nv;
-  float wz = nv * rsqrt(nv2 + alpha * alpha * (1.0 - nv2));  // z of the stretched view direction
-  float a = alpha * exp2(msh_ms_alu_cubic_a(r, px.c, wz));
-  px.a2 = a * a;
-  px.oma2 = 1.0 - px.a2;
-  float q = px.a2 * exp2(msh_ms_alu_cubic_q(r, px.c, wz));
-  px.g = msh_ms_alu_cubic_g(r, px.c, wz) * omv;
-  px.inv_st = sqrt(mad(px.oma2, v, px.a2)) / max(px.s, 1e-6);
-  px.den = v + omv * q;
-  return px;
-}
-
-float msh_ms_generic_vndf_alu_light(MshMsAluPixel px, float n_dot_l) {
-  float nl = saturate(n_dot_l);
-  if (2.0 * px.vis + nl < 1.0) return 0.0;  // exact early-out (msh::ms::exact_zero)
-  if (!(px.vis < 1.0)) return 1.0;
-  float nl2 = nl * nl, sl = sqrt(1.0 - nl2);
-  float d = px.s * nl - px.c * sl;
-  float p1 = 1.0 + d * rsqrt(mad(px.oma2, d * d, px.a2)) * px.inv_st;
-  float p2 = 1.0 + nl * rsqrt(mad(px.oma2, nl2, px.a2));
-  return saturate(p1 * (px.vis + px.g * (nl - 1.0)) / (px.den * p2));
-}
-
+#include "msh_prelude.hlsl"
+#include "../portable/micro_shadowing_fit.h"
 #endif  // MSH_MICRO_SHADOWING_FIT_HLSL

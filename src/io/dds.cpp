@@ -21,29 +21,6 @@ constexpr std::uint32_t FOURCC_DX10 = 0x30315844;  // 'D','X','1','0'
 constexpr std::uint32_t DIM_TEXTURE2D = 3, DIM_TEXTURE3D = 4;
 constexpr std::size_t kHeaderBytes = 4 + 124 + 20;
 
-std::uint32_t dxgi_format(PixelFormat pf) {
-  switch (pf) {
-    case PixelFormat::RGBA8Unorm:
-      return 28;  // DXGI_FORMAT_R8G8B8A8_UNORM
-    case PixelFormat::RGBA16Float:
-      return 10;  // DXGI_FORMAT_R16G16B16A16_FLOAT
-    case PixelFormat::RGBA32Float:
-      return 2;  // DXGI_FORMAT_R32G32B32A32_FLOAT
-    case PixelFormat::RG16Float:
-      return 34;  // DXGI_FORMAT_R16G16_FLOAT
-    case PixelFormat::RG32Float:
-      return 16;  // DXGI_FORMAT_R32G32_FLOAT
-    case PixelFormat::R16Float:
-      return 54;  // DXGI_FORMAT_R16_FLOAT
-    case PixelFormat::R32Float:
-      return 41;  // DXGI_FORMAT_R32_FLOAT
-    case PixelFormat::R8Unorm:
-      return 61;  // DXGI_FORMAT_R8_UNORM
-    case PixelFormat::RG8Unorm:
-      return 49;  // DXGI_FORMAT_R8G8_UNORM
-  }
-  return 0;
-}
 }  // namespace
 
 void write_dds(const fs::path& path, const Volume& v, PixelFormat pf) {
@@ -74,7 +51,7 @@ void write_dds(const fs::path& path, const Volume& v, PixelFormat pf) {
   put_u32(out, 0);                              // dwCaps4
   put_u32(out, 0);                              // dwReserved2
   // DDS_HEADER_DXT10
-  put_u32(out, dxgi_format(pf));
+  put_u32(out, pixel_format_entry(pf).dxgi);
   put_u32(out, volume ? DIM_TEXTURE3D : DIM_TEXTURE2D);
   put_u32(out, 0);  // miscFlag (not a cube map)
   put_u32(out, 1);  // arraySize (must be 1 for 3D)
@@ -97,7 +74,7 @@ Volume read_dds(const fs::path& path) {
   const std::uint32_t caps2 = r.u32(4 + 108);
   const std::uint32_t dxgi = r.u32(128), dim = r.u32(132), misc = r.u32(136), array_size = r.u32(140);
   PixelFormat pf;
-  if (!pixel_format_from_code(dxgi, dxgi_format, pf))
+  if (!pixel_format_from_code(dxgi, &PixelFormatEntry::dxgi, pf))
     fail(path, fmt::format("unsupported DXGI format {}", dxgi));
   if (misc & 0x4) fail(path, "cube maps are not supported");
   if (array_size > 1) fail(path, "texture arrays are not supported");

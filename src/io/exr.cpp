@@ -87,39 +87,100 @@ void write_exr_volume(const fs::path& path, const Volume& v, bool half) {
 }
 
 namespace {
+// The value size OpenEXR's typed attributes read whatever the declared size (they parse by content): fixed-
+// size types; 0 for a type read by its declared size (string, floatvector, unknown types kept opaque) or
+// walked below (chlist, preview, stringvector). OpenEXR 3.1's attribute types (Kainz et al., "Technical
+// Introduction to OpenEXR"; "OpenEXR File Layout").
+std::size_t fixed_attribute_size(std::string_view type) {
+  static constexpr std::pair<std::string_view, std::size_t> kFixed[] = {{"box2i", 16},
+                                                                        {"box2f", 16},
+                                                                        {"chromaticities", 32},
+                                                                        {"compression", 1},
+                                                                        {"deepImageState", 1},
+                                                                        {"double", 8},
+                                                                        {"envmap", 1},
+                                                                        {"float", 4},
+                                                                        {"int", 4},
+                                                                        {"keycode", 28},
+                                                                        {"lineOrder", 1},
+                                                                        {"m33f", 36},
+                                                                        {"m33d", 72},
+                                                                        {"m44f", 64},
+                                                                        {"m44d", 128},
+                                                                        {"rational", 8},
+                                                                        {"tiledesc", 9},
+                                                                        {"timecode", 8},
+                                                                        {"v2i", 8},
+                                                                        {"v2f", 8},
+                                                                        {"v2d", 16},
+                                                                        {"v3i", 12},
+                                                                        {"v3f", 12},
+                                                                        {"v3d", 24}};
+  for (const auto& [name, size] : kFixed)
+    if (name == type) return size;
+  return 0;
+}
+
 // OpenEXR allocates each header attribute's declared size before reading it: a 500-byte file declaring a
 // ~2 GB attribute of an unknown type made every read take seconds under ASan (fuzzing: a 10 s timeout).
-// Walk the header(s) first and require every declared size to fit in the file. The InputFile constructor
-// also allocates and clears line buffers for the whole data window (a 312-byte file declaring a 10⁹ × 65537
-// window timed out the same way), so every data window in the file is checked against our limits here too.
-void check_exr_attribute_sizes(const fs::path& path) {
+// Walk the header(s) first and require every declared size to fit in the file. OpenEXR parses a chlist, a
+// preview and the fixed-size types by their content, not by the declared size, so the walk requires the
+// two to agree: otherwise the two parsers fall out of step and the attribute OpenEXR reads next is one this
+// walk never saw (fuzzing found that twice: a window and a 1.6 GB attribute behind a chlist). The InputFile
+// constructor also allocates and clears line buffers for the whole data window (a 312-byte file declaring
+// a 10⁹ × 65537 window timed out the same way), so every data window is checked against our limits here.
+void check_exr_header(const fs::path& path) {
   const std::vector<std::byte> bytes = read_file(path);
   const ByteReader r{bytes, &path};
   if (r.u32(0) != 20000630u) fail(path, "not an OpenEXR file (bad magic)");
   const bool multipart = (r.u32(4) & 0x1000u) != 0;
   std::size_t pos = 8;
-  const auto skip_string = [&] {  // a NUL-terminated name; returns its length
+  const auto read_string = [&] {  // a NUL-terminated name
     const std::size_t start = pos;
     for (r.require(pos, 1); bytes[pos] != std::byte{0}; r.require(pos, 1)) ++pos;
-    return pos++ - start;
+    return std::string_view(reinterpret_cast<const char*>(bytes.data()) + start, pos++ - start);
+  };
+  const auto corrupt = [&](std::string_view raw_name, std::string_view type, std::uint32_t size) {
+    std::string name(raw_name);
+    for (char& c : name)
+      if (c < ' ' || c > '~') c = '?';  // fuzzed names hold control bytes
+    fail(path, fmt::format("EXR header attribute '{}' of type {} declares {} bytes, which its value does not "
+                           "fill (corrupt header)",
+                           name, type, size));
   };
   for (bool more = true; more;) {
     bool empty = true;
-    while (skip_string() != 0) {  // name, type, size, value; an empty name ends the header
+    for (std::string_view name; !(name = read_string()).empty();) {  // an empty name ends the header
       empty = false;
-      skip_string();
+      const std::string_view type = read_string();
       const std::uint32_t size = r.u32(pos);
       pos += 4;
       if (size > bytes.size() - pos)
         fail(path, fmt::format("EXR header attribute of {} bytes in a file of {} bytes (corrupt header)",
                                size, bytes.size()));
-      pos += size;
+      const std::size_t end = pos + size;
+      if (const std::size_t fixed = fixed_attribute_size(type); fixed != 0) {
+        if (size != fixed) corrupt(name, type, size);
+      } else if (type == "chlist") {  // {name, int32 type, uint8 linear, 3 reserved, int32 x/y sampling}*, ""
+        while (!read_string().empty()) pos += 16;
+        if (pos != end) corrupt(name, type, size);
+      } else if (type == "preview") {  // uint32 width, height, then RGBA8 texels (OpenEXR: w·h in 32 bits)
+        if (size < 8 || r.u32(pos) > (1u << 16) || r.u32(pos + 4) > (1u << 16) ||
+            std::uint64_t(r.u32(pos)) * r.u32(pos + 4) * 4 != size - 8)
+          corrupt(name, type, size);
+      } else if (type == "stringvector") {  // {int32 length, bytes}* filling the value
+        for (std::size_t at = pos; at != end; at += 4 + r.u32(at))
+          if (end - at < 4 || r.u32(at) > end - at - 4) corrupt(name, type, size);
+      } else if (type == "idmanifest") {  // compressed, with an uncompressed size OpenEXR allocates up front
+        fail(path, "EXR ID manifests (idmanifest attributes) are not supported");
+      }
+      pos = end;
     }
     more = multipart && !empty;  // multi-part: headers follow one another, an empty one ends the list
   }
-  // Every "dataWindow" box2i attribute anywhere in the file (OpenEXR parses some attribute values by their
-  // content, not by their declared size, so a walk by sizes can miss the one it reads: a fuzzed chlist did):
-  // the window stacks a volume's slices (height = depth × slice height), so width and total size only.
+  // Every "dataWindow" box2i attribute anywhere in the file (a second line of defence should another
+  // attribute type parse by content): the window stacks a volume's slices (height = depth × slice height),
+  // so width and total size only.
   static constexpr char kWindow[] = "dataWindow\0box2i\0\x10\0\0\0";
   constexpr std::size_t kLen = sizeof(kWindow) - 1;
   for (std::size_t at = 0; at + kLen + 16 <= bytes.size(); ++at) {
@@ -137,7 +198,7 @@ void check_exr_attribute_sizes(const fs::path& path) {
 Volume read_exr(const fs::path& path, bool as_volume) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) fail(path, "cannot open file");
-  check_exr_attribute_sizes(path);
+  check_exr_header(path);
   try {
     Imf::InputFile in(path.c_str());
     const Imf::Header& h = in.header();

@@ -16,30 +16,6 @@ namespace {
 constexpr unsigned char kIdentifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32,
                                            0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
 
-std::uint32_t vk_format(PixelFormat pf) {
-  switch (pf) {
-    case PixelFormat::RGBA8Unorm:
-      return 37;  // VK_FORMAT_R8G8B8A8_UNORM
-    case PixelFormat::RGBA16Float:
-      return 97;  // VK_FORMAT_R16G16B16A16_SFLOAT
-    case PixelFormat::RGBA32Float:
-      return 109;  // VK_FORMAT_R32G32B32A32_SFLOAT
-    case PixelFormat::RG16Float:
-      return 83;  // VK_FORMAT_R16G16_SFLOAT
-    case PixelFormat::RG32Float:
-      return 103;  // VK_FORMAT_R32G32_SFLOAT
-    case PixelFormat::R16Float:
-      return 76;  // VK_FORMAT_R16_SFLOAT
-    case PixelFormat::R32Float:
-      return 100;  // VK_FORMAT_R32_SFLOAT
-    case PixelFormat::R8Unorm:
-      return 9;  // VK_FORMAT_R8_UNORM
-    case PixelFormat::RG8Unorm:
-      return 16;  // VK_FORMAT_R8G8_UNORM
-  }
-  return 0;
-}
-
 // Basic DFD for an unpacked little-endian RGBA-ordered format (KDFS 1.3 §5; one sample per channel).
 std::vector<std::byte> basic_dfd(PixelFormat pf) {
   const PixelInfo pi = pixel_info(pf);
@@ -101,7 +77,7 @@ void write_ktx2(const fs::path& path, const Volume& v, PixelFormat pf) {
   std::vector<std::byte> out;
   out.reserve(level_offset + texels.size());
   for (unsigned char c : kIdentifier) out.push_back(std::byte(c));
-  put_u32(out, vk_format(pf));
+  put_u32(out, pixel_format_entry(pf).vk);
   put_u32(out, std::uint32_t(pi.bytes_per_channel));  // typeSize
   put_u32(out, std::uint32_t(v.width));
   put_u32(out, std::uint32_t(v.height));
@@ -134,7 +110,8 @@ Volume read_ktx2(const fs::path& path) {
   const std::uint32_t vk = r.u32(12), width = r.u32(20), height = r.u32(24), depth = r.u32(28);
   const std::uint32_t layers = r.u32(32), faces = r.u32(36), levels = r.u32(40), scheme = r.u32(44);
   PixelFormat pf;
-  if (!pixel_format_from_code(vk, vk_format, pf)) fail(path, fmt::format("unsupported vkFormat {}", vk));
+  if (!pixel_format_from_code(vk, &PixelFormatEntry::vk, pf))
+    fail(path, fmt::format("unsupported vkFormat {}", vk));
   if (scheme != 0) fail(path, "supercompressed KTX2 files are not supported");
   if (layers > 1 || faces != 1) fail(path, "KTX2 arrays and cube maps are not supported");
   if (height == 0) fail(path, "1D KTX2 textures are not supported");

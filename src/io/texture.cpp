@@ -138,11 +138,12 @@ void fail(const fs::path& path, const std::string& what) {
   throw InputError(fmt::format("'{}': {}", path.string(), what));
 }
 
-PixelInfo pixel_info(PixelFormat pf) {
+const PixelFormatEntry& pixel_format_entry(PixelFormat pf) {
   for (const PixelFormatEntry& e : kPixelFormats)
-    if (e.pf == pf) return e.info;
+    if (e.pf == pf) return e;
   throw InputError("invalid pixel format");
 }
+PixelInfo pixel_info(PixelFormat pf) { return pixel_format_entry(pf).info; }
 
 void check_dimensions(const fs::path& path, long long w, long long h, long long d, long long c) {
   if (w < 1 || h < 1 || d < 1 || c < 1 || w > kMaxDimension || h > kMaxDimension || d > kMaxDimension ||

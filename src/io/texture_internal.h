@@ -26,26 +26,37 @@ struct PixelInfo {
   bool is_float;
   int texel_bytes() const { return channels * bytes_per_channel; }
 };
-PixelInfo pixel_info(PixelFormat pf);
+PixelInfo pixel_info(PixelFormat pf);  // pixel_format_entry(pf).info
 
-// Every PixelFormat, in declaration order: its name (pixel_format_from_name) and layout (pixel_info).
+// Every PixelFormat, in declaration order: its name (pixel_format_from_name), layout (pixel_info) and its
+// codes in the two GPU container formats: DXGI_FORMAT (DDS DX10 header, Microsoft "DXGI_FORMAT enumeration")
+// and VkFormat (KTX2 vkFormat, Vulkan 1.3 specification), both the little-endian unpacked RGBA-ordered kind.
 struct PixelFormatEntry {
   PixelFormat pf;
   const char* name;
   PixelInfo info;
+  std::uint32_t dxgi;  // DXGI_FORMAT_*
+  std::uint32_t vk;    // VK_FORMAT_*
 };
 inline constexpr PixelFormatEntry kPixelFormats[] = {
-    {PixelFormat::RGBA8Unorm, "rgba8", {4, 1, false}},   {PixelFormat::RGBA16Float, "rgba16f", {4, 2, true}},
-    {PixelFormat::RGBA32Float, "rgba32f", {4, 4, true}}, {PixelFormat::RG16Float, "rg16f", {2, 2, true}},
-    {PixelFormat::RG32Float, "rg32f", {2, 4, true}},     {PixelFormat::R16Float, "r16f", {1, 2, true}},
-    {PixelFormat::R32Float, "r32f", {1, 4, true}},       {PixelFormat::R8Unorm, "r8", {1, 1, false}},
-    {PixelFormat::RG8Unorm, "rg8", {2, 1, false}}};
+    {PixelFormat::RGBA8Unorm, "rgba8", {4, 1, false}, 28, 37},    // R8G8B8A8_UNORM
+    {PixelFormat::RGBA16Float, "rgba16f", {4, 2, true}, 10, 97},  // R16G16B16A16_FLOAT / _SFLOAT
+    {PixelFormat::RGBA32Float, "rgba32f", {4, 4, true}, 2, 109},  // R32G32B32A32_FLOAT / _SFLOAT
+    {PixelFormat::RG16Float, "rg16f", {2, 2, true}, 34, 83},      // R16G16_FLOAT / _SFLOAT
+    {PixelFormat::RG32Float, "rg32f", {2, 4, true}, 16, 103},     // R32G32_FLOAT / _SFLOAT
+    {PixelFormat::R16Float, "r16f", {1, 2, true}, 54, 76},        // R16_FLOAT / _SFLOAT
+    {PixelFormat::R32Float, "r32f", {1, 4, true}, 41, 100},       // R32_FLOAT / _SFLOAT
+    {PixelFormat::R8Unorm, "r8", {1, 1, false}, 61, 9},           // R8_UNORM
+    {PixelFormat::RG8Unorm, "rg8", {2, 1, false}, 49, 16}};       // R8G8_UNORM
 
-// The reverse of a file format's code table code(pf) (DXGI, vkFormat): false when no format has `value`.
-template <class Code>
-bool pixel_format_from_code(std::uint32_t value, Code code, PixelFormat& pf) {
+// The table's row of `pf` (InputError for a value outside the enum).
+const PixelFormatEntry& pixel_format_entry(PixelFormat pf);
+
+// The reverse of a code column (&PixelFormatEntry::dxgi or ::vk): false when no format has `value`.
+inline bool pixel_format_from_code(std::uint32_t value, std::uint32_t PixelFormatEntry::*code,
+                                   PixelFormat& pf) {
   for (const PixelFormatEntry& e : kPixelFormats)
-    if (code(e.pf) == value) return pf = e.pf, true;
+    if (e.*code == value) return pf = e.pf, true;
   return false;
 }
 

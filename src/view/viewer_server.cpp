@@ -30,6 +30,8 @@
 #include <thread>
 #include <vector>
 
+#include "shader_source.h"
+
 namespace fs = std::filesystem;
 
 namespace msh::view {
@@ -297,9 +299,9 @@ void export_viewer(const ViewerOptions& o, const fs::path& out) {
     }
     nlohmann::json man = c.manifest;
     man["glsl"] = glsl_files(o.assets / "shaders" / "glsl");
-    for (const auto& g : man["glsl"])
-      fs::copy_file(o.assets / "shaders" / "glsl" / g.get<std::string>(),
-                    tmp / "shaders" / "glsl" / g.get<std::string>());
+    for (const auto& g : man["glsl"])  // with their includes expanded: WebGL2 has no #include
+      std::ofstream(tmp / "shaders" / "glsl" / g.get<std::string>(), std::ios::binary)
+          << expand_shader_includes(o.assets / "shaders" / "glsl" / g.get<std::string>());
     for (const auto& [path, blob] : c.data) {
       std::ofstream f(tmp / path, std::ios::binary);
       f.write(blob.bytes.data(), std::streamsize(blob.bytes.size()));
@@ -383,7 +385,11 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
       return;
     }
     try {
-      res.set_content(read_bytes(file), mime_type(p).c_str());
+      // The GLSL files with their includes expanded (WebGL2 has no #include; shader_source.h).
+      if (!static_root && p.rfind("shaders/glsl/", 0) == 0)
+        res.set_content(expand_shader_includes(file), mime_type(p).c_str());
+      else
+        res.set_content(read_bytes(file), mime_type(p).c_str());
     } catch (const InputError&) {
       res.status = 500;
     }

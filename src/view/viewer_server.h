@@ -1,5 +1,6 @@
 // The browser viewer's HTTP server (`microshadow view`, docs/viewer.md): serves the page (web/), the GLSL
-// files (shaders/glsl/*.glsl, read from disk on every request: the page includes them at load time), a
+// files (shaders/glsl/*.glsl, read from disk on every request with their #include lines expanded: the page
+// concatenates them at load time), a
 // texture set (a gen-material folder) and the baked micro-shadowing tables as raw half floats with their
 // sidecar JSON. Loopback only. I/O and threads: not part of the embeddable core.
 #pragma once

@@ -5,7 +5,10 @@
 #include <microshadow/math/sampling.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
+
+#include "shader_kernel.h"
 
 namespace msh::test {
 
@@ -33,6 +36,15 @@ inline std::vector<FitInput> fit_inputs(bool nv_boundaries) {
       for (float c : vals)
         for (float d : {0.0f, 1e-6f, 0.1f, 1.0f, 1.5f}) recs.push_back({a, b, c, d});
   return recs;
+}
+
+// The fit tests' kernel around shader library `library`: record i is a FitInput read as the vec4 r = (vis,
+// N.L, N.V, roughness); o[i] (of GLSL type `out_type`) = `value`, a GLSL expression in r (respelled for HLSL
+// by vk::hlsl_spelling).
+inline vk::Kernel fit_kernel(const std::string& library, const std::string& out_type,
+                             const std::string& value) {
+  return vk::framed_kernel({library}, {{"in vec4 rec", "out " + out_type + " o"}, {}, ""}, "",
+                           "  vec4 r = rec[i];\n  o[i] = " + value + ";\n");
 }
 
 }  // namespace msh::test

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "../../src/view/shader_source.h"
+
 namespace msh::test::vk {
 
 enum class Lang { kGlsl, kHlsl };
@@ -71,12 +73,10 @@ class Context {
   std::string device_name_;
 };
 
-// A shader source file of the repository, read whole (path relative to the source tree).
+// A shader source file of the repository (path relative to the source tree) with its #include lines
+// expanded, the text the viewer serves (src/view/shader_source.h).
 inline std::string read_source(const std::string& rel) {
-  std::ifstream f(std::string(MSH_SOURCE_DIR) + "/" + rel);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+  return msh::view::expand_shader_includes(std::string(MSH_SOURCE_DIR) + "/" + rel);
 }
 
 }  // namespace msh::test::vk

@@ -205,27 +205,26 @@ inline std::vector<double> standard_z_breaks(double V) {
           std::sqrt(std::max(0.0, 1 - std::pow(v, 5)))};
 }
 
+// The closed-form terms of occlusion/micro_shadowing.h as point terms: M(V, n·l) with the z where each kinks.
+// (A captureless term is a function pointer, so the four share one PointTerm type.)
+inline auto closed_form_term(double V, double (*term)(double, double), std::vector<double> z_breaks) {
+  return PointTerm{[V, term](const Vec3d& l) { return term(V, l.z); }, std::move(z_breaks), true};
+}
 inline auto reference_step_term(double V) {
-  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::reference_step(V, l.z); },
-                   {micro_shadowing::cone_cos_from_visibility(saturate(V))},
-                   true};
+  return closed_form_term(V, micro_shadowing::reference_step<double>,
+                          {micro_shadowing::cone_cos_from_visibility(saturate(V))});
 }
 inline auto brinck_maximov_2016_term(double V) {
   const double v = saturate(V);
-  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::brinck_maximov_2016(V, l.z); },
-                   {1 - 2 * v * v, 2 - 2 * v * v},
-                   true};
+  return closed_form_term(V, micro_shadowing::brinck_maximov_2016<double>, {1 - 2 * v * v, 2 - 2 * v * v});
 }
 inline auto chan_2018_term(double V) {
-  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::chan_2018(V, l.z); },
-                   {micro_shadowing::cone_cos_from_visibility(saturate(V))},
-                   true};
+  return closed_form_term(V, micro_shadowing::chan_2018<double>,
+                          {micro_shadowing::cone_cos_from_visibility(saturate(V))});
 }
 inline auto part1_analytic_term(double V) {
-  const double v = saturate(V);
-  return PointTerm{[V](const Vec3d& l) { return micro_shadowing::part1_analytic(V, l.z); },
-                   {std::sqrt(std::max(0.0, 1 - std::pow(v, 5)))},
-                   true};
+  return closed_form_term(V, micro_shadowing::part1_analytic<double>,
+                          {std::sqrt(std::max(0.0, 1 - std::pow(saturate(V), 5)))});
 }
 // The generic VNDF term (Zurita 2026b) at the full direction l, exact (micro_shadowing::generic_vndf_exact),
 // view v.
