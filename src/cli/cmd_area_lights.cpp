@@ -97,6 +97,39 @@ bsdf::LtcLightCone<float> sphere_cone_float(const bsdf::LtcCoeffs<double>& k, co
                                      bsdf::ltc_tail_weight(float(g.alpha)));
 }
 
+// A point of the LTC and aware blocks: its clamped view, the sphere light (cap) centred on its N·L direction,
+// the GGX receiver, the table's LTC there and the cap's cone-clipped LTC with the tail (double and float).
+struct GgxCapPoint {
+  ClampedView g;
+  Vec3d n, c;
+  area::Cap cap;
+  area::Receiver ggx;
+  bsdf::LtcCoeffs<double> k;
+  bsdf::LtcLightCone<double> lc;
+  bsdf::LtcLightCone<float> lf;
+};
+GgxCapPoint ggx_cap_point(const Input& in, const bsdf::LtcTable& table) {
+  const ClampedView g = clamped_view(in);
+  const Vec3d n(0, 0, 1), c = spherical_direction(in.nl, 0.0);
+  const bsdf::LtcCoeffs<double> k = table.fetch(g.r, g.nv);
+  return {g,
+          n,
+          c,
+          area::Cap{c, in.rho},
+          area::Receiver::ggx(g.alpha, g.v),
+          k,
+          bsdf::ltc_light_cone_sphere(k.inv_m(), n, g.v, c, std::sin(in.rho), bsdf::ltc_tail_weight(g.alpha)),
+          sphere_cone_float(k, g, c, in.rho)};
+}
+
+// One row of errors per Sobol point i < count: fill(input_at(i), row), in parallel.
+template <size_t N, class Fill>
+std::vector<std::array<double, N>> error_rows(int count, const VerifyArgs& a, const Fill& fill) {
+  auto rows = std::vector<std::array<double, N>>(size_t(count));
+  tbb::parallel_for(0, count, [&](int i) { fill(input_at(uint32_t(i), a), rows[size_t(i)]); });
+  return rows;
+}
+
 nlohmann::json summary(std::vector<double> err) {
   if (err.empty()) return nullptr;
   double ss = 0, bias = 0;
@@ -175,14 +208,11 @@ void run_verify(const VerifyArgs& a) {
                                       "part1_analytic_area_n4_float",
                                       "part1_analytic_point_at_centre",
                                       "oat_sander_vs_mazonka_solid_angle_fraction_of_light"};
-  std::vector<std::array<double, kForms>> rows(size_t(a.points));
-  tbb::parallel_for(0, a.points, [&](int i) {
-    const Input in = input_at(uint32_t(i), a);
+  const auto rows = error_rows<kForms>(a.points, a, [&](const Input& in, auto& r) {
     const area::Cap cap{spherical_direction(in.nl, 0.0), in.rho};
     auto exact = [&](const auto& t) {
       return area::area_micro_shadowing_exact(cap, area::Receiver::lambert(), t);
     };
-    auto& r = rows[size_t(i)];
     const double step = exact(area::reference_step_term(in.V));
     r[kStepCosine] = micro_shadowing::reference_step_area_cap(in.V, in.nl, in.rho) - step;
     r[kStepMazonka] = micro_shadowing::reference_step_area_cap_solid_angle(in.V, in.nl, in.rho) - step;
@@ -219,9 +249,7 @@ void run_verify(const VerifyArgs& a) {
   static const char* gnames[kGForms] = {"generic_vndf_alu_area_n4_float", "generic_vndf_exact_mean_area_n4",
                                         "generic_vndf_alu_point_at_centre",
                                         "generic_vndf_alu_point_error_at_centre (the fit alone)"};
-  std::vector<std::array<double, kGForms>> grows(size_t(a.generic_points));
-  tbb::parallel_for(0, a.generic_points, [&](int i) {
-    const Input in = input_at(uint32_t(i), a);
+  const auto grows = error_rows<kGForms>(a.generic_points, a, [&](const Input& in, auto& r) {
     const double alpha = roughness_to_alpha(in.r);
     auto mean = [&](double z) {
       return micro_shadowing::generic_vndf_exact_azimuth_mean(in.V, alpha, z, in.nv);
@@ -230,7 +258,6 @@ void run_verify(const VerifyArgs& a) {
     const area::PointTerm term{
         [&](const Vec3d& l) { return mean(std::clamp(l.z, 0.0, 1.0)); }, {1 - 2 * in.V}, true};
     const double ex = area::area_micro_shadowing_exact(cap, area::Receiver::lambert(), term, {1e-7});
-    auto& r = grows[size_t(i)];
     r[kGenAlu] = double(micro_shadowing::generic_vndf_alu_area_cap(float(in.V), float(in.nl), float(in.nv),
                                                                    float(in.r), float(in.rho))) -
                  ex;
@@ -279,15 +306,12 @@ void run_verify(const VerifyArgs& a) {
                                         "rect_brinck_maximov_2016_point_at_centre",
                                         "rect_chan_2018_equivalent_cap_n4",
                                         "rect_part1_analytic_equivalent_cap_n4"};
-  std::vector<std::array<double, kSForms>> srows(size_t(a.shape_points));
-  tbb::parallel_for(0, a.shape_points, [&](int i) {
-    const Input in = input_at(uint32_t(i), a);
+  const auto srows = error_rows<kSForms>(a.shape_points, a, [&](const Input& in, auto& r) {
     const ShapeLights sl = shape_lights(in);
     const area::Disk& disk = sl.disk;
     const area::Quad& quad = sl.quad;
     const Vec3d Fd = micro_shadowing::disk_vector_form_factor(disk.center, disk.normal, disk.radius);
     const Vec3d Fr = micro_shadowing::polygon_vector_form_factor(quad.corners.data(), 4);
-    auto& r = srows[size_t(i)];
     auto shape_rows = [&](const area::Shape& sh, const Vec3d& F, float step_float, int base) {
       auto exact = [&](const auto& t) {
         return area::area_micro_shadowing_exact(sh, area::Receiver::lambert(), t, {1e-7});
@@ -377,17 +401,14 @@ void run_verify(const VerifyArgs& a) {
                                         "ltc_rect_brinck_maximov_2016_lambert_cone_clip_n4",
                                         "ltc_rect_chan_2018_lambert_cone_clip_n4",
                                         "ltc_rect_part1_analytic_lambert_cone_clip_n4"};
-  std::vector<std::array<double, kLForms>> lrows(size_t(a.ltc_points));
-  tbb::parallel_for(0, a.ltc_points, [&](int i) {
-    const Input in = input_at(uint32_t(i), a);
-    const ClampedView g = clamped_view(in);
-    const double nv = g.nv, r = g.r, alpha = g.alpha;
-    const Vec3d n(0, 0, 1), v = g.v, c = spherical_direction(in.nl, 0.0);
-    const area::Cap cap{c, in.rho};
+  const auto lrows = error_rows<kLForms>(a.ltc_points, a, [&](const Input& in, auto& row) {
+    const GgxCapPoint p = ggx_cap_point(in, table);
+    const Vec3d &n = p.n, &v = p.g.v, &c = p.c;
+    const area::Cap& cap = p.cap;
     const ShapeLights sl = shape_lights(in);
     const area::Disk& disk = sl.disk;
     const area::Quad& quad = sl.quad;
-    const area::Receiver ggx = area::Receiver::ggx(alpha, v), lam = area::Receiver::lambert();
+    const area::Receiver &ggx = p.ggx, lam = area::Receiver::lambert();
     auto exact = [&](const area::Shape& sh, const area::Receiver& rc, const auto& t) {
       return area::area_micro_shadowing_exact(sh, rc, t, {1e-7});
     };
@@ -398,10 +419,10 @@ void run_verify(const VerifyArgs& a) {
     auto chan = [V](double z) { return micro_shadowing::chan_2018(V, z); };
     auto part1 = [V](double z) { return micro_shadowing::part1_analytic(V, z); };
     const auto bk = micro_shadowing::brinck_maximov_2016_kinks(V);
-    const bsdf::LtcCoeffs<double> k = table.fetch(r, nv);
+    const bsdf::LtcCoeffs<double>& k = p.k;
     const bsdf::Mat3<double> minv = k.inv_m(), id{};
-    const double tail = bsdf::ltc_tail_weight(alpha);
-    const auto lc = bsdf::ltc_light_cone_sphere(minv, n, v, c, std::sin(in.rho), tail);
+    const double tail = bsdf::ltc_tail_weight(p.g.alpha);
+    const auto& lc = p.lc;
     const auto ld = bsdf::ltc_light_cone_disk(minv, n, v, disk.center, disk.normal, disk.radius, tail);
     const auto lr = bsdf::ltc_light_cone_polygon(minv, n, v, quad.corners.data(), 4, tail);
     const auto ldl = bsdf::ltc_light_cone_disk(id, n, v, disk.center, disk.normal, disk.radius);
@@ -412,11 +433,9 @@ void run_verify(const VerifyArgs& a) {
         micro_shadowing::disk_vector_form_factor(disk.center, disk.normal, disk.radius));
     const auto eqr =
         micro_shadowing::equivalent_cap(micro_shadowing::polygon_vector_form_factor(quad.corners.data(), 4));
-    auto& row = lrows[size_t(i)];
     const double sc = exact(cap, ggx, step_t), bc = exact(cap, ggx, bm_t);
     row[kCapStepGgx] = bsdf::ltc_reference_step_area(lc, ct) - sc;
-    row[kCapStepGgxFloat] =
-        double(bsdf::ltc_reference_step_area(sphere_cone_float(k, g, c, in.rho), float(ct))) - sc;
+    row[kCapStepGgxFloat] = double(bsdf::ltc_reference_step_area(p.lf, float(ct))) - sc;
     const auto lrf =
         bsdf::ltc_light_cone_polygon(bsdf::Mat3<float>{}, Vec3f(0, 0, 1), Vec3f(v), sl.quad_float.data(), 4);
     row[kRectStepLambertFloat] =
@@ -485,21 +504,16 @@ void run_verify(const VerifyArgs& a) {
                                         "ggx_cap_specular_aware_mean_ltc_cone_clip_n4",
                                         "ggx_cap_specular_aware_mean_ltc_cone_clip_n4_float",
                                         "ggx_cap_specular_aware_point_at_ltc_representative"};
-  std::vector<std::array<double, kAForms>> arows(size_t(a.aware_points));
-  tbb::parallel_for(0, a.aware_points, [&](int i) {
-    const Input in = input_at(uint32_t(i), a);
-    const ClampedView g = clamped_view(in);
-    const double nv = g.nv, r = g.r, alpha = g.alpha;
-    const Vec3d n(0, 0, 1), v = g.v, c = spherical_direction(in.nl, 0.0);
-    const area::Cap cap{c, in.rho};
-    const area::Receiver ggx = area::Receiver::ggx(alpha, v);
+  const auto arows = error_rows<kAForms>(a.aware_points, a, [&](const Input& in, auto& row) {
+    const GgxCapPoint p = ggx_cap_point(in, table);
+    const double nv = p.g.nv, r = p.g.r, alpha = p.g.alpha;
+    const Vec3d& v = p.g.v;
+    const area::Cap& cap = p.cap;
+    const area::Receiver& ggx = p.ggx;
     const double V = in.V;
-    const bsdf::LtcCoeffs<double> k = table.fetch(r, nv);
-    const auto lc =
-        bsdf::ltc_light_cone_sphere(k.inv_m(), n, v, c, std::sin(in.rho), bsdf::ltc_tail_weight(alpha));
-    const auto lf = sphere_cone_float(k, g, c, in.rho);
-    const Vec3d rep = bsdf::ltc_shade_sphere(k, n, v, c, std::sin(in.rho)).direction;
-    auto& row = arows[size_t(i)];
+    const bsdf::LtcLightCone<double>& lc = p.lc;
+    const bsdf::LtcLightCone<float>& lf = p.lf;
+    const Vec3d rep = bsdf::ltc_shade_sphere(p.k, p.n, v, p.c, std::sin(in.rho)).direction;
     const double gen =
         area::area_micro_shadowing_exact(cap, ggx, area::generic_vndf_term(V, alpha, alpha, v), {1e-6});
     const auto gk = micro_shadowing::generic_vndf_kinks(V, r);

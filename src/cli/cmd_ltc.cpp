@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 #include <microshadow/bsdf/runtime/ltc_baker.h>
 #include <microshadow/io/texture.h>
-#include <tbb/global_control.h>
 
 #include <filesystem>
 #include <iostream>
@@ -100,10 +99,7 @@ void run_verify_ltc(const VerifyLtcOptions& a) {
     throw UsageError(fmt::format("--sides must be in [3, 16], got {}", v.polygon_sides));
   if (a.threads < 0) throw UsageError("--threads must be ≥ 0");
   const bsdf::LtcTable t = bsdf::load_ltc_table(a.file);
-  std::unique_ptr<tbb::global_control> gc;
-  if (a.threads > 0)
-    gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               size_t(a.threads));
+  const auto limit = thread_limit(a.threads);
   const bsdf::LtcVerifyReport r = bsdf::verify_ltc_table(t, v);
   nlohmann::json j;
   j["file"] = a.file;

@@ -4,7 +4,6 @@
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/scene.h>
 #include <microshadow/render/texture_gen.h>
-#include <tbb/global_control.h>
 
 #include <atomic>
 #include <iostream>
@@ -15,12 +14,6 @@
 
 namespace msh::cli {
 namespace {
-
-std::unique_ptr<tbb::global_control> thread_limit(int threads) {
-  if (threads <= 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               std::size_t(threads));
-}
 
 struct RenderArgs {
   std::string scene, out, method, bump, lut, assets, ms_normal, component, gt_intersector, area_ms;
@@ -67,12 +60,7 @@ void run_render(const RenderArgs& a) {
   // --method a,b,c renders each method in turn (one process: the scene and the LUT load once) to
   // PREFIX_<method>.{exr,png}; a single method writes PREFIX.{exr,png}.
   std::vector<MicroShadowing> methods;
-  std::string rest = a.method;
-  while (!rest.empty()) {
-    const auto comma = rest.find(',');
-    methods.push_back(micro_shadowing_from_string(rest.substr(0, comma)));
-    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-  }
+  for (const std::string& m : split_list(a.method)) methods.push_back(micro_shadowing_from_string(m));
   if (methods.empty()) methods.push_back(s.micro_shadowing);
   for (const MicroShadowing method : methods) {
     s.micro_shadowing = method;

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 #include <microshadow/study/study.h>
-#include <tbb/global_control.h>
 
 #include <cstdlib>
 #include <iostream>
@@ -34,8 +33,9 @@ void add_study(Groups& g) {
       "Area-light section instead (docs/area-lights.md): sphere lights of 1-40 degrees angular "
       "radius, a disk and a rect; micro-shadowing per sample, at the representative point, integrated; "
       "also writes DIR/area_summary.md");
-  s->add_option("--area-ms", a->area_ms,
-                "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
+  s->add_option(
+      "--area-ms", a->area_ms,
+      "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
   s->add_option("--materials", a->materials, "Comma-separated material kinds (default: the study's list)");
   s->add_option("--scales", a->scales, "Comma-separated scales k (default: the study's list)");
   s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
@@ -51,29 +51,16 @@ void add_study(Groups& g) {
       ->check(CLI::Range(0, 1024));
   s->add_flag("--quiet", a->quiet, "No progress on stderr");
   s->callback([a] {
-    std::unique_ptr<tbb::global_control> limit;
-    if (a->threads > 0)
-      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    std::size_t(a->threads));
+    const auto limit = thread_limit(a->threads);
     study::StudyConfig c = a->area    ? study::area_config(a->quick)
                            : a->quick ? study::quick_config()
                                       : study::full_config();
-    auto split = [](const std::string& text) {
-      std::vector<std::string> v;
-      std::string rest = text;
-      while (!rest.empty()) {
-        const auto comma = rest.find(',');
-        v.push_back(rest.substr(0, comma));
-        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-      }
-      return v;
-    };
-    if (!a->materials.empty()) c.materials = split(a->materials);
-    if (!a->shapes.empty()) c.shapes = split(a->shapes);
-    if (!a->area_ms.empty()) c.area_ms_modes = split(a->area_ms);
+    if (!a->materials.empty()) c.materials = split_list(a->materials);
+    if (!a->shapes.empty()) c.shapes = split_list(a->shapes);
+    if (!a->area_ms.empty()) c.area_ms_modes = split_list(a->area_ms);
     if (!a->scales.empty()) {
       c.scales.clear();
-      for (const std::string& k : split(a->scales)) {
+      for (const std::string& k : split_list(a->scales)) {
         char* end = nullptr;
         const long v = std::strtol(k.c_str(), &end, 10);
         if (k.empty() || *end != '\0' || v < 1 || v > 4096)

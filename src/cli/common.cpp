@@ -29,10 +29,27 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
   return v;
 }
 
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> v;
+  std::string rest = text;
+  while (!rest.empty()) {
+    const auto comma = rest.find(',');
+    v.push_back(rest.substr(0, comma));
+    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+  }
+  return v;
+}
+
 Vec3d parse_vec3(const std::string& text, const std::string& what) {
   const std::vector<double> v = parse_list(text, what);
   if (v.size() != 3) throw UsageError(fmt::format("{} must be three numbers X,Y,Z, got '{}'", what, text));
   return {v[0], v[1], v[2]};
+}
+
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               std::size_t(threads));
 }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump() << std::endl; }

@@ -3,6 +3,7 @@
 
 #include <microshadow/io/error.h>
 #include <microshadow/math/vec.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <memory>
@@ -19,12 +20,18 @@ namespace msh::cli {
 // list, an empty item, a malformed or a non-finite number.
 std::vector<double> parse_list(const std::string& text, const std::string& what);
 
+// Splits "a,b,c" at the commas: "" gives no item, "a,,b" an empty middle one, a trailing comma none.
+std::vector<std::string> split_list(const std::string& text);
+
 // Parses "X,Y,Z" (spaces allowed) into a vector; throws UsageError naming `what` on malformed or
 // non-finite input. Does not normalize.
 Vec3d parse_vec3(const std::string& text, const std::string& what);
 
 // Throws UsageError("<what> must be in [lo, hi], got <v>") unless lo <= v <= hi (NaN fails): io/error.h.
 using ::msh::require_range;
+
+// Caps TBB at `threads` workers while the result lives; threads <= 0: no cap (nullptr).
+std::unique_ptr<tbb::global_control> thread_limit(int threads);
 
 // Prints one JSON object on stdout, one line, with full double precision.
 void print_json(const nlohmann::json& j);

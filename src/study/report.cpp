@@ -124,36 +124,34 @@ json summarize(const json& rows, const StudyConfig& cfg) {
     jc.push_back(c);
   }
   out["cells"] = jc;
-  json ja = json::array();
-  for (const auto& [k, ts] : ablation) {
-    json a = abl_info[k];
-    json jt = json::object();
-    int closer = 0, n = 0;
+  // Per cell, each term's mean |bias - 1| in two conditions (first, second), for the terms measured in both;
+  // `more` adds cell-level fields from the same pairs.
+  auto paired = [&](const auto& by_cell, const char* first, const char* second, auto&& more) {
+    json arr = json::array();
+    for (const auto& [k, ts] : by_cell) {
+      json a = abl_info[k];
+      json jt = json::object();
+      for (const auto& [m, p] : ts)
+        if (p.first.n && p.second.n) jt[m] = {{first, p.first.mean()}, {second, p.second.mean()}};
+      a["terms"] = jt;
+      more(a, ts);
+      arr.push_back(a);
+    }
+    return arr;
+  };
+  out["normal_ablation"] = paired(ablation, "shading", "smooth", [&](json& a, const auto& ts) {
+    int closer = 0, farther = 0, n = 0;
     Acc sh, sm;
     for (const auto& [m, p] : ts) {
       if (!p.first.n || !p.second.n) continue;
-      jt[m] = {{"shading", p.first.mean()}, {"smooth", p.second.mean()}};
       closer += p.second.mean() < p.first.mean() - cfg.delta_bias;
+      farther += p.second.mean() > p.first.mean() + cfg.delta_bias;
       ++n, sh.add(p.first.mean()), sm.add(p.second.mean());
     }
-    int farther = 0;
-    for (const auto& [m, p] : ts)
-      if (p.first.n && p.second.n) farther += p.second.mean() > p.first.mean() + cfg.delta_bias;
-    a["terms"] = jt, a["smooth_closer"] = closer, a["smooth_farther"] = farther, a["of"] = n;
+    a["smooth_closer"] = closer, a["smooth_farther"] = farther, a["of"] = n;
     a["shading_abs_dev"] = sh.mean(), a["smooth_abs_dev"] = sm.mean();
-    ja.push_back(a);
-  }
-  out["normal_ablation"] = ja;
-  json jw = json::array();
-  for (const auto& [k, ts] : widened) {
-    json a = abl_info[k];
-    json jt = json::object();
-    for (const auto& [m, p] : ts)
-      if (p.first.n && p.second.n) jt[m] = {{"base", p.first.mean()}, {"widened", p.second.mean()}};
-    a["terms"] = jt;
-    jw.push_back(a);
-  }
-  out["widened_roughness"] = jw;
+  });
+  out["widened_roughness"] = paired(widened, "base", "widened", [](json&, const auto&) {});
   return out;
 }
 
