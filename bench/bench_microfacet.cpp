@@ -57,50 +57,32 @@ GTR<float> make(bool) {
   return GTR<float>(0.3f, 1.5f);
 }
 
-template <class NDF>
-void BM_D(benchmark::State& st) {
+// The calls of the NDF interface that BM_Ndf<NDF, Op> times: Op(ndf, inputs, k).
+constexpr auto kD = [](const auto& ndf, const Data& d, size_t k) { return ndf.D(d.m[k]); };
+constexpr auto kLambda = [](const auto& ndf, const Data& d, size_t k) { return ndf.Lambda(d.w[k]); };
+constexpr auto kG2 = [](const auto& ndf, const Data& d, size_t k) { return ndf.G2(d.w[k], d.l[k]); };
+constexpr auto kSampleNdf = [](const auto& ndf, const Data& d, size_t k) { return ndf.sample_ndf(d.u[k]); };
+constexpr auto kSampleVndf = [](const auto& ndf, const Data& d, size_t k) {
+  return ndf.Sample_wm(d.w[k], d.u[k]);
+};
+
+// GGX's other VNDF samplers (Heitz 2018; Eto & Tokuyoshi 2023, bounded) and the bounded sampler's pdf.
+constexpr auto kHeitz2018 = [](const auto& g, const Data& d, size_t k) {
+  return g.sample_vndf_heitz2018(d.w[k], d.u[k]);
+};
+constexpr auto kBoundedVndf = [](const auto& g, const Data& d, size_t k) {
+  return sample_bounded_vndf(g, d.w[k], d.u[k]);
+};
+constexpr auto kBoundedVndfPdf = [](const auto& g, const Data& d, size_t k) {
+  return pdf_bounded_vndf_reflection(g, d.w[k], d.l[k]);
+};
+
+// Argument 0: the isotropic NDF, 1: the anisotropic one (make<NDF>).
+template <class NDF, const auto& Op>
+void BM_Ndf(benchmark::State& st) {
   const NDF ndf = make<NDF>(st.range(0));
   const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return ndf.D(d.m[k]); });
-}
-template <class NDF>
-void BM_Lambda(benchmark::State& st) {
-  const NDF ndf = make<NDF>(st.range(0));
-  const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return ndf.Lambda(d.w[k]); });
-}
-template <class NDF>
-void BM_G2(benchmark::State& st) {
-  const NDF ndf = make<NDF>(st.range(0));
-  const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return ndf.G2(d.w[k], d.l[k]); });
-}
-template <class NDF>
-void BM_SampleNdf(benchmark::State& st) {
-  const NDF ndf = make<NDF>(st.range(0));
-  const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return ndf.sample_ndf(d.u[k]); });
-}
-template <class NDF>
-void BM_SampleVndf(benchmark::State& st) {
-  const NDF ndf = make<NDF>(st.range(0));
-  const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return ndf.Sample_wm(d.w[k], d.u[k]); });
-}
-void BM_GgxHeitz2018(benchmark::State& st) {
-  const GGX<float> g = make<GGX<float>>(st.range(0));
-  const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return g.sample_vndf_heitz2018(d.w[k], d.u[k]); });
-}
-void BM_GgxBoundedVndf(benchmark::State& st) {
-  const GGX<float> g = make<GGX<float>>(st.range(0));
-  const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return sample_bounded_vndf(g, d.w[k], d.u[k]); });
-}
-void BM_GgxBoundedVndfPdf(benchmark::State& st) {
-  const GGX<float> g = make<GGX<float>>(st.range(0));
-  const Data& d = data();
-  bench::per_index<kN>(st, [&](size_t k) { return pdf_bounded_vndf_reflection(g, d.w[k], d.l[k]); });
+  bench::per_index<kN>(st, [&](size_t k) { return Op(ndf, d, k); });
 }
 void BM_GgxVisibility943(benchmark::State& st) {
   const Data& d = data();
@@ -122,26 +104,26 @@ void BM_GtrTableBuild(benchmark::State& st) {
 }  // namespace
 
 // Arg(0) = isotropic, Arg(1) = anisotropic.
-BENCHMARK(BM_D<GGX<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_D<Beckmann<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_D<BlinnPhong<float>>)->Arg(0);
-BENCHMARK(BM_D<GTR<float>>)->Arg(0);
-BENCHMARK(BM_Lambda<GGX<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_Lambda<Beckmann<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_Lambda<GTR<float>>)->Arg(0);
-BENCHMARK(BM_G2<GGX<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_G2<Beckmann<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_G2<GTR<float>>)->Arg(0);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kD)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, Beckmann<float>, kD)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, BlinnPhong<float>, kD)->Arg(0);
+BENCHMARK_TEMPLATE(BM_Ndf, GTR<float>, kD)->Arg(0);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kLambda)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, Beckmann<float>, kLambda)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, GTR<float>, kLambda)->Arg(0);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kG2)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, Beckmann<float>, kG2)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, GTR<float>, kG2)->Arg(0);
 BENCHMARK(BM_GgxVisibility943);
 BENCHMARK(BM_HammonVisibility945);
-BENCHMARK(BM_SampleVndf<GGX<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_GgxHeitz2018)->Arg(0)->Arg(1);
-BENCHMARK(BM_GgxBoundedVndf)->Arg(0)->Arg(1);
-BENCHMARK(BM_GgxBoundedVndfPdf)->Arg(0)->Arg(1);
-BENCHMARK(BM_SampleVndf<Beckmann<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_SampleNdf<GGX<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_SampleNdf<Beckmann<float>>)->Arg(0)->Arg(1);
-BENCHMARK(BM_SampleNdf<BlinnPhong<float>>)->Arg(0);
-BENCHMARK(BM_SampleNdf<GTR<float>>)->Arg(0);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kSampleVndf)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kHeitz2018)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kBoundedVndf)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kBoundedVndfPdf)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, Beckmann<float>, kSampleVndf)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, GGX<float>, kSampleNdf)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, Beckmann<float>, kSampleNdf)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_Ndf, BlinnPhong<float>, kSampleNdf)->Arg(0);
+BENCHMARK_TEMPLATE(BM_Ndf, GTR<float>, kSampleNdf)->Arg(0);
 BENCHMARK(BM_GgxAlbedoQuadrature)->Arg(1)->Arg(30)->Arg(100)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GtrTableBuild)->Unit(benchmark::kMillisecond);

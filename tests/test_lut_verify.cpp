@@ -1,7 +1,8 @@
-// The as-used accuracy measurement (lut/runtime/micro_shadowing_verify.h) and `microshadow verify`: statistics on
-// hand-computable cases, the inputs (domain, stratification, off texels and off channel roughness,
-// determinism), the reference against the independent semi-analytic term, hardware weight quantisation
-// through the real sampler, and the CLI (finite, reproducible, thread-independent, bad input → exit 2).
+// The as-used accuracy measurement (lut/runtime/micro_shadowing_verify.h) and `microshadow verify`:
+// statistics on hand-computable cases, the inputs (domain, stratification, off texels and off channel
+// roughness, determinism), the reference against the independent semi-analytic term, hardware weight
+// quantisation through the real sampler, and the CLI (finite, reproducible, thread-independent, bad input →
+// exit 2).
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
@@ -279,12 +280,21 @@ const char* const kSmallBakes[][2] = {
      "--layout cone --size-t 16 --size-nl 8 --size-nv 4 --roughness-slabs 4 --samples 1024 --phi-nodes 4"},
 };
 
-TEST(VerifyCli, SmallTableFiniteReproducibleThreadIndependent) {
-  const fs::path d = scratch();
+// Bakes each small table (with the extra bake flags `extra`) into d/<layout>.npy through the CLI and calls
+// f(layout, path) on it.
+template <class F>
+void for_each_small_table(const fs::path& d, const std::string& extra, F&& f) {
   for (const auto& [layout, bake] : kSmallBakes) {
     SCOPED_TRACE(layout);
     const std::string t = (d / (std::string(layout) + ".npy")).string();
-    ASSERT_EQ(run(std::string("bake micro-shadowing --quiet ") + bake + " --out " + t, d).code, 0);
+    ASSERT_EQ(run("bake micro-shadowing --quiet " + extra + bake + " --out " + t, d).code, 0);
+    f(std::string(layout), t);
+  }
+}
+
+TEST(VerifyCli, SmallTableFiniteReproducibleThreadIndependent) {
+  const fs::path d = scratch();
+  for_each_small_table(d, "", [&](const std::string& layout, const std::string& t) {
     const std::string cmd = "verify micro-shadowing-lut " + t + " --samples 300 --json";
     const CliResult a = run(cmd + " --threads 1", d);
     ASSERT_EQ(a.code, 0) << a.err;
@@ -337,15 +347,12 @@ TEST(VerifyCli, SmallTableFiniteReproducibleThreadIndependent) {
     ASSERT_EQ(h.code, 0);
     EXPECT_NE(h.out.find("RMS/255"), std::string::npos);
     EXPECT_NE(h.out.find("worst inputs"), std::string::npos);
-  }
+  });
 }
 
 TEST(VerifyCli, AzimuthAwareTableUsesTheAzimuthSampler) {
   const fs::path d = scratch();
-  for (const auto& [layout, bake] : kSmallBakes) {
-    SCOPED_TRACE(layout);
-    const std::string t = (d / (std::string(layout) + ".npy")).string();
-    ASSERT_EQ(run(std::string("bake micro-shadowing --quiet --azimuth ") + bake + " --out " + t, d).code, 0);
+  for_each_small_table(d, "--azimuth ", [&](const std::string&, const std::string& t) {
     const CliResult az =
         run("verify micro-shadowing-lut " + t + " --samples 200 --against azimuth --json", d);
     ASSERT_EQ(az.code, 0) << az.err;
@@ -358,7 +365,7 @@ TEST(VerifyCli, AzimuthAwareTableUsesTheAzimuthSampler) {
     EXPECT_GT(ja["harmonics"].get<int>(), 0);
     expect_finite_stats(ja["all"], 200);
     EXPECT_LT(ja["all"]["rms"].get<double>(), jp["all"]["rms"].get<double>());  // the harmonics help
-  }
+  });
 }
 
 TEST(VerifyCli, ClosedFormTerms) {
