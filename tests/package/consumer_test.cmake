@@ -45,18 +45,17 @@ foreach(f include/microshadow/microshadow.h share/microshadow/shaders/glsl/micro
 endforeach()
 # The installed shaders compile through the compiler's own #include (the prelude and the portable/ body found
 # relative to the entry point), in both languages.
-find_program(GLSLANG glslangValidator)
-if(GLSLANG)
-  set(sh ${prefix}/share/microshadow/shaders)
-  file(WRITE ${root}/use.comp "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
-       "#include \"micro_shadowing.glsl\"\nlayout(local_size_x = 1) in;\n"
-       "layout(std430, binding = 0) buffer B { float o[]; };\nvoid main() { o[0] = msh_ms_cone_cos(o[1]); }\n")
-  file(WRITE ${root}/use.hlsl "#include \"micro_shadowing.hlsl\"\nRWStructuredBuffer<float> o;\n"
-       "[numthreads(1, 1, 1)] void main() { o[0] = msh_ms_cone_cos(o[1]); }\n")
-  run(${GLSLANG} -V -I${sh}/glsl ${root}/use.comp -o ${root}/use_glsl.spv)
-  run(${GLSLANG} -V -I${sh}/hlsl -D -S comp -e main ${root}/use.hlsl -o ${root}/use_hlsl.spv)
-  message(STATUS "the installed shaders compile through #include in GLSL and HLSL")
-endif()
+# glslang is a build dependency of the shader tests (scripts/install-deps.sh): its absence is an error here too.
+find_program(GLSLANG glslangValidator REQUIRED)
+set(sh ${prefix}/share/microshadow/shaders)
+file(WRITE ${root}/use.comp "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
+     "#include \"micro_shadowing.glsl\"\nlayout(local_size_x = 1) in;\n"
+     "layout(std430, binding = 0) buffer B { float o[]; };\nvoid main() { o[0] = msh_ms_cone_cos(o[1]); }\n")
+file(WRITE ${root}/use.hlsl "#include \"micro_shadowing.hlsl\"\nRWStructuredBuffer<float> o;\n"
+     "[numthreads(1, 1, 1)] void main() { o[0] = msh_ms_cone_cos(o[1]); }\n")
+run(${GLSLANG} -V -I${sh}/glsl ${root}/use.comp -o ${root}/use_glsl.spv)
+run(${GLSLANG} -V -I${sh}/hlsl -D -S comp -e main ${root}/use.hlsl -o ${root}/use_hlsl.spv)
+message(STATUS "the installed shaders compile through #include in GLSL and HLSL")
 file(GLOB_RECURSE pcs ${prefix}/*/microshadow.pc)
 file(GLOB_RECURSE libs ${prefix}/*/libmicroshadow.a)
 if(NOT pcs OR NOT libs)
