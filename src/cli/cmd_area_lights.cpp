@@ -419,6 +419,9 @@ void run_verify(const VerifyArgs& a) {
     auto chan = [V](double z) { return micro_shadowing::chan_2018(V, z); };
     auto part1 = [V](double z) { return micro_shadowing::part1_analytic(V, z); };
     const auto bk = micro_shadowing::brinck_maximov_2016_kinks(V);
+    const auto chan_t = area::chan_2018_term(V), part1_t = area::part1_analytic_term(V);
+    const auto chan_k = micro_shadowing::chan_2018_kinks(V),
+               part1_k = micro_shadowing::part1_analytic_kinks(V);
     const bsdf::LtcCoeffs<double>& k = p.k;
     const bsdf::Mat3<double> minv = k.inv_m(), id{};
     const double tail = bsdf::ltc_tail_weight(p.g.alpha);
@@ -436,10 +439,6 @@ void run_verify(const VerifyArgs& a) {
     const double sc = exact(cap, ggx, step_t), bc = exact(cap, ggx, bm_t);
     row[kCapStepGgx] = bsdf::ltc_reference_step_area(lc, ct) - sc;
     row[kCapStepGgxFloat] = double(bsdf::ltc_reference_step_area(p.lf, float(ct))) - sc;
-    const auto lrf =
-        bsdf::ltc_light_cone_polygon(bsdf::Mat3<float>{}, Vec3f(0, 0, 1), Vec3f(v), sl.quad_float.data(), 4);
-    row[kRectStepLambertFloat] =
-        double(bsdf::ltc_reference_step_area(lrf, float(ct))) - exact(quad, lam, step_t);
     row[kCapStepGgxNoTail] =
         bsdf::ltc_reference_step_area(bsdf::ltc_light_cone_sphere(minv, n, v, c, std::sin(in.rho)), ct) - sc;
     row[kCapStepGgxLambertClosedForm] = micro_shadowing::reference_step_area_cap(V, in.nl, in.rho) - sc;
@@ -450,10 +449,8 @@ void run_verify(const VerifyArgs& a) {
     row[kCapBmGgx] = bsdf::ltc_micro_shadowing_area(bm, lc, bk) - bc;
     row[kCapBmGgxLambertProductRule] = micro_shadowing::brinck_maximov_2016_area_cap(V, in.nl, in.rho) - bc;
     row[kCapBmGgxRepresentative] = bsdf::ltc_ms_at_representative(rep_cap, bm) - bc;
-    row[kCapChanGgx] = bsdf::ltc_micro_shadowing_area(chan, lc, micro_shadowing::chan_2018_kinks(V)) -
-                       exact(cap, ggx, area::chan_2018_term(V));
-    row[kCapPart1Ggx] = bsdf::ltc_micro_shadowing_area(part1, lc, micro_shadowing::part1_analytic_kinks(V)) -
-                        exact(cap, ggx, area::part1_analytic_term(V));
+    row[kCapChanGgx] = bsdf::ltc_micro_shadowing_area(chan, lc, chan_k) - exact(cap, ggx, chan_t);
+    row[kCapPart1Ggx] = bsdf::ltc_micro_shadowing_area(part1, lc, part1_k) - exact(cap, ggx, part1_t);
     const double sd = exact(disk, ggx, step_t), sr = exact(quad, ggx, step_t);
     row[kDiskStepGgx] = bsdf::ltc_reference_step_area(ld, ct) - sd;
     row[kDiskStepGgxEquivalentCap] = micro_shadowing::reference_step_area_cap(V, eqd.n_dot_l, eqd.rho) - sd;
@@ -465,20 +462,24 @@ void run_verify(const VerifyArgs& a) {
                                        [&](double z) { return micro_shadowing::reference_step(V, z); }) -
         sr;
     row[kRectBmGgx] = bsdf::ltc_micro_shadowing_area(bm, lr, bk) - exact(quad, ggx, bm_t);
-    row[kDiskStepLambert] = bsdf::ltc_reference_step_area(ldl, ct) - exact(disk, lam, step_t);
-    row[kDiskBmLambert] = bsdf::ltc_micro_shadowing_area(bm, ldl, bk) - exact(disk, lam, bm_t);
-    row[kDiskChanLambert] = bsdf::ltc_micro_shadowing_area(chan, ldl, micro_shadowing::chan_2018_kinks(V)) -
-                            exact(disk, lam, area::chan_2018_term(V));
-    row[kDiskPart1Lambert] =
-        bsdf::ltc_micro_shadowing_area(part1, ldl, micro_shadowing::part1_analytic_kinks(V)) -
-        exact(disk, lam, area::part1_analytic_term(V));
-    row[kRectStepLambert] = bsdf::ltc_reference_step_area(lrl, ct) - exact(quad, lam, step_t);
-    row[kRectBmLambert] = bsdf::ltc_micro_shadowing_area(bm, lrl, bk) - exact(quad, lam, bm_t);
-    row[kRectChanLambert] = bsdf::ltc_micro_shadowing_area(chan, lrl, micro_shadowing::chan_2018_kinks(V)) -
-                            exact(quad, lam, area::chan_2018_term(V));
-    row[kRectPart1Lambert] =
-        bsdf::ltc_micro_shadowing_area(part1, lrl, micro_shadowing::part1_analytic_kinks(V)) -
-        exact(quad, lam, area::part1_analytic_term(V));
+    // The four N·L-only terms of a Lambertian receiver (identity LTC) through the cone-clipped form over
+    // `sh`, against the exact quadrature; returns the exact step integral.
+    auto lambert_rows = [&](const area::Shape& sh, const auto& cone, int step, int bm_i, int chan_i,
+                            int part1_i) {
+      const double s = exact(sh, lam, step_t);
+      row[size_t(step)] = bsdf::ltc_reference_step_area(cone, ct) - s;
+      row[size_t(bm_i)] = bsdf::ltc_micro_shadowing_area(bm, cone, bk) - exact(sh, lam, bm_t);
+      row[size_t(chan_i)] = bsdf::ltc_micro_shadowing_area(chan, cone, chan_k) - exact(sh, lam, chan_t);
+      row[size_t(part1_i)] = bsdf::ltc_micro_shadowing_area(part1, cone, part1_k) - exact(sh, lam, part1_t);
+      return s;
+    };
+    lambert_rows(disk, ldl, kDiskStepLambert, kDiskBmLambert, kDiskChanLambert, kDiskPart1Lambert);
+    const double srl =
+        lambert_rows(quad, lrl, kRectStepLambert, kRectBmLambert, kRectChanLambert, kRectPart1Lambert);
+    // The rect's step in float, as a shader evaluates it (same exact integral).
+    const auto lrf =
+        bsdf::ltc_light_cone_polygon(bsdf::Mat3<float>{}, Vec3f(0, 0, 1), Vec3f(v), sl.quad_float.data(), 4);
+    row[kRectStepLambertFloat] = double(bsdf::ltc_reference_step_area(lrf, float(ct))) - srl;
   });
 
   // The generic and micro-BRDF-aware terms over a sphere light. GGX receiver (same domain as the LTC block):
