@@ -1,6 +1,7 @@
 // Renderer benchmarks: the default 1024×1024 comparison frame (plaster plane, directional light at 25°, 1
 // sample per pixel) per micro-shadowing method, with rays/s and shaded samples/s as counters.
 #include <benchmark/benchmark.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/scene.h>
 #include <microshadow/render/texture_gen.h>
@@ -47,9 +48,19 @@ const Scene& comparison_scene() {
   return scene;
 }
 
+// The study's methods (occlusion/runtime/micro_shadowing_methods.h), then the ground truth.
+const std::vector<std::string>& frame_methods() {
+  static const std::vector<std::string> m = [] {
+    std::vector<std::string> v = msh::occlusion::micro_shadowing_study_methods();
+    v.push_back(kGroundTruth);
+    return v;
+  }();
+  return m;
+}
+
 void BM_ComparisonFrame1024(benchmark::State& state) {
   Scene s = comparison_scene();
-  s.settings.micro_shadowing = MicroShadowing(state.range(0));
+  s.settings.micro_shadowing = frame_methods()[std::size_t(state.range(0))];
   const Renderer r(s);  // LUT load/bake and acceleration structures outside the timed loop
   RenderStats total;
   for (auto _ : state) {
@@ -58,13 +69,13 @@ void BM_ComparisonFrame1024(benchmark::State& state) {
     total.camera_rays += st.camera_rays, total.shadow_rays += st.shadow_rays;
     total.shaded_samples += st.shaded_samples;
   }
-  state.SetLabel(to_string(s.settings.micro_shadowing));
+  state.SetLabel(s.settings.micro_shadowing);
   state.counters["rays/s"] =
       benchmark::Counter(double(total.camera_rays + total.shadow_rays), benchmark::Counter::kIsRate);
   state.counters["shaded/s"] = benchmark::Counter(double(total.shaded_samples), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_ComparisonFrame1024)
-    ->DenseRange(int(MicroShadowing::None), int(MicroShadowing::GroundTruth))
+    ->DenseRange(0, int(frame_methods().size()) - 1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(2);
@@ -85,7 +96,7 @@ void BM_GroundTruthIntersector2048(benchmark::State& state) {
     s.materials[0].base_color = t.base_color;
     s.materials[0].roughness = t.roughness;
     s.settings.width = s.settings.height = 256;
-    s.settings.micro_shadowing = MicroShadowing::GroundTruth;
+    s.settings.micro_shadowing = kGroundTruth;
     return s;
   }();
   Scene s = base;

@@ -13,19 +13,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 OUT = sys.argv[1]
 R = os.path.join(OUT, "render")
-METHODS = ["none", "ao", "reference", "brinck-maximov-2016", "chan-2018", "part1", "generic-vndf", "lut3d", "lut2d"]
-LABELS = {
-    "none": "no micro-shadowing",
-    "ao": "AO × direct light",
-    "reference": "reference step",
-    "brinck-maximov-2016": "Brinck-Maximov 2016",
-    "chan-2018": "Chan 2018",
-    "part1": "Part 1 analytic",
-    "generic-vndf": "generic VNDF (16 samples)",
-    "lut3d": "3D LUT",
-    "lut2d": "2D LUT",
-    "ground-truth": "ground truth (ray-traced height field)",
-}
+# The methods the demo rendered and their labels: the method table (`microshadow methods --study --json`).
+with open(os.path.join(R, "methods.json")) as f:
+    _table = json.load(f)
+METHODS = [m["name"] for m in _table]
+LABELS = {m["name"]: m["label"] for m in _table}
+LABELS["none"] = "no micro-shadowing"
+LABELS["ground-truth"] = "ground truth (ray-traced height field)"
 
 
 def load_jsonl(path):

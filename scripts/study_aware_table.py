@@ -5,7 +5,7 @@ For each scale k >= 4, component and method (base roughness, shading normal, who
 (material x shape x light): the mean over cells of the relative footprint RMSE (rmse_footprint / gt_mean) and of
 the mean bias (bias - 1, signed, and |bias - 1|), each with its standard error over cells (the spread of the cells,
 sd / sqrt(n)), and the mean ground-truth noise floor of the footprint RMSE (relative). It also counts the cells
-where `aware` is lower than each other method, and gives the mean paired difference aware - method with its
+where `diffuse-aware+specular-aware` is lower than each other method, and gives the mean paired difference aware - method with its
 standard error over cells, per metric.
 Components with gt_mean below 2 % of the total's are skipped per cell (as the study's ranking does).
 Usage: /usr/bin/python3 scripts/study_aware_table.py DIR/results.json [--methods a,b,...]
@@ -14,7 +14,8 @@ import json
 import math
 import sys
 
-DEFAULT = ["ao", "brinck-maximov-2016", "chan-2018", "generic-vndf", "lut3d", "aware", "aware-flux"]
+AWARE = "diffuse-aware+specular-aware"
+DEFAULT = ["ao", "brinck-maximov-2016", "chan-2018", "generic-vndf", "lut3d", AWARE, "diffuse-aware-flux+specular-aware"]
 
 
 def mean_se(xs):
@@ -56,7 +57,7 @@ def main(path, methods):
             print(f"\n### k = {k}, {comp}")
             print("| method | cells | footprint RMSE / GT mean | bias - 1 | abs(bias - 1) | floor | aware lower in (RMSE, abs bias); mean paired aware - method (RMSE, abs bias) |")
             print("|---|---|---|---|---|---|---|")
-            aw = by.get((k, comp, "aware"), {})
+            aw = by.get((k, comp, AWARE), {})
             for m in methods:
                 d = by.get((k, comp, m), {})
                 if not d:
@@ -72,7 +73,7 @@ def main(path, methods):
                 lower_f = sum(aw[c][0] < d[c][0] for c in common)
                 lower_b = sum(abs(aw[c][1]) < abs(d[c][1]) for c in common)
                 vs = ""
-                if m != "aware" and common:
+                if m != AWARE and common:
                     df, _ = mean_se([aw[c][0] - d[c][0] for c in common])
                     _, dfs = mean_se([aw[c][0] - d[c][0] for c in common])
                     da, das = mean_se([abs(aw[c][1]) - abs(d[c][1]) for c in common])

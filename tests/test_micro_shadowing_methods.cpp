@@ -10,6 +10,8 @@
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
+#include <algorithm>
+#include <cmath>
 #include <set>
 #include <thread>
 
@@ -86,6 +88,92 @@ TEST(MicroShadowingMethods, RefusesWhatDoesNotApply) {
     EXPECT_THROW(chan.eval({0.5, bad, 1, 0.5, std::nullopt, std::nullopt}), InputError);
     EXPECT_THROW(gen.eval({0.5, 0.5, bad, 0.5, std::nullopt, std::nullopt}), InputError);
     EXPECT_THROW(gen.eval({0.5, 0.5, 1, bad, std::nullopt, std::nullopt}), InputError);
+  }
+}
+
+// A pair is its two terms, one per lobe; eval() refuses it (it has no single value), eval_lobes() gives the
+// parts' own values, and the options reach only the part that takes them.
+TEST(MicroShadowingMethods, PairsAreTheirTwoTerms) {
+  int pairs = 0;
+  for (const auto& m : micro_shadowing_methods()) {
+    if (!m.is_pair()) continue;
+    ++pairs;
+    EXPECT_EQ(m.name, m.diffuse + "+" + m.specular);
+    const MicroShadowingMethodInfo *d = find_micro_shadowing_method(m.diffuse),
+                                   *s = find_micro_shadowing_method(m.specular);
+    ASSERT_TRUE(d && s) << m.name;
+    EXPECT_FALSE(d->is_pair() || s->is_pair()) << m.name;
+    EXPECT_EQ(m.accepts_samples, d->accepts_samples || s->accepts_samples) << m.name;
+    const MicroShadowingEvaluator pe(m.name), de(m.diffuse), se(m.specular);
+    const MicroShadowingQuery q{0.7, 0.6, 0.8, 0.5, std::nullopt, std::nullopt};
+    EXPECT_THROW(pe.eval(q), InputError) << m.name;
+    const auto [vd, vs] = pe.eval_lobes(q);
+    EXPECT_EQ(vd, de.eval(q)) << m.name;
+    EXPECT_EQ(vs, se.eval(q)) << m.name;
+    if (m.accepts_samples) {
+      MicroShadowingOptions o;
+      o.samples = 64;
+      EXPECT_NO_THROW(MicroShadowingEvaluator(m.name, o)) << m.name;
+    }
+  }
+  EXPECT_GE(pairs, 5);
+  // The recommended pair (docs/micro-shadowing-aware.md) is in the study.
+  EXPECT_TRUE(find_micro_shadowing_method("diffuse-aware-alu+lut3d")->in_study);
+  EXPECT_TRUE(find_micro_shadowing_method("diffuse-aware-alu+generic-vndf-alu")->in_study);
+}
+
+// The renderer's per-light form (shade, float, at full vectors) against eval (double): equal for the terms of
+// (V, N·L, N·V) at any azimuth; the estimators converge to the exact term at the azimuth; the
+// azimuth-dependent indicators at their direction; every method finite at degenerate inputs.
+TEST(MicroShadowingMethods, ShadeAgreesWithEval) {
+  Pcg32 rng(11);
+  for (const auto& m : micro_shadowing_methods()) {
+    MicroShadowingOptions o;
+    if (m.accepts_samples) o.samples = 4096;
+    const MicroShadowingEvaluator e(m.name, o);
+    MicroShadowingOptions exact_o;
+    const MicroShadowingEvaluator exact(m.name, exact_o);
+    if (m.is_pair()) {
+      // Each lobe is its term's own per-light value (the terms are checked below, on their own).
+      const auto part = [&](const std::string& name) {
+        MicroShadowingOptions po;
+        if (find_micro_shadowing_method(name)->accepts_samples) po.samples = o.samples;
+        return MicroShadowingEvaluator(name, po);
+      };
+      const MicroShadowingEvaluator d = part(m.diffuse), sp = part(m.specular);
+      MicroShadowingShadeInput in;
+      in.visibility = 0.8f, in.roughness = 0.4f, in.v = Vec3f(0.6f, 0, 0.8f), in.l = Vec3f(0, 0.6f, 0.8f);
+      EXPECT_EQ(e.shade(in).diffuse, d.shade(in).diffuse) << m.name;
+      EXPECT_EQ(e.shade(in).specular, sp.shade(in).specular) << m.name;
+      continue;
+    }
+    double worst = 0;
+    for (int i = 0; i < 12; ++i) {
+      const double V = rng.next_double(), nl = 0.02 + 0.97 * rng.next_double(),
+                   nv = 0.05 + 0.94 * rng.next_double(), r = 0.15 + 0.85 * rng.next_double(),
+                   phi = kPi<double> * rng.next_double();
+      MicroShadowingShadeInput in;
+      in.visibility = float(V), in.roughness = float(r);
+      in.v = Vec3f(lut::study_view_dir(nv));
+      in.l = Vec3f(lut::study_light_dir(nl, phi));
+      in.seed = 2 * uint32_t(i) + 1;
+      const MicroShadowingLobes t = e.shade(in);
+      MicroShadowingQuery q{V, nl, nv, r, std::nullopt, std::nullopt};
+      // Methods whose shade reads the full vectors: compare at the azimuth (an estimator: with its noise).
+      const bool at_phi = m.accepts_phi && m.name.rfind("lut", 0) != 0;
+      if (at_phi) q.phi = phi;
+      const auto [d, s] = exact.eval_lobes(q);
+      worst = std::max({worst, std::abs(t.diffuse - d), std::abs(t.specular - s)});
+    }
+    // Closed forms, fits and tables: float rounding; estimators (4096 samples): Monte Carlo noise.
+    EXPECT_LT(worst, m.accepts_samples ? 0.05 : 2e-5) << m.name;
+    for (const Vec3f& l : {Vec3f(1, 0, 0), Vec3f(0, 0, 1), Vec3f(0.6f, 0.8f, 0.0f)}) {
+      MicroShadowingShadeInput in;
+      in.visibility = 0.5f, in.roughness = 0.0f, in.v = Vec3f(0, 0, 1), in.l = l;
+      const MicroShadowingLobes t = e.shade(in);
+      EXPECT_TRUE(std::isfinite(t.diffuse) && std::isfinite(t.specular)) << m.name;
+      EXPECT_TRUE(t.diffuse >= 0 && t.diffuse <= 1 && t.specular >= 0 && t.specular <= 1) << m.name;
+    }
   }
 }
 

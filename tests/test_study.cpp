@@ -1,17 +1,19 @@
 // The multiscale study: metric functions against hand-computable cases, and the study's results.json
 // (schema, counts, determinism across thread counts, bad configurations) on a tiny configuration.
 #include <gtest/gtest.h>
-#include <support/cli_test_util.h>
 #include <microshadow/io/error.h>
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
+#include <support/cli_test_util.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -157,10 +159,22 @@ TEST(Study, TinyRunSchemaAndDeterminism) {
   for (const char* f : {"results.json", "results.csv", "summary.md", "study.html", "timing.json"})
     EXPECT_TRUE(fs::exists(d1 / f)) << f;
 
-  // Rows: 1 material × 2 shapes × 2 lights × (k = 1: 12 terms + 10 smooth-normal; k = 4: + 12 widened) × 3
-  // components.
+  // Rows: 1 material × 2 shapes × 2 lights × (k = 1: every term + the smooth-normal ablation of those that
+  // read N·L; k = 4: + every term with the widened roughness) × 3 components. The terms are the registry's
+  // study list: 15 today, 13 of them read N·L.
+  const std::vector<std::string> terms = tiny().terms;
+  ASSERT_EQ(terms, msh::occlusion::micro_shadowing_study_methods());
+  ASSERT_EQ(terms.size(), 15u);
+  const auto n_nl = std::count_if(terms.begin(), terms.end(), [](const std::string& t) {
+    return msh::occlusion::find_micro_shadowing_method(t)->uses_ndotl;
+  });
+  EXPECT_EQ(n_nl, 13);
+  EXPECT_EQ(r1["config"]["terms"].get<std::vector<std::string>>(), terms);
   const auto& rows = r1["rows"];
-  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * (22 + 34) * 3));
+  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * ((15 + 13) + (15 + 13 + 15)) * 3));
+  std::set<std::string> seen;
+  for (const auto& row : rows) seen.insert(row["method"].get<std::string>());
+  EXPECT_EQ(seen, std::set<std::string>(terms.begin(), terms.end()));
   EXPECT_EQ(r1["ground_truth"].size(), 8u);
   for (const auto& row : rows) {
     for (const char* k :

@@ -28,6 +28,7 @@ def eval_micro_shadowing(
     lut: Optional[PathLike] = None,
     roughness_y: Optional[ArrayLike] = None,
     path: Literal["auto", "registry"] = "auto",
+    lobe: Optional[Literal["diffuse", "specular"]] = None,
 ) -> FloatArray: ...
 def bump_terminator(
     method: Literal["conty-2019", "chiang-2019", "none"],

@@ -13,8 +13,10 @@ SIZE=${RENDER_SIZE:-384}
 # The LUT area's table when its demo part ran; otherwise the LUT module's default table (baked in-process).
 LUT=()
 [[ -f "$OUT/lut/micro_shadowing_lut.npy" ]] && LUT=(--lut "$OUT/lut/micro_shadowing_lut.npy")
-METHODS=none,ao,reference,brinck-maximov-2016,chan-2018,part1,generic-vndf,lut3d,lut2d
-SMOOTH_METHODS=reference,brinck-maximov-2016,chan-2018,part1,generic-vndf,lut3d,lut2d
+# The study's methods, from the method table (`microshadow methods`); the report reads their labels there.
+"$MSH" methods --study --json > "$R/methods.json"
+METHODS=$("$MSH" methods --study --names)
+SMOOTH_METHODS=$("$MSH" methods --study --uses-ndotl --names)
 COMMON=(--assets "$R" --width "$SIZE" --height "$SIZE" --quiet "${LUT[@]}")
 : > "$R/renders.jsonl"
 for el in 10 25 45; do

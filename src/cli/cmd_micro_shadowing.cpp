@@ -132,6 +132,25 @@ void run_eval(const EvalArgs& a) {
   if (has_phi && (!area_mode || method.info().accepts_phi)) q.phi = a.phi;
   if (has_ry) q.roughness_y = a.roughness_y;
   if (area_mode && has_phi) require_range(a.phi, 0, kPi<double>, "--phi (relative azimuth, radians)");
+  if (method.info().is_pair()) {
+    // A pair has one value per lobe.
+    if (area_mode)
+      throw UsageError(
+          fmt::format("--light-radius-deg does not apply to the pair {}: evaluate {} and {} one "
+                      "at a time",
+                      a.method, method.info().diffuse, method.info().specular));
+    const auto [d, s] = method.eval_lobes(q);  // validates every input first
+    nlohmann::json out = {{"method", a.method},
+                          {"diffuse_method", method.info().diffuse},
+                          {"specular_method", method.info().specular},
+                          {"diffuse", d},
+                          {"specular", s}};
+    if (a.json)
+      print_json(out);
+    else
+      fmt::print("{:.9g} {:.9g}\n", d, s);
+    return;
+  }
   double value = method.eval(q);  // validates every input first
   nlohmann::json light;
   if (area_mode) {
@@ -293,7 +312,60 @@ void run_plot(const PlotArgs& a) {
   print_json(jsum);
 }
 
+// ---- methods ---------------------------------------------------------------------------------------------
+
+struct MethodsArgs {
+  bool json = false, study = false, names = false, uses_ndotl = false;
+};
+
+// The registry as a table or JSON (what the demo and scripts/render_report.py read).
+void run_methods(const MethodsArgs& a) {
+  nlohmann::json list = nlohmann::json::array();
+  std::string text;
+  for (const occlusion::MicroShadowingMethodInfo& i : occlusion::micro_shadowing_methods()) {
+    if ((a.study && !i.in_study) || (a.uses_ndotl && !i.uses_ndotl)) continue;
+    nlohmann::json glsl = nlohmann::json::array();
+    for (const occlusion::MicroShadowingGlsl& g : i.glsl)
+      glsl.push_back(
+          {{"id", i.name + g.id_suffix}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
+    list.push_back({{"name", i.name},
+                    {"label", i.label},
+                    {"summary", i.summary},
+                    {"diffuse", i.is_pair() ? i.diffuse : i.name},
+                    {"specular", i.is_pair() ? i.specular : i.name},
+                    {"pair", i.is_pair()},
+                    {"in_study", i.in_study},
+                    {"uses_ndotl", i.uses_ndotl},
+                    {"uses_roughness", i.uses_roughness},
+                    {"uses_ndotv", i.uses_ndotv},
+                    {"accepts_phi", i.accepts_phi},
+                    {"accepts_roughness_y", i.accepts_roughness_y},
+                    {"accepts_samples", i.accepts_samples},
+                    {"accepts_lut", i.accepts_lut},
+                    {"glsl", glsl}});
+    text += a.names ? (text.empty() ? "" : ",") + i.name
+                    : fmt::format("{:<38} {}{}\n", i.name, i.label, i.in_study ? "  [study]" : "");
+  }
+  if (a.names) text += "\n";
+  if (a.json)
+    print_json(list);
+  else
+    fmt::print("{}", text);
+}
+
 void add_micro_shadowing(Groups& g) {
+  {
+    const auto [m, ma] = add_command<MethodsArgs>(
+        g.root, "methods",
+        "List the micro-shadowing methods (the one table that eval, render, study, the viewer and Python "
+        "share): name, label, and [study] for the study's default set; a name D+S is a pair (D on the "
+        "diffuse lobe, S on the specular lobe)",
+        run_methods);
+    m->add_flag("--json", ma->json, "One JSON array: every field of each method");
+    m->add_flag("--study", ma->study, "Only the methods the study renders by default");
+    m->add_flag("--uses-ndotl", ma->uses_ndotl, "Only the methods that depend on N.L (not none, ao)");
+    m->add_flag("--names", ma->names, "Only the names, comma-separated on one line (for --method lists)");
+  }
   const auto [e, ea] =
       add_command<EvalArgs>(g.eval, "micro-shadowing",
                             "Micro-shadowing term at one point (docs/micro-shadowing.md). "

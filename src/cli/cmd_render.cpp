@@ -59,12 +59,12 @@ void run_render(const RenderArgs& a) {
     throw UsageError(fmt::format("image size {}x{} is too large (at most 2^26 pixels)", s.width, s.height));
   // --method a,b,c renders each method in turn (one process: the scene and the LUT load once) to
   // PREFIX_<method>.{exr,png}; a single method writes PREFIX.{exr,png}.
-  std::vector<MicroShadowing> methods;
+  std::vector<std::string> methods;
   for (const std::string& m : split_list(a.method)) methods.push_back(micro_shadowing_from_string(m));
   if (methods.empty()) methods.push_back(s.micro_shadowing);
-  for (const MicroShadowing method : methods) {
+  for (const std::string& method : methods) {
     s.micro_shadowing = method;
-    const std::string prefix = methods.size() > 1 ? a.out + "_" + to_string(method) : a.out;
+    const std::string prefix = methods.size() > 1 ? a.out + "_" + method : a.out;
     render_one(scene, prefix, a.quiet, a.std_error);
   }
 }
@@ -100,7 +100,7 @@ void render_one(const render::Scene& scene, const std::string& prefix, bool quie
   nlohmann::json j = {
       {"exr", prefix + ".exr"},
       {"png", prefix + ".png"},
-      {"method", to_string(s.micro_shadowing)},
+      {"method", s.micro_shadowing},
       {"bump_terminator", to_string(s.bump_terminator)},
       {"component", to_string(s.component)},
       {"width", s.width},
@@ -140,10 +140,10 @@ void add_render(Groups& g) {
       ->check(CLI::Range(0, 1024));
   r->add_option(
       "--method", a->method,
-      "Micro-shadowing: none, ao, reference, brinck-maximov-2016, chan-2018, part1, generic-vndf, lut3d, "
-      "lut2d, aware, aware-flux, aware-alu (micro-BRDF-aware: one term per lobe), ground-truth");
+      "Micro-shadowing: a method of `microshadow methods` (D+S: a pair, D on the diffuse lobe and S on the "
+      "specular lobe) or ground-truth; a comma-separated list renders each to PREFIX_<method>");
   r->add_option("--vndf-samples", a->vndf_samples,
-                "Samples per light for generic-vndf and the diffuse lobe of aware, aware-flux")
+                "Samples per light of the methods with a Sobol estimator (generic-vndf, diffuse-aware, ...)")
       ->check(CLI::Range(1, 1 << 20));
   r->add_option("--bump-terminator", a->bump, "off, conty-2019, chiang-2019");
   r->add_option(

@@ -14,7 +14,7 @@ namespace msh::cli {
 namespace {
 
 struct StudyArgs {
-  std::string out, materials, cache, shapes, area_ms, scales;
+  std::string out, materials, cache, shapes, area_ms, scales, methods;
   bool quick = false, quiet = false, area = false;
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
 };
@@ -37,6 +37,9 @@ void add_study(Groups& g) {
       "--area-ms", a->area_ms,
       "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
   s->add_option("--materials", a->materials, "Comma-separated material kinds (default: the study's list)");
+  s->add_option("--methods", a->methods,
+                "Comma-separated micro-shadowing methods (`microshadow methods`; default: the methods marked "
+                "for the study; with --area-lights, the area section's terms)");
   s->add_option("--scales", a->scales, "Comma-separated scales k (default: the study's list)");
   s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
   s->add_option("--fine-size", a->fine_size, "Fine height field size in texels (default 2048, quick 1024)")
@@ -57,6 +60,7 @@ void add_study(Groups& g) {
                                       : study::full_config();
     if (!a->materials.empty()) c.materials = split_list(a->materials);
     if (!a->shapes.empty()) c.shapes = split_list(a->shapes);
+    if (!a->methods.empty()) (a->area ? c.area_terms : c.terms) = split_list(a->methods);
     if (!a->area_ms.empty()) c.area_ms_modes = split_list(a->area_ms);
     if (!a->scales.empty()) {
       c.scales.clear();

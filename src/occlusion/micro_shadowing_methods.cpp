@@ -19,8 +19,10 @@
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <microshadow/reference/micro_shadowing_vcavity.h>
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <stdexcept>
 
 namespace msh::occlusion {
 
@@ -36,6 +38,8 @@ struct MicroShadowingEvaluator::Impl {
   std::function<std::shared_ptr<const lut::MicroShadowingLut>(bool with_phi)> table;
   // Where eval is not smooth in l (empty function: unknown, the standard circles).
   std::function<MicroShadowingBreaks(const Point&)> breaks = nullptr;
+  // The renderer's per-light value (MicroShadowingEvaluator::shade).
+  std::function<float(const MicroShadowingShadeInput&)> shade = nullptr;
 };
 
 namespace {
@@ -48,9 +52,17 @@ struct Entry {
   Factory make;
 };
 
-// Closed forms of (V, N·L) only.
-Impl closed_form(double (*f)(double, double)) {
-  return {[f](const Point& p) { return f(p.V, p.nl); }, nullptr};
+// Closed forms of (V, N·L) only: the double form for eval, the float form (as a shader runs it) for shade.
+Impl closed_form(double (*f)(double, double), float (*g)(float, float)) {  // f<double>, f<float>
+  Impl i{[f](const Point& p) { return f(p.V, p.nl); }, nullptr};
+  i.shade = [g](const MicroShadowingShadeInput& in) { return g(in.visibility, in.l.z); };
+  return i;
+}
+
+// The GGX of a shading point: α from the perceptual roughness, floored at r = 0.02 (a mirror has no VNDF to
+// sample).
+float shade_alpha(const MicroShadowingShadeInput& in) {
+  return roughness_to_alpha(std::max(in.roughness, 0.02f));
 }
 
 // Number of azimuths (midpoints of equal strata of [0, π]) of the estimator's azimuth mean.
@@ -59,11 +71,14 @@ constexpr int kEstimateAzimuths = 32;
 // The ALU-only approximations of the azimuth mean (occlusion/micro_shadowing_fit.h), in float as a shader
 // runs them.
 Impl generic_vndf_alu(const MicroShadowingOptions&, const MicroShadowingMethodInfo&) {
-  return {
-      [](const Point& p) {
-        return double(micro_shadowing::generic_vndf_alu(float(p.V), float(p.nl), float(p.nv), float(p.r)));
-      },
-      nullptr};
+  Impl i{[](const Point& p) {
+           return double(micro_shadowing::generic_vndf_alu(float(p.V), float(p.nl), float(p.nv), float(p.r)));
+         },
+         nullptr};
+  i.shade = [](const MicroShadowingShadeInput& in) {
+    return micro_shadowing::generic_vndf_alu(in.visibility, in.l.z, in.v.z, in.roughness);
+  };
+  return i;
 }
 
 // The LUT sampler an engine calls (lut/micro_shadowing_lut.h) on a table file or the default table. lut2d
@@ -90,30 +105,48 @@ Impl lut_method(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& 
                      [&] { tables->t[i] = lut::default_micro_shadowing_lut(two_d, with_phi ? 3 : 0); });
     return tables->t[i];
   };
-  return {[table, two_d](const Point& p) {
-            if (micro_shadowing::exact_zero(p.V, p.nl))
-              return 0.0;  // the sampler's early-out: no table needed
-            const auto t = table(p.phi != nullptr);
-            const lut::MicroShadowingLutView view = t->view();
-            if (p.phi && view.harmonics == 0)
-              throw InputError(
-                  "--phi needs an azimuth-aware table (bake micro-shadowing --azimuth); this table holds the "
-                  "azimuth mean only (omit --phi for the mean)");
-            const double nv = two_d ? 1.0 : p.nv;
-            return p.phi ? lut::sample_micro_shadowing_azimuth(view, p.V, p.nl, nv, p.r, std::cos(*p.phi))
-                         : lut::sample_micro_shadowing(view, p.V, p.nl, nv, p.r);
-          },
-          table};
+  Impl i{[table, two_d](const Point& p) {
+           if (micro_shadowing::exact_zero(p.V, p.nl))
+             return 0.0;  // the sampler's early-out: no table needed
+           const auto t = table(p.phi != nullptr);
+           const lut::MicroShadowingLutView view = t->view();
+           if (p.phi && view.harmonics == 0)
+             throw InputError(
+                 "--phi needs an azimuth-aware table (bake micro-shadowing --azimuth); this table holds the "
+                 "azimuth mean only (omit --phi for the mean)");
+           const double nv = two_d ? 1.0 : p.nv;
+           return p.phi ? lut::sample_micro_shadowing_azimuth(view, p.V, p.nl, nv, p.r, std::cos(*p.phi))
+                        : lut::sample_micro_shadowing(view, p.V, p.nl, nv, p.r);
+         },
+         table};
+  // Per light: an azimuth-aware file is sampled at the light's azimuth (never reduced to its mean silently),
+  // any other table at (V, N·L, N·V); the default table is the plain one.
+  i.shade = [table, two_d](const MicroShadowingShadeInput& in) {
+    if (micro_shadowing::exact_zero(in.visibility, in.l.z)) return 0.0f;  // Zurita 2026 early-out: no fetch
+    const lut::MicroShadowingLutView view = table(false)->view();
+    const float nv = two_d ? 1.0f : in.v.z;
+    if (view.harmonics > 0) {
+      const float d = std::sqrt((in.v.x * in.v.x + in.v.y * in.v.y) * (in.l.x * in.l.x + in.l.y * in.l.y));
+      const float cos_phi = d > 0.0f ? clamp((in.v.x * in.l.x + in.v.y * in.l.y) / d, -1.0f, 1.0f) : 1.0f;
+      return lut::sample_micro_shadowing_azimuth(view, in.visibility, in.l.z, nv, in.roughness, cos_phi);
+    }
+    return lut::sample_micro_shadowing(view, in.visibility, in.l.z, nv, in.roughness);
+  };
+  return i;
 }
 
 // The diffuse-aware term's ALU-only fit of its azimuth mean (occlusion/micro_shadowing_aware_fit.h,
 // reciprocal form), in float as a shader runs it.
 Impl diffuse_aware_alu() {
-  return {
+  Impl i{
       [](const Point& p) {
         return double(micro_shadowing::diffuse_aware_alu(float(p.V), float(p.nl), float(p.nv), float(p.r)));
       },
       nullptr};
+  i.shade = [](const MicroShadowingShadeInput& in) {
+    return micro_shadowing::diffuse_aware_alu(in.visibility, in.l.z, in.v.z, in.roughness);
+  };
+  return i;
 }
 
 // The micro-BRDF-aware terms (docs/micro-shadowing-aware.md). specular-aware: the indicator at φ, the
@@ -139,61 +172,94 @@ MicroShadowingBreaks diffuse_aware_breaks(const Point& p) {
 }
 
 Impl specular_aware(bool as_float) {
-  return {[as_float](const Point& p) {
-            if (p.phi)
-              return micro_shadowing::specular_aware(p.V, lut::study_view_dir(p.nv),
-                                                     lut::study_light_dir(p.nl, *p.phi));
-            if (as_float)
-              return double(micro_shadowing::specular_aware_azimuth_mean<float>(float(p.V), float(p.ax),
-                                                                                float(p.nl), float(p.nv)));
-            return micro_shadowing::specular_aware_azimuth_mean<double>(p.V, p.ax, p.nl, p.nv);
-          },
-          nullptr, specular_aware_breaks};
+  Impl i{[as_float](const Point& p) {
+           if (p.phi)
+             return micro_shadowing::specular_aware(p.V, lut::study_view_dir(p.nv),
+                                                    lut::study_light_dir(p.nl, *p.phi));
+           if (as_float)
+             return double(micro_shadowing::specular_aware_azimuth_mean<float>(float(p.V), float(p.ax),
+                                                                               float(p.nl), float(p.nv)));
+           return micro_shadowing::specular_aware_azimuth_mean<double>(p.V, p.ax, p.nl, p.nv);
+         },
+         nullptr, specular_aware_breaks};
+  // Per light: the indicator at the full vectors; the ALU form is the azimuth mean's closed form (N·L, N·V).
+  if (as_float)
+    i.shade = [](const MicroShadowingShadeInput& in) {
+      return micro_shadowing::specular_aware_azimuth_mean<float>(in.visibility, shade_alpha(in), in.l.z,
+                                                                 in.v.z);
+    };
+  else
+    i.shade = [](const MicroShadowingShadeInput& in) {
+      return micro_shadowing::specular_aware(in.visibility, in.v, in.l);
+    };
+  return i;
 }
 Impl diffuse_aware(const MicroShadowingOptions& o, micro_shadowing::DiffuseAwareForm form) {
-  return {[o, form](const Point& p) {
-            const Vec3d v = lut::study_view_dir(p.nv);
-            if (o.samples != 0) {
-              if (!p.phi)
-                throw InputError(
-                    "--samples needs --phi for the diffuse-aware terms (their azimuth mean is lobe-weighted "
-                    "and exact only)");
-              return micro_shadowing::diffuse_aware_estimate(p.V, GGX<double>(p.ax), v,
-                                                             lut::study_light_dir(p.nl, *p.phi),
-                                                             int(o.samples), form, o.seed);
-            }
-            if (p.phi)
-              return micro_shadowing::diffuse_aware_exact(p.V, p.ax, p.ax, v,
-                                                          lut::study_light_dir(p.nl, *p.phi), form);
-            return micro_shadowing::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
-          },
-          nullptr, diffuse_aware_breaks};
+  Impl i{[o, form](const Point& p) {
+           const Vec3d v = lut::study_view_dir(p.nv);
+           if (o.samples != 0) {
+             if (!p.phi)
+               throw InputError(
+                   "--samples needs --phi for the diffuse-aware terms (their azimuth mean is lobe-weighted "
+                   "and exact only)");
+             return micro_shadowing::diffuse_aware_estimate(
+                 p.V, GGX<double>(p.ax), v, lut::study_light_dir(p.nl, *p.phi), int(o.samples), form, o.seed);
+           }
+           if (p.phi)
+             return micro_shadowing::diffuse_aware_exact(p.V, p.ax, p.ax, v,
+                                                         lut::study_light_dir(p.nl, *p.phi), form);
+           return micro_shadowing::diffuse_aware_exact_azimuth_mean(p.V, p.ax, p.nl, p.nv, form);
+         },
+         nullptr, diffuse_aware_breaks};
+  // Per light: the Sobol estimator (float, as the shaders run it) or, without samples, the exact quadrature.
+  i.shade = [o, form](const MicroShadowingShadeInput& in) {
+    if (micro_shadowing::exact_zero(in.visibility, in.l.z)) return 0.0f;
+    const float a = shade_alpha(in);
+    if (o.samples == 0)
+      return float(micro_shadowing::diffuse_aware_exact(double(in.visibility), double(a), double(a),
+                                                        Vec3d(in.v), Vec3d(in.l), form));
+    return micro_shadowing::diffuse_aware_estimate(in.visibility, GGX<float>(a), in.v, in.l, int(o.samples),
+                                                   form, (o.seed ^ in.seed) | 1u);
+  };
+  return i;
 }
 
 // The generic term for another microsurface (docs/micro-shadowing.md, "Other microsurface profiles and
 // anisotropy"): the exact quadrature at φ or its mean over [0, π], or with samples the Sobol estimator (at φ,
 // or averaged over kEstimateAzimuths azimuths as generic-vndf does). exact(V, v, l) and exact_mean(p) give
 // the reference; make(p) the distribution the estimator samples.
-template <class Make, class Exact, class ExactMean>
-Impl generic_profile(const MicroShadowingOptions& o, Make make, Exact exact, ExactMean exact_mean) {
-  return {[o, make, exact, exact_mean](const Point& p) {
-            const Vec3d v = lut::study_view_dir(p.nv);
-            if (o.samples == 0)
-              return p.phi ? exact(p, v, lut::study_light_dir(p.nl, *p.phi)) : exact_mean(p);
-            const auto dist = make(p);
-            const int n = int(o.samples);
-            if (p.phi)
-              return micro_shadowing::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, *p.phi),
-                                                            n, o.g2, o.seed);
-            double sum = 0;
-            for (int k = 0; k < kEstimateAzimuths; ++k) {
-              const double phi = kPi<double> * (k + 0.5) / kEstimateAzimuths;
-              sum += micro_shadowing::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, phi), n,
-                                                            o.g2, hash_combine(o.seed, uint32_t(k)));
-            }
-            return sum / kEstimateAzimuths;
-          },
-          nullptr};
+// Per light (shade): the estimator on make_f(α) in float with the options' samples, else the exact term.
+template <class Make, class MakeF, class Exact, class ExactMean>
+Impl generic_profile(const MicroShadowingOptions& o, Make make, MakeF make_f, Exact exact,
+                     ExactMean exact_mean) {
+  Impl i{[o, make, exact, exact_mean](const Point& p) {
+           const Vec3d v = lut::study_view_dir(p.nv);
+           if (o.samples == 0) return p.phi ? exact(p, v, lut::study_light_dir(p.nl, *p.phi)) : exact_mean(p);
+           const auto dist = make(p);
+           const int n = int(o.samples);
+           if (p.phi)
+             return micro_shadowing::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, *p.phi),
+                                                           n, o.g2, o.seed);
+           double sum = 0;
+           for (int k = 0; k < kEstimateAzimuths; ++k) {
+             const double phi = kPi<double> * (k + 0.5) / kEstimateAzimuths;
+             sum += micro_shadowing::generic_vndf_estimate(p.V, dist, v, lut::study_light_dir(p.nl, phi), n,
+                                                           o.g2, hash_combine(o.seed, uint32_t(k)));
+           }
+           return sum / kEstimateAzimuths;
+         },
+         nullptr};
+  i.shade = [o, make_f, exact](const MicroShadowingShadeInput& in) {
+    if (micro_shadowing::exact_zero(in.visibility, in.l.z)) return 0.0f;
+    const float a = shade_alpha(in);
+    if (o.samples == 0) {
+      const Point p{in.visibility, in.l.z, in.v.z, in.roughness, a, a, nullptr};
+      return float(exact(p, Vec3d(in.v), Vec3d(in.l)));
+    }
+    return micro_shadowing::generic_vndf_estimate(in.visibility, make_f(a), in.v, in.l, int(o.samples), o.g2,
+                                                  (o.seed ^ in.seed) | 1u);
+  };
+  return i;
 }
 
 // Smith–Beckmann (α = r², as GGX): the weight G2/G1 cancels, so --g2 changes only the estimator's weights.
@@ -202,7 +268,7 @@ Impl generic_profile(const MicroShadowingOptions& o, Make make, Exact exact, Exa
 // azimuth or the mean over [0, π].
 Impl generic_vndf(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
   return generic_profile(
-      o, [](const Point& p) { return GGX<double>(p.ax, p.ay); },
+      o, [](const Point& p) { return GGX<double>(p.ax, p.ay); }, [](float a) { return GGX<float>(a); },
       [](const Point& p, const Vec3d& v, const Vec3d& l) {
         return micro_shadowing::generic_vndf_exact(p.V, p.ax, p.ay, v, l);
       },
@@ -216,6 +282,7 @@ Impl generic_vndf(const MicroShadowingOptions& o, const MicroShadowingMethodInfo
 Impl generic_vndf_beckmann(const MicroShadowingOptions& o, const MicroShadowingMethodInfo&) {
   return generic_profile(
       o, [](const Point& p) { return Beckmann<double>(p.ax, p.ay); },
+      [](float a) { return Beckmann<float>(a); },
       [](const Point& p, const Vec3d& v, const Vec3d& l) {
         return micro_shadowing::generic_vndf_exact(p.V, Beckmann<double>(p.ax, p.ay), v, l);
       },
@@ -231,7 +298,7 @@ Impl generic_vcavity(const MicroShadowingOptions& o, const MicroShadowingMethodI
   const micro_shadowing::G2Form form = o.g2;
   const auto vc = [](const Point& p) { return BeckmannVCavity<double>(Beckmann<double>(p.ax, p.ay)); };
   return generic_profile(
-      o, vc,
+      o, vc, [](float a) { return BeckmannVCavity<float>(Beckmann<float>(a)); },
       [vc, form](const Point& p, const Vec3d& v, const Vec3d& l) {
         return micro_shadowing::generic_vcavity_exact(p.V, vc(p), v, l, form);
       },
@@ -247,7 +314,7 @@ Impl generic_vcavity(const MicroShadowingOptions& o, const MicroShadowingMethodI
 Impl lut3d_projected_anisotropic(const MicroShadowingOptions& o, const MicroShadowingMethodInfo& info) {
   Impl base = lut_method(o, info, false);
   auto table = base.table;
-  return {
+  Impl i{
       [table](const Point& p) {
         if (micro_shadowing::exact_zero(p.V, p.nl)) return 0.0;
         const Vec3d v = lut::study_view_dir(p.nv);
@@ -271,75 +338,208 @@ Impl lut3d_projected_anisotropic(const MicroShadowingOptions& o, const MicroShad
         return sum / kEstimateAzimuths;
       },
       table};
+  i.shade = base.shade;  // a renderer's roughness is isotropic: the plain LUT
+  return i;
 }
 
-MicroShadowingMethodInfo closed(const char* name, const char* summary) {
-  return {name, summary, false, false, false, false, false, false};
+// What an entry reads and accepts (MicroShadowingMethodInfo's flags).
+enum Flag : unsigned {
+  kRough = 1,     // uses the roughness
+  kNdotV = 2,     // uses N·V
+  kPhi = 4,       // accepts --phi
+  kRoughY = 8,    // accepts --roughness-y
+  kSamples = 16,  // accepts --samples
+  kLut = 32,      // accepts --lut
+  kNoNdotl = 64,  // does not depend on N·L
+  kStudy = 128,   // in the study's default list
+};
+MicroShadowingMethodInfo info(const char* name, const char* label, const char* summary, unsigned f,
+                              std::vector<MicroShadowingGlsl> glsl = {}) {
+  MicroShadowingMethodInfo i;
+  i.name = name, i.label = label, i.summary = summary;
+  i.uses_roughness = f & kRough, i.uses_ndotv = f & kNdotV;
+  i.accepts_phi = f & kPhi, i.accepts_roughness_y = f & kRoughY;
+  i.accepts_samples = f & kSamples, i.accepts_lut = f & kLut;
+  i.uses_ndotl = !(f & kNoNdotl), i.in_study = f & kStudy;
+  i.glsl = std::move(glsl);
+  return i;
+}
+// A named pair: the diffuse-lobe term d and the specular-lobe term s (both single-term entries).
+MicroShadowingMethodInfo pair(const char* d, const char* s, const char* label, const char* summary,
+                              unsigned f) {
+  MicroShadowingMethodInfo i = info("", label, summary, f);
+  i.name = std::string(d) + "+" + s;
+  i.diffuse = d, i.specular = s;
+  return i;
+}
+MicroShadowingGlsl glsl(const char* expr, const char* requires_fn = "", const char* lut = "") {
+  MicroShadowingGlsl g;
+  g.expr = expr, g.requires_fn = requires_fn, g.lut = lut;
+  return g;
+}
+template <double (*F)(double, double), float (*G)(float, float)>
+Impl closed_entry(const MicroShadowingOptions&, const MicroShadowingMethodInfo&) {
+  return closed_form(F, G);
+}
+Impl constant_entry(double c) {
+  Impl i{[c](const Point&) { return c; }, nullptr};
+  i.shade = [c](const MicroShadowingShadeInput&) { return float(c); };
+  return i;
 }
 
 const std::vector<Entry>& entries() {
-  static const std::vector<Entry> e = {
-      {closed("ao", "the visibility V itself (ambient occlusion applied to direct light)"),
-       [](auto&, auto&) {
-         return Impl{[](const Point& p) { return p.V; }, nullptr};
-       }},
-      {closed("reference", "step: 1 when the light is inside the visibility cone, else 0"),
-       [](auto&, auto&) { return closed_form(micro_shadowing::reference_step<double>); }},
-      {closed("brinck-maximov-2016", "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'"),
-       [](auto&, auto&) { return closed_form(micro_shadowing::brinck_maximov_2016<double>); }},
-      {closed("chan-2018", "Chan 2018, 'Material Advances in Call of Duty: WWII'"),
-       [](auto&, auto&) { return closed_form(micro_shadowing::chan_2018<double>); }},
-      {closed("part1-analytic", "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'"),
-       [](auto&, auto&) { return closed_form(micro_shadowing::part1_analytic<double>); }},
-      {{"generic-vndf",
-        "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator with "
-        "samples",
-        true, true, true, true, true, false},
-       generic_vndf},
-      {{"generic-vndf-alu", "ALU-only fit of the generic term's azimuth mean (micro_shadowing_fit.h), float",
-        true, true, false, false, false, false},
-       generic_vndf_alu},
-      {{"lut3d", "the LUT sampler on a 3D table (V, N.L, N.V x roughness)", true, true, true, false, false,
-        true},
-       [](auto& o, auto& i) { return lut_method(o, i, false); }},
-      {{"lut2d", "the LUT sampler on the N.V = 1 slice", true, false, true, false, false, true},
-       [](auto& o, auto& i) { return lut_method(o, i, true); }},
-      {{"specular-aware",
-        "micro-BRDF-aware, specular lobe: chi(n.h > c) chi(h.l > c); without --phi its GGX-lobe-weighted "
-        "azimuth mean (closed form)",
-        true, true, true, false, false, false},
-       [](auto&, auto&) { return specular_aware(false); }},
-      {{"specular-aware-alu", "the specular-aware azimuth mean's closed form in float, as the shaders run it",
-        true, true, false, false, false, false},
-       [](auto&, auto&) { return specular_aware(true); }},
-      {{"diffuse-aware",
-        "micro-BRDF-aware, Lambertian facets, reciprocal cone tests (exact quadrature; Sobol estimator with "
-        "--samples and --phi)",
-        true, true, true, false, true, false},
-       [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Reciprocal); }},
-      {{"diffuse-aware-flux",
-        "micro-BRDF-aware, Lambertian facets, fraction of the reflected flux leaving through the cone", true,
-        true, true, false, true, false},
-       [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Flux); }},
-      {{"diffuse-aware-alu",
-        "ALU-only fit of the diffuse-aware (reciprocal) term's azimuth mean (micro_shadowing_aware_fit.h), "
-        "float",
-        true, true, false, false, false, false},
-       [](auto&, auto&) { return diffuse_aware_alu(); }},
-      {{"generic-vndf-beckmann",
-        "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)", true, true,
-        true, true, true, false},
-       generic_vndf_beckmann},
-      {{"generic-vcavity",
-        "generic term for Beckmann-Spizzichino + V-cavity, weight G2/G1 depends on m (exact quadrature, or "
-        "the weighted Sobol estimator with samples)",
-        true, true, true, true, true, false},
-       generic_vcavity},
-      {{"lut3d-projected-anisotropic",
-        "the 3D LUT at anisotropic GGX through the rms of the roughness projected along l and v", true, true,
-        true, true, false, true},
-       lut3d_projected_anisotropic},
-  };
+  namespace ms = micro_shadowing;
+  using In = MicroShadowingShadeInput;
+  static const std::vector<Entry> e = [] {
+    std::vector<Entry> v = {
+        {info("none", "none (term = 1)", "no micro-occlusion: the term is 1", kNoNdotl | kStudy,
+              {glsl("1.0")}),
+         [](auto&, auto&) { return constant_entry(1.0); }},
+        {info("ao", "AO on direct light (term = V)",
+              "the visibility V itself (ambient occlusion applied to direct light)", kNoNdotl | kStudy,
+              {glsl("vis")}),
+         [](auto&, auto&) {
+           Impl i{[](const Point& p) { return p.V; }, nullptr};
+           i.shade = [](const In& in) { return in.visibility; };
+           return i;
+         }},
+        {info("reference", "reference step (Zurita 2026)",
+              "step: 1 when the light is inside the visibility cone, else 0", kStudy,
+              {glsl("msh_ms_reference_step(vis, nl)", "msh_ms_reference_step")}),
+         closed_entry<ms::reference_step<double>, ms::reference_step<float>>},
+        {info("brinck-maximov-2016", "Brinck & Maximov 2016",
+              "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'", kStudy,
+              {glsl("msh_ms_brinck_maximov2016(vis, nl)", "msh_ms_brinck_maximov2016")}),
+         closed_entry<ms::brinck_maximov_2016<double>, ms::brinck_maximov_2016<float>>},
+        {info("chan-2018", "Chan 2018 (Filament)", "Chan 2018, 'Material Advances in Call of Duty: WWII'",
+              kStudy, {glsl("msh_ms_chan2018(vis, nl)", "msh_ms_chan2018")}),
+         closed_entry<ms::chan_2018<double>, ms::chan_2018<float>>},
+        {info("part1-analytic", "Part 1 analytic (Zurita 2026)",
+              "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'", kStudy,
+              {glsl("msh_ms_part1_analytic(vis, nl)", "msh_ms_part1_analytic")}),
+         closed_entry<ms::part1_analytic<double>, ms::part1_analytic<float>>},
+        {info("generic-vndf", "generic VNDF (Zurita 2026)",
+              "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator with "
+              "samples",
+              kRough | kNdotV | kPhi | kRoughY | kSamples | kStudy, {[] {
+                MicroShadowingGlsl g =
+                    glsl("msh_ms_generic_vndf_estimate(vis, vec2(alpha), v, l, u_samples, true, 1u)",
+                         "msh_ms_generic_vndf_estimate");
+                g.label_suffix = ", N samples", g.samples = g.frame = true;
+                return g;
+              }()}),
+         generic_vndf},
+        {info("generic-vndf-alu", "generic VNDF, ALU fit",
+              "ALU-only fit of the generic term's azimuth mean (micro_shadowing_fit.h), float",
+              kRough | kNdotV | kStudy,
+              {glsl("msh_ms_generic_vndf_alu(vis, nl, nv, rough)", "msh_ms_generic_vndf_alu"),
+               [] {
+                 MicroShadowingGlsl g =
+                     glsl("msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(vis, nv, rough), nl)",
+                          "msh_ms_generic_vndf_alu_light");
+                 g.id_suffix = "-two-stage", g.label_suffix = " (pixel + light)", g.two_stage = true;
+                 return g;
+               }()}),
+         generic_vndf_alu},
+        {info("lut3d", "3D LUT (cone layout)", "the LUT sampler on a 3D table (V, N.L, N.V x roughness)",
+              kRough | kNdotV | kPhi | kLut | kStudy,
+              {glsl("msh_ms_lut_sample_cone(u_lut3d, u_lut3d_slabs, vis, nl, nv, rough)",
+                    "msh_ms_lut_sample_cone", "lut3d"),
+               [] {
+                 MicroShadowingGlsl g = glsl(
+                     "msh_ms_lut_sample_cone_azimuth(u_lut_az, u_lut_az_slabs, u_lut_az_harmonics, vis, nl, "
+                     "nv, "
+                     "rough, cos_phi)",
+                     "msh_ms_lut_sample_cone_azimuth", "lut_azimuth");
+                 g.id_suffix = "-azimuth", g.label_suffix = ", azimuth-aware (3 harmonics)", g.phi = true;
+                 return g;
+               }()}),
+         [](auto& o, auto& i) { return lut_method(o, i, false); }},
+        {info("lut2d", "2D LUT (N·V = 1 slice)", "the LUT sampler on the N.V = 1 slice",
+              kRough | kPhi | kLut | kStudy,
+              {glsl("msh_ms_lut_sample_cone(u_lut2d, u_lut2d_slabs, vis, nl, 1.0, rough)",
+                    "msh_ms_lut_sample_cone", "lut2d")}),
+         [](auto& o, auto& i) { return lut_method(o, i, true); }},
+        {info("specular-aware", "specular-aware (indicator)",
+              "micro-BRDF-aware, specular lobe: chi(n.h > c) chi(h.l > c); without --phi its "
+              "GGX-lobe-weighted "
+              "azimuth mean (closed form)",
+              kRough | kNdotV | kPhi),
+         [](auto&, auto&) { return specular_aware(false); }},
+        {info("specular-aware-alu", "specular-aware, closed-form mean",
+              "the specular-aware azimuth mean's closed form in float, as the shaders run it",
+              kRough | kNdotV),
+         [](auto&, auto&) { return specular_aware(true); }},
+        {info("diffuse-aware", "diffuse-aware",
+              "micro-BRDF-aware, Lambertian facets, reciprocal cone tests (exact quadrature; Sobol estimator "
+              "with --samples and --phi)",
+              kRough | kNdotV | kPhi | kSamples),
+         [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Reciprocal); }},
+        {info("diffuse-aware-flux", "diffuse-aware (flux form)",
+              "micro-BRDF-aware, Lambertian facets, fraction of the reflected flux leaving through the cone",
+              kRough | kNdotV | kPhi | kSamples),
+         [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Flux); }},
+        {info("diffuse-aware-alu", "diffuse-aware, ALU fit",
+              "ALU-only fit of the diffuse-aware (reciprocal) term's azimuth mean "
+              "(micro_shadowing_aware_fit.h), "
+              "float",
+              kRough | kNdotV),
+         [](auto&, auto&) { return diffuse_aware_alu(); }},
+        {info("generic-vndf-beckmann", "generic VNDF, Smith-Beckmann",
+              "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)",
+              kRough | kNdotV | kPhi | kRoughY | kSamples),
+         generic_vndf_beckmann},
+        {info(
+             "generic-vcavity", "generic, V-cavity",
+             "generic term for Beckmann-Spizzichino + V-cavity, weight G2/G1 depends on m (exact quadrature, "
+             "or the weighted Sobol estimator with samples)",
+             kRough | kNdotV | kPhi | kRoughY | kSamples),
+         generic_vcavity},
+        {info("lut3d-projected-anisotropic", "3D LUT, projected anisotropic roughness",
+              "the 3D LUT at anisotropic GGX through the rms of the roughness projected along l and v",
+              kRough | kNdotV | kPhi | kRoughY | kLut),
+         lut3d_projected_anisotropic},
+        // Named pairs (docs/micro-shadowing-aware.md): the diffuse-aware term on the diffuse lobe, a specular
+        // term on the specular lobe.
+        {pair("diffuse-aware", "specular-aware", "aware (estimator + indicator)",
+              "micro-BRDF-aware pair: the diffuse-aware estimator, the specular-aware indicator", kStudy),
+         nullptr},
+        {pair("diffuse-aware-flux", "specular-aware", "aware, flux form",
+              "the pair with the diffuse-aware flux form", kStudy),
+         nullptr},
+        {pair("diffuse-aware-alu", "specular-aware", "aware ALU + specular indicator",
+              "the diffuse-aware ALU fit, the specular-aware indicator", kStudy),
+         nullptr},
+        {pair("diffuse-aware-alu", "generic-vndf-alu", "recommended, ALU only",
+              "the recommended pair in ALU only: the diffuse-aware fit on the diffuse lobe, the generic "
+              "term's fit "
+              "on the specular lobe",
+              kStudy),
+         nullptr},
+        {pair("diffuse-aware-alu", "lut3d", "recommended, ALU + LUT",
+              "the recommended pair with the table: the diffuse-aware fit on the diffuse lobe, the 3D LUT on "
+              "the "
+              "specular lobe",
+              kStudy),
+         nullptr},
+        {pair("diffuse-aware", "generic-vndf", "recommended, estimators",
+              "the recommended pair's reference: the diffuse-aware and generic estimators", 0),
+         nullptr},
+    };
+    // A pair reads and accepts what its terms do.
+    for (Entry& p : v) {
+      if (!p.info.is_pair()) continue;
+      for (const std::string& part : {p.info.diffuse, p.info.specular}) {
+        const auto it = std::find_if(v.begin(), v.end(), [&](const Entry& x) { return x.info.name == part; });
+        if (it == v.end() || it->info.is_pair()) throw std::logic_error("micro-shadowing pair part: " + part);
+        const MicroShadowingMethodInfo& t = it->info;
+        p.info.uses_roughness |= t.uses_roughness, p.info.uses_ndotv |= t.uses_ndotv;
+        p.info.accepts_phi |= t.accepts_phi, p.info.accepts_roughness_y |= t.accepts_roughness_y;
+        p.info.accepts_samples |= t.accepts_samples, p.info.accepts_lut |= t.accepts_lut;
+      }
+    }
+    return v;
+  }();
   return e;
 }
 
@@ -364,6 +564,13 @@ const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& n
   return nullptr;
 }
 
+std::vector<std::string> micro_shadowing_study_methods() {
+  std::vector<std::string> r;
+  for (const MicroShadowingMethodInfo& i : micro_shadowing_methods())
+    if (i.in_study) r.push_back(i.name);
+  return r;
+}
+
 std::string micro_shadowing_method_names() {
   std::string s;
   for (const MicroShadowingMethodInfo& i : micro_shadowing_methods()) s += (s.empty() ? "" : ", ") + i.name;
@@ -381,6 +588,18 @@ MicroShadowingEvaluator::MicroShadowingEvaluator(const std::string& method, Micr
     throw InputError(fmt::format("--samples must be in [1, 2^30], got {}", options_.samples));
   if (!options_.lut_path.empty() && !info_->accepts_lut)
     throw InputError(fmt::format("--lut does not apply to {}", method));
+  if (info_->is_pair()) {
+    // Each term gets the options that apply to it.
+    const auto part = [&](const std::string& name) {
+      const MicroShadowingMethodInfo& t = *find_micro_shadowing_method(name);
+      MicroShadowingOptions o = options_;
+      if (!t.accepts_samples) o.samples = 0;
+      if (!t.accepts_lut) o.lut_path.clear();
+      return std::make_shared<const MicroShadowingEvaluator>(name, o);
+    };
+    diffuse_ = part(info_->diffuse), specular_ = part(info_->specular);
+    return;
+  }
   const size_t i = size_t(info_ - micro_shadowing_methods().data());
   impl_ = std::make_shared<const Impl>(entries()[i].make(options_, *info_));
 }
@@ -410,15 +629,46 @@ Point validated_point(const MicroShadowingMethodInfo* info_, const MicroShadowin
 }  // namespace
 
 double MicroShadowingEvaluator::eval(const MicroShadowingQuery& q) const {
+  if (info_->is_pair())
+    throw InputError(
+        fmt::format("{} is a pair ({} on the diffuse lobe, {} on the specular lobe): it has one "
+                    "value per lobe",
+                    info_->name, info_->diffuse, info_->specular));
   return impl_->eval(validated_point(info_, q));
 }
 
+std::pair<double, double> MicroShadowingEvaluator::eval_lobes(const MicroShadowingQuery& q) const {
+  if (!info_->is_pair()) {
+    const double t = eval(q);
+    return {t, t};
+  }
+  validated_point(info_, q);
+  // A term that does not read φ or the anisotropy gets the query without them (its value is the same).
+  const auto part = [&](const MicroShadowingEvaluator& e) {
+    MicroShadowingQuery p = q;
+    if (!e.info().accepts_phi) p.phi.reset();
+    if (!e.info().accepts_roughness_y) p.roughness_y.reset();
+    return e.eval(p);
+  };
+  return {part(*diffuse_), part(*specular_)};
+}
+
+MicroShadowingLobes MicroShadowingEvaluator::shade(const MicroShadowingShadeInput& in) const {
+  if (info_->is_pair()) return {diffuse_->shade(in).diffuse, specular_->shade(in).specular};
+  const float t = impl_->shade(in);
+  return {t, t};
+}
+
 MicroShadowingBreaks MicroShadowingEvaluator::breaks(const MicroShadowingQuery& q) const {
-  if (!impl_->breaks) return {};
+  if (info_->is_pair() || !impl_->breaks) return {};
   return impl_->breaks(validated_point(info_, q));
 }
 
 std::shared_ptr<const lut::MicroShadowingLut> MicroShadowingEvaluator::table(bool with_phi) const {
+  if (info_->is_pair()) {
+    if (auto t = specular_->table(with_phi)) return t;
+    return diffuse_->table(with_phi);
+  }
   return impl_->table ? impl_->table(with_phi) : nullptr;
 }
 

@@ -101,11 +101,33 @@ pyb::object fast_loop(const Broadcast& b, F&& term, std::size_t& first_bad) {
   return finish(out, b);
 }
 
-pyb::object eval(const std::string& method, pyb::handle visibility, pyb::handle ndotl, pyb::handle ndotv,
+// A pair (occlusion/runtime/micro_shadowing_methods.h) has one term per lobe: lobe picks it.
+const occlusion::MicroShadowingMethodInfo* lobe_term(const std::string& method,
+                                                     const std::optional<std::string>& lobe) {
+  if (lobe && *lobe != "diffuse" && *lobe != "specular")
+    throw InputError(fmt::format("lobe must be 'diffuse' or 'specular', got '{}'", *lobe));
+  const occlusion::MicroShadowingMethodInfo* info = occlusion::find_micro_shadowing_method(method);
+  if (!info || !info->is_pair()) return info;
+  if (!lobe)
+    throw InputError(
+        fmt::format("{} is a pair ({} on the diffuse lobe, {} on the specular lobe): pass "
+                    "lobe='diffuse' or lobe='specular'",
+                    method, info->diffuse, info->specular));
+  return occlusion::find_micro_shadowing_method(*lobe == "diffuse" ? info->diffuse : info->specular);
+}
+
+pyb::object eval(const std::string& method_arg, pyb::handle visibility, pyb::handle ndotl, pyb::handle ndotv,
                  pyb::handle roughness, pyb::handle phi, std::optional<int64_t> samples, uint32_t seed,
-                 const std::string& g2, pyb::object lut, pyb::handle roughness_y, const std::string& path) {
+                 const std::string& g2, pyb::object lut, pyb::handle roughness_y, const std::string& path,
+                 const std::optional<std::string>& lobe) {
   if (path != "auto" && path != "registry")
     throw pyb::value_error(fmt::format("path must be 'auto' or 'registry', got '{}'", path));
+  const occlusion::MicroShadowingMethodInfo* term = lobe_term(method_arg, lobe);
+  const std::string method = term ? term->name : method_arg;  // unknown: the registry's message below
+  const bool pair_part = term && method != method_arg;
+  // A pair's option that only its other term takes does not apply to this one.
+  if (pair_part && !term->accepts_samples) samples.reset();
+  if (pair_part && !term->accepts_lut) lut = pyb::none();
   MicroShadowingOptions o;
   o.samples = samples.value_or(0);
   if (samples && (*samples < 1 || *samples > (int64_t(1) << 30)))
@@ -223,22 +245,30 @@ void register_micro_shadowing(pyb::module_& m) {
             out.append(i.name);
             continue;
           }
-          out.append(pyb::dict("name"_a = i.name, "summary"_a = i.summary,
-                               "uses_roughness"_a = i.uses_roughness, "uses_ndotv"_a = i.uses_ndotv,
-                               "accepts_phi"_a = i.accepts_phi,
-                               "accepts_roughness_y"_a = i.accepts_roughness_y,
-                               "accepts_samples"_a = i.accepts_samples, "accepts_lut"_a = i.accepts_lut));
+          pyb::dict d("name"_a = i.name, "label"_a = i.label, "summary"_a = i.summary,
+                      "uses_roughness"_a = i.uses_roughness, "uses_ndotv"_a = i.uses_ndotv,
+                      "accepts_phi"_a = i.accepts_phi, "accepts_roughness_y"_a = i.accepts_roughness_y,
+                      "accepts_samples"_a = i.accepts_samples, "accepts_lut"_a = i.accepts_lut);
+          d["pair"] = i.is_pair();
+          d["diffuse"] = i.is_pair() ? i.diffuse : i.name;
+          d["specular"] = i.is_pair() ? i.specular : i.name;
+          d["uses_ndotl"] = i.uses_ndotl;
+          d["in_study"] = i.in_study;
+          out.append(d);
         }
         return out;
       },
       "details"_a = false,
-      "Names of every micro-shadowing method (the CLI's `eval micro-shadowing --method` values), in the "
-      "registry's order; details=True returns dicts (name, summary, uses_roughness, uses_ndotv, "
-      "accepts_phi, accepts_roughness_y, accepts_samples, accepts_lut).");
+      "Names of every micro-shadowing method (the CLI's `eval micro-shadowing --method` and `render "
+      "--method` values; `microshadow methods`), in the registry's order; details=True returns dicts (name, "
+      "label, summary, uses_roughness, uses_ndotv, accepts_phi, accepts_roughness_y, accepts_samples, "
+      "accepts_lut, pair, diffuse, specular, uses_ndotl, in_study). A pair D+S has the term D on the diffuse "
+      "lobe and S on the specular lobe.");
   m.def(
       "eval_micro_shadowing", &eval, "method"_a, "visibility"_a, "ndotl"_a, "ndotv"_a = 1.0,
       "roughness"_a = 0.5, "phi"_a = pyb::none(), "samples"_a = pyb::none(), "seed"_a = 1,
       "g2"_a = "height-correlated", "lut"_a = pyb::none(), "roughness_y"_a = pyb::none(), "path"_a = "auto",
+      "lobe"_a = pyb::none(),
       "Micro-shadowing term (docs/micro-shadowing.md) of any registered method, as `microshadow eval "
       "micro-shadowing --method METHOD ... --json` prints its 'value', vectorized.\n\n"
       "visibility, ndotl, ndotv, roughness, phi, roughness_y: numbers or arrays, broadcast together like "
@@ -254,7 +284,8 @@ void register_micro_shadowing(pyb::module_& m) {
       "of their domain (including NaN) and shape mismatches raise ValueError with the CLI's message. "
       "Computed with the GIL released, in parallel (oneTBB) for large arrays, bit-identical for any "
       "thread count. path='registry' forces the per-element registry evaluation (for tests; the default "
-      "'auto' runs the closed-form terms and the LUT sampler in a tight loop, same values).");
+      "'auto' runs the closed-form terms and the LUT sampler in a tight loop, same values). lobe: 'diffuse' "
+      "or 'specular', the term of a pair on that lobe (required for a pair; ignored for a single term).");
 }
 
 }  // namespace msh::py

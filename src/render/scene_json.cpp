@@ -1,6 +1,7 @@
 // Scene JSON parser: strict (unknown keys are errors), every message names the file and the key.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/scene.h>
 
 #include <fstream>
@@ -14,20 +15,12 @@ namespace msh::render {
 namespace {
 using json = nlohmann::json;
 
-const std::vector<std::pair<MicroShadowing, const char*>> kMsNames = {
-    {MicroShadowing::None, "none"},
-    {MicroShadowing::AO, "ao"},
-    {MicroShadowing::Reference, "reference"},
-    {MicroShadowing::BrinckMaximov, "brinck-maximov-2016"},
-    {MicroShadowing::Chan, "chan-2018"},
-    {MicroShadowing::Part1, "part1"},
-    {MicroShadowing::GenericVndf, "generic-vndf"},
-    {MicroShadowing::Lut3d, "lut3d"},
-    {MicroShadowing::Lut2d, "lut2d"},
-    {MicroShadowing::Aware, "aware"},
-    {MicroShadowing::AwareFlux, "aware-flux"},
-    {MicroShadowing::AwareAlu, "aware-alu"},
-    {MicroShadowing::GroundTruth, "ground-truth"}};
+// Names the renderer had before the registry became the one list of terms.
+const std::vector<std::pair<const char*, const char*>> kRenamedMethods = {
+    {"part1", "part1-analytic"},
+    {"aware", "diffuse-aware+specular-aware"},
+    {"aware-flux", "diffuse-aware-flux+specular-aware"},
+    {"aware-alu", "diffuse-aware-alu+specular-aware"}};
 const std::vector<std::pair<Component, const char*>> kComponentNames = {
     {Component::Total, "total"}, {Component::Diffuse, "diffuse"}, {Component::Specular, "specular"}};
 const std::vector<std::pair<BumpTerminator, const char*>> kBtNames = {
@@ -380,19 +373,18 @@ const E* value_of(const std::vector<std::pair<E, const char*>>& table, const std
 }
 }  // namespace
 
-const char* to_string(MicroShadowing m) { return name_of(kMsNames, m); }
 std::vector<std::string> micro_shadowing_names() {
   std::vector<std::string> r;
-  for (const auto& kn : kMsNames) r.push_back(kn.second);
+  for (const auto& i : occlusion::micro_shadowing_methods()) r.push_back(i.name);
+  r.push_back(kGroundTruth);
   return r;
 }
-MicroShadowing micro_shadowing_from_string(const std::string& s) {
-  std::string list;
-  for (const auto& [k, n] : kMsNames) {
-    if (s == n) return k;
-    list += std::string(list.empty() ? "" : ", ") + n;
-  }
-  throw InputError(fmt::format("unknown micro-shadowing method '{}' (known: {})", s, list));
+std::string micro_shadowing_from_string(const std::string& s) {
+  if (s == kGroundTruth || occlusion::find_micro_shadowing_method(s)) return s;
+  for (const auto& [old, now] : kRenamedMethods)
+    if (s == old) throw InputError(fmt::format("micro-shadowing method '{}' is now called '{}'", s, now));
+  throw InputError(fmt::format("unknown micro-shadowing method '{}' (known: {}, {})", s,
+                               occlusion::micro_shadowing_method_names(), kGroundTruth));
 }
 const char* to_string(Component c) { return name_of(kComponentNames, c); }
 Component component_from_string(const std::string& s) {

@@ -13,7 +13,7 @@ namespace msh::render {
 Renderer::Impl::Impl(const Scene& s) : scene(s), ms(s.settings), bt(s.settings.bump_terminator) {
   obj_hf.assign(s.objects.size(), -1);
   obj_gt_mesh.assign(s.objects.size(), -1);
-  if (s.settings.micro_shadowing == MicroShadowing::GroundTruth) setup_ground_truth(s);
+  if (s.settings.ground_truth()) setup_ground_truth(s);
   // One Embree scene holds every shape: meshes as triangles, analytic planes and spheres and the
   // height-field planes as user geometry (one primitive each), geometry ids in object order.
   device = rtcNewDevice(nullptr);

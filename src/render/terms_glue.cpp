@@ -1,4 +1,4 @@
-// Glue between the renderer and the other areas' headers: bump-terminator terms and the micro-shadowing LUT.
+// Glue between the renderer and the other areas' headers: bump-terminator and micro-shadowing terms.
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/occlusion/bump_terminator.h>
@@ -25,38 +25,27 @@ float BumpTerminatorTerm::eval(const Vec3f& ng, const Vec3f& ns, const Vec3f& l)
   return 1.0f;
 }
 
-class LutSampler {
- public:
-  std::shared_ptr<const lut::MicroShadowingLut> table;
-  lut::MicroShadowingLutView view;
-  bool two_d = false;
-};
-
-std::shared_ptr<const LutSampler> load_lut_sampler(const std::string& path, bool two_d) {
-  auto s = std::make_shared<LutSampler>();
-  s->two_d = two_d;
-  // No file: the LUT module's default table (cone layout, 3D or N·V = 1, baked once per process and cached).
-  s->table = path.empty()
-                 ? lut::default_micro_shadowing_lut(two_d)
-                 : std::make_shared<const lut::MicroShadowingLut>(lut::load_micro_shadowing_lut(path));
-  s->view = s->table->view();
-  return s;
-}
-
-// The 2D LUT is the N·V = 1 slice (Zurita 2026): N·V is not looked up. Any layout (the view dispatches); an
-// azimuth-aware table is evaluated at the light's azimuth, never reduced to its mean silently.
-float sample_lut(const LutSampler& l, float V, float n_dot_l, float n_dot_v, float roughness, float cos_phi) {
-  const float nv = l.two_d ? 1.0f : n_dot_v;
-  if (l.view.harmonics > 0)
-    return lut::sample_micro_shadowing_azimuth(l.view, V, n_dot_l, nv, roughness, cos_phi);
-  return lut::sample_micro_shadowing(l.view, V, n_dot_l, nv, roughness);
+MicroShadowingTerm::MicroShadowingTerm(const Settings& s) : smooth_(s.ms_smooth_normal) {
+  const std::string& name = s.micro_shadowing;
+  if (name == "none" || s.ground_truth()) return;
+  const occlusion::MicroShadowingMethodInfo* info = occlusion::find_micro_shadowing_method(name);
+  if (!info) micro_shadowing_from_string(name);  // throws the message listing the names
+  occlusion::MicroShadowingOptions o;
+  if (info->accepts_samples) o.samples = s.vndf_samples;
+  if (info->accepts_lut) o.lut_path = s.lut_path;
+  method_ = std::make_shared<const occlusion::MicroShadowingEvaluator>(name, o);
+  exact_generic_ = name == "generic-vndf";
+  // A LUT method on a table without the azimuth harmonics reads N·L and N·V only (so does every term that
+  // does not take φ).
+  const auto table = method_->table(false);
+  z_only_ = !info->is_pair() && (!info->accepts_phi || (table && table->view().harmonics == 0));
 }
 
 float MicroShadowingTerm::eval_area(const ShadePoint& sp, const Vec3f& wo, const Vec3f& tangent,
                                     const Light& l, const Vec3f& p, bool specular,
                                     const std::function<float(const Vec3f&)>& extra, bool extra_is_one,
                                     uint32_t seed) const {
-  if (mode_ == MicroShadowing::None || mode_ == MicroShadowing::GroundTruth) return 1.0f;
+  if (!method_) return 1.0f;
   // The light as seen from p, in the term's frame (n = +z), as the exact reference takes it.
   const Vec3f& n = smooth_ ? sp.n_smooth : sp.n_shading;
   const Framef fr = Framef::from_zx(n, tangent);
@@ -88,25 +77,19 @@ float MicroShadowingTerm::eval_area(const ShadePoint& sp, const Vec3f& wo, const
   const double V = sp.visibility;
   // Type-erased here (the renderer is not engine code): the terms' own callables differ in type.
   area::PointTerm<std::function<double(const Vec3d&)>> term;
-  if (mode_ == MicroShadowing::GenericVndf) {
+  if (exact_generic_) {
     // The exact generic term (the renderer's per-direction estimate is Monte Carlo: not for quadrature).
     auto g = area::generic_vndf_term(V, alpha, alpha, v, 1e-4);
     term = {std::move(g.M), std::move(g.z_breaks), g.z_only};
   } else {
-    // Every other term through the renderer's own evaluation at the world direction; all but an
-    // azimuth-aware LUT depend on N·L only (and N·V, fixed here).
-    // The aware methods: the lobe's own term, which depends on the full direction (not N·L only).
-    const bool lobe = per_lobe();
-    term.M = [&, seed, lobe, specular](const Vec3d& ld) {
-      const Vec3f w = fr.to_world(Vec3f(ld));
-      if (lobe) {
-        const LobeTerms t = eval_lobes(sp, wo, w, tangent, seed);
-        return double(specular ? t.specular : t.diffuse);
-      }
-      return double(eval(sp, wo, w, tangent, seed));
+    // Every other method through the renderer's own evaluation at the world direction: the lobe's own term
+    // (a pair's terms differ per lobe); z_only_ when it reads N·L only (and N·V, fixed here).
+    term.M = [&, seed, specular](const Vec3d& ld) {
+      const LobeTerms t = eval_lobes(sp, wo, fr.to_world(Vec3f(ld)), tangent, seed);
+      return double(specular ? t.specular : t.diffuse);
     };
     term.z_breaks = area::standard_z_breaks(V);
-    term.z_only = !(lut_ && lut_->view.harmonics > 0) && !lobe;
+    term.z_only = z_only_;
   }
   if (!extra_is_one) {
     term.M = [m = term.M, &extra, &fr](const Vec3d& ld) {

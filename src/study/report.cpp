@@ -15,9 +15,10 @@ using json = nlohmann::json;
 
 namespace {
 
-const std::vector<std::string> kMethods = {"none",      "ao",    "reference",    "brinck-maximov-2016",
-                                           "chan-2018", "part1", "generic-vndf", "lut3d",
-                                           "lut2d",     "aware", "aware-flux",   "aware-alu"};
+// The terms of a run, in the study's order (results.json "config.terms").
+std::vector<std::string> methods_of(const json& results) {
+  return results["config"]["terms"].get<std::vector<std::string>>();
+}
 const std::vector<std::string> kComponents = {"total", "diffuse", "specular"};
 
 bool is_num(const json& j) { return j.is_number(); }
@@ -250,7 +251,7 @@ Table method_table(const json& results, const std::string& mat, const std::strin
   const auto lights = light_names(results);
   for (const auto& l : lights) t.header.push_back(l);
   double floor = 0;
-  for (const auto& m : kMethods) {
+  for (const auto& m : methods_of(results)) {
     std::vector<std::string> row{m};
     std::vector<bool> b{false};
     for (const auto& l : lights) {
@@ -333,12 +334,13 @@ Table widened_table(const json& results, const std::string& comp) {
   Table t;
   t.title = "Base vs variance-widened coarse roughness: |ratio − 1|, " + comp + " component (all materials)";
   t.header = {"scale, light"};
-  for (const auto& m : kMethods) t.header.push_back(m);
+  const auto methods = methods_of(results);
+  for (const auto& m : methods) t.header.push_back(m);
   for (const auto& a : results["summary"]["widened_roughness"]) {
     if (a["component"] != comp) continue;
     std::vector<std::string> row{
         fmt::format("k = {}, {}", a["scale"].get<int>(), a["light"].get<std::string>())};
-    for (const auto& m : kMethods)
+    for (const auto& m : methods)
       row.push_back(a["terms"].contains(m) ? f3(a["terms"][m]["base"].get<double>()) + " / " +
                                                  f3(a["terms"][m]["widened"].get<double>())
                                            : "–");
@@ -371,7 +373,8 @@ std::string plot_svg(const json& results, bool use_bias) {
   const auto scales = results["config"]["scales"].get<std::vector<int>>();
   std::map<std::string, std::vector<double>> ys;
   double ymax = 0;
-  for (const auto& m : kMethods) {
+  const auto methods = methods_of(results);
+  for (const auto& m : methods) {
     for (int k : scales) {
       double s = 0;
       int n = 0;
@@ -385,16 +388,15 @@ std::string plot_svg(const json& results, bool use_bias) {
     }
   }
   if (!(ymax > 0)) ymax = 1;
-  const int W = 520, H = 300, L = 60, R = 160, T = 20, B = 40;
+  const int W = 680, H = 300, L = 60, R = 300, T = 20, B = 40;
   auto X = [&](std::size_t i) {
     return L + (scales.size() > 1 ? double(i) / double(scales.size() - 1) : 0.5) * (W - L - R);
   };
   auto Y = [&](double y) { return T + (1 - y / ymax) * (H - T - B); };
-  // One colour per entry of kMethods (ColorBrewer Set1, then Dark2); the check keeps the two lists in step.
-  static const std::vector<std::string> colors = {"#000",    "#888",    "#e41a1c", "#377eb8",
-                                                  "#4daf4a", "#984ea3", "#ff7f00", "#a65628",
-                                                  "#f781bf", "#1b9e77", "#d95f02", "#7570b3"};
-  if (colors.size() < kMethods.size()) throw std::logic_error("plot_svg: fewer colours than methods");
+  // One colour per method (ColorBrewer Set1, then Dark2; dashed once the colours run out).
+  static const std::vector<std::string> colors = {"#000",    "#888",    "#e41a1c", "#377eb8", "#4daf4a",
+                                                  "#984ea3", "#ff7f00", "#a65628", "#f781bf", "#1b9e77",
+                                                  "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"};
   std::string s =
       fmt::format("<svg width={} height={} xmlns='http://www.w3.org/2000/svg' font-size='11'>", W, H);
   s += fmt::format("<line x1={} y1={} x2={} y2={} stroke='#000'/>", L, H - B, W - R, H - B);
@@ -408,13 +410,15 @@ std::string plot_svg(const json& results, bool use_bias) {
   s += fmt::format("<text x={} y={} text-anchor='middle'>{}</text>", (L + W - R) / 2, H - 6,
                    use_bias ? "mean |term / ground truth − 1| over the lights (total)"
                             : "mean footprint RMSE / GT mean over the lights (total)");
-  for (std::size_t mi = 0; mi < kMethods.size(); ++mi) {
-    const auto& y = ys[kMethods[mi]];
+  for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+    const auto& y = ys[methods[mi]];
     std::string pts;
     for (std::size_t i = 0; i < y.size(); ++i) pts += fmt::format("{:.1f},{:.1f} ", X(i), Y(y[i]));
-    s += fmt::format("<polyline fill='none' stroke='{}' stroke-width='2' points='{}'/>", colors[mi], pts);
-    s += fmt::format("<text x={} y={} fill='{}'>{}</text>", W - R + 8, T + 14 * int(mi) + 10, colors[mi],
-                     kMethods[mi]);
+    const std::string& col = colors[mi % colors.size()];
+    s += fmt::format("<polyline fill='none' stroke='{}' stroke-width='2'{} points='{}'/>", col,
+                     mi >= colors.size() ? " stroke-dasharray='5,3'" : "", pts);
+    s += fmt::format("<text x={} y={} fill='{}'>{}</text>", W - R + 8, T + 14 * int(mi) + 10, col,
+                     methods[mi]);
   }
   return s + "</svg>\n";
 }

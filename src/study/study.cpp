@@ -3,6 +3,7 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/texture_gen.h>
@@ -230,39 +231,35 @@ std::vector<LightSpec> make_lights(const StudyConfig& c, const Frame& fr) {
 }
 
 struct Variant {
-  MicroShadowing term;
+  std::string term;  // a method of the runtime registry
   bool smooth = false;
   CoarseRoughness rough = CoarseRoughness::Base;
   AreaMs area_ms = AreaMs::Sampled;
 };
-const MicroShadowing kTerms[] = {
-    MicroShadowing::None,  MicroShadowing::AO,    MicroShadowing::Reference,   MicroShadowing::BrinckMaximov,
-    MicroShadowing::Chan,  MicroShadowing::Part1, MicroShadowing::GenericVndf, MicroShadowing::Lut3d,
-    MicroShadowing::Lut2d, MicroShadowing::Aware, MicroShadowing::AwareFlux,   MicroShadowing::AwareAlu};
-bool uses_nl(MicroShadowing m) { return m != MicroShadowing::None && m != MicroShadowing::AO; }
+bool uses_nl(const std::string& m) { return occlusion::find_micro_shadowing_method(m)->uses_ndotl; }
 
 std::vector<Variant> make_variants(const StudyConfig& c, int k) {
   std::vector<Variant> v;
   if (area_section(c)) {
     for (const std::string& name : c.area_terms) {
-      const MicroShadowing t = micro_shadowing_from_string(name);
+      const std::string& t = name;
       for (const std::string& mode : c.area_ms_modes) {
         const AreaMs a = area_ms_from_string(mode);
         if (!uses_nl(t) && a != AreaMs::Sampled) continue;  // a constant term: every mode is the same
         // The exact generic term inside the area quadrature costs 40–190 ms per shading point: not rendered
         // (lut3d, its tabulation, stands for it).
-        if (t == MicroShadowing::GenericVndf && a == AreaMs::Integrated) continue;
+        if (t == "generic-vndf" && a == AreaMs::Integrated) continue;
         v.push_back({t, false, CoarseRoughness::Base, a});
       }
     }
     return v;
   }
-  for (auto t : kTerms) v.push_back({t, false, CoarseRoughness::Base});
+  for (const auto& t : c.terms) v.push_back({t, false, CoarseRoughness::Base});
   if (c.normal_ablation)
-    for (auto t : kTerms)
+    for (const auto& t : c.terms)
       if (uses_nl(t)) v.push_back({t, true, CoarseRoughness::Base});
   if (c.widened && k > 1)
-    for (auto t : kTerms) v.push_back({t, false, CoarseRoughness::Widened});
+    for (const auto& t : c.terms) v.push_back({t, false, CoarseRoughness::Widened});
   return v;
 }
 
@@ -459,7 +456,7 @@ float display_exposure(const Plane& g) {
 }
 
 std::string variant_label(const Variant& v) {
-  std::string s = to_string(v.term);
+  std::string s = v.term;
   if (v.smooth) s += "+smooth-normal";
   if (v.rough == CoarseRoughness::Widened) s += "+widened";
   return s;
@@ -515,6 +512,7 @@ json config_json(const StudyConfig& c) {
           {"delta_rmse", c.delta_rmse},
           {"widened", c.widened},
           {"normal_ablation", c.normal_ablation},
+          {"terms", c.terms},
           {"seed", c.seed}};
 }
 json config_json_area(const StudyConfig& c) {
@@ -549,11 +547,16 @@ void validate(const StudyConfig& c) {
   if (area_section(c) && !(c.area_planar_elevation - 5 >= 0 && c.area_planar_elevation < 90))
     bad("area_planar_elevation must be in [5, 90)");
   try {
+    for (const auto& t : c.terms) micro_shadowing_from_string(t);
     for (const auto& t : c.area_terms) micro_shadowing_from_string(t);
     for (const auto& m : c.area_ms_modes) area_ms_from_string(m);
   } catch (const InputError& e) {
     bad(e.what());
   }
+  if (c.terms.empty() && !area_section(c)) bad("no terms");
+  for (const auto* list : {&c.terms, &c.area_terms})
+    for (const auto& t : *list)
+      if (t == kGroundTruth) bad("ground-truth is the reference, not a term");
   if (area_section(c) && make_lights(c, frame_of("plane")).empty())
     bad("no area light keeps its cone 5 degrees above the horizon");
   for (double e : c.elevations)
@@ -609,7 +612,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
       const Frame fr = frame_of(shape);
       const auto lights = make_lights(cfg, fr);
       Scene gt_scene = make_scene(cfg, make_material(kind, fine, true), shape);
-      gt_scene.settings.micro_shadowing = MicroShadowing::GroundTruth;
+      gt_scene.settings.micro_shadowing = kGroundTruth;
       gt_scene.settings.error_batches = 8;
       // One ground-truth renderer per material and shape (a displaced cylinder's BVH takes tens of seconds):
       // the Renderer keeps a reference to the scene and reads the camera, lights, spp, seed and component at
@@ -734,7 +737,7 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
                    {"light_type", ls.type},
                    {"elevation", ls.elevation},
                    {"azimuth", ls.azimuth},
-                   {"method", to_string(v.term)},
+                   {"method", v.term},
                    {"ms_normal", v.smooth ? "smooth" : "shading"},
                    {"roughness", v.rough == CoarseRoughness::Widened ? "widened" : "base"},
                    {"component", kComponentName[ci]},
@@ -749,11 +752,11 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
               if (area_section(cfg)) {
                 rows.back()["area_ms"] = to_string(v.area_ms);
                 rows.back()["light_radius_deg"] = ls.radius_deg;
-                area_lum[std::string(to_string(v.term)) + "/" + to_string(v.area_ms)][ci] = A;
+                area_lum[v.term + "/" + to_string(v.area_ms)][ci] = A;
               }
             }
             if (featured && !v.smooth && v.rough == CoarseRoughness::Base) {
-              const std::string m = to_string(v.term);
+              const std::string& m = v.term;
               write_png(out / "images" / (stem + "_" + m + ".png"), M.img[0], exposure);
               write_png_display(out / "images" / (stem + "_" + m + "_diff.png"),
                                 difference_image(M.img[0], G.img[0], exposure));

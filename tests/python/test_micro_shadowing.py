@@ -236,3 +236,24 @@ def test_no_leaks():
     tracemalloc.stop()
     assert sys.getrefcount(v) == rv and sys.getrefcount(nl) == rn
     assert after - before < 64 * 1024
+
+
+def test_pairs_evaluate_one_lobe_at_a_time():
+    names = msh.micro_shadowing_methods()
+    details = {d["name"]: d for d in msh.micro_shadowing_methods(details=True)}
+    pairs = [n for n in names if details[n]["pair"]]
+    assert "diffuse-aware-alu+lut3d" in pairs
+    v = np.linspace(0.05, 1.0, 7)
+    for p in pairs:
+        d, s = details[p]["diffuse"], details[p]["specular"]
+        assert p == d + "+" + s
+        with pytest.raises(ValueError, match="pair"):
+            msh.eval_micro_shadowing(p, v, 0.5, 0.8, 0.5)
+        # The exact (sample-free) value of each lobe is its term's own value.
+        np.testing.assert_array_equal(msh.eval_micro_shadowing(p, v, 0.5, 0.8, 0.5, lobe="diffuse"),
+                                      msh.eval_micro_shadowing(d, v, 0.5, 0.8, 0.5))
+        np.testing.assert_array_equal(msh.eval_micro_shadowing(p, v, 0.5, 0.8, 0.5, lobe="specular"),
+                                      msh.eval_micro_shadowing(s, v, 0.5, 0.8, 0.5))
+    with pytest.raises(ValueError, match="lobe"):
+        msh.eval_micro_shadowing("ao", v, 0.5, lobe="both")
+    assert details["none"]["in_study"] and not details["none"]["uses_ndotl"]

@@ -128,26 +128,14 @@ struct Camera {
   float ortho_height = 2.0f;
 };
 
-// Micro-shadowing term multiplying the direct light per light (docs/micro-shadowing.md), or the ground truth.
-enum class MicroShadowing {
-  None,           // no micro-occlusion at all
-  AO,             // V multiplies the direct light (what micro-shadowing replaces)
-  Reference,      // step(sqrt(1 − V), N·L)
-  BrinckMaximov,  // Brinck & Maximov 2016
-  Chan,           // Chan 2018
-  Part1,          // Part 1 analytic
-  GenericVndf,    // Zurita 2026, Monte Carlo over visible normals (vndf_samples per light)
-  Lut3d,          // Zurita 2026 3D LUT
-  Lut2d,          // Zurita 2026 2D LUT (N·V = 1 slice)
-  Aware,          // micro-BRDF-aware (docs/micro-shadowing-aware.md): specular-aware on the specular lobe,
-                  // diffuse-aware (reciprocal form, vndf_samples per light) on the diffuse lobe
-  AwareFlux,      // the same with the diffuse-aware flux form (Lambertian cap fraction)
-  AwareAlu,       // specular-aware on the specular lobe, the diffuse-aware term's ALU fit of its azimuth mean
-                  // (occlusion/micro_shadowing_aware_fit.h, reciprocal form) on the diffuse lobe
-  GroundTruth     // height map rendered as real ray-traced micro-geometry, no normal or visibility map
-};
-const char* to_string(MicroShadowing m);
-MicroShadowing micro_shadowing_from_string(const std::string& s);  // InputError listing the valid names
+// The micro-shadowing of a render: a method of the runtime registry by name
+// (occlusion/runtime/micro_shadowing_methods.h: one term on both lobes, or a named diffuse + specular pair),
+// or kGroundTruth: the height map rendered as real ray-traced micro-geometry, no normal or visibility map.
+inline constexpr const char* kGroundTruth = "ground-truth";
+// The name itself when it is a registry method or kGroundTruth; otherwise InputError listing the valid names
+// (and the new name of a renamed one).
+std::string micro_shadowing_from_string(const std::string& s);
+// Every registry method, then kGroundTruth.
 std::vector<std::string> micro_shadowing_names();
 
 // Which part of the BRDF is rendered: the full BRDF, only the (1 − F)-weighted Lambert lobe, or only the
@@ -184,8 +172,8 @@ struct Settings {
   // Sobol batches (spp must be a multiple of min(error_batches, spp)); the spread of the batch means gives
   // the standard error. 1 reproduces render() bit for bit (and gives no error estimate).
   int error_batches = 8;
-  MicroShadowing micro_shadowing = MicroShadowing::None;
-  int vndf_samples = 32;
+  std::string micro_shadowing = "none";  // micro_shadowing_from_string's names
+  int vndf_samples = 32;                 // samples per light of the methods with a Sobol estimator
   // Normal for the micro-shadowing term's N·L and N·V: false = the shading (normal-mapped) normal, as the
   // shaders of Zurita 2026 do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion
   // bake's cone uses.
@@ -201,8 +189,10 @@ struct Settings {
   float exposure = 0.0f;
   Rgbf background{0, 0, 0};
   Rgbf ambient{0, 0, 0};  // constant ambient radiance times base colour (unshadowed; 0 in comparisons)
-  std::string lut_path;  // micro-shadowing LUT file for lut3d / lut2d (empty: the LUT module's default table)
+  std::string
+      lut_path;  // micro-shadowing LUT file of the LUT methods (empty: the LUT module's default table)
   uint32_t seed = 1;
+  bool ground_truth() const { return micro_shadowing == kGroundTruth; }
 };
 
 struct Scene {

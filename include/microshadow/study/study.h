@@ -4,6 +4,7 @@
 // mean-radiance bias and footprint RMSE against the ground truth, with the ground truth's noise floor.
 #pragma once
 
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/multiscale.h>
 #include <microshadow/render/scene.h>
 
@@ -35,7 +36,10 @@ struct StudyConfig {
   int footprint = 4;         // rmse_footprint block: footprint × footprint pixels
   double delta_bias = 0.01;  // smallest bias difference the ranking resolves
   double delta_rmse = 0.01;  // smallest rmse_footprint difference it resolves, relative to the GT mean
-  bool widened = true;       // also render every term with the variance-widened coarse roughness
+  // The terms rendered on the coarse sets: methods of the runtime registry
+  // (occlusion/runtime/micro_shadowing_methods.h); default: the registry's study list.
+  std::vector<std::string> terms = occlusion::micro_shadowing_study_methods();
+  bool widened = true;          // also render every term with the variance-widened coarse roughness
   bool normal_ablation = true;  // also render the N·L terms with the unperturbed normal
   std::vector<std::string> featured_lights{"dir-el10-az0", "dir-el45-az0"};  // lights shown as images
   std::string lut_path;  // lut3d / lut2d table (empty: the LUT module's default)

@@ -1,12 +1,15 @@
-// The micro-shadowing methods by name: one table that `eval micro-shadowing`, the Python module, the viewer's
-// method list and the area-light integrator share, so a new term is added in one place
-// (src/occlusion/micro_shadowing_methods.cpp: one entry = its info and a factory).
+// The micro-shadowing methods by name: the one list of terms. `eval micro-shadowing`, the renderer
+// (`render --method`, scene files), the multiscale study and its report, the demo, the Python module and the
+// viewer's method menu all dispatch through it, so a new term is added in one place
+// (src/occlusion/micro_shadowing_methods.cpp: one entry = its info and a factory). A method is one term on
+// both lobes of the BRDF, or a named pair: one term on the diffuse lobe and another on the specular lobe.
 //
 // Runtime code (std::function, a table, table loading through lut/micro_shadowing_loader.h): not part of the
 // header-only core. Each method's math lives in the core headers the entry names (occlusion/, lut/,
 // reference/); docs/micro-shadowing.md describes the terms.
 #pragma once
 
+#include <microshadow/math/vec.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 
 #include <cstdint>
@@ -14,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace msh::lut {
@@ -42,16 +46,55 @@ struct MicroShadowingOptions {
   std::string lut_path;
 };
 
+// The viewer's GLSL form of a method (web/methods.js is generated from these): expr is a GLSL ES 3.00 float
+// expression over the names listed in docs/viewer.md (vis, nl, nv, rough, alpha, cos_phi, v, l, u_samples,
+// the LUT samplers); requires_fn names the GLSL function it calls (the method is left out of the menu when
+// the shader files lack it); lut the table it samples. id_suffix and label_suffix tell apart several forms of
+// one method (e.g. the two-stage ALU fit); phi/samples/frame/two_stage tell the browser test how to evaluate
+// the C++ side (at the pixel's azimuth, with the page's sample count, at the pixel's own v and l, per pixel +
+// per light).
+struct MicroShadowingGlsl {
+  std::string expr, requires_fn, lut, id_suffix, label_suffix;
+  bool phi = false, samples = false, frame = false, two_stage = false;
+};
+
 // What a method reads and accepts (the CLI, the Python module and the viewer use it to reject options that do
-// not apply, never to ignore them silently).
+// not apply, never to ignore them silently), and where it is used.
 struct MicroShadowingMethodInfo {
   std::string name, summary;
   bool uses_roughness = false, uses_ndotv = false;
   bool accepts_phi = false, accepts_roughness_y = false, accepts_samples = false, accepts_lut = false;
+  // Short name for menus and legends.
+  std::string label;
+  // A pair: the method names of the diffuse-lobe and specular-lobe terms (both empty: one term on both).
+  std::string diffuse, specular;
+  // Depends on N·L (false for `none` and `ao`: the renderer's smooth-normal ablation skips them).
+  bool uses_ndotl = true;
+  // Rendered by the multiscale study by default (a term the renderer runs per shading point at a cost the
+  // study affords: closed forms, ALU fits, tables, estimators; not exact quadrature).
+  bool in_study = false;
+  // The viewer's forms (none: not in the viewer).
+  std::vector<MicroShadowingGlsl> glsl;
+  bool is_pair() const { return !diffuse.empty(); }
+};
+
+// One shading point as a renderer sees it, in the term's frame (n = +z): V from the micro-occlusion map,
+// perceptual roughness, unit v and l (towards the eye and the light; v.z > 0), and the random stream of a
+// Monte Carlo term. No validation: the caller clamps.
+struct MicroShadowingShadeInput {
+  float visibility = 1, roughness = 0.5f;
+  Vec3f v{0, 0, 1}, l{0, 0, 1};
+  uint32_t seed = 1;
+};
+// The term of each lobe (equal for a single term).
+struct MicroShadowingLobes {
+  float diffuse = 1, specular = 1;
 };
 
 // Every method, in a fixed order.
 const std::vector<MicroShadowingMethodInfo>& micro_shadowing_methods();
+// The names of the methods with in_study, in table order.
+std::vector<std::string> micro_shadowing_study_methods();
 // nullptr when there is no method of that name.
 const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& name);
 // "a, b, c" of every method name (for error messages and --help).
@@ -78,7 +121,14 @@ struct MicroShadowingBreaks {
 class MicroShadowingEvaluator {
  public:
   explicit MicroShadowingEvaluator(const std::string& method, MicroShadowingOptions options = {});
+  // One term's value (a pair: InputError; use eval_lobes).
   double eval(const MicroShadowingQuery& q) const;
+  // Both lobes' values (equal for a single term).
+  std::pair<double, double> eval_lobes(const MicroShadowingQuery& q) const;
+  // The renderer's evaluation per light, in float: at the full vectors (an azimuth-dependent term at its
+  // azimuth; a method with samples through its Sobol estimator with options().samples samples, else its exact
+  // or closed form). Never throws; finite for any unit v, l.
+  MicroShadowingLobes shade(const MicroShadowingShadeInput& in) const;
   // The breaks of eval() in l at the query's V, N·V, roughness (and whether φ is set); n_dot_l is ignored.
   MicroShadowingBreaks breaks(const MicroShadowingQuery& q) const;
   const MicroShadowingMethodInfo& info() const { return *info_; }
@@ -94,6 +144,8 @@ class MicroShadowingEvaluator {
   const MicroShadowingMethodInfo* info_;
   MicroShadowingOptions options_;
   std::shared_ptr<const Impl> impl_;
+  // A pair's two terms.
+  std::shared_ptr<const MicroShadowingEvaluator> diffuse_, specular_;
 };
 
 }  // namespace msh::occlusion
