@@ -5,8 +5,8 @@
 //       [--threads N] [--out FILE.md] [--json]
 //   microshadow bake directional HEIGHT.png|.exr --depth D --out DIR [--azimuths 32] [--distance 0]
 // The first measures every representation against the exact texture-space diffuse transport; the second
-// writes the 10 horizon-moment channels of a height map and their box-filtered mip chain as float32 NPY
-// (one file per level, shape (h, w, 10)).
+// writes the 9 directional channels of a height map and their box-filtered mip chain as float32 NPY (one
+// file per level, directional_mip<L>.npy, shape (h, w, 9)) and directional.json (8-bit ranges).
 #include <fmt/format.h>
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/texture_gen.h>
@@ -45,8 +45,8 @@ void write_npy_hwc(const fs::path& path, const Texture& t) {
 }
 
 struct StudyArgs {
-  std::string kinds = "plaster,bark,gravel", scales = "1,4,16", elevations = "5,10,25,45,70", azimuths = "0,90",
-              distances = "0", out;
+  std::string kinds = "plaster,bark,gravel", scales = "1,4,16", elevations = "5,10,25,45,70",
+              azimuths = "0,90", distances = "0", out;
   int size = 512, bake_azimuths = 32, threads = 0;
   bool quantize = false, json = false;
 };
@@ -111,7 +111,20 @@ void run_bake(const BakeArgs& a) {
   fs::create_directories(a.out);
   const auto chain = render::box_mip_chain(ch);
   for (std::size_t lv = 0; lv < chain.size(); ++lv)
-    write_npy_hwc(fs::path(a.out) / fmt::format("horizon_moments_mip{}.npy", lv), chain[lv]);
+    write_npy_hwc(fs::path(a.out) / fmt::format("directional_mip{}.npy", lv), chain[lv]);
+  // The 8-bit encoding's per-channel range (the fine level's min and max) and the conventions.
+  nlohmann::json j;
+  std::vector<float> lo(std::size_t(ch.channels()), 1e30f), hi(std::size_t(ch.channels()), -1e30f);
+  for (int y = 0; y < ch.height(); ++y)
+    for (int x = 0; x < ch.width(); ++x)
+      for (int c = 0; c < ch.channels(); ++c)
+        lo[std::size_t(c)] = std::min(lo[std::size_t(c)], ch.at(x, y, c)),
+        hi[std::size_t(c)] = std::max(hi[std::size_t(c)], ch.at(x, y, c));
+  j["channels"] = {"1", "x", "y", "z", "xz", "yz", "xx-yy", "xy", "zz"};
+  j["range_lo"] = lo, j["range_hi"] = hi;
+  j["tangent_space"] = "x = +u (columns), y = +v (rows, top to bottom), z = flat normal";
+  j["azimuths"] = a.azimuths, j["max_distance"] = a.distance, j["depth_texels"] = a.depth;
+  std::ofstream(fs::path(a.out) / "directional.json") << j.dump(2) << "\n";
   std::cout << fmt::format("wrote {} levels of {} channels to {}\n", chain.size(), ch.channels(), a.out);
 }
 
@@ -125,7 +138,8 @@ void add_directional(Groups& g) {
   s->add_option("--size", sa->size, "Fine texels per side")->capture_default_str();
   s->add_option("--scales", sa->scales, "Coarse scales k")->capture_default_str();
   s->add_option("--elevations", sa->elevations, "Light elevations, degrees")->capture_default_str();
-  s->add_option("--azimuths", sa->azimuths, "Light azimuths from +u towards +v, degrees")->capture_default_str();
+  s->add_option("--azimuths", sa->azimuths, "Light azimuths from +u towards +v, degrees")
+      ->capture_default_str();
   s->add_option("--bake-azimuths", sa->bake_azimuths, "Azimuths of the bakes")->capture_default_str();
   s->add_option("--distances", sa->distances, "Bake ray lengths, texels (0 = unlimited, -1 = 8 % of size)")
       ->capture_default_str();
@@ -136,7 +150,9 @@ void add_directional(Groups& g) {
 
   const auto [b, ba] = add_command<BakeArgs>(
       g.bake, "directional",
-      "Horizon-moment channels of a height map and their box-filtered mip chain (float32 NPY per level)",
+      "Directional-occlusion channels (9, docs/directional-occlusion.md) of a height map and their "
+      "box-filtered "
+      "mip chain (float32 NPY per level) with directional.json (8-bit ranges, conventions)",
       run_bake);
   b->add_option("height", ba->height, "Height map (16-bit PNG or EXR, grey, [0, 1])")->required();
   b->add_option("--depth", ba->depth, "Depth of the full height range, texels")->required();

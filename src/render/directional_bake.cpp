@@ -50,7 +50,8 @@ void horizon_channels(const float* tan_h, const Vec3f& n, const std::vector<Vec2
     double w[dir::kHorizonTerms];
     dir::fourier_analysis_weights<double>(dirs[a].x, dirs[a].y, na, w);
     const double s = dir::signed_horizon_sine<double>(tan_h[a], facet_slope(n, dirs[a]));
-    for (int m = 0; m < dir::kHorizonTerms; ++m) acc[m] += w[m] * s, acc[dir::kHorizonTerms + m] += w[m] * s * s;
+    for (int m = 0; m < dir::kHorizonTerms; ++m)
+      acc[m] += w[m] * s, acc[dir::kHorizonTerms + m] += w[m] * s * s;
   }
   for (int c = 0; c < dir::kHorizonChannels; ++c) out[c] = float(acc[c]);
 }
@@ -124,7 +125,8 @@ struct LsqProjection {
     std::vector<double> G(std::size_t(nb) * nb, 0.0);
     for (int d = 0; d < nd; ++d)
       for (int r = 0; r < nb; ++r)
-        for (int c = 0; c < nb; ++c) G[std::size_t(r) * nb + c] += w[d] * B[std::size_t(d) * nb + r] * B[std::size_t(d) * nb + c];
+        for (int c = 0; c < nb; ++c)
+          G[std::size_t(r) * nb + c] += w[d] * B[std::size_t(d) * nb + r] * B[std::size_t(d) * nb + c];
     const auto Gi = invert(G, nb);
     P.assign(std::size_t(nb) * nd, 0.0f);
     for (int r = 0; r < nb; ++r)
@@ -145,7 +147,8 @@ float quantize8(float v, float lo, float hi) {
 
 Texture box_downsample(const Texture& t, int k) {
   if (k < 1 || t.empty() || t.width() % k != 0 || t.height() % k != 0)
-    throw InputError(fmt::format("box_downsample: k = {} must divide the size {}x{}", k, t.width(), t.height()));
+    throw InputError(
+        fmt::format("box_downsample: k = {} must divide the size {}x{}", k, t.width(), t.height()));
   const int W = t.width() / k, H = t.height() / k, C = t.channels();
   Texture out(W, H, C);
   tbb::parallel_for(0, H, [&](int J) {
@@ -169,9 +172,43 @@ std::vector<Texture> box_mip_chain(const Texture& t) {
   return chain;
 }
 
-Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
+namespace {
+void check_azimuths(const char* what, int azimuths) {
   if (azimuths < 4 || azimuths > 4096)
-    throw InputError(fmt::format("bake_directional_channels: azimuths must be in [4, 4096], got {}", azimuths));
+    throw InputError(fmt::format("{}: azimuths must be in [4, 4096], got {}", what, azimuths));
+}
+}  // namespace
+
+Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
+  check_azimuths("bake_directional_channels", azimuths);
+  const auto dirs = uniform_azimuths(azimuths);
+  const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance);
+  const auto n = fine_normals(height, depth);
+  const LsqProjection proj(dir::kPoly2Terms, dirs, dir::kFitElevations, dir::kFitEpsilon);
+  const int w = height.width(), h = height.height(), na = azimuths, nd = int(proj.dirs.size());
+  Texture out(w, h, dir::kDirectionalChannels);
+  tbb::parallel_for(0, h, [&](int j) {
+    std::vector<float> f(proj.dirs.size());
+    for (int i = 0; i < w; ++i) {
+      const std::size_t p = std::size_t(j) * w + i;
+      for (int a = 0; a < na; ++a)
+        for (int e = 0; e < proj.ne; ++e) {
+          const int d = a * proj.ne + e;
+          f[std::size_t(d)] =
+              transport_texel(tan_h[p * std::size_t(na) + std::size_t(a)], n[p], proj.dirs[std::size_t(d)]);
+        }
+      for (int r = 0; r < proj.nb; ++r) {
+        double sum = 0;
+        for (int d = 0; d < nd; ++d) sum += double(proj.P[std::size_t(r) * nd + d]) * f[std::size_t(d)];
+        out.at(i, j, r) = float(sum);
+      }
+    }
+  });
+  return out;
+}
+
+Texture bake_horizon_moment_channels(const Texture& height, float depth, int azimuths, float max_distance) {
+  check_azimuths("bake_horizon_moment_channels", azimuths);
   const auto dirs = uniform_azimuths(azimuths);
   const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance);
   const auto n = fine_normals(height, depth);
@@ -216,9 +253,9 @@ struct Rep {
 // map and not counted).
 const std::vector<Rep>& reps() {
   static const std::vector<Rep> r = {
-      {"ao", 1},          {"reference", 1},  {"chan-2018", 1},        {"bent-cone", 4},
-      {"sh1-lsq", 4},     {"poly2-lsq", 9},  {"poly2-lsq-eps0.03", 9}, {"poly2-lsq-eps0.3", 9},
-      {"poly12-lsq", 12}, {"horizon-fourier", 5},  {"hm-lit-cos", 10},
+      {"ao", 1},           {"reference", 1},           {"chan-2018", 1},         {"bent-cone", 4},
+      {"sh1-lsq", 4},      {"poly2-lsq", 9},           {"poly2-lsq-eps0.03", 9}, {"poly2-lsq-eps0.3", 9},
+      {"poly12-lsq", 12},  {"poly12-lsq-eps0.03", 12}, {"horizon-fourier", 5},   {"hm-lit-cos", 10},
       {"hm-transport", 10}};
   return r;
 }
@@ -230,10 +267,11 @@ struct Fine {
 };
 
 constexpr int kChV = 0, kChBent = 1, kChSh1 = 4, kChPoly2 = 8, kChHm = 17, kChPoly2a = 27, kChPoly2b = 36,
-              kChPoly12 = 45, kChCount = 57;
+              kChPoly12 = 45, kChPoly12a = 57, kChCount = 69;
 
-Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs, const std::vector<float>& tan_h,
-                          const std::vector<Vec3f>& n, const std::vector<std::pair<const LsqProjection*, int>>& lsq) {
+Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
+                          const std::vector<float>& tan_h, const std::vector<Vec3f>& n,
+                          const std::vector<std::pair<const LsqProjection*, int>>& lsq) {
   const int w = height.width(), h = height.height(), na = int(dirs.size());
   Texture out(w, h, kChCount);
   tbb::parallel_for(0, h, [&](int j) {
@@ -251,7 +289,8 @@ Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
       }
       float* o = &out.at(i, j, 0);
       o[kChV] = float(V / na);
-      o[kChBent] = float(bent.x / na), o[kChBent + 1] = float(bent.y / na), o[kChBent + 2] = float(bent.z / na);
+      o[kChBent] = float(bent.x / na), o[kChBent + 1] = float(bent.y / na),
+      o[kChBent + 2] = float(bent.z / na);
       for (int a = 0; a < na; ++a)
         for (int e = 0; e < p2.ne; ++e) {
           const int d = a * p2.ne + e;
@@ -271,12 +310,14 @@ Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
 }
 
 // 8-bit storage of the channels: per channel, a range [lo, hi] over the fine texture (a per-material
-// scale and bias), UNORM in between; the same ranges for every mip level (quantised again after the box mean).
+// scale and bias), UNORM in between; the same ranges for every mip level (quantised again after the box
+// mean).
 struct Ranges {
   std::vector<float> lo, hi;
 };
 Ranges channel_ranges(const Texture& t) {
-  Ranges r{std::vector<float>(std::size_t(t.channels()), 1e30f), std::vector<float>(std::size_t(t.channels()), -1e30f)};
+  Ranges r{std::vector<float>(std::size_t(t.channels()), 1e30f),
+           std::vector<float>(std::size_t(t.channels()), -1e30f)};
   for (int j = 0; j < t.height(); ++j)
     for (int i = 0; i < t.width(); ++i)
       for (int c = 0; c < t.channels(); ++c)
@@ -308,6 +349,7 @@ float eval_rep(const std::string& rep, const float* ch, const Vec3f& nc, const V
     b = len > 0 ? b / len : Vec3f(0, 0, 1);
     return dot(b, l) > cos_t ? nl : 0.0f;
   }
+  if (rep == "poly2-lsq-eps0.03") return dir::directional_transport(ch + kChPoly2a, l);  // the shipped one
   if (rep.find("-lsq") != std::string::npos) {
     float b[dir::kPoly12Terms];
     dir::poly12_basis(l, b);
@@ -315,8 +357,9 @@ float eval_rep(const std::string& rep, const float* ch, const Vec3f& nc, const V
                       : rep == "poly2-lsq"         ? kChPoly2
                       : rep == "poly2-lsq-eps0.03" ? kChPoly2a
                       : rep == "poly2-lsq-eps0.3"  ? kChPoly2b
-                                                   : kChPoly12;
-    const int nb = first == kChSh1 ? 4 : first == kChPoly12 ? 12 : 9;
+                      : rep == "poly12-lsq"        ? kChPoly12
+                                                   : kChPoly12a;
+    const int nb = first == kChSh1 ? 4 : first >= kChPoly12 ? 12 : 9;
     float s = 0;
     for (int m = 0; m < nb; ++m) s += ch[first + m] * b[m];
     return std::max(s, 0.0f);
@@ -329,8 +372,8 @@ float eval_rep(const std::string& rep, const float* ch, const Vec3f& nc, const V
     for (int m = 0; m < dir::kHorizonTerms; ++m) m1 += hm[m] * f[m];
     return l.z > m1 ? nl : 0.0f;
   }
-  if (rep == "hm-lit-cos") return dir::directional_lit_cosine(hm, l, nc);
-  if (rep == "hm-transport") return dir::directional_transport(hm, l);
+  if (rep == "hm-lit-cos") return dir::hm_lit_cosine(hm, l, nc);
+  if (rep == "hm-transport") return dir::hm_transport(hm, l);
   throw InputError("unknown representation " + rep);
 }
 
@@ -340,10 +383,12 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
   std::vector<DirectionalStudyRow> rows;
   const auto bake_dirs = uniform_azimuths(opt.bake_azimuths);
   const LsqProjection p1(4, bake_dirs, 16), p2(dir::kPoly2Terms, bake_dirs, 16),
-      p2a(dir::kPoly2Terms, bake_dirs, 16, 0.03), p2b(dir::kPoly2Terms, bake_dirs, 16, 0.3),
-      p12(dir::kPoly12Terms, bake_dirs, 16);
-  const std::vector<std::pair<const LsqProjection*, int>> lsq = {
-      {&p2, kChPoly2}, {&p1, kChSh1}, {&p2a, kChPoly2a}, {&p2b, kChPoly2b}, {&p12, kChPoly12}};
+      p2a(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, dir::kFitEpsilon),
+      p2b(dir::kPoly2Terms, bake_dirs, 16, 0.3), p12(dir::kPoly12Terms, bake_dirs, 16),
+      p12a(dir::kPoly12Terms, bake_dirs, 16, 0.03);
+  const std::vector<std::pair<const LsqProjection*, int>> lsq = {{&p2, kChPoly2},   {&p1, kChSh1},
+                                                                 {&p2a, kChPoly2a}, {&p2b, kChPoly2b},
+                                                                 {&p12, kChPoly12}, {&p12a, kChPoly12a}};
   for (const auto& kind : opt.kinds) {
     GenOptions g;
     g.kind = kind, g.size = opt.size, g.ao_rays = 1;  // V is re-baked here from the same horizons
@@ -362,7 +407,8 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
     };
     std::vector<Light> lights;
     for (std::size_t ai = 0; ai < light_az.size(); ++ai)
-      for (float e : opt.elevations_deg) lights.push_back({e, opt.azimuths_deg[ai], light_dir(e, light_az[ai]), int(ai)});
+      for (float e : opt.elevations_deg)
+        lights.push_back({e, opt.azimuths_deg[ai], light_dir(e, light_az[ai]), int(ai)});
     std::vector<Texture> exact;
     for (const auto& L : lights) {
       Texture t(w, h, 1);
@@ -432,13 +478,15 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
                 for (int I = 0; I + B <= W; I += B) {
                   double bt = 0, ba = 0;
                   for (int j = 0; j < B; ++j)
-                    for (int i = 0; i < B; ++i) bt += tk.at(I + i, J + j, 0), ba += approx.at(I + i, J + j, 0);
+                    for (int i = 0; i < B; ++i)
+                      bt += tk.at(I + i, J + j, 0), ba += approx.at(I + i, J + j, 0);
                   const double d = (ba - bt) / (B * B);
                   se += d * d, ++nb;
                 }
               const double mean_t = st / (double(W) * H);
               DirectionalStudyRow row;
-              row.kind = kind, row.representation = q ? name + "@8bit" : name, row.bake_distance = dist, row.k = k;
+              row.kind = kind, row.representation = q ? name + "@8bit" : name, row.bake_distance = dist,
+              row.k = k;
               row.elevation_deg = lights[li].elev, row.azimuth_deg = lights[li].az;
               row.bias = st > 0 ? sa / st : 0;
               row.rmse_footprint = mean_t > 0 ? std::sqrt(se / std::max(nb, 1)) / mean_t : 0;
@@ -460,7 +508,8 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
   for (const auto& r : rows) {
     if (std::find(rep_order.begin(), rep_order.end(), r.representation) == rep_order.end())
       rep_order.push_back(r.representation);
-    if (std::find(dists.begin(), dists.end(), r.bake_distance) == dists.end()) dists.push_back(r.bake_distance);
+    if (std::find(dists.begin(), dists.end(), r.bake_distance) == dists.end())
+      dists.push_back(r.bake_distance);
   }
   std::ostringstream o;
   for (float dist : dists) {
@@ -468,12 +517,15 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
     // Light header from the first (rep, kind, k) group.
     std::vector<std::string> light_names;
     {
-      const auto& r0 = *std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.bake_distance == dist; });
+      const auto& r0 =
+          *std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.bake_distance == dist; });
       for (const auto& r : rows)
-        if (r.bake_distance == dist && r.representation == r0.representation && r.kind == r0.kind && r.k == r0.k)
+        if (r.bake_distance == dist && r.representation == r0.representation && r.kind == r0.kind &&
+            r.k == r0.k)
           light_names.push_back(fmt::format("{:g}/{:g}", r.elevation_deg, r.azimuth_deg));
     }
-    o << "Bias = Σ T̃ / Σ T per light (elevation°/azimuth°); mean and max |bias − 1| over the lights; footprint "
+    o << "Bias = Σ T̃ / Σ T per light (elevation°/azimuth°); mean and max |bias − 1| over the lights; "
+         "footprint "
          "RMSE / mean T (mean over the lights).\n\n";
     o << "| representation | bytes | material | k |";
     for (const auto& l : light_names) o << " " << l << " |";
@@ -502,7 +554,8 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
             cells += fmt::format(" {:.3f} |", r.bias);
           }
         md /= cnt, rm /= cnt;
-        o << fmt::format("| {} | {} | {} | {} |{} {:.3f} | {:.3f} | {:.3f} |\n", rep, bytes, kind, k, cells, md, mx, rm);
+        o << fmt::format("| {} | {} | {} | {} |{} {:.3f} | {:.3f} | {:.3f} |\n", rep, bytes, kind, k, cells,
+                         md, mx, rm);
         auto& s = overall[rep];
         s.mean_dev += md, s.max_dev = std::max(s.max_dev, mx), s.rmse += rm, ++s.n;
       }
@@ -511,7 +564,9 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
          "| representation | mean abs(b−1) | max abs(b−1) | mean fp RMSE |\n|---|---|---|---|\n";
     for (const auto& rep : rep_order) {
       const auto& s = overall[rep];
-      if (s.n) o << fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} |\n", rep, s.mean_dev / s.n, s.max_dev, s.rmse / s.n);
+      if (s.n)
+        o << fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} |\n", rep, s.mean_dev / s.n, s.max_dev,
+                         s.rmse / s.n);
     }
   }
   return o.str();

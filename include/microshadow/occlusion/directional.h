@@ -2,25 +2,23 @@
 // on the scalar (works in float), no I/O.
 //
 // Conventions: tangent space of the normal map (render/texture_gen.h normal_map_from_height): x = +u
-// (columns), y = +v (rows, top to bottom), z = the flat surface normal. Azimuth φ is measured from +x towards
-// +y, elevation e above the flat tangent plane. Every stored channel is a box-filterable (linear) quantity:
-// the mip mean of a channel is the right coarse value, and every nonlinear step happens after the fetch.
+// (columns), y = +v (rows, top to bottom), z = the flat surface normal (the height map's +z, not the
+// texel's own normal). Azimuth φ from +x towards +y, elevation e above the flat tangent plane. Every stored
+// channel is linear in the fine texel's data, so the box mean of a channel (a mip level) is exactly the
+// channel of the coarse texel; every nonlinear step happens after the fetch.
 //
-// Horizon moments ("hm"): per fine texel x and azimuth φ, the signed horizon sine s_x(φ) = sin h_x(φ), where
-// h is the exact horizon elevation (the highest elevation at which the height field blocks a ray leaving x
-// along φ; Max 1988 "Horizon mapping") and, where nothing rises above the tangent plane, the (negative)
-// elevation of the facet itself along φ. A light at (φ, e) reaches x iff sin e > s_x(φ). Stored: the
-// second-order Fourier series in φ of s and of s² (Sloan & Cohen 2000 store the horizon per azimuth; the
-// Fourier form is the usual compact variant), 10 channels:
-//   c[0..4] = Fourier(s):  a0, a1 (cos φ), b1 (sin φ), a2 (cos 2φ), b2 (sin 2φ)
-//   c[5..9] = Fourier(s²): same order.
-// Fourier coefficients and s, s² are linear in the texel's data, so box means of the channels are the
-// Fourier coefficients of the footprint's mean and mean square of s: the first two moments of the horizon
-// distribution below a coarse texel, per azimuth. At the coarse texel the horizon sine is modelled as
-// uniform with that mean and variance, and the diffuse transport is the expected facet cosine of the lit
-// texels, E[sin(e − h)⁺] (for a texel not shadowed by distant relief, sin(e − h) is its facet's N·L in the
-// plane of the light). Fourier truncation and the uniform model are the only approximations; both are
-// measured in docs/directional-occlusion.md.
+// Shipped representation ("poly2-lsq", the measured winner): per fine texel x, the diffuse transport
+// f_x(l) = lit(x, l) · (n_x · l)⁺ (lit: the exact horizon along l's azimuth is below l; n_x: the fine
+// normal) is fitted over the upper hemisphere by weighted least squares with the 9 polynomials of degree
+// ≤ 2 (the span of the real spherical harmonics of bands 0–2 restricted to the hemisphere),
+//   b(l) = (1, x, y, z, x z, y z, x² − y², x y, z²),
+// with a weight that counts relative error, so grazing light is fitted. (SSBump, Green 2007 "Efficient
+// self-shadowed radiosity normal mapping", stores a visibility-weighted projection on 3 directions; this is
+// the same idea with 9 functions and the cast shadows of the exact horizon.) The fit is a fixed linear map
+// of f_x, so the coefficients' box mean over a footprint is the fit of the footprint's mean transport: the
+// mip chain is right by construction, at every scale. At run time T̃(l) = max(0, Σ_i c_i b_i(l)) is the
+// mean over the texel's footprint of lit · N·L: the diffuse radiance is albedo/π · E · T̃(l), in place of
+// (n_coarse · l)⁺ · micro-shadowing (directional_term gives the factor for engines that keep N·L).
 #pragma once
 
 #include <microshadow/math/vec.h>
@@ -30,8 +28,74 @@
 
 namespace msh::directional {
 
-inline constexpr int kHorizonOrder = 2;     // Fourier order in azimuth
-inline constexpr int kHorizonTerms = 5;     // 1, cos φ, sin φ, cos 2φ, sin 2φ
+// ---- Shipped: degree-2 least-squares transport (9 channels) ----
+
+inline constexpr int kPoly2Terms = 9;
+inline constexpr int kDirectionalChannels = kPoly2Terms;
+
+// b(l) = (1, x, y, z, x z, y z, x² − y², x y, z²): the channel order.
+template <class T>
+void poly2_basis(Vec3<T> l, T out[kPoly2Terms]) {
+  out[0] = T(1), out[1] = l.x, out[2] = l.y, out[3] = l.z;
+  out[4] = l.x * l.z, out[5] = l.y * l.z, out[6] = l.x * l.x - l.y * l.y, out[7] = l.x * l.y,
+  out[8] = l.z * l.z;
+}
+
+// The fit that defines the channels (render/directional_bake.h bakes exactly this): directions at azimuths
+// φ_a = 2π(a + ½)/N_φ (N_φ = the bake's azimuth count, 32 by default) and elevations
+// e_j = (j + ½)/kFitElevations · π/2, each with weight cos e_j · fit_weight(sin e_j);
+// c = argmin Σ w (Σ_i c_i b_i(l) − f(l))².
+inline constexpr int kFitElevations = 16;
+inline constexpr double kFitEpsilon = 0.03;
+template <class T>
+T fit_weight(T sin_e) {
+  const T d = T(kFitEpsilon) + sin_e;
+  return T(1) / (d * d);
+}
+
+// The mean diffuse transport over the texel's footprint, lit · (n_fine · l)⁺, of a directional light l
+// (unit, tangent space), from the 9 channels (fetched from the box-filtered mips). 0 below the tangent
+// plane; ≥ 0.
+template <class T>
+T directional_transport(const T* channels, Vec3<T> l_local) {
+  if (!(l_local.z > T(0))) return T(0);
+  T b[kPoly2Terms];
+  poly2_basis(l_local, b);
+  T s = 0;
+  for (int i = 0; i < kPoly2Terms; ++i) s += channels[i] * b[i];
+  return std::max(s, T(0));
+}
+
+// The same as a factor on the engine's (n_coarse · l)⁺: T̃ / (n_c · l), 0 where n_c · l ≤ 1e-4. Not clamped
+// to 1: near the coarse terminator lit facets can exceed the coarse cosine.
+template <class T>
+T directional_term(const T* channels, Vec3<T> l_local, Vec3<T> n_coarse_local) {
+  const T nl = dot(n_coarse_local, l_local);
+  if (!(nl > T(1e-4))) return T(0);
+  return directional_transport(channels, l_local) / nl;
+}
+
+// 8-bit storage: channel i as UNORM between a per-material range [lo_i, hi_i] (the fine level's min and max,
+// kept with the material; every mip level uses the same range).
+template <class T>
+T decode_unorm8(T unorm, T lo, T hi) {
+  return lo + (hi - lo) * unorm;
+}
+
+// ---- Alternatives measured against it (docs/directional-occlusion.md) ----
+//
+// Horizon moments ("hm"): per fine texel x and azimuth φ, the signed horizon sine s_x(φ) = sin h_x(φ), where
+// h is the exact horizon elevation (Max 1988 "Horizon mapping") and, where nothing rises above the tangent
+// plane, the (negative) elevation of the facet itself along φ. A light at (φ, e) reaches x iff sin e >
+// s_x(φ). Stored: the second-order Fourier series in φ of s and of s² (Sloan & Cohen 2000 "Interactive
+// horizon mapping" store the horizon per azimuth; the Fourier form is the usual compact variant), 10
+// channels: c[0..4] = Fourier(s): a0, a1 (cos φ), b1 (sin φ), a2 (cos 2φ), b2 (sin 2φ); c[5..9] =
+// Fourier(s²). Their box means are the footprint's first two moments of s per azimuth; the coarse texel
+// models s as uniform with them. hm_transport takes E[sin(e − h)⁺] (exact for texels not shadowed by
+// distant relief, in the plane of the light), hm_lit_cosine P[lit] · (n_coarse · l)⁺.
+
+inline constexpr int kHorizonOrder = 2;      // Fourier order in azimuth
+inline constexpr int kHorizonTerms = 5;      // 1, cos φ, sin φ, cos 2φ, sin 2φ
 inline constexpr int kHorizonChannels = 10;  // Fourier(s), Fourier(s²)
 
 // Fourier basis (1, cos φ, sin φ, cos 2φ, sin 2φ) at the azimuth of the horizontal direction (c, s)
@@ -113,11 +177,9 @@ void horizon_moments(const T* channels, Vec3<T> l_local, T* mean, T* variance) {
   *variance = std::max(m2 - m1 * m1, T(0));
 }
 
-// The diffuse transport of a directional light l (unit, tangent space) over the coarse texel whose channels
-// are given: the mean over its fine texels of lit · (n_fine · l)⁺, so the diffuse radiance is
-// albedo/π · E_light · directional_transport (it replaces N·L · micro-shadowing). 0 below the tangent plane.
+// Horizon-moment estimate of the diffuse transport (see the top of this file; measured as "hm-transport").
 template <class T>
-T directional_transport(const T* channels, Vec3<T> l_local) {
+T hm_transport(const T* channels, Vec3<T> l_local) {
   if (!(l_local.z > T(0))) return T(0);
   T mean, variance;
   horizon_moments(channels, l_local, &mean, &variance);
@@ -126,34 +188,14 @@ T directional_transport(const T* channels, Vec3<T> l_local) {
 }
 
 // Variant that keeps the engine's coarse-normal cosine and takes only the lit fraction from the channels:
-// P[lit] · (n_coarse · l)⁺ (measured as "hm-lit×cos"; less exact, see the docs).
+// P[lit] · (n_coarse · l)⁺ (measured as "hm-lit-cos").
 template <class T>
-T directional_lit_cosine(const T* channels, Vec3<T> l_local, Vec3<T> n_coarse_local) {
+T hm_lit_cosine(const T* channels, Vec3<T> l_local, Vec3<T> n_coarse_local) {
   if (!(l_local.z > T(0))) return T(0);
   T mean, variance;
   horizon_moments(channels, l_local, &mean, &variance);
   return horizon_lit_fraction(mean, variance, std::min(l_local.z, T(1))) *
          std::max(dot(n_coarse_local, l_local), T(0));
-}
-
-// Per-light micro-shadowing factor to multiply the engine's (n_coarse · l)⁺ with: transport / (n_c · l)⁺,
-// clamped to [0, 1] where the coarse cosine is not positive... (0 there). For engines that keep N·L.
-template <class T>
-T directional_term(const T* channels, Vec3<T> l_local, Vec3<T> n_coarse_local) {
-  const T nl = dot(n_coarse_local, l_local);
-  if (!(nl > T(1e-6))) return T(0);
-  return std::max(directional_transport(channels, l_local) / nl, T(0));
-}
-
-// ---- Alternatives measured against it (docs/directional-occlusion.md) ----
-
-// Degree-2 polynomial basis on the hemisphere (spans real spherical harmonics of bands 0–2 restricted to it):
-// 1, x, y, z, xz, yz, x² − y², xy, z². Band 0–1 is the first 4.
-inline constexpr int kPoly2Terms = 9;
-template <class T>
-void poly2_basis(Vec3<T> l, T out[kPoly2Terms]) {
-  out[0] = T(1), out[1] = l.x, out[2] = l.y, out[3] = l.z;
-  out[4] = l.x * l.z, out[5] = l.y * l.z, out[6] = l.x * l.x - l.y * l.y, out[7] = l.x * l.y, out[8] = l.z * l.z;
 }
 
 // Degree-2 basis plus three cubic terms (z³, x z², y z²), for the 12-channel variant.
@@ -166,7 +208,7 @@ void poly12_basis(Vec3<T> l, T out[kPoly12Terms]) {
 
 // Bent cone from the exact horizon (projected-solid-angle weighting about +z), per azimuth φ with horizon
 // elevation H ≥ 0: ∫_H^{π/2} ω (sin e cos e) de = (cos³H/3 · (cos φ, sin φ), (1 − sin³H)/3); its azimuth
-// mean, times 2, is the unnormalised bent normal B with |B|... and V = mean cos² H.
+// mean is the unnormalised bent normal (its direction is the bent normal) and V = mean cos² H.
 template <class T>
 Vec3<T> bent_vector_azimuth(T tan_h, T c, T s) {
   const T ch = T(1) / std::sqrt(T(1) + tan_h * tan_h), sh = tan_h * ch;

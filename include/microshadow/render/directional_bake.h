@@ -11,12 +11,21 @@
 
 namespace msh::render {
 
-// The 10 horizon-moment channels (directional.h layout) of a height map (values in [0, 1], depth_texels as
-// in HeightField), per texel: `azimuths` uniformly spaced azimuths φ_k = 2π(k + ½)/azimuths, each horizon
-// exact (bake_horizon_tangents) with ray length max_distance texels (≤ 0 = unlimited), facet slopes from
-// the central-difference normals of normal_map_from_height. Float32, unencoded (see the docs for the 8-bit
-// encoding). Deterministic whatever the thread count. InputError on azimuths outside [4, 4096].
-Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths, float max_distance);
+// The 9 directional channels (occlusion/directional.h: the weighted least-squares fit of degree ≤ 2 of
+// lit · (n · l)⁺ over the hemisphere, channel order 1, x, y, z, xz, yz, x² − y², xy, z²) of a height map
+// (values in [0, 1], depth_texels as in HeightField), per texel: the transport is exact on the fit's
+// direction grid (`azimuths` azimuths φ_a = 2π(a + ½)/azimuths, directional::kFitElevations elevations),
+// horizons by bake_horizon_tangents with ray length max_distance texels (≤ 0 = unlimited, the measured
+// choice), n = the central-difference normal of normal_map_from_height. Float32, unencoded (8-bit: see
+// directional::decode_unorm8). Deterministic whatever the thread count. InputError on azimuths outside
+// [4, 4096] (and as bake_horizon_tangents).
+Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
+                                  float max_distance);
+
+// The 10 horizon-moment channels (directional.h, "hm" alternatives) with the same azimuths, horizons and
+// normals; facet slopes where nothing rises above the tangent plane.
+Texture bake_horizon_moment_channels(const Texture& height, float depth_texels, int azimuths,
+                                     float max_distance);
 
 // Box mean over k × k texels (every channel; width and height divisible by k): mip level log2 k of a
 // box-filtered chain. InputError otherwise.
@@ -39,9 +48,9 @@ struct DirectionalStudyOptions {
   std::vector<int> scales = {1, 4, 16};
   std::vector<float> elevations_deg = {5, 10, 25, 45, 70};
   std::vector<float> azimuths_deg = {0, 90};
-  int bake_azimuths = 32;                  // azimuths of every bake (offset half a step: lights are off-knot)
+  int bake_azimuths = 32;  // azimuths of every bake (offset half a step: lights are off-knot)
   std::vector<float> bake_distances = {0};  // texels, 0 = unlimited; < 0 = the study default (8 % of size)
-  bool quantize8 = false;                  // also rows with the channels stored as 8-bit UNORM (and mips)
+  bool quantize8 = false;                   // also rows with the channels stored as 8-bit UNORM (and mips)
 };
 
 struct DirectionalStudyRow {
@@ -49,7 +58,7 @@ struct DirectionalStudyRow {
   float bake_distance = 0;  // texels, 0 = unlimited
   int k = 1;
   float elevation_deg = 0, azimuth_deg = 0;
-  double bias = 0;           // Σ T̃ / Σ T over the texture (T = exact, unlimited)
+  double bias = 0;            // Σ T̃ / Σ T over the texture (T = exact, unlimited)
   double rmse_footprint = 0;  // RMSE of T̃ − T over 4 × 4 coarse-texel blocks / mean T
   int bytes = 0;              // per texel at 8 bits per channel
 };

@@ -66,8 +66,8 @@ Texture bake_visibility(const Texture& height, float depth_texels, int azimuths,
 // start-point rule, ray length (max_distance ≤ 0 or +inf = unlimited) and 1e-4 tolerance on tan² H (a
 // horizon is never over-estimated by it). Layout: [(j · width + i) · dirs.size() + k]. Light along dirs[k]
 // at elevation e reaches the vertex iff tan e > tan H. Deterministic whatever the thread count.
-std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texels, const std::vector<Vec2f>& dirs,
-                                         float max_distance);
+std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texels,
+                                         const std::vector<Vec2f>& dirs, float max_distance);
 
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png
 // (16-bit) and material.json (the scene-material snippet with height_texels) into dir (created if missing).
