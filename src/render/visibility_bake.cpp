@@ -214,4 +214,25 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
   return vis;
 }
 
+std::vector<float> bake_horizon_tangents(const Texture& height, float depth, const std::vector<Vec2f>& dirs,
+                                         float max_distance) {
+  if (!(depth >= 0) || !std::isfinite(depth))
+    throw InputError(fmt::format("bake_horizon_tangents: depth must be finite and >= 0, got {}", depth));
+  if (std::isnan(max_distance)) throw InputError("bake_horizon_tangents: max distance is NaN");
+  if (height.empty()) throw InputError("bake_horizon_tangents: empty height map");
+  for (const Vec2f& d : dirs)
+    if (!(std::abs(d.x * d.x + d.y * d.y - 1) < 1e-4f))
+      throw InputError("bake_horizon_tangents: azimuth directions must be unit vectors");
+  const float R = max_distance > 0 ? max_distance : std::numeric_limits<float>::infinity();
+  const Heights f(height, depth);
+  const int w = height.width(), h = height.height(), n = int(dirs.size());
+  std::vector<float> out(std::size_t(w) * h * n);
+  tbb::parallel_for(0, h, [&](int j) {
+    for (int i = 0; i < w; ++i)
+      for (int k = 0; k < n; ++k)
+        out[(std::size_t(j) * w + i) * n + k] = HorizonWalk(f, i, j, dirs[k].x, dirs[k].y, R).run();
+  });
+  return out;
+}
+
 }  // namespace msh::render

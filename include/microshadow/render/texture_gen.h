@@ -61,6 +61,14 @@ Texture normal_map_from_height(const Texture& height, float depth_texels);
 // change a texel's V by at most 1e-4 are skipped (V is never lowered by that); this also ends unlimited rays.
 Texture bake_visibility(const Texture& height, float depth_texels, int azimuths, float max_distance);
 
+// The exact-horizon walks of bake_visibility, kept: tan H ≥ 0 of the horizon at every vertex (i, j) along
+// each horizontal direction dirs[k] = (cos φ, sin φ) (grid axes: x = +i columns, y = +j rows), same surface,
+// start-point rule, ray length (max_distance ≤ 0 or +inf = unlimited) and 1e-4 tolerance on tan² H (a
+// horizon is never over-estimated by it). Layout: [(j · width + i) · dirs.size() + k]. Light along dirs[k]
+// at elevation e reaches the vertex iff tan e > tan H. Deterministic whatever the thread count.
+std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texels,
+                                         const std::vector<Vec2f>& dirs, float max_distance);
+
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png
 // (16-bit) and material.json (the scene-material snippet with height_texels) into dir (created if missing).
 void write_texture_set(const std::filesystem::path& dir, const TextureSet& set);

@@ -1,0 +1,72 @@
+// Directional micro-occlusion: the bake of the horizon-moment channels (occlusion/directional.h), their mip
+// chain, the exact texture-space diffuse transport of a height field, and the measurement that compares
+// representations with it (docs/directional-occlusion.md).
+#pragma once
+
+#include <microshadow/math/vec.h>
+#include <microshadow/render/scene.h>
+
+#include <string>
+#include <vector>
+
+namespace msh::render {
+
+// The 9 directional channels (occlusion/directional.h: the weighted least-squares fit of degree ≤ 2 of
+// lit · (n · l)⁺ over the hemisphere, channel order 1, x, y, z, xz, yz, x² − y², xy, z²) of a height map
+// (values in [0, 1], depth_texels as in HeightField), per texel: the transport is exact on the fit's
+// direction grid (`azimuths` azimuths φ_a = 2π(a + ½)/azimuths, directional::kFitElevations elevations),
+// horizons by bake_horizon_tangents with ray length max_distance texels (≤ 0 = unlimited, the measured
+// choice), n = the central-difference normal of normal_map_from_height. Float32, unencoded (8-bit: see
+// directional::decode_unorm8). Deterministic whatever the thread count. InputError on azimuths outside
+// [4, 4096] (and as bake_horizon_tangents).
+Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
+                                  float max_distance);
+
+// The 10 horizon-moment channels (directional.h, "hm" alternatives) with the same azimuths, horizons and
+// normals; facet slopes where nothing rises above the tangent plane.
+Texture bake_horizon_moment_channels(const Texture& height, float depth_texels, int azimuths,
+                                     float max_distance);
+
+// Box mean over k × k texels (every channel; width and height divisible by k): mip level log2 k of a
+// box-filtered chain. InputError otherwise.
+Texture box_downsample(const Texture& t, int k);
+
+// Mip chain by repeated 2 × 2 box means: level 0 = t, down to 1 texel on the shorter side (each side halved
+// while even). Equal to box_downsample(t, 2^level) up to float rounding.
+std::vector<Texture> box_mip_chain(const Texture& t);
+
+// The exact diffuse transport per fine texel (vertex) of a directional light l (grid/tangent space, unit,
+// l.z > 0): lit(x, l) · (n(x) · l)⁺, lit = the ray toward l leaves the surface (tan e > tan H along the
+// light's azimuth, ray length max_distance, ≤ 0 = unlimited), n = the central-difference normal. One
+// channel. The coarse transport at scale k is box_downsample(result, k).
+Texture exact_diffuse_transport(const Texture& height, float depth_texels, Vec3f l, float max_distance);
+
+// The measurement of docs/directional-occlusion.md.
+struct DirectionalStudyOptions {
+  std::vector<std::string> kinds = {"plaster", "bark", "gravel"};
+  int size = 512;
+  std::vector<int> scales = {1, 4, 16};
+  std::vector<float> elevations_deg = {5, 10, 25, 45, 70};
+  std::vector<float> azimuths_deg = {0, 90};
+  int bake_azimuths = 32;  // azimuths of every bake (offset half a step: lights are off-knot)
+  std::vector<float> bake_distances = {0};  // texels, 0 = unlimited; < 0 = the study default (8 % of size)
+  bool quantize8 = false;                   // also rows with the channels stored as 8-bit UNORM (and mips)
+};
+
+struct DirectionalStudyRow {
+  std::string kind, representation;
+  float bake_distance = 0;  // texels, 0 = unlimited
+  int k = 1;
+  float elevation_deg = 0, azimuth_deg = 0;
+  double bias = 0;            // Σ T̃ / Σ T over the texture (T = exact, unlimited)
+  double rmse_footprint = 0;  // RMSE of T̃ − T over 4 × 4 coarse-texel blocks / mean T
+  int bytes = 0;              // per texel at 8 bits per channel
+};
+
+std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions& opt);
+
+// Markdown tables of the rows: per representation × material × k, the bias per light and its mean/max
+// |bias − 1| and mean footprint RMSE; and the overall summary per representation.
+std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& rows);
+
+}  // namespace msh::render

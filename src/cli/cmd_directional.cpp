@@ -1,0 +1,169 @@
+// CLI for directional micro-occlusion (include/microshadow/render/directional_bake.h,
+// docs/directional-occlusion.md):
+//   microshadow verify directional [--kinds plaster,bark,gravel] [--size 512] [--scales 1,4,16]
+//       [--elevations 5,10,25,45,70] [--azimuths 0,90] [--bake-azimuths 32] [--distances 0,-1] [--quantize]
+//       [--threads N] [--out FILE.md] [--json]
+//   microshadow bake directional HEIGHT.png|.exr --depth D --out DIR [--azimuths 32] [--distance 0]
+// The first measures every representation against the exact texture-space diffuse transport; the second
+// writes the 9 directional channels of a height map and their box-filtered mip chain as float32 NPY (one
+// file per level, directional_mip<L>.npy, shape (h, w, 9)) and directional.json (8-bit ranges).
+#include <fmt/format.h>
+#include <microshadow/render/directional_bake.h>
+#include <microshadow/render/texture_gen.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "common.h"
+
+namespace msh::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using render::Texture;
+
+// float32 NPY (format 1.0), C order, shape (h, w, c).
+void write_npy_hwc(const fs::path& path, const Texture& t) {
+  std::string header = fmt::format("{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, {}, {}), }}",
+                                   t.height(), t.width(), t.channels());
+  header.append(63 - (10 + header.size()) % 64, ' ');  // total header length a multiple of 64
+  header += '\n';
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw UsageError(fmt::format("cannot write '{}'", path.string()));
+  const unsigned short len = static_cast<unsigned short>(header.size());
+  f.write("\x93NUMPY\x01\x00", 8);
+  f.put(char(len & 0xff)), f.put(char(len >> 8));
+  f << header;
+  for (int j = 0; j < t.height(); ++j)
+    for (int i = 0; i < t.width(); ++i)
+      for (int c = 0; c < t.channels(); ++c) {
+        const float v = t.at(i, j, c);
+        f.write(reinterpret_cast<const char*>(&v), sizeof v);  // little-endian hosts only
+      }
+  if (!f) throw UsageError(fmt::format("cannot write '{}'", path.string()));
+}
+
+struct StudyArgs {
+  std::string kinds = "plaster,bark,gravel", scales = "1,4,16", elevations = "5,10,25,45,70",
+              azimuths = "0,90", distances = "0", out;
+  int size = 512, bake_azimuths = 32, threads = 0;
+  bool quantize = false, json = false;
+};
+
+void run_study(const StudyArgs& a) {
+  const auto limit = thread_limit(a.threads);
+  render::DirectionalStudyOptions o;
+  o.kinds = split_list(a.kinds);
+  o.size = a.size;
+  o.scales.clear();
+  for (double k : parse_list(a.scales, "--scales")) {
+    if (k < 1 || k != std::floor(k) || a.size % int(k) != 0)
+      throw UsageError(fmt::format("--scales: {} must be a positive integer dividing --size", k));
+    o.scales.push_back(int(k));
+  }
+  o.elevations_deg.clear();
+  for (double e : parse_list(a.elevations, "--elevations")) {
+    require_range(e, 0.5, 89.5, "--elevations");
+    o.elevations_deg.push_back(float(e));
+  }
+  o.azimuths_deg.clear();
+  for (double z : parse_list(a.azimuths, "--azimuths")) o.azimuths_deg.push_back(float(z));
+  o.bake_distances.clear();
+  for (double d : parse_list(a.distances, "--distances")) o.bake_distances.push_back(float(d));
+  o.bake_azimuths = a.bake_azimuths;
+  o.quantize8 = a.quantize;
+  const auto rows = render::directional_study(o);
+  if (a.json) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& r : rows)
+      j.push_back({{"kind", r.kind},
+                   {"representation", r.representation},
+                   {"bake_distance", r.bake_distance},
+                   {"k", r.k},
+                   {"elevation_deg", r.elevation_deg},
+                   {"azimuth_deg", r.azimuth_deg},
+                   {"bias", r.bias},
+                   {"rmse_footprint", r.rmse_footprint},
+                   {"bytes", r.bytes}});
+    print_json(j);
+  }
+  const std::string md = render::directional_study_markdown(rows);
+  if (!a.out.empty()) {
+    std::ofstream f(a.out);
+    if (!f) throw UsageError(fmt::format("cannot write '{}'", a.out));
+    f << md;
+  }
+  if (!a.json) std::cout << md;
+}
+
+struct BakeArgs {
+  std::string height, out;
+  float depth = 0, distance = 0;
+  int azimuths = 32, threads = 0;
+};
+
+void run_bake(const BakeArgs& a) {
+  const auto limit = thread_limit(a.threads);
+  require_range(a.depth, 1e-6, 1e4, "--depth");
+  const Texture h = render::load_height_map(a.height);
+  const Texture ch = render::bake_directional_channels(h, a.depth, a.azimuths, a.distance);
+  fs::create_directories(a.out);
+  const auto chain = render::box_mip_chain(ch);
+  for (std::size_t lv = 0; lv < chain.size(); ++lv)
+    write_npy_hwc(fs::path(a.out) / fmt::format("directional_mip{}.npy", lv), chain[lv]);
+  // The 8-bit encoding's per-channel range (the fine level's min and max) and the conventions.
+  nlohmann::json j;
+  std::vector<float> lo(std::size_t(ch.channels()), 1e30f), hi(std::size_t(ch.channels()), -1e30f);
+  for (int y = 0; y < ch.height(); ++y)
+    for (int x = 0; x < ch.width(); ++x)
+      for (int c = 0; c < ch.channels(); ++c)
+        lo[std::size_t(c)] = std::min(lo[std::size_t(c)], ch.at(x, y, c)),
+        hi[std::size_t(c)] = std::max(hi[std::size_t(c)], ch.at(x, y, c));
+  j["channels"] = {"1", "x", "y", "z", "xz", "yz", "xx-yy", "xy", "zz"};
+  j["range_lo"] = lo, j["range_hi"] = hi;
+  j["tangent_space"] = "x = +u (columns), y = +v (rows, top to bottom), z = flat normal";
+  j["azimuths"] = a.azimuths, j["max_distance"] = a.distance, j["depth_texels"] = a.depth;
+  std::ofstream(fs::path(a.out) / "directional.json") << j.dump(2) << "\n";
+  std::cout << fmt::format("wrote {} levels of {} channels to {}\n", chain.size(), ch.channels(), a.out);
+}
+
+void add_directional(Groups& g) {
+  const auto [s, sa] = add_command<StudyArgs>(
+      g.verify, "directional",
+      "Directional micro-occlusion representations against the exact texture-space diffuse transport of the "
+      "procedural height fields (docs/directional-occlusion.md)",
+      run_study);
+  s->add_option("--kinds", sa->kinds, "Materials")->capture_default_str();
+  s->add_option("--size", sa->size, "Fine texels per side")->capture_default_str();
+  s->add_option("--scales", sa->scales, "Coarse scales k")->capture_default_str();
+  s->add_option("--elevations", sa->elevations, "Light elevations, degrees")->capture_default_str();
+  s->add_option("--azimuths", sa->azimuths, "Light azimuths from +u towards +v, degrees")
+      ->capture_default_str();
+  s->add_option("--bake-azimuths", sa->bake_azimuths, "Azimuths of the bakes")->capture_default_str();
+  s->add_option("--distances", sa->distances, "Bake ray lengths, texels (0 = unlimited, -1 = 8 % of size)")
+      ->capture_default_str();
+  s->add_flag("--quantize", sa->quantize, "Also rows with 8-bit UNORM channels (fine level and mips)");
+  s->add_option("--threads", sa->threads, "Worker threads (0 = all)");
+  s->add_option("--out", sa->out, "Also write the Markdown tables here");
+  s->add_flag("--json", sa->json, "Print every row as JSON instead of the tables");
+
+  const auto [b, ba] = add_command<BakeArgs>(
+      g.bake, "directional",
+      "Directional-occlusion channels (9, docs/directional-occlusion.md) of a height map and their "
+      "box-filtered "
+      "mip chain (float32 NPY per level) with directional.json (8-bit ranges, conventions)",
+      run_bake);
+  b->add_option("height", ba->height, "Height map (16-bit PNG or EXR, grey, [0, 1])")->required();
+  b->add_option("--depth", ba->depth, "Depth of the full height range, texels")->required();
+  b->add_option("--out", ba->out, "Output directory")->required();
+  b->add_option("--azimuths", ba->azimuths, "Azimuths per texel")->capture_default_str();
+  b->add_option("--distance", ba->distance, "Ray length, texels (0 = unlimited)")->capture_default_str();
+  b->add_option("--threads", ba->threads, "Worker threads (0 = all)");
+}
+
+}  // namespace
+
+MSH_CLI_REGISTER(add_directional, 62);
+
+}  // namespace msh::cli
