@@ -98,6 +98,7 @@ TEST(MicroShadowingMethods, PairsAreTheirTwoTerms) {
   for (const auto& m : micro_shadowing_methods()) {
     if (!m.is_pair()) continue;
     ++pairs;
+    if (m.needs_texel) continue;  // evaluated by the renderer only (MicroShadowingTexelTerms below)
     EXPECT_EQ(m.name, m.diffuse + "+" + m.specular);
     const MicroShadowingMethodInfo *d = find_micro_shadowing_method(m.diffuse),
                                    *s = find_micro_shadowing_method(m.specular);
@@ -128,6 +129,7 @@ TEST(MicroShadowingMethods, PairsAreTheirTwoTerms) {
 TEST(MicroShadowingMethods, ShadeAgreesWithEval) {
   Pcg32 rng(11);
   for (const auto& m : micro_shadowing_methods()) {
+    if (m.needs_texel) continue;  // MicroShadowingTexelTerms
     MicroShadowingOptions o;
     if (m.accepts_samples) o.samples = 4096;
     const MicroShadowingEvaluator e(m.name, o);
@@ -175,6 +177,30 @@ TEST(MicroShadowingMethods, ShadeAgreesWithEval) {
       EXPECT_TRUE(t.diffuse >= 0 && t.diffuse <= 1 && t.specular >= 0 && t.specular <= 1) << m.name;
     }
   }
+}
+
+// The methods that read per-texel channels: eval at one point refuses them (there is no texel), shade reads
+// the channels: the flat surface's channels (transport = l.z) give 1 for the directional term, the pair
+// puts it on the diffuse lobe only.
+TEST(MicroShadowingTexelTerms, DirectionalReadsItsChannels) {
+  const MicroShadowingEvaluator d("directional"), p("directional+generic-vndf-alu"), g("generic-vndf-alu");
+  EXPECT_TRUE(d.info().needs_texel && p.info().needs_texel);
+  EXPECT_EQ(d.info().texel_channels, 9);
+  EXPECT_THROW(d.eval(MicroShadowingQuery{0.5, 0.5, 1, 0.5, std::nullopt, std::nullopt}), InputError);
+  // Flat: f(l) = l.z, i.e. the channel of z is 1 and every other 0.
+  const float flat[9] = {0, 0, 0, 1, 0, 0, 0, 0, 0};
+  MicroShadowingShadeInput in;
+  in.visibility = 0.6f, in.roughness = 0.5f, in.texel = flat, in.texel_channels = 9;
+  for (float e : {0.1f, 0.5f, 1.2f}) {
+    in.l = in.l_tangent = Vec3f(std::cos(e), 0, std::sin(e));
+    in.v = Vec3f(0, 0.6f, 0.8f);
+    EXPECT_NEAR(d.shade(in).diffuse, 1.0f, 1e-6f) << e;
+    EXPECT_NEAR(p.shade(in).diffuse, 1.0f, 1e-6f) << e;
+    EXPECT_EQ(p.shade(in).specular, g.shade(in).specular) << e;
+  }
+  // Below the horizon: no light.
+  in.l = in.l_tangent = Vec3f(1, 0, -0.1f);
+  EXPECT_EQ(d.shade(in).diffuse, 0.0f);
 }
 
 TEST(MicroShadowingMethods, SameValuesFromManyThreads) {

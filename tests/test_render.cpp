@@ -106,8 +106,8 @@ TEST(RenderGolden, PlaneMicroShadowingTermsMatchClosedForms) {
 }
 
 // Every method of the registry renders (the renderer has no list of its own), with finite values in [0, the
-// unshadowed image]; a pair's diffuse component is its diffuse term's and its specular component its specular
-// term's, bit for bit.
+// unshadowed image] (the directional term of a flat surface is 1); a pair's diffuse component is its diffuse
+// term's and its specular component its specular term's, bit for bit.
 TEST(RenderMethods, EveryRegistryMethodRendersAndPairsSplitByLobe) {
   const std::string scene = R"({
       "camera": {"eye": [0, -2, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
@@ -117,6 +117,9 @@ TEST(RenderMethods, EveryRegistryMethodRendersAndPairsSplitByLobe) {
       "settings": {"width": 6, "height": 6, "spp": 1, "vndf_samples": 8}})";
   auto render = [&](const std::string& method, Component c) {
     Scene s = parse_scene(scene, "inline.json", ".");
+    // Directional channels of a flat surface (transport = N·L: the z channel is 1).
+    s.materials[0].directional = Texture(1, 1, 9);
+    s.materials[0].directional.at(0, 0, 3) = 1.0f;
     s.settings.micro_shadowing = method;
     s.settings.component = c;
     return Renderer(s).render();
@@ -139,6 +142,22 @@ TEST(RenderMethods, EveryRegistryMethodRendersAndPairsSplitByLobe) {
       const Image a = render(name, c), b = render(part, c);
       for (std::size_t i = 0; i < a.px.size(); ++i) EXPECT_EQ(a.px[i].r, b.px[i].r) << name << " " << part;
     }
+  }
+}
+
+// A method that reads the directional channels refuses a material without them, naming both.
+TEST(RenderMethods, DirectionalNeedsItsChannels) {
+  const std::string scene = R"({
+      "materials": {"m": {"base_color": 0.5}}, "objects": [{"type": "plane", "material": "m"}],
+      "lights": [{"type": "directional", "elevation_deg": 40, "intensity": 2}],
+      "settings": {"width": 4, "height": 4, "micro_shadowing": "directional"}})";
+  const Scene s = parse_scene(scene, "inline.json", ".");
+  try {
+    Renderer r(s);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("directional"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'m'"), std::string::npos) << e.what();
   }
 }
 

@@ -8,6 +8,7 @@
 #include <microshadow/microfacet/beckmann.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/microfacet/vcavity.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>
 #include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/occlusion/micro_shadowing_aware_fit.h>
@@ -352,6 +353,7 @@ enum Flag : unsigned {
   kLut = 32,      // accepts --lut
   kNoNdotl = 64,  // does not depend on N·L
   kStudy = 128,   // in the study's default list
+  kTexel = 256,   // reads the per-texel directional channels (renderer only)
 };
 MicroShadowingMethodInfo info(const char* name, const char* label, const char* summary, unsigned f,
                               std::vector<MicroShadowingGlsl> glsl = {}) {
@@ -361,6 +363,8 @@ MicroShadowingMethodInfo info(const char* name, const char* label, const char* s
   i.accepts_phi = f & kPhi, i.accepts_roughness_y = f & kRoughY;
   i.accepts_samples = f & kSamples, i.accepts_lut = f & kLut;
   i.uses_ndotl = !(f & kNoNdotl), i.in_study = f & kStudy;
+  i.needs_texel = f & kTexel;
+  if (i.needs_texel) i.texel_channels = directional::kDirectionalChannels;
   i.glsl = std::move(glsl);
   return i;
 }
@@ -499,6 +503,25 @@ const std::vector<Entry>& entries() {
               "the 3D LUT at anisotropic GGX through the rms of the roughness projected along l and v",
               kRough | kNdotV | kPhi | kRoughY | kLut),
          lut3d_projected_anisotropic},
+        // Directional micro-occlusion (occlusion/directional.h, docs/directional-occlusion.md): the
+        // footprint's mean diffuse transport lit · (n_fine · l)⁺ from 9 linear channels, as a factor on (n ·
+        // l)⁺.
+        {info("directional", "directional (9 linear channels)",
+              "directional micro-occlusion: the mean lit * N.L over the texel's footprint from 9 linear "
+              "channels baked from the height map, divided by the shading N.L (renderer and study only)",
+              kNoNdotl | kStudy | kTexel),
+         [](auto&, auto&) {
+           Impl i{[](const Point&) -> double {
+                    throw InputError(
+                        "directional reads per-texel channels: render or study a material baked with them");
+                  },
+                  nullptr};
+           i.shade = [](const In& in) {
+             if (in.texel_channels < directional::kDirectionalChannels) return 1.0f;
+             return directional::directional_term(in.texel, in.l_tangent, in.n_tangent);
+           };
+           return i;
+         }},
         // Named pairs (docs/micro-shadowing-aware.md): the diffuse-aware term on the diffuse lobe, a specular
         // term on the specular lobe.
         {pair("diffuse-aware", "specular-aware", "aware (estimator + indicator)",
@@ -522,6 +545,11 @@ const std::vector<Entry>& entries() {
               "specular lobe",
               kStudy),
          nullptr},
+        {pair("directional", "generic-vndf-alu", "directional + generic ALU (specular)",
+              "directional micro-occlusion on the diffuse lobe, the generic term's ALU fit on the specular "
+              "lobe",
+              kStudy),
+         nullptr},
         {pair("diffuse-aware", "generic-vndf", "recommended, estimators",
               "the recommended pair's reference: the diffuse-aware and generic estimators", 0),
          nullptr},
@@ -536,6 +564,8 @@ const std::vector<Entry>& entries() {
         p.info.uses_roughness |= t.uses_roughness, p.info.uses_ndotv |= t.uses_ndotv;
         p.info.accepts_phi |= t.accepts_phi, p.info.accepts_roughness_y |= t.accepts_roughness_y;
         p.info.accepts_samples |= t.accepts_samples, p.info.accepts_lut |= t.accepts_lut;
+        p.info.needs_texel |= t.needs_texel;
+        p.info.texel_channels = std::max(p.info.texel_channels, t.texel_channels);
       }
     }
     return v;

@@ -118,9 +118,14 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
   sp.visibility = 1.0f;
   if (!h.gt) {
     sp.visibility = saturate(m.visibility.sample(u, v));
+    const Framef fr = Framef::from_zx(h.ns, h.tangent);
+    const Vec3f bt = fr.t * h.tangent_sign;
+    sp.frame_u = fr.s, sp.frame_v = bt;
+    if (!m.directional.empty()) {
+      sp.texel_channels = std::min(m.directional.channels(), int(sp.texel.size()));
+      for (int c = 0; c < sp.texel_channels; ++c) sp.texel[std::size_t(c)] = m.directional.sample(u, v, c);
+    }
     if (!m.normal.empty()) {
-      const Framef fr = Framef::from_zx(h.ns, h.tangent);
-      const Vec3f bt = fr.t * h.tangent_sign;
       const Rgbf nt = m.normal.sample_rgb(u, v);
       const Vec3f tn(m.normal_strength * (2 * nt.r - 1), m.normal_strength * (2 * nt.g - 1), 2 * nt.b - 1);
       sp.n_shading = normalize(fr.s * tn.x + bt * tn.y + h.ns * tn.z, h.ns);

@@ -51,6 +51,7 @@ TextureSet downsample_texture_set(const TextureSet& fine, int k, CoarseRoughness
   check_size(fine.metallic, ref, "metallic");
   check_size(fine.base_color, ref, "base colour");
   check_size(fine.visibility, ref, "visibility");
+  if (!fine.directional.empty()) check_size(fine.directional, ref, "directional");
   if (ref.width() % k != 0 || ref.height() % k != 0)
     throw InputError(fmt::format("downsample_texture_set: size {}x{} is not divisible by k = {}", ref.width(),
                                  ref.height(), k));
@@ -62,6 +63,8 @@ TextureSet downsample_texture_set(const TextureSet& fine, int k, CoarseRoughness
   c.base_color = box_mean(fine.base_color, k);
   c.metallic = box_mean(fine.metallic, k);
   c.visibility = box_mean(fine.visibility, k);
+  // Linear channels: their box mean is the coarse texel's own (occlusion/directional.h).
+  if (!fine.directional.empty()) c.directional = box_mean(fine.directional, k);
   const int w = ref.width() / k, h = ref.height() / k;
   c.normal = Texture(w, h, 3);
   c.roughness = Texture(w, h, 1);

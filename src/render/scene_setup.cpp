@@ -14,6 +14,13 @@ Renderer::Impl::Impl(const Scene& s) : scene(s), ms(s.settings), bt(s.settings.b
   obj_hf.assign(s.objects.size(), -1);
   obj_gt_mesh.assign(s.objects.size(), -1);
   if (s.settings.ground_truth()) setup_ground_truth(s);
+  if (const int need = ms.texel_channels(); need > 0)
+    for (const Material& m : s.materials)
+      if (m.directional.channels() < need)
+        throw InputError(
+            fmt::format("micro-shadowing method '{}' needs the {} directional micro-occlusion "
+                        "channels per texel; material '{}' has {} (gen-material bakes them)",
+                        s.settings.micro_shadowing, need, m.name, m.directional.channels()));
   // One Embree scene holds every shape: meshes as triangles, analytic planes and spheres and the
   // height-field planes as user geometry (one primitive each), geometry ids in object order.
   device = rtcNewDevice(nullptr);

@@ -30,6 +30,8 @@ class MicroShadowingTerm {
   // InputError on an unknown method, an unreadable LUT file or a LUT that does not fit the method.
   explicit MicroShadowingTerm(const Settings& s);
   bool per_lobe() const { return method_ && method_->info().is_pair(); }
+  // The per-texel channels the method reads (0: none).
+  int texel_channels() const { return method_ ? method_->info().texel_channels : 0; }
   // Both lobes' terms (equal unless the method is a pair).
   LobeTerms eval_lobes(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, const Vec3f& tangent,
                        uint32_t seed) const {
@@ -44,6 +46,13 @@ class MicroShadowingTerm {
     in.v = normalize(v);
     in.l = fr.to_local(wi);
     in.seed = seed;
+    if (needs_texel_) {
+      in.texel = sp.texel.data(), in.texel_channels = sp.texel_channels;
+      const auto tangent_space = [&](const Vec3f& w) {
+        return Vec3f(dot(w, sp.frame_u), dot(w, sp.frame_v), dot(w, sp.n_smooth));
+      };
+      in.l_tangent = tangent_space(wi), in.n_tangent = tangent_space(sp.n_shading);
+    }
     const occlusion::MicroShadowingLobes t = method_->shade(in);
     return {t.diffuse, t.specular};
   }
@@ -67,6 +76,7 @@ class MicroShadowingTerm {
   bool smooth_;
   bool exact_generic_ = false;  // generic-vndf: eval_area integrates its exact term
   bool z_only_ = false;         // the value depends on l through N·L only (eval_area's fast path)
+  bool needs_texel_ = false;    // reads ShadePoint::texel (directional micro-occlusion)
 };
 
 // Bump-terminator shadowing of the light (docs/bump-terminator.md): ng = the unperturbed (interpolated)

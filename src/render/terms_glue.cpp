@@ -35,10 +35,12 @@ MicroShadowingTerm::MicroShadowingTerm(const Settings& s) : smooth_(s.ms_smooth_
   if (info->accepts_lut) o.lut_path = s.lut_path;
   method_ = std::make_shared<const occlusion::MicroShadowingEvaluator>(name, o);
   exact_generic_ = name == "generic-vndf";
+  needs_texel_ = info->needs_texel;
   // A LUT method on a table without the azimuth harmonics reads N·L and N·V only (so does every term that
   // does not take φ).
   const auto table = method_->table(false);
-  z_only_ = !info->is_pair() && (!info->accepts_phi || (table && table->view().harmonics == 0));
+  z_only_ = !info->is_pair() && !info->needs_texel &&
+            (!info->accepts_phi || (table && table->view().harmonics == 0));
 }
 
 float MicroShadowingTerm::eval_area(const ShadePoint& sp, const Vec3f& wo, const Vec3f& tangent,

@@ -5,6 +5,7 @@
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/math/sampling.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/heightfield.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/texture_gen.h>
@@ -163,6 +164,8 @@ void check_bake_options(const GenOptions& opt) {
   if (opt.ao_rays < 1 || opt.ao_rays > 65536) throw InputError("ao rays must be in [1, 65536]");
   if (!(opt.ao_max_distance >= 0) || !std::isfinite(opt.ao_max_distance))
     throw InputError("ao distance must be finite and >= 0");
+  if (opt.directional_azimuths != 0 && (opt.directional_azimuths < 4 || opt.directional_azimuths > 4096))
+    throw InputError("directional azimuths must be 0 (off) or in [4, 4096]");
 }
 
 // Normal map and micro-occlusion bake of a set whose height, colour, roughness and metallic are filled.
@@ -171,6 +174,8 @@ void finish_set(TextureSet& s, const GenOptions& opt) {
                                              : 0.08f * float(std::max(s.height.width(), s.height.height()));
   s.normal = normal_map_from_height(s.height, s.depth_texels);
   s.visibility = bake_visibility(s.height, s.depth_texels, opt.ao_rays, maxd);
+  if (opt.directional_azimuths > 0)
+    s.directional = bake_directional_channels(s.height, s.depth_texels, opt.directional_azimuths, 0.0f);
 }
 
 // The test roughness of Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2": rough on the

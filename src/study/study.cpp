@@ -3,6 +3,7 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/renderer.h>
@@ -70,20 +71,25 @@ double secs_since(std::chrono::steady_clock::time_point t0) {
 // Process CPU time (all threads), to report cost on a loaded machine.
 double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 
-// Texture sets cached as float32 NPY (exact), keyed by the generation options.
+// Texture sets cached as float32 NPY (exact), keyed by the generation options. More than 4 channels (the
+// directional channels): one slice of depth per channel.
 io::Volume to_volume(const Texture& t) {
-  const int c = t.channels() == 3 ? 4 : t.channels();
-  io::Volume v(t.width(), t.height(), 1, c);
+  const bool slices = t.channels() > 4;
+  const int c = slices ? 1 : t.channels() == 3 ? 4 : t.channels();
+  io::Volume v(t.width(), t.height(), slices ? t.channels() : 1, c);
   for (int y = 0; y < t.height(); ++y)
     for (int x = 0; x < t.width(); ++x)
-      for (int k = 0; k < t.channels(); ++k) v.at(x, y, 0, k) = t.at(x, y, k);
+      for (int k = 0; k < t.channels(); ++k) (slices ? v.at(x, y, k, 0) : v.at(x, y, 0, k)) = t.at(x, y, k);
   return v;
 }
 Texture from_volume(const io::Volume& v, int channels) {
+  const bool slices = channels > 4;
+  if (slices ? v.depth != channels : v.channels < channels)
+    throw InputError("study: a cached map has the wrong number of channels (delete the material cache)");
   Texture t(v.width, v.height, channels);
   for (int y = 0; y < v.height; ++y)
     for (int x = 0; x < v.width; ++x)
-      for (int k = 0; k < channels; ++k) t.at(x, y, k) = v.at(x, y, 0, k);
+      for (int k = 0; k < channels; ++k) t.at(x, y, k) = slices ? v.at(x, y, k, 0) : v.at(x, y, 0, k);
   return t;
 }
 io::PixelFormat npy_format(int channels) {
@@ -93,21 +99,26 @@ io::PixelFormat npy_format(int channels) {
 }
 
 TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& cache, const Log& log) {
-  const auto dir =
-      cache.empty() ? cache : cache / fmt::format("{}_{}_a{}_s{}", go.kind, go.size, go.ao_rays, go.seed);
+  const auto dir = cache.empty() ? cache
+                                 : cache / fmt::format("{}_{}_a{}_d{}_s{}", go.kind, go.size, go.ao_rays,
+                                                       go.directional_azimuths, go.seed);
   struct Slot {
     const char* name;
     Texture TextureSet::*map;
     int channels;
   };
-  const Slot slots[] = {
-      {"height", &TextureSet::height, 1},         {"normal", &TextureSet::normal, 3},
-      {"roughness", &TextureSet::roughness, 1},   {"metallic", &TextureSet::metallic, 1},
-      {"base_color", &TextureSet::base_color, 3}, {"visibility", &TextureSet::visibility, 1}};
+  const Slot slots[] = {{"height", &TextureSet::height, 1},
+                        {"normal", &TextureSet::normal, 3},
+                        {"roughness", &TextureSet::roughness, 1},
+                        {"metallic", &TextureSet::metallic, 1},
+                        {"base_color", &TextureSet::base_color, 3},
+                        {"visibility", &TextureSet::visibility, 1},
+                        {"directional", &TextureSet::directional, directional::kDirectionalChannels}};
   if (!dir.empty() && std::filesystem::exists(dir / "depth.txt")) {
     TextureSet s;
     for (const Slot& sl : slots)
-      s.*sl.map = from_volume(io::read_volume(dir / (std::string(sl.name) + ".npy")), sl.channels);
+      if (go.directional_azimuths > 0 || sl.map != &TextureSet::directional)
+        s.*sl.map = from_volume(io::read_volume(dir / (std::string(sl.name) + ".npy")), sl.channels);
     std::ifstream in(dir / "depth.txt");
     in >> s.depth_texels;
     if (log) log("study: texture set from the cache " + dir.string());
@@ -120,8 +131,11 @@ TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& c
     if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", dir.string(), ec.message()));
     for (const Slot& sl : slots) {
       const Texture& t = s.*sl.map;
+      if (t.empty()) continue;
       io::write_volume(dir / (std::string(sl.name) + ".npy"), to_volume(t), io::FileFormat::Npy,
-                       npy_format(t.channels() == 3 ? 4 : t.channels()));
+                       npy_format(t.channels() > 4    ? 1
+                                  : t.channels() == 3 ? 4
+                                                      : t.channels()));
     }
     io::write_file_atomic(dir / "depth.txt", fmt::format("{:.9g}\n", s.depth_texels));
   }
@@ -333,6 +347,7 @@ Material make_material(const std::string& name, const TextureSet& s, bool ground
   } else {
     m.normal = s.normal;
     m.visibility = s.visibility;
+    m.directional = s.directional;
   }
   return m;
 }
@@ -494,6 +509,7 @@ json config_json(const StudyConfig& c) {
           {"materials", c.materials},
           {"fine_size", c.fine_size},
           {"ao_rays", c.ao_rays},
+          {"directional_azimuths", c.directional_azimuths},
           {"scales", c.scales},
           {"shapes", c.shapes},
           {"elevations", c.elevations},
@@ -602,6 +618,11 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
     go.kind = kind;
     go.size = cfg.fine_size;
     go.ao_rays = cfg.ao_rays;
+    go.directional_azimuths = 0;
+    for (const auto* list : {&cfg.terms, &cfg.area_terms})
+      for (const std::string& t : *list)
+        if (occlusion::find_micro_shadowing_method(t)->needs_texel)
+          go.directional_azimuths = cfg.directional_azimuths;
     log(fmt::format("study: generating the fine {} texture set ({}^2 texels, {} bake rays)", kind,
                     cfg.fine_size, cfg.ao_rays));
     const TextureSet fine = load_or_generate(go, cfg.material_cache, log_fn);

@@ -7,6 +7,7 @@
 #include <microshadow/render/image.h>
 #include <microshadow/render/scene.h>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -25,6 +26,11 @@ struct ShadePoint {
   Vec3f n_geometric;
   Rgbf base_color;
   float roughness = 0.5f, metallic = 0.0f, visibility = 1.0f, specular = 1.0f;
+  // The surface's tangent frame (x = +u, y = +v as the normal map, z = n_smooth) and the material's
+  // per-texel micro-occlusion channels sampled at the hit (Material::directional; texel_channels = 0: none).
+  Vec3f frame_u{1, 0, 0}, frame_v{0, 1, 0};
+  std::array<float, 16> texel{};
+  int texel_channels = 0;
 };
 
 // GGX (height-correlated Smith G2, RTR4 9.31 + 9.41) + Lambert BRDF times cosine, with Schlick Fresnel

@@ -59,6 +59,9 @@ struct Material {
   Texture
       visibility;  // micro-occlusion V ∈ [0,1] (projected-solid-angle visibility, docs/micro-shadowing.md)
   Texture height;  // [0,1]; empty = no displacement
+  // Directional micro-occlusion channels (occlusion/directional.h; tangent space of the normal map), sampled
+  // bilinearly (they are linear); empty = none (the methods that need them refuse the scene).
+  Texture directional;
   float height_texels = 0.0f;    // depth of the full height range in texel units (ground truth only)
   float uv_scale = 1.0f;         // texture repeats per unit of the object's uv
   float specular = 1.0f;         // dielectric F0 = 0.04 · specular (0 = pure Lambert, for closed-form tests)

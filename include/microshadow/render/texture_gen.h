@@ -15,6 +15,9 @@ namespace msh::render {
 
 struct TextureSet {
   Texture height, normal, roughness, metallic, base_color, visibility;
+  // Directional micro-occlusion (occlusion/directional.h, render/directional_bake.h): 9 linear channels per
+  // texel; empty when not baked (GenOptions::directional_azimuths = 0).
+  Texture directional;
   float depth_texels = 0;  // depth of the full height range in texel units (normal map and bake use it)
 };
 
@@ -22,9 +25,12 @@ struct GenOptions {
   std::string kind = "plaster";  // plaster | bark | gravel (material_kinds())
   int size = 256;                // texels per side (power of two not required)
   float depth_texels = 0;  // 0 = the kind's default (plaster 6, bark 12, gravel 8 texels at size 256, scaled)
-  int ao_rays = 32;  // azimuths per texel for the micro-occlusion bake (each exact in elevation)
+  int ao_rays = 32;        // azimuths per texel for the micro-occlusion bake (each exact in elevation)
   float ao_max_distance = 0;  // bake ray length, texels; 0 = the kind's default (8% of the size)
   float rough_left = 0.8f, rough_right = 0.3f;
+  // Directional micro-occlusion bake (bake_directional_channels, unlimited ray length): azimuths per texel;
+  // 0 = not baked.
+  int directional_azimuths = 32;
   uint32_t seed = 7;
 };
 

@@ -21,6 +21,9 @@ struct StudyConfig {
   std::vector<std::string> materials{"plaster", "bark", "gravel"};  // generate_texture_set kinds
   int fine_size = 2048;                                             // fine height field, texels per side
   int ao_rays = 16;  // micro-occlusion bake: azimuths per fine texel (each exact in elevation)
+  // Directional micro-occlusion bake (render/directional_bake.h): azimuths per fine texel; baked only when a
+  // term reads it.
+  int directional_azimuths = 32;
   std::vector<int> scales{1, 4, 16};         // k: coarse set = fine / k
   std::vector<std::string> shapes{"plane"};  // plane, cylinder (displaced; its ground truth uses Embree)
   std::vector<double> elevations{5, 10, 25, 45, 70};  // directional lights (degrees above the plane)

@@ -73,6 +73,10 @@ struct MicroShadowingMethodInfo {
   // Rendered by the multiscale study by default (a term the renderer runs per shading point at a cost the
   // study affords: closed forms, ALU fits, tables, estimators; not exact quadrature).
   bool in_study = false;
+  // Reads per-texel data beyond V (MicroShadowingShadeInput::texel): only the renderer evaluates it (eval
+  // throws); texel_channels is how many channels it reads.
+  bool needs_texel = false;
+  int texel_channels = 0;
   // The viewer's forms (none: not in the viewer).
   std::vector<MicroShadowingGlsl> glsl;
   bool is_pair() const { return !diffuse.empty(); }
@@ -85,6 +89,11 @@ struct MicroShadowingShadeInput {
   float visibility = 1, roughness = 0.5f;
   Vec3f v{0, 0, 1}, l{0, 0, 1};
   uint32_t seed = 1;
+  // Methods with needs_texel: the per-texel channels (occlusion/directional.h), with l and the shading normal
+  // in the texture's tangent space (x = +u, y = +v as the normal map, z = the unperturbed surface normal).
+  const float* texel = nullptr;
+  int texel_channels = 0;
+  Vec3f l_tangent{0, 0, 1}, n_tangent{0, 0, 1};
 };
 // The term of each lobe (equal for a single term).
 struct MicroShadowingLobes {
