@@ -24,6 +24,7 @@ list(SORT MSH_CORE_HEADERS)
 target_include_directories(microshadow_core INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 target_compile_features(microshadow_core INTERFACE cxx_std_20)
 set_target_properties(microshadow_core PROPERTIES EXPORT_NAME core)
+set_target_properties(microshadow_engine PROPERTIES EXPORT_NAME engine)
 
 # --- The default micro-shadowing tables, baked at build time ---------------------------------------------
 # The library bakes its default table on first use (lut::default_micro_shadowing_lut, in float); engines
@@ -55,7 +56,7 @@ add_custom_target(microshadow_tables ALL DEPENDS ${MSH_TABLES})
 add_dependencies(microshadow_tables microshadow_cli)
 
 # --- Install rules ---------------------------------------------------------------------------------------
-install(TARGETS microshadow_core EXPORT microshadowCoreTargets)
+install(TARGETS microshadow_core microshadow_engine EXPORT microshadowCoreTargets)
 install(TARGETS microshadow EXPORT microshadowTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS microshadow_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/include/microshadow DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
@@ -93,6 +94,11 @@ if(MSH_BUILD_TESTS)
   target_link_libraries(test_core_umbrella PRIVATE microshadow_core)
   target_compile_options(test_core_umbrella PRIVATE -Wall -Wextra -Werror)
   add_test(NAME test_core_umbrella COMMAND test_core_umbrella)
+  # The engine surface likewise, linking nothing but microshadow::engine.
+  add_executable(test_engine_umbrella ${CMAKE_SOURCE_DIR}/tests/package/engine_umbrella.cpp)
+  target_link_libraries(test_engine_umbrella PRIVATE microshadow_engine)
+  target_compile_options(test_engine_umbrella PRIVATE -Wall -Wextra -Werror)
+  add_test(NAME test_engine_umbrella COMMAND test_engine_umbrella)
   # Every core header: standard library and core headers only; the umbrella includes exactly the core set;
   # and the umbrella compiles warning-free with the other compiler (clang when building with GCC), as an
   # engine's toolchain may differ from ours.

@@ -1,12 +1,13 @@
 # ctest (cmake/install.cmake): every header of microshadow::core includes only the C++ standard library and
 # other core headers (no fmt, TBB, nlohmann, OpenEXR, libpng, Embree, Highway, nor a library header), and the
-# umbrella header <microshadow/microshadow.h> includes exactly the core set.
+# umbrella header <microshadow/microshadow.h> includes exactly the core set; the engine surface
+# <microshadow/engine.h> includes core headers only and none of reference/.
 # With -DOTHER_CXX=a second compiler, the umbrella also compiles there with -Wall -Wextra -Werror.
 # -DCXX=compiler -DINCLUDE_DIR=<repo>/include -DCORE_HEADERS=microshadow/a.h;... [-DOTHER_CXX=clang++]
 cmake_policy(VERSION 3.25)
 set(core ${CORE_HEADERS})
 set(errors "")
-foreach(h ${core} microshadow/microshadow.h)
+foreach(h ${core} microshadow/microshadow.h microshadow/engine.h)
   execute_process(COMMAND ${CXX} -std=c++20 -I${INCLUDE_DIR} -M -x c++ ${INCLUDE_DIR}/${h}
                   OUTPUT_VARIABLE deps ERROR_VARIABLE err RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
@@ -20,8 +21,13 @@ foreach(h ${core} microshadow/microshadow.h)
     file(REAL_PATH ${d} d)
     if(d MATCHES "^${INCLUDE_DIR}/(.*)$")
       set(rel ${CMAKE_MATCH_1})
-      if(NOT rel IN_LIST core AND NOT rel STREQUAL "microshadow/microshadow.h")
+      if(NOT rel IN_LIST core AND NOT rel STREQUAL "microshadow/microshadow.h"
+         AND NOT rel STREQUAL "microshadow/engine.h")
         string(APPEND errors "${h}: includes ${rel}, which is not a core header\n")
+      endif()
+      # The engine surface holds no reference integrator (nor anything compiled into the library).
+      if(h STREQUAL "microshadow/engine.h" AND rel MATCHES "/(reference|runtime)/")
+        string(APPEND errors "${h}: includes ${rel}, which is not engine code\n")
       endif()
     elseif(d MATCHES "(fmt|tbb|oneapi|nlohmann|OpenEXR|Imath|png|embree|hwy|CLI|gtest|benchmark)")
       string(APPEND errors "${h}: includes a dependency: ${d}\n")
