@@ -1,0 +1,89 @@
+// microshadow: shaders/portable/directional.h, written once for GLSL and HLSL in the portable dialect
+// (docs/shaders.md): HLSL type names and the msh_* spellings that shaders/glsl/msh_prelude.glsl and
+// shaders/hlsl/msh_prelude.hlsl define. Not included directly: GLSL `#include "shaders/glsl/directional.glsl"`,
+// HLSL `#include "shaders/hlsl/directional.hlsl"` (their top comments say how).
+// Directional micro-occlusion, the run-time reconstruction: port of include/microshadow/occlusion/directional.h
+// (directional_transport, directional_term, decode_unorm8); needs nothing else.
+//
+// Data: 9 linear channels per texel (render/directional_bake.h bakes them; `microshadow bake directional`
+// writes them with their box-filtered mips), the weighted least-squares fit of the diffuse transport
+// lit * max(n_fine . l, 0) over the upper hemisphere with the degree-2 polynomials, channel order
+//   b(l) = (1, x, y, z, x z, y z, x^2 - y^2, x y, z^2).
+// Fetch them with ordinary trilinear/anisotropic filtering (their box mean is the coarse texel's own fit),
+// e.g. as two RGBA textures c0 = channels 0..3, c1 = channels 4..7 and one R texture c8 = channel 8.
+// Tangent space of the normal map (render/texture_gen.h normal_map_from_height): x = +u (columns), y = +v
+// (rows, top to bottom), z = the flat surface normal (the height map's +z, not the texel's own normal).
+// l (the direction to the light) and n (the engine's coarse shading normal) are unit vectors in that frame.
+//
+// Precision vs the C++ float functions (tests/test_shaders_directional.cpp on lavapipe, random, flat and
+// baked channel sets with their mips, lights above and below the horizon): the transport within
+// 1e-6 * S, S = sum_i |c_i| |b_i(l)| (|b_6| read as x^2 + y^2), i.e. a few float roundings of the 9-term
+// sum; the term within 1e-6 * S / (n . l) + 1e-6 relative. Both early-outs (l.z <= 0, n . l <= 1e-4) return
+// exactly 0 as in C++. NaN inputs are not guaranteed on GPUs (compilers may assume finite math).
+#ifndef MSH_DIRECTIONAL_PORTABLE_H
+#define MSH_DIRECTIONAL_PORTABLE_H
+
+// The 9 basis functions at l: (1, x, y, z) and (x z, y z, x^2 - y^2, x y); z^2 is l.z * l.z. Port of
+// msh::directional::poly2_basis. Exact up to one rounding per product.
+float4 msh_dir_basis_hi(float3 l) { return float4(l.x * l.z, l.y * l.z, l.x * l.x - l.y * l.y, l.x * l.y); }
+
+// sum_i c_i b_i(l) with the channels packed as c0 = (c_0..c_3), c1 = (c_4..c_7), c8 = c_8: the fitted
+// transport before the clamp. float32, 9 products summed (within 1e-6 * S of C++, see the top).
+float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
+  return dot(c0, float4(1.0, l)) + dot(c1, msh_dir_basis_hi(l)) + c8 * (l.z * l.z);
+}
+
+// Mean diffuse transport over the texel's footprint, lit * max(n_fine . l, 0), of a directional light:
+// max(0, sum_i c_i b_i(l)), 0 for l.z <= 0. Port of msh::directional::directional_transport (degree-2
+// weighted least-squares transport, docs/shaders.md "Directional micro-occlusion"; SSBump, Green 2007 stores
+// the same kind of projection on 3 directions). Diffuse radiance = albedo / pi * E * transport, in place of
+// max(n . l, 0) * micro-shadowing. float32, within 1e-6 * S of C++; exactly 0 below the horizon.
+float msh_dir_transport(float4 c0, float4 c1, float c8, float3 l) {
+  if (!(l.z > 0.0)) return 0.0;
+  return max(msh_dir_poly(c0, c1, c8, l), 0.0);
+}
+
+// The same with the channels as an array c[0..8] (the C++ order, summed in the C++ order). float32, within
+// 1e-6 * S of C++; exactly 0 below the horizon.
+float msh_dir_transport(float c[9], float3 l) {
+  if (!(l.z > 0.0)) return 0.0;
+  float4 h = msh_dir_basis_hi(l);
+  float s = c[0];
+  s += c[1] * l.x;
+  s += c[2] * l.y;
+  s += c[3] * l.z;
+  s += c[4] * h.x;
+  s += c[5] * h.y;
+  s += c[6] * h.z;
+  s += c[7] * h.w;
+  s += c[8] * (l.z * l.z);
+  return max(s, 0.0);
+}
+
+// The transport as a factor on the engine's max(n . l, 0) (n = the coarse shading normal, tangent space):
+// transport / (n . l), 0 where n . l <= 1e-4. Not clamped to 1: near the coarse terminator lit facets can
+// exceed the coarse cosine. Port of msh::directional::directional_term. float32, within
+// 1e-6 * S / (n . l) + 1e-6 relative of C++; exactly 0 at both early-outs.
+float msh_dir_term(float4 c0, float4 c1, float c8, float3 l, float3 n) {
+  float nl = dot(n, l);
+  if (!(nl > 1e-4)) return 0.0;
+  return msh_dir_transport(c0, c1, c8, l) / nl;
+}
+
+// The same with the channels as an array c[0..8]. float32, as above.
+float msh_dir_term(float c[9], float3 l, float3 n) {
+  float nl = dot(n, l);
+  if (!(nl > 1e-4)) return 0.0;
+  return msh_dir_transport(c, l) / nl;
+}
+
+// 8-bit storage: a channel fetched from a UNORM texture (u in [0, 1], already filtered) mapped back to
+// the material's range [lo, hi] (the fine level's min and max, the same for every mip level):
+// lo + (hi - lo) * u (`unorm` is an HLSL keyword). Port of msh::directional::decode_unorm8. float32, within 2 roundings of C++ (one
+// if the compiler fuses it). Decode after filtering: the map is affine, so it commutes with the box mean.
+float msh_dir_decode_unorm8(float u, float lo, float hi) { return lo + (hi - lo) * u; }
+
+// Four channels at once (one RGBA8 fetch). float32, as above.
+float4 msh_dir_decode_unorm8(float4 u, float4 lo, float4 hi) { return lo + (hi - lo) * u; }
+
+#endif  // MSH_DIRECTIONAL_PORTABLE_H

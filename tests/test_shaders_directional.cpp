@@ -1,0 +1,394 @@
+// The GLSL and HLSL ports of the directional micro-occlusion run-time functions (shaders/{glsl,hlsl}/
+// directional.*, one body in shaders/portable/directional.h): they compile with glslangValidator (GLSL 450,
+// GLSL ES 320, HLSL) and, where a Vulkan device is available (lavapipe on CI), agree with the C++ float
+// functions of occlusion/directional.h (directional_transport, directional_term, decode_unorm8) on random
+// channel sets, the flat surface's channels and channels baked from small height fields (and their box mips),
+// with lights above and below the horizon. The bound is the float rounding of a 9-term sum: |shader − C++| ≤
+// 1e-6 · S, S = Σ|c_i||b_i(l)|, so that cancelling terms (a transport near 0 from large channels) are judged
+// by the size of what cancels. Also the SPIR-V cost of the term after spirv-opt -O (docs/shaders.md).
+#include <gtest/gtest.h>
+#include <microshadow/math/sampling.h>
+#include <microshadow/occlusion/directional.h>
+#include <microshadow/render/directional_bake.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include "support/shader_kernel.h"
+
+using namespace msh;
+namespace vk = msh::test::vk;
+namespace dir = msh::directional;
+
+namespace {
+
+// One record: channels c0 = (c_0..c_3), c1 = (c_4..c_7), c8.x = c_8, the light l and the coarse normal n
+// (xyz) → (transport packed, transport array, term packed, term array). A second buffer checks the 8-bit
+// decode: (unorm, lo, hi) → the vector form and the scalar form per component.
+const vk::Kernel kKernel = vk::framed_kernel(
+    {"directional"},
+    {{"in Rec rec", "out vec4 res", "in Dec dec", "out vec4 decoded"}, {}, "uint nr; uint nd;"},
+    "struct Rec { vec4 c0; vec4 c1; vec4 c8; vec4 l; vec4 n; };\n"
+    "struct Dec { vec4 u; vec4 lo; vec4 hi; vec4 pad; };\n",
+    R"(
+  if (i < pc.nr) {
+    Rec r = rec[i];
+    float c[9];
+    c[0] = r.c0.x; c[1] = r.c0.y; c[2] = r.c0.z; c[3] = r.c0.w;
+    c[4] = r.c1.x; c[5] = r.c1.y; c[6] = r.c1.z; c[7] = r.c1.w;
+    c[8] = r.c8.x;
+    res[i] = vec4(msh_dir_transport(r.c0, r.c1, r.c8.x, r.l.xyz), msh_dir_transport(c, r.l.xyz),
+                  msh_dir_term(r.c0, r.c1, r.c8.x, r.l.xyz, r.n.xyz), msh_dir_term(c, r.l.xyz, r.n.xyz));
+  }
+  if (i < pc.nd) {
+    Dec d = dec[i];
+    vec4 s = vec4(msh_dir_decode_unorm8(d.u.x, d.lo.x, d.hi.x), msh_dir_decode_unorm8(d.u.y, d.lo.y, d.hi.y),
+                  msh_dir_decode_unorm8(d.u.z, d.lo.z, d.hi.z), msh_dir_decode_unorm8(d.u.w, d.lo.w, d.hi.w));
+    decoded[2u * i] = msh_dir_decode_unorm8(d.u, d.lo, d.hi);
+    decoded[2u * i + 1u] = s;
+  }
+)");
+
+struct Rec {
+  std::array<float, 12> c;  // c_0..c_8, then the c8 slot's padding: c[9] = origin (0 random, 1 flat, 2 baked)
+  std::array<float, 4> l, n;
+};
+static_assert(sizeof(Rec) == 20 * sizeof(float));
+struct Dec {
+  std::array<float, 4> u, lo, hi, pad;
+};
+
+const float* channels(const Rec& r) { return r.c.data(); }
+Vec3f light(const Rec& r) { return {r.l[0], r.l[1], r.l[2]}; }
+Vec3f normal(const Rec& r) { return {r.n[0], r.n[1], r.n[2]}; }
+
+// Channel sets: random (signed, magnitudes 0.01–10), the flat surface's exact channels (transport = z) and
+// perturbations of them, and every texel of the bake of two small height fields with their box mips.
+// Each set with its origin in c[9]: 0 random, 1 flat (exact or perturbed), 2 baked.
+std::vector<std::array<float, 10>> channel_sets() {
+  std::vector<std::array<float, 10>> sets;
+  Pcg32 rng(2026);
+  for (int k = 0; k < 512; ++k) {
+    std::array<float, 10> c{};
+    const double scale = std::pow(10.0, rng.next_double() * 3 - 2);
+    for (int i = 0; i < 9; ++i) c[std::size_t(i)] = float((rng.next_double() * 2 - 1) * scale);
+    sets.push_back(c);
+  }
+  const std::array<float, 10> flat = {0, 0, 0, 1, 0, 0, 0, 0, 0, 1};
+  sets.push_back(flat);
+  for (int k = 0; k < 64; ++k) {
+    std::array<float, 10> c = flat;
+    for (int i = 0; i < 9; ++i) c[std::size_t(i)] += float((rng.next_double() * 2 - 1) * 0.05);
+    sets.push_back(c);
+  }
+  // Baked: a flat field, and two bumpy ones (sum of sines; a deep crater field), 32², 32 azimuths.
+  const int n = 32;
+  for (int field = 0; field < 3; ++field) {
+    render::Texture h(n, n, 1);
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double u = 2 * kPi<double> * x / n, v = 2 * kPi<double> * y / n;
+        double z = 0.5;
+        if (field == 1) z = 0.5 + 0.25 * std::sin(2 * u) * std::cos(3 * v) + 0.2 * std::sin(5 * u + v);
+        if (field == 2) z = 0.5 + 0.5 * std::cos(2 * u) * std::cos(2 * v) * std::sin(7 * u - 3 * v);
+        h.at(x, y, 0) = float(std::clamp(z, 0.0, 1.0));
+      }
+    const render::Texture ch = render::bake_directional_channels(h, field == 2 ? 6.0f : 3.0f, 32, 0.0f);
+    for (int k : {1, 2, 4, 16}) {
+      const render::Texture t = k == 1 ? ch : render::box_downsample(ch, k);
+      const int step = field == 0 && k == 1 ? 8 : 1;  // the flat field's texels are all alike
+      for (int y = 0; y < t.height(); y += step)
+        for (int x = 0; x < t.width(); x += step) {
+          std::array<float, 10> c{};
+          for (int i = 0; i < 9; ++i) c[std::size_t(i)] = t.at(x, y, i);
+          c[9] = 2;
+          sets.push_back(c);
+        }
+    }
+  }
+  return sets;
+}
+
+// Lights: above and below the horizon, grazing, on the tangent plane (±0), the zenith; normals: the flat +z,
+// tilted ones and some facing away; a few n · l on the 1e-4 early-out boundary.
+std::vector<Rec> make_records() {
+  std::vector<Rec> recs;
+  Pcg32 rng(77);
+  auto rnd = [&] { return Vec2d(rng.next_double(), rng.next_double()); };
+  for (const auto& c : channel_sets()) {
+    std::vector<Vec3f> lights;
+    for (int k = 0; k < 6; ++k) lights.push_back(Vec3f(sample_uniform_sphere(rnd())));
+    const double phi = 2 * kPi<double> * rng.next_double();
+    for (double z : {1e-6, 1e-3, 0.05, 0.0, -0.0, -1e-3, 1.0}) {
+      const double s = std::sqrt(std::max(0.0, 1 - z * z));
+      lights.push_back(Vec3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(z)));
+    }
+    for (const Vec3f& l : lights) {
+      Rec r{};
+      std::copy(c.begin(), c.end(), r.c.begin());
+      const int kind = int(rng.next_u32() % 4);
+      Vec3f n(0, 0, 1);
+      if (kind == 1) n = Vec3f(sample_uniform_cone(rnd(), 0.5));
+      if (kind == 2) n = Vec3f(sample_uniform_sphere(rnd()));
+      if (kind == 3) n = l;
+      r.l = {l.x, l.y, l.z, 0};
+      r.n = {n.x, n.y, n.z, 0};
+      recs.push_back(r);
+    }
+  }
+  // n · l = 1e-4 · (1 ± small): a normal at a chosen angle to an upper light.
+  for (int k = 0; k < 256; ++k) {
+    Rec r = recs[std::size_t(k) * 13];
+    const Vec3d l = normalize(Vec3d(0.3, -0.2, 0.5 + rng.next_double() * 0.5));
+    const Framed f = Framed::from_z(l);
+    const double want = 1e-4 * (1 + (rng.next_double() * 2 - 1) * 0.1);
+    const double a = 2 * kPi<double> * rng.next_double();
+    const Vec3d n = f.to_world(
+        Vec3d(std::sqrt(1 - want * want) * std::cos(a), std::sqrt(1 - want * want) * std::sin(a), want));
+    r.l = {float(l.x), float(l.y), float(l.z), 0};
+    r.n = {float(n.x), float(n.y), float(n.z), 0};
+    recs.push_back(r);
+  }
+  return recs;
+}
+
+std::vector<Dec> make_decodes() {
+  std::vector<Dec> d;
+  Pcg32 rng(9);
+  for (int k = 0; k < 4096; ++k) {
+    Dec x{};
+    for (int i = 0; i < 4; ++i) {
+      const int q = k < 256 ? (k + 64 * i) % 256 : int(rng.next_u32() % 256);
+      x.u[std::size_t(i)] = float(q) / 255.0f;
+      const double lo = -std::pow(10.0, rng.next_double() * 3 - 2) * rng.next_double();
+      x.lo[std::size_t(i)] = float(lo);
+      x.hi[std::size_t(i)] = float(lo + std::pow(10.0, rng.next_double() * 3 - 2));
+    }
+    d.push_back(x);
+  }
+  return d;
+}
+
+// S = Σ|c_i||b_i(l)| in double (x² − y² read as x² + y²): the size of what the 9-term sum adds.
+double sum_scale(const Rec& r) {
+  const Vec3d l(light(r));
+  const double b[9] = {1,
+                       std::abs(l.x),
+                       std::abs(l.y),
+                       std::abs(l.z),
+                       std::abs(l.x * l.z),
+                       std::abs(l.y * l.z),
+                       l.x * l.x + l.y * l.y,
+                       std::abs(l.x * l.y),
+                       l.z * l.z};
+  double s = 0;
+  for (int i = 0; i < 9; ++i) s += std::abs(double(r.c[std::size_t(i)])) * b[i];
+  return s;
+}
+
+// The bound of the shader files: transport within 1e-6 · S, term within 1e-6 · S / (n · l) + 1e-6 · |term|.
+constexpr double kSumTol = 1e-6;
+// n · l in float: C++ and the shader may round (and fuse) its 3 products differently, up to ~2 ulps of
+// Σ|n_i l_i|; relative to n · l that matters only near the coarse terminator.
+constexpr double kDotTol = 2.5e-7;
+
+void check(const char* label, const std::vector<Rec>& recs, const std::vector<Dec>& decs,
+           const std::vector<std::array<float, 4>>& res, const std::vector<std::array<float, 4>>& decoded) {
+  double max_t = 0, max_term = 0, max_rel_t = 0, max_rel_term = 0, max_baked_t = 0, max_baked_rel_t = 0,
+         max_baked_term = 0;
+  int below = 0, nl_early = 0, boundary_skipped = 0, positive = 0;
+  for (std::size_t i = 0; i < recs.size(); ++i) {
+    const Rec& r = recs[i];
+    SCOPED_TRACE(testing::Message() << label << " record " << i << " l " << r.l[0] << "," << r.l[1] << ","
+                                    << r.l[2] << " n " << r.n[0] << "," << r.n[1] << "," << r.n[2]);
+    const Vec3f l = light(r), n = normal(r);
+    const float t_cpp = dir::directional_transport(channels(r), l);
+    const float term_cpp = dir::directional_term(channels(r), l, n);
+    for (float o : res[i]) {
+      ASSERT_TRUE(std::isfinite(o));
+      ASSERT_GE(o, 0.0f);
+    }
+    if (!(l.z > 0)) {  // below the horizon (and ±0): exactly 0, both forms
+      ++below;
+      for (float o : res[i]) ASSERT_EQ(o, 0.0f);
+      continue;
+    }
+    const double s = sum_scale(r);
+    for (int k : {0, 1}) {
+      const double d = std::abs(double(res[i][std::size_t(k)]) - t_cpp);
+      ASSERT_LE(d, kSumTol * s) << "transport form " << k << ": shader " << res[i][std::size_t(k)] << " C++ "
+                                << t_cpp;
+      max_t = std::max(max_t, d / s);
+      if (t_cpp > 0.1 * s) max_rel_t = std::max(max_rel_t, d / t_cpp);
+      if (r.c[9] != 0) {  // flat and baked channels: absolute, and relative where T > 0.01
+        max_baked_t = std::max(max_baked_t, d);
+        if (t_cpp > 0.01) max_baked_rel_t = std::max(max_baked_rel_t, d / t_cpp);
+      }
+    }
+    if (t_cpp > 0) ++positive;
+    const double nl = double(n.x) * l.x + double(n.y) * l.y + double(n.z) * l.z;
+    const double nl_abs =
+        std::abs(double(n.x) * l.x) + std::abs(double(n.y) * l.y) + std::abs(double(n.z) * l.z);
+    if (std::abs(nl - 1e-4) < 4e-7 * nl_abs) {  // a rounding of n · l decides: either is right
+      ++boundary_skipped;
+      continue;
+    }
+    if (!(nl > 1e-4)) {
+      ++nl_early;
+      ASSERT_EQ(term_cpp, 0.0f);
+      ASSERT_EQ(res[i][2], 0.0f);
+      ASSERT_EQ(res[i][3], 0.0f);
+      continue;
+    }
+    for (int k : {2, 3}) {
+      const double d = std::abs(double(res[i][std::size_t(k)]) - term_cpp);
+      ASSERT_LE(d, kSumTol * s / nl + (1e-6 + kDotTol * nl_abs / nl) * term_cpp)
+          << "term form " << k << ": shader " << res[i][std::size_t(k)] << " C++ " << term_cpp;
+      max_term = std::max(max_term, d / (s / nl + term_cpp * (1 + nl_abs / nl)));
+      if (t_cpp > 0.1 * s) max_rel_term = std::max(max_rel_term, d / term_cpp);
+      if (r.c[9] != 0 && nl > 0.01) max_baked_term = std::max(max_baked_term, d);
+    }
+  }
+  EXPECT_GT(below, 2000) << label;
+  EXPECT_GT(nl_early, 500) << label;
+  EXPECT_GT(positive, 5000) << label;
+  EXPECT_LT(boundary_skipped, 64) << label;
+
+  double max_dec = 0;
+  for (std::size_t i = 0; i < decs.size(); ++i) {
+    const Dec& x = decs[i];
+    for (int form : {0, 1})
+      for (std::size_t c = 0; c < 4; ++c) {
+        const float got = decoded[2 * i + std::size_t(form)][c];
+        const float want = dir::decode_unorm8(x.u[c], x.lo[c], x.hi[c]);
+        const double scale = std::abs(double(x.lo[c])) + std::abs(double(x.hi[c]) - x.lo[c]);
+        const double d = std::abs(double(got) - want);
+        ASSERT_LE(d, 2.5e-7 * scale) << label << " decode " << i << "," << c;  // 2 roundings of ~1.2e-7
+        if (x.u[c] == 0.0f) {
+          ASSERT_EQ(got, x.lo[c]) << label;  // the range's low end is exact
+        }
+        max_dec = std::max(max_dec, d / scale);
+      }
+  }
+  std::printf(
+      "[ %s ] %zu records (%d below the horizon, %d n.l early-outs, all exactly 0; %d on the n.l boundary "
+      "not compared): max |shader - C++ float| / S: transport %.2e, term (x n.l / (S + term n.l)) %.2e; "
+      "relative where T > 0.1 S: transport %.2e, term %.2e; flat and baked channels: transport %.2e "
+      "absolute, %.2e relative where T > 0.01, term %.2e absolute where n.l > 0.01; decode %zu x 8: %.2e of "
+      "|lo| + |hi - lo|\n",
+      label, recs.size(), below, nl_early, boundary_skipped, max_t, max_term, max_rel_t, max_rel_term,
+      max_baked_t, max_baked_rel_t, max_baked_term, decs.size(), max_dec);
+}
+
+// Runs a command, returns its exit status.
+int sh(const std::string& cmd) { return std::system(cmd.c_str()); }
+
+}  // namespace
+
+TEST(ShadersDirectional, Compiles) {
+  vk::expect_compiles(kKernel, {"s += c[8] * (l.z * l.z);", "s += c[8] * (l.z * l.w);"});
+}
+
+TEST(ShadersDirectional, RunsOnVulkanAndMatchesCpp) {
+  const auto recs = make_records();
+  const auto decs = make_decodes();
+  vk::Dispatch d;
+  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size() * 4), vk::to_floats(decs),
+               std::vector<float>(decs.size() * 8)};
+  d.invocations = std::max(recs.size(), decs.size());
+  d.push = vk::push_constants(
+      std::array<uint32_t, 3>{uint32_t(d.invocations), uint32_t(recs.size()), uint32_t(decs.size())});
+  vk::run_glsl_and_hlsl(kKernel, d, [&](const char* label, const vk::Buffers& out) {
+    check(label, recs, decs, vk::from_floats<std::array<float, 4>>(out[1]),
+          vk::from_floats<std::array<float, 4>>(out[3]));
+  });
+}
+
+// The cost row of docs/shaders.md: a compute kernel calling only the function (the method of
+// scripts/lut_spirv_counts.py: glslangValidator → spirv-opt -O → spirv-dis), the instructions of the inlined
+// entry point (OpLine/OpName excluded; ≈ 20 of them are the kernel's 4 vec4 loads and its store) and the
+// arithmetic ones by opcode (float arithmetic, OpDot, OpExtInst, OpSelect, comparisons: as
+// scripts/count_micro_shadowing_fit_ops.sh, plus OpDot).
+TEST(ShadersDirectional, SpirvCost) {
+  if (sh("command -v spirv-opt > /dev/null 2>&1 && command -v spirv-dis > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "spirv-opt / spirv-dis not found (Debian: spirv-tools)";
+  const std::string lib = vk::read_source("shaders/glsl/directional.glsl");
+  const std::map<std::string, std::string> calls = {
+      {"term", "msh_dir_term(a, b, c.w, c.xyz, d.xyz)"},
+      {"term, array", "msh_dir_term(float[9](a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w, c.w), c.xyz, d.xyz)"},
+      {"transport", "msh_dir_transport(a, b, c.w, c.xyz)"},
+      {"decode 9 channels",
+       "dot(msh_dir_decode_unorm8(a, b, c), vec4(1.0)) + "
+       "dot(msh_dir_decode_unorm8(d, a, b), vec4(1.0)) + msh_dir_decode_unorm8(c.w, d.x, d.y)"}};
+  const std::filesystem::path tmp =
+      std::filesystem::temp_directory_path() / ("msh_dir_spirv_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(tmp);
+  for (const auto& [name, call] : calls) {
+    const std::string src =
+        "#version 450\n" + lib +
+        "layout(local_size_x = 64) in;\n"
+        "layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };\n"
+        "layout(std430, binding = 1) writeonly buffer Out { float o[]; };\n"
+        "void main() {\n  uint i = gl_GlobalInvocationID.x;\n"
+        "  vec4 a = rec[4u * i], b = rec[4u * i + 1u], c = rec[4u * i + 2u], d = rec[4u * i + 3u];\n"
+        "  o[i] = " +
+        call + ";\n}\n";
+    std::vector<uint32_t> spv;
+    std::string log;
+    ASSERT_TRUE(vk::compile_shader(src, vk::Lang::kGlsl, &spv, &log)) << log;
+    {
+      std::ofstream f(tmp / "k.spv", std::ios::binary);
+      f.write(reinterpret_cast<const char*>(spv.data()), std::streamsize(spv.size() * sizeof(uint32_t)));
+    }
+    const std::string t = tmp.string();
+    ASSERT_EQ(sh("spirv-opt -O " + t + "/k.spv -o " + t + "/o.spv && spirv-dis --raw-id " + t + "/o.spv -o " +
+                 t + "/o.txt"),
+              0);
+    std::ifstream in(tmp / "o.txt");
+    std::string line;
+    bool inside = false;
+    int total = 0, arith = 0, samples = 0;
+    std::map<std::string, int> ops;
+    while (std::getline(in, line)) {
+      if (line.find("OpFunction ") != std::string::npos) inside = true;
+      if (inside) {
+        std::istringstream ss(line);
+        std::string tok, op;
+        while (ss >> tok)
+          if (tok.rfind("Op", 0) == 0) {
+            op = tok;
+            break;
+          }
+        if (op == "OpLine" || op == "OpNoLine" || op == "OpName") continue;
+        ++total;
+        if (op == "OpExtInst") {
+          std::string type, set, inst;
+          ss >> type >> set >> inst;
+          op = inst;
+        }
+        const bool is_arith = (op.rfind("OpF", 0) == 0 && op != "OpFunction" && op != "OpFunctionEnd" &&
+                               op != "OpFunctionCall") ||
+                              op == "OpDot" || op == "OpSelect" || op == "OpVectorTimesScalar" ||
+                              op.find("Op") != 0;  // GLSL.std.450 instructions (FMax, …)
+        if (is_arith) ++arith, ++ops[op];
+        samples += op.rfind("OpImageSample", 0) == 0;
+      }
+      if (line.find("OpFunctionEnd") != std::string::npos) inside = false;
+    }
+    std::string hist;
+    for (const auto& [op, k] : ops) hist += " " + op + " " + std::to_string(k);
+    std::printf("[ spirv-opt -O ] %s: %d instructions, %d arithmetic (%s ), %d image samples\n", name.c_str(),
+                total, arith, hist.c_str(), samples);
+    EXPECT_EQ(samples, 0);
+    EXPECT_LE(arith, 40) << name;  // an ALU-only term: a handful of products and sums
+  }
+  std::filesystem::remove_all(tmp);
+}
