@@ -12,12 +12,15 @@ raises ValueError with the message the `microshadow` CLI prints.
 
 from ._core import (  # noqa: F401
     __version__,
+    bake_directional_channels,
     bake_micro_shadowing_lut,
     brdf_models,
     brdf_pdf,
     bump_alpha2,
     bump_terminator,
     compare,
+    directional_term,
+    directional_transport,
     eval_brdf,
     eval_micro_shadowing,
     load_micro_shadowing_lut,
@@ -33,12 +36,15 @@ from ._core import (  # noqa: F401
 )
 
 __all__ = [
+    "bake_directional_channels",
     "bake_micro_shadowing_lut",
     "brdf_models",
     "brdf_pdf",
     "bump_alpha2",
     "bump_terminator",
     "compare",
+    "directional_term",
+    "directional_transport",
     "eval_brdf",
     "eval_micro_shadowing",
     "load_micro_shadowing_lut",

@@ -139,4 +139,5 @@ PYBIND11_MODULE(_core, m) {
   msh::py::register_bsdf(m);
   msh::py::register_lut(m);
   msh::py::register_render(m);
+  msh::py::register_directional(m);
 }

@@ -181,5 +181,6 @@ void register_microfacet(pyb::module_& m);
 void register_bsdf(pyb::module_& m);
 void register_lut(pyb::module_& m);
 void register_render(pyb::module_& m);
+void register_directional(pyb::module_& m);
 
 }  // namespace msh::py
