@@ -18,8 +18,10 @@
 // Precision vs the C++ float functions (tests/test_shaders_directional.cpp on lavapipe, random, flat and
 // baked channel sets with their mips, lights above and below the horizon): the transport within
 // 1e-6 * S, S = sum_i |c_i| |b_i(l)| (|b_6| read as x^2 + y^2), i.e. a few float roundings of the 9-term
-// sum; the term within 1e-6 * S / (n . l) + 1e-6 relative. Both early-outs (l.z <= 0, n . l <= 1e-4) return
-// exactly 0 as in C++. NaN inputs are not guaranteed on GPUs (compilers may assume finite math).
+// sum (measured 1.9e-7 * S); the term within 1e-6 * S / (n . l) + (1e-6 + 2.5e-7 * sum_i |n_i l_i| / (n . l))
+// * term, the last part the rounding of n . l near the coarse terminator. Both early-outs (l.z <= 0,
+// n . l <= 1e-4) return exactly 0 as in C++. NaN inputs are not guaranteed on GPUs (compilers may assume
+// finite math).
 #ifndef MSH_DIRECTIONAL_PORTABLE_H
 #define MSH_DIRECTIONAL_PORTABLE_H
 
@@ -35,9 +37,10 @@ float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
 
 // Mean diffuse transport over the texel's footprint, lit * max(n_fine . l, 0), of a directional light:
 // max(0, sum_i c_i b_i(l)), 0 for l.z <= 0. Port of msh::directional::directional_transport (degree-2
-// weighted least-squares transport, docs/shaders.md "Directional micro-occlusion"; SSBump, Green 2007 stores
-// the same kind of projection on 3 directions). Diffuse radiance = albedo / pi * E * transport, in place of
-// max(n . l, 0) * micro-shadowing. float32, within 1e-6 * S of C++; exactly 0 below the horizon.
+// weighted least-squares transport, docs/shaders.md "Directional micro-occlusion"; SSBump, Green 2007
+// "Efficient self-shadowed radiosity normal mapping" stores the same kind of projection on 3 directions).
+// Diffuse radiance = albedo / pi * E * transport, in place of max(n . l, 0) * micro-shadowing. float32,
+// within 1e-6 * S of C++; exactly 0 below the horizon.
 float msh_dir_transport(float4 c0, float4 c1, float c8, float3 l) {
   if (!(l.z > 0.0)) return 0.0;
   return max(msh_dir_poly(c0, c1, c8, l), 0.0);
@@ -62,8 +65,8 @@ float msh_dir_transport(float c[9], float3 l) {
 
 // The transport as a factor on the engine's max(n . l, 0) (n = the coarse shading normal, tangent space):
 // transport / (n . l), 0 where n . l <= 1e-4. Not clamped to 1: near the coarse terminator lit facets can
-// exceed the coarse cosine. Port of msh::directional::directional_term. float32, within
-// 1e-6 * S / (n . l) + 1e-6 relative of C++; exactly 0 at both early-outs.
+// exceed the coarse cosine. Port of msh::directional::directional_term. float32, within the term's bound at
+// the top of this file; exactly 0 at both early-outs.
 float msh_dir_term(float4 c0, float4 c1, float c8, float3 l, float3 n) {
   float nl = dot(n, l);
   if (!(nl > 1e-4)) return 0.0;
