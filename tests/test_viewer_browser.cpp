@@ -5,8 +5,10 @@
 // scripts/install-deps.sh): it loads the page, switches through every method, probes fixed configurations and
 // this test compares each method's shader value at the probe's own inputs (V, N·L, N·V, roughness, cos φ, v,
 // l read back from float32 render targets) with the C++ library, in float and as 8-bit output; no console
-// errors; error banners for a missing WebGL2 and a failed fetch. Fails without chromium/node/playwright-core
-// unless MSH_ALLOW_NO_BROWSER=1 (then skips), as the shader tests do without Vulkan.
+// errors; error banners for a missing WebGL2 and a failed fetch. The method list (methods.js) is generated
+// from the runtime registry, pairs included (each lobe checked against eval_lobes); the server answers only
+// requests whose Host header names it (DNS rebinding). Fails without chromium/node/playwright-core unless
+// MSH_ALLOW_NO_BROWSER=1 (then skips), as the shader tests do without Vulkan.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
@@ -27,9 +29,12 @@
 #include <cstdlib>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 #include <thread>
 
 #include "../src/view/shader_source.h"
+#include "../src/view/viewer_server.h"
 #include "support/cli_test_util.h"
 
 namespace fs = std::filesystem;
@@ -132,10 +137,13 @@ int stop_server(Server& s, int sig = SIGINT) {
   return -1;
 }
 
-// GET path over a plain socket (HTTP/1.0): the status line and the body.
-std::pair<std::string, std::string> http_get(const std::string& url, const std::string& path) {
-  const auto colon = url.rfind(':');
-  const int port = std::stoi(url.substr(colon + 1));
+int url_port(const std::string& url) { return std::stoi(url.substr(url.rfind(':') + 1)); }
+
+// GET path over a plain socket (HTTP/1.0) with this Host header (nullopt: none): the status line and the
+// body.
+std::pair<std::string, std::string> http_get_host(const std::string& url, const std::string& path,
+                                                  const std::optional<std::string>& host) {
+  const int port = url_port(url);
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in a{};
   a.sin_family = AF_INET;
@@ -145,7 +153,7 @@ std::pair<std::string, std::string> http_get(const std::string& url, const std::
     close(fd);
     return {"connect failed", ""};
   }
-  const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n";
+  const std::string req = "GET " + path + " HTTP/1.0\r\n" + (host ? "Host: " + *host + "\r\n" : "") + "\r\n";
   if (write(fd, req.data(), req.size()) != ssize_t(req.size())) {
     close(fd);
     return {"write failed", ""};
@@ -156,6 +164,11 @@ std::pair<std::string, std::string> http_get(const std::string& url, const std::
   close(fd);
   const auto eol = resp.find("\r\n"), body = resp.find("\r\n\r\n");
   return {resp.substr(0, eol), body == std::string::npos ? "" : resp.substr(body + 4)};
+}
+
+// GET path with the Host header a browser sends for the URL.
+std::pair<std::string, std::string> http_get(const std::string& url, const std::string& path) {
+  return http_get_host(url, path, "127.0.0.1:" + std::to_string(url_port(url)));
 }
 
 // A small cone-layout table (2 roughness slabs, 4 x 4 x 2 texels) at `out`; the CLI's exit code.
@@ -234,9 +247,12 @@ TEST(ViewerServer, ExportsAStaticCopyAndServesIt) {
   const fs::path copy = dir / "viewer";
   const auto r = run_cli("view --export " + copy.string() + " --cache " + kCache.string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const char* f : {"index.html", "viewer.js", "methods.js", "data/manifest.json", "data/lut3d.f16",
-                        "data/material/micro_occlusion.png"})
+  for (const char* f : {"index.html", "viewer.js", "methods.js", "bump_methods.js", "data/manifest.json",
+                        "data/lut3d.f16", "data/material/micro_occlusion.png"})
     EXPECT_TRUE(fs::is_regular_file(copy / f)) << f;
+  // The method list generated from the registry (the source tree has none).
+  EXPECT_EQ(slurp(copy / "methods.js"), msh::view::methods_js(occlusion::micro_shadowing_methods()));
+  EXPECT_FALSE(fs::exists(fs::path(MSH_SOURCE_DIR) / "web" / "methods.js"));
   // The GLSL files are the project's own with their includes expanded (the prelude and the portable body in
   // the text, no #include left: WebGL2 has none).
   const std::string ms = slurp(copy / "shaders/glsl/micro_shadowing.glsl");
@@ -279,6 +295,152 @@ TEST(ViewerServer, UsesAGivenConeTable) {
   EXPECT_NE(man["luts"]["lut2d"]["source"].get<std::string>().find("default"), std::string::npos);
 }
 
+// The Host header must name the server (127.0.0.1, localhost or [::1] with its port): a page of another site
+// reaching it through DNS rebinding sends its own name and gets 403, before any route.
+TEST(ViewerServer, AnswersOnlyRequestsForItsOwnHost) {
+  using msh::view::is_allowed_host_header;
+  for (const char* h : {"127.0.0.1:8080", "localhost:8080", "LocalHost:8080", "[::1]:8080", "127.1.2.3:8080"})
+    EXPECT_TRUE(is_allowed_host_header(h, 8080)) << h;
+  for (const char* h :
+       {"", "127.0.0.1", "localhost", "127.0.0.1:8081", "127.0.0.1:80800", "evil.example:8080",
+        "localhost.evil.example:8080", "127.0.0.1.evil.example:8080", "[::2]:8080", "::1:8080", "[::1]8080",
+        "0.0.0.0:8080", "128.0.0.1:8080", "127.0.0.1:8080 "})
+    EXPECT_FALSE(is_allowed_host_header(h, 8080)) << h;
+  EXPECT_TRUE(is_allowed_host_header("localhost", 80));  // browsers omit the default port
+
+  const fs::path dir = scratch_dir("viewer");
+  Server s = start_server({"--port", "0", "--cache", kCache.string()}, dir);
+  ASSERT_FALSE(s.url.empty());
+  const std::string port = std::to_string(url_port(s.url));
+  for (const std::string& host : {"127.0.0.1:" + port, "localhost:" + port, "[::1]:" + port}) {
+    const auto [status, body] = http_get_host(s.url, "/", host);
+    EXPECT_NE(status.find(" 200"), std::string::npos) << host << ": " << status;
+    EXPECT_NE(body.find("<canvas"), std::string::npos) << host;
+  }
+  for (const std::optional<std::string>& host :
+       {std::optional<std::string>("evil.example:" + port), std::optional<std::string>("127.0.0.1:1"),
+        std::optional<std::string>("127.0.0.1"), std::optional<std::string>()}) {
+    for (const char* path : {"/", "/data/manifest.json", "/methods.js", "/no/such/file"}) {
+      const auto [status, body] = http_get_host(s.url, path, host);
+      EXPECT_NE(status.find(" 403"), std::string::npos) << host.value_or("(none)") << path << ": " << status;
+      EXPECT_NE(body.find("forbidden"), std::string::npos) << body;
+      EXPECT_LT(body.size(), 200u);
+    }
+  }
+  // methods.js is the registry's list, generated per request.
+  const auto [status, body] = http_get(s.url, "/methods.js");
+  EXPECT_NE(status.find(" 200"), std::string::npos) << status;
+  EXPECT_EQ(body, msh::view::methods_js(occlusion::micro_shadowing_methods()));
+  EXPECT_EQ(stop_server(s, SIGTERM), 0) << slurp(s.err);
+}
+
+// The entries of a generated methods.js, by id (one JSON object per line).
+std::map<std::string, nlohmann::json> methods_js_entries(const std::string& js) {
+  std::map<std::string, nlohmann::json> r;
+  std::size_t start = 0;
+  while (start < js.size()) {
+    const std::size_t end = std::min(js.find('\n', start), js.size());
+    std::string line = js.substr(start, end - start);
+    start = end + 1;
+    if (line.rfind("  {", 0) != 0) continue;
+    if (line.back() == ',') line.pop_back();
+    const auto j = nlohmann::json::parse(line);
+    EXPECT_EQ(r.count(j["id"]), 0u) << "duplicate id " << j["id"];
+    r[j["id"]] = j;
+  }
+  return r;
+}
+
+// methods.js comes from the registry: one entry per GLSL form of each single term (the expressions the viewer
+// had before, unchanged), one per pair whose terms both have a form (the lobes' expressions are the terms'
+// first forms); a term added to the registry appears with no viewer edit.
+TEST(ViewerServer, MethodsJsIsGeneratedFromTheRegistry) {
+  const auto& reg = occlusion::micro_shadowing_methods();
+  const std::string js = msh::view::methods_js(reg);
+  EXPECT_NE(js.find("export const MICRO_SHADOWING_METHODS = ["), std::string::npos);
+  const auto e = methods_js_entries(js);
+  const std::map<std::string, std::string> before = {
+      {"none", "1.0"},
+      {"ao", "vis"},
+      {"reference", "msh_ms_reference_step(vis, nl)"},
+      {"brinck-maximov-2016", "msh_ms_brinck_maximov2016(vis, nl)"},
+      {"chan-2018", "msh_ms_chan2018(vis, nl)"},
+      {"part1-analytic", "msh_ms_part1_analytic(vis, nl)"},
+      {"generic-vndf", "msh_ms_generic_vndf_estimate(vis, vec2(alpha), v, l, u_samples, true, 1u)"},
+      {"generic-vndf-alu", "msh_ms_generic_vndf_alu(vis, nl, nv, rough)"},
+      {"generic-vndf-alu-two-stage",
+       "msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(vis, nv, rough), nl)"},
+      {"lut3d", "msh_ms_lut_sample_cone(u_lut3d, u_lut3d_slabs, vis, nl, nv, rough)"},
+      {"lut2d", "msh_ms_lut_sample_cone(u_lut2d, u_lut2d_slabs, vis, nl, 1.0, rough)"},
+      {"lut3d-azimuth",
+       "msh_ms_lut_sample_cone_azimuth(u_lut_az, u_lut_az_slabs, u_lut_az_harmonics, vis, nl, nv, rough, "
+       "cos_phi)"}};
+  for (const auto& [id, glsl] : before) {
+    ASSERT_EQ(e.count(id), 1u) << id;
+    EXPECT_EQ(e.at(id)["glsl"], glsl) << id;
+  }
+  EXPECT_EQ(e.at("lut3d-azimuth")["lut"], "lut_azimuth");
+  EXPECT_EQ(e.at("lut3d-azimuth")["cpp"], nlohmann::json({{"method", "lut3d"}, {"phi", true}}));
+  EXPECT_EQ(e.at("generic-vndf")["cpp"],
+            nlohmann::json({{"method", "generic-vndf"}, {"samples", true}, {"frame", true}}));
+  EXPECT_EQ(e.at("generic-vndf-alu-two-stage")["cpp"],
+            nlohmann::json({{"method", "generic-vndf-alu"}, {"two_stage", true}}));
+  std::size_t n = 0;
+  for (const auto& m : reg) {
+    if (!m.is_pair()) {
+      for (const auto& g : m.glsl) {
+        ++n;
+        ASSERT_EQ(e.count(m.name + g.id_suffix), 1u) << m.name << g.id_suffix;
+        EXPECT_EQ(e.at(m.name + g.id_suffix)["label"], m.label + g.label_suffix);
+      }
+      continue;
+    }
+    const auto* d = occlusion::find_micro_shadowing_method(m.diffuse);
+    const auto* sp = occlusion::find_micro_shadowing_method(m.specular);
+    const bool offered = !d->glsl.empty() && !sp->glsl.empty();
+    EXPECT_EQ(e.count(m.name), offered ? 1u : 0u) << m.name;
+    if (offered) {
+      ++n;
+      EXPECT_EQ(e.at(m.name)["glsl_diffuse"], d->glsl.front().expr);
+      EXPECT_EQ(e.at(m.name)["glsl_specular"], sp->glsl.front().expr);
+    }
+  }
+  EXPECT_EQ(e.size(), n);
+
+  // A new term and pairs over the list: no viewer edit.
+  auto more = reg;
+  occlusion::MicroShadowingMethodInfo t;
+  t.name = "test-term", t.label = "test term";
+  t.glsl.push_back({"msh_test(vis, nl)", "msh_test", "lut2d", "", "", false, false, false, false});
+  more.push_back(t);
+  occlusion::MicroShadowingMethodInfo p1;
+  p1.name = "chan-2018+lut3d", p1.label = "test pair", p1.diffuse = "chan-2018", p1.specular = "lut3d";
+  more.push_back(p1);
+  occlusion::MicroShadowingMethodInfo p2 = p1;
+  p2.name = "generic-vndf+specular-aware", p2.diffuse = "generic-vndf", p2.specular = "specular-aware";
+  more.push_back(p2);
+  const bool specular_has_glsl = !occlusion::find_micro_shadowing_method("specular-aware")->glsl.empty();
+  const auto e2 = methods_js_entries(msh::view::methods_js(more));
+  EXPECT_EQ(e2.size(), n + 2 + (specular_has_glsl ? 1 : 0));
+  ASSERT_EQ(e2.count("test-term"), 1u);
+  EXPECT_EQ(e2.at("test-term"), nlohmann::json({{"id", "test-term"},
+                                                {"label", "test term"},
+                                                {"glsl", "msh_test(vis, nl)"},
+                                                {"requires", "msh_test"},
+                                                {"lut", "lut2d"},
+                                                {"cpp", {{"method", "test-term"}}}}));
+  ASSERT_EQ(e2.count("chan-2018+lut3d"), 1u);
+  const auto& pj = e2.at("chan-2018+lut3d");
+  EXPECT_EQ(pj["glsl_diffuse"], before.at("chan-2018"));
+  EXPECT_EQ(pj["glsl_specular"], before.at("lut3d"));
+  EXPECT_EQ(pj["requires"], nlohmann::json({"msh_ms_chan2018", "msh_ms_lut_sample_cone"}));
+  EXPECT_EQ(pj["lut"], nlohmann::json({"lut3d"}));
+  EXPECT_EQ(pj["cpp"], nlohmann::json({{"method", "chan-2018+lut3d"},
+                                       {"diffuse", {{"method", "chan-2018"}}},
+                                       {"specular", {{"method", "lut3d"}}}}));
+  EXPECT_EQ(e2.count("generic-vndf+specular-aware"), specular_has_glsl ? 1u : 0u);
+}
+
 // Every shaders/glsl/*.glsl file compiles as GLSL ES 3.00 (WebGL2), the way the page concatenates them (all
 // files, sorted, includes expanded as the server sends them, one fragment shader), with glslangValidator: a
 // check that needs no browser.
@@ -313,11 +475,37 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
   const fs::path dir = scratch_dir("viewer");
   const fs::path shots = fs::path(MSH_BINARY_DIR) / "viewer_screenshots";
   fs::remove_all(shots);
+  // The page gets the registry's list plus test forms and test pairs (the generator's output, as the server
+  // serves it for the registry alone: ViewerServer tests), so the pair path of the shader is checked
+  // whichever registry pairs have GLSL forms.
+  auto methods = occlusion::micro_shadowing_methods();
+  // GLSL forms for the registry terms that have none (their GLSL functions exist in shaders/glsl/), so that
+  // the registry's pairs over them are checked here too; a form in the registry takes precedence.
+  const std::map<std::string, std::pair<std::string, std::string>> test_forms = {
+      {"diffuse-aware-alu", {"msh_ms_diffuse_aware_alu(vis, nl, nv, rough)", "msh_ms_diffuse_aware_alu"}},
+      {"specular-aware",
+       {"msh_ms_specular_aware_azimuth_mean(vis, alpha, nl, nv)", "msh_ms_specular_aware_azimuth_mean"}}};
+  for (auto& m : methods)
+    if (const auto it = test_forms.find(m.name); it != test_forms.end() && m.glsl.empty()) {
+      occlusion::MicroShadowingGlsl g;
+      g.expr = it->second.first, g.requires_fn = it->second.second;
+      m.glsl.push_back(g);
+    }
+  std::set<std::string> test_pairs;
+  for (const auto& [d, sp] : {std::pair<std::string, std::string>{"chan-2018", "lut3d"},
+                              std::pair<std::string, std::string>{"generic-vndf-alu", "generic-vndf"}}) {
+    occlusion::MicroShadowingMethodInfo t;
+    t.name = d + "+" + sp, t.label = "test pair " + t.name, t.diffuse = d, t.specular = sp;
+    if (occlusion::find_micro_shadowing_method(t.name)) continue;
+    methods.push_back(t);
+    test_pairs.insert(t.name);
+  }
+  std::ofstream(dir / "methods.js") << msh::view::methods_js(methods);
   Server s = start_server({"--port", "0", "--cache", kCache.string()}, dir);
   ASSERT_FALSE(s.url.empty());
   const std::string cmd = "cd " + kBrowserDir.string() + " && node viewer_test.mjs --url " + s.url +
-                          " --out " + shots.string() + " --chromium " + chromium_path() + " > " +
-                          (dir / "node.out").string() + " 2>&1";
+                          " --out " + shots.string() + " --chromium " + chromium_path() + " --methods " +
+                          (dir / "methods.js").string() + " > " + (dir / "node.out").string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   // Ctrl-C: a clean exit.
   EXPECT_EQ(stop_server(s), 0) << slurp(s.err);
@@ -334,13 +522,17 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
   EXPECT_GT(res["shadedMean"].get<double>(), 0.03) << "the shaded view is (nearly) black";
   for (const auto& f : res["screenshots"]) EXPECT_TRUE(fs::is_regular_file(f.get<std::string>())) << f;
 
-  // Every GLSL term the project has is offered (none dropped because its function or table went missing).
+  // Every GLSL term the project has is offered (none dropped because its function or table went missing),
+  // and so is every method of the list (registry and test pairs).
   std::vector<std::string> ids;
   for (const auto& m : res["methods"]) ids.push_back(m["id"]);
   for (const char* want :
        {"none", "ao", "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic", "generic-vndf",
-        "generic-vndf-alu", "generic-vndf-alu-two-stage", "lut3d", "lut2d", "lut-azimuth"})
+        "generic-vndf-alu", "generic-vndf-alu-two-stage", "lut3d", "lut2d", "lut3d-azimuth"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
+  const auto listed = methods_js_entries(msh::view::methods_js(methods));
+  EXPECT_EQ(ids.size(), listed.size());
+  for (const auto& [id, entry] : listed) EXPECT_NE(std::find(ids.begin(), ids.end(), id), ids.end()) << id;
 
   std::vector<std::string> bumps;
   for (const auto& b : res["bumps"]) bumps.push_back(b);
@@ -354,8 +546,13 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
     int lit = 0;
     for (const auto& p : cfg["probes"]) {
       if (!p["lit"].get<bool>()) {
-        for (const auto& m : res["methods"])
-          EXPECT_EQ(p["values"][m["id"].get<std::string>()].get<double>(), 0.0) << "unlit pixel";
+        for (const auto& m : res["methods"]) {
+          const std::string id = m["id"];
+          EXPECT_EQ(p["values"][id].get<double>(), 0.0) << "unlit pixel " << id;
+          if (m["pair"].get<bool>()) {
+            EXPECT_EQ(p["values_specular"][id].get<double>(), 0.0) << "unlit pixel " << id;
+          }
+        }
         continue;
       }
       ++lit;
@@ -368,48 +565,58 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
       const double phi = std::acos(std::clamp(double(cphi), -1.0, 1.0));
       for (const auto& m : res["methods"]) {
         const std::string id = m["id"];
-        const double got = p["values"][id], got8 = p["term8"][id].get<double>() / 255.0;
         const auto& c = m["cpp"];
-        double want = 1, tol = 1e-4, tol8 = 1.0 / 255, exact = -1;
-        if (!c.is_null()) {
-          const std::string method = c["method"];
-          if (c.value("frame", false)) {
+        // A pair: each lobe (its term's GLSL form in cpp.diffuse / cpp.specular) against the registry's
+        // eval_lobes; a test pair (not in the registry) against its terms.
+        const bool pair = c.contains("diffuse");
+        for (int lobe = 0; lobe < (pair ? 2 : 1); ++lobe) {
+          const auto& form = pair ? c[lobe ? "specular" : "diffuse"] : c;
+          const std::string method = form["method"];
+          const std::string eval_name =
+              occlusion::find_micro_shadowing_method(c["method"]) ? c["method"] : form["method"];
+          const double got = lobe ? p["values_specular"][id] : p["values"][id];
+          const double got8 = (lobe ? p["term8_specular"][id] : p["term8"][id]).get<double>() / 255.0;
+          double want = 1, tol = 1e-4, tol8 = 1.0 / 255, exact = -1;
+          if (form.value("frame", false)) {
             // The Sobol estimator at the pixel's own v and l (it is not rotation-invariant about n).
+            EXPECT_EQ(method, "generic-vndf") << "no C++ evaluation here for the frame form of " << method;
             const float a = r * r;
             want = micro_shadowing::generic_vndf_estimate<float>(
                 V, GGX<float>(a, a), v, l, n, micro_shadowing::G2Form::HeightCorrelated, 1u);
             tol = 2.0 / n + 1e-4, tol8 = 1.0 / 255 + 2.0 / n;
             exact = micro_shadowing::generic_vndf_exact(V, double(a), double(a), Vec3d(v), Vec3d(l));
-          } else if (c.value("two_stage", false)) {
+          } else if (form.value("two_stage", false)) {
             want = micro_shadowing::generic_vndf_alu_two_stage<float>(V, nl, nv, r);
           } else {
-            const bool with_phi = c.value("phi", false);
-            auto& e = evaluators[method + (with_phi ? "@phi" : "")];
-            if (!e) e = std::make_unique<occlusion::MicroShadowingEvaluator>(method);
+            const bool with_phi = form.value("phi", false);
+            auto& e = evaluators[eval_name + (with_phi ? "@phi" : "")];
+            if (!e) e = std::make_unique<occlusion::MicroShadowingEvaluator>(eval_name);
             occlusion::MicroShadowingQuery q{V, nl, nv, r, std::nullopt, std::nullopt};
             if (with_phi) q.phi = phi;
-            want = e->eval(q);
+            const auto lobes = e->eval_lobes(q);
+            want = lobe ? lobes.second : lobes.first;
           }
           if (method.rfind("lut", 0) == 0 || method == "generic-vndf-alu") {
             // Tables: half floats in the texture (2^-11 relative) and the GPU's filter weights.
             if (method.rfind("lut", 0) == 0) tol = 1e-3, tol8 = 2.0 / 255;
-            exact = c.value("phi", false) ? micro_shadowing::generic_vndf_exact(
-                                                V, double(r) * r, double(r) * r, lut::study_view_dir(nv),
-                                                lut::study_light_dir(nl, phi))
-                                          : micro_shadowing::generic_vndf_exact_azimuth_mean(
-                                                V, double(r) * r, nl, method == "lut2d" ? 1.0 : nv);
+            exact = form.value("phi", false) ? micro_shadowing::generic_vndf_exact(
+                                                   V, double(r) * r, double(r) * r, lut::study_view_dir(nv),
+                                                   lut::study_light_dir(nl, phi))
+                                             : micro_shadowing::generic_vndf_exact_azimuth_mean(
+                                                   V, double(r) * r, nl, method == "lut2d" ? 1.0 : nv);
           }
           if (method == "reference" && std::abs(double(nl) - std::sqrt(1.0 - V)) < 1e-4)
             continue;  // boundary
+          const std::string what = pair ? id + (lobe ? " specular" : " diffuse") : id;
+          EXPECT_NEAR(got, want, tol) << what << " at V=" << V << " N.L=" << nl << " N.V=" << nv << " r=" << r
+                                      << " cos_phi=" << cphi << " (" << cfg["name"] << ")";
+          EXPECT_NEAR(got8, want, tol8) << what << " 8-bit (" << cfg["name"] << ")";
+          Stat& st = stats[what];
+          st.max_float = std::max(st.max_float, std::abs(got - want));
+          st.max_8bit = std::max(st.max_8bit, std::abs(got8 - want));
+          if (exact >= 0) st.max_vs_exact = std::max(st.max_vs_exact, std::abs(got - exact));
+          ++st.n;
         }
-        EXPECT_NEAR(got, want, tol) << id << " at V=" << V << " N.L=" << nl << " N.V=" << nv << " r=" << r
-                                    << " cos_phi=" << cphi << " (" << cfg["name"] << ")";
-        EXPECT_NEAR(got8, want, tol8) << id << " 8-bit (" << cfg["name"] << ")";
-        Stat& st = stats[id];
-        st.max_float = std::max(st.max_float, std::abs(got - want));
-        st.max_8bit = std::max(st.max_8bit, std::abs(got8 - want));
-        if (exact >= 0) st.max_vs_exact = std::max(st.max_vs_exact, std::abs(got - exact));
-        ++st.n;
       }
     }
     // The bump-terminator terms at the pixel's own normals and light direction (world space), C++ float.
@@ -437,12 +644,19 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
     EXPECT_GE(lit, 6) << cfg["name"] << ": too few lit probe pixels for a meaningful comparison";
     lit_total += lit;
   }
+  int pairs = 0, registry_pairs = 0;
+  for (const auto& m : res["methods"])
+    if (m["pair"].get<bool>()) ++pairs, registry_pairs += test_pairs.count(m["id"]) ? 0 : 1;
+  EXPECT_GE(pairs, 1) << "no pair was checked";
+  double worst8 = 0;
+  for (const auto& [id, st] : stats) worst8 = std::max(worst8, st.max_8bit);
   std::printf(
-      "viewer: %d lit probe pixels; |shader - C++| per method (float32 target / 8-bit output), and vs the "
+      "viewer: %zu methods (%d pairs: %d of the registry, %d test pairs), %d lit probe pixels, max 8-bit "
+      "deviation %.2f/255; |shader - C++| per method and lobe (float32 target / 8-bit output), and vs the "
       "exact generic term where one applies:\n",
-      lit_total);
+      ids.size(), pairs, registry_pairs, pairs - registry_pairs, lit_total, worst8 * 255);
   for (const auto& [id, st] : stats)
-    std::printf("  %-28s n=%3d  float %.2e  8-bit %.2f/255  vs exact %s\n", id.c_str(), st.n, st.max_float,
+    std::printf("  %-36s n=%3d  float %.2e  8-bit %.2f/255  vs exact %s\n", id.c_str(), st.n, st.max_float,
                 st.max_8bit * 255, st.max_vs_exact > 0 ? std::to_string(st.max_vs_exact).c_str() : "-");
 }
 

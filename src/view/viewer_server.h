@@ -1,13 +1,19 @@
-// The browser viewer's HTTP server (`microshadow view`, docs/viewer.md): serves the page (web/), the GLSL
-// files (shaders/glsl/*.glsl, read from disk on every request with their #include lines expanded: the page
-// concatenates them at load time), a
+// The browser viewer's HTTP server (`microshadow view`, docs/viewer.md): serves the page (web/, with
+// methods.js generated from the micro-shadowing registry), the GLSL files (shaders/glsl/*.glsl, read from
+// disk on every request with their #include lines expanded: the page concatenates them at load time), a
 // texture set (a gen-material folder) and the baked micro-shadowing tables as raw half floats with their
-// sidecar JSON. Loopback only. I/O and threads: not part of the embeddable core.
+// sidecar JSON. Loopback only, and only to requests whose Host header names it. I/O and threads: not part of
+// the embeddable core.
 #pragma once
 
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
+
+namespace msh::occlusion {
+struct MicroShadowingMethodInfo;
+}
 
 namespace msh::view {
 
@@ -23,6 +29,16 @@ struct ViewerOptions {
 
 // 127.0.0.1 (any 127.x.y.z), ::1 and "localhost".
 bool is_loopback_host(const std::string& host);
+
+// Whether a request's Host header names this server: a loopback address or localhost with the server's port
+// (127.0.0.1:PORT, localhost:PORT, [::1]:PORT; the port may be omitted only for port 80, as browsers do). A
+// page of another site that reaches the server through DNS rebinding sends its own name and gets 403.
+bool is_allowed_host_header(const std::string& host_header, int port);
+
+// The page's methods.js, generated from a method list (the runtime registry,
+// occlusion::micro_shadowing_methods()): one viewer entry per GLSL form of each single term, and one per pair
+// whose two terms have a GLSL form (each lobe its term's first form). docs/viewer.md describes the entries.
+std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& methods);
 
 // The default cache directory: $XDG_CACHE_HOME/microshadow, else $HOME/.cache/microshadow, else the
 // system temporary directory.

@@ -2,8 +2,9 @@
 // loads the page, switches through every method (screenshots), probes fixed configurations (the shader's
 // inputs and every method's float value, plus the 8-bit term output), checks the error banners (no WebGL2, a
 // failed fetch) and collects console errors. Writes OUT/results.json; the C++ test compares with the library.
+// --methods FILE: the page gets FILE as its methods.js (the test's list: the served one plus test pairs).
 //
-//   node viewer_test.mjs --url http://127.0.0.1:PORT/ --out DIR [--chromium /usr/bin/chromium]
+//   node viewer_test.mjs --url http://127.0.0.1:PORT/ --out DIR [--chromium /usr/bin/chromium] [--methods FILE]
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -15,6 +16,7 @@ const arg = (name, def) => {
 const url = arg('url');
 const out = arg('out');
 const exe = arg('chromium', '/usr/bin/chromium');
+const methodsFile = arg('methods');
 if (!url || !out) {
   console.error('usage: node viewer_test.mjs --url URL --out DIR [--chromium PATH]');
   process.exit(2);
@@ -43,6 +45,8 @@ try {
   const page = await browser.newPage({ viewport: { width: 1100, height: 760 } });
   page.on('console', (m) => { if (m.type() === 'error') results.errors.push(`console: ${m.text()}`); });
   page.on('pageerror', (e) => results.errors.push(`pageerror: ${e.message}`));
+  if (methodsFile)
+    await page.route('**/methods.js', (r) => r.fulfill({ status: 200, contentType: 'text/javascript; charset=utf-8', body: fs.readFileSync(methodsFile, 'utf8') }));
   await page.goto(url);
   await page.waitForFunction(() => window.mshViewer !== undefined, null, { timeout: 120000 });
   const ok = await page.evaluate(() => window.mshViewer.ready);
