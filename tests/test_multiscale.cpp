@@ -1,13 +1,18 @@
 // Multiscale texture sets (render/multiscale.h): k = 1 is the identity; a normal map with a known slope
 // variance widens the roughness by the closed form α'² = α² + var(b_x) + var(b_y); the coarse visibility mean
 // equals the fine mean; the filtered normal is the renormalised mean; bad k throws.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <support/texture_test_util.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
 #include <microshadow/render/multiscale.h>
+#include <support/texture_test_util.h>
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 using namespace msh;
 using namespace msh::render;
@@ -134,4 +139,53 @@ TEST(Multiscale, ThreadIndependentAndBadInput) {
   TextureSet bad = f;
   bad.visibility = Texture(16, 16, 1);
   EXPECT_THROW(downsample_texture_set(bad, 2, CoarseRoughness::Base), InputError);
+}
+
+// What gen-material writes (render::write_texture_set_mips) is what the study shades: level log2 k of every
+// map's float32 file equals the study's coarse set at scale k bit for bit, and the KTX2/DDS chains hold the
+// same levels in their engine formats (8-bit UNORM within half a step; the directional channels within half a
+// step of their per-channel range).
+TEST(Multiscale, WrittenMipChainIsTheStudysCoarseSet) {
+  msh::render::GenOptions o;
+  o.kind = "bark";
+  o.size = 32;
+  o.ao_rays = 4;
+  o.directional_azimuths = 8;
+  const msh::render::TextureSet fine = msh::render::generate_texture_set(o);
+  ASSERT_EQ(fine.directional.channels(), 9);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "msh_test_mips_set";
+  std::filesystem::remove_all(dir);
+  msh::render::write_texture_set_mips(dir, fine);
+  const auto chain = msh::render::texture_set_mip_chain(fine);
+  ASSERT_EQ(chain.size(), 6u);  // 32, 16, 8, 4, 2, 1
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(dir / "mips" / "mips.json"));
+  const std::vector<float> lo = j["directional"]["lo"], hi = j["directional"]["hi"];
+  for (int L = 0; L < 6; ++L) {
+    const msh::render::TextureSet c =
+        L == 0 ? fine : msh::render::downsample_texture_set(fine, 1 << L, msh::render::CoarseRoughness::Base);
+    const auto v = msh::io::read_volume(dir / "mips" / fmt::format("micro_occlusion_mip{}.npy", L));
+    const auto v8 = msh::io::read_texture_level(dir / "mips" / "micro_occlusion.ktx2", L);
+    ASSERT_EQ(v.width, c.visibility.width());
+    for (int y = 0; y < v.height; ++y)
+      for (int x = 0; x < v.width; ++x) {
+        ASSERT_EQ(v.at(x, y, 0, 0), c.visibility.at(x, y, 0)) << L;
+        ASSERT_NEAR(v8.at(x, y, 0, 0), c.visibility.at(x, y, 0), 0.5 / 255 + 1e-6) << L;
+      }
+    for (int f = 0; f < 3; ++f) {
+      const auto d = msh::io::read_volume(dir / "mips" / fmt::format("directional_{}_mip{}.npy", f, L));
+      const auto d8 = msh::io::read_texture_level(dir / "mips" / fmt::format("directional_{}.dds", f), L);
+      for (int y = 0; y < d.height; ++y)
+        for (int x = 0; x < d.width; ++x)
+          for (int ch = 0; ch < d.channels; ++ch) {
+            const int g = 4 * f + ch;
+            ASSERT_EQ(d.at(x, y, 0, ch), c.directional.at(x, y, g)) << L << " " << g;
+            const float dec =
+                lo[std::size_t(g)] + (hi[std::size_t(g)] - lo[std::size_t(g)]) * d8.at(x, y, 0, ch);
+            ASSERT_NEAR(dec, c.directional.at(x, y, g),
+                        0.5 / 255 * (hi[std::size_t(g)] - lo[std::size_t(g)]) + 1e-6)
+                << L << " " << g;
+          }
+    }
+  }
+  std::filesystem::remove_all(dir);
 }

@@ -1,9 +1,12 @@
 // DirectDraw Surface with the DX10 extension header (Microsoft docs: "DDS_HEADER", "DDS_PIXELFORMAT",
 // "DDS_HEADER_DXT10"): "DDS " + 124-byte DDS_HEADER + 20-byte DDS_HEADER_DXT10 + texels (x fastest, then y,
-// then z), one mip level, no padding between rows or slices.
+// then z), no padding between rows or slices; a 2D texture may carry its mip chain (level 0 first, each level
+// right after the previous one).
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
+
+#include <algorithm>
 
 #include "texture_internal.h"
 
@@ -15,7 +18,7 @@ namespace {
 constexpr std::uint32_t DDSD_CAPS = 0x1, DDSD_HEIGHT = 0x2, DDSD_WIDTH = 0x4, DDSD_PITCH = 0x8,
                         DDSD_PIXELFORMAT = 0x1000, DDSD_MIPMAPCOUNT = 0x20000, DDSD_DEPTH = 0x800000;
 constexpr std::uint32_t DDPF_FOURCC = 0x4;
-constexpr std::uint32_t DDSCAPS_TEXTURE = 0x1000;
+constexpr std::uint32_t DDSCAPS_TEXTURE = 0x1000, DDSCAPS_COMPLEX = 0x8, DDSCAPS_MIPMAP = 0x400000;
 constexpr std::uint32_t DDSCAPS2_VOLUME = 0x200000;
 constexpr std::uint32_t FOURCC_DX10 = 0x30315844;  // 'D','X','1','0'
 constexpr std::uint32_t DIM_TEXTURE2D = 3, DIM_TEXTURE3D = 4;
@@ -23,8 +26,15 @@ constexpr std::size_t kHeaderBytes = 4 + 124 + 20;
 
 }  // namespace
 
-void write_dds(const fs::path& path, const Volume& v, PixelFormat pf) {
-  const std::vector<std::byte> texels = encode_texels(v, pf, path);
+void write_dds(const fs::path& path, const std::vector<Volume>& levels, PixelFormat pf) {
+  check_mip_chain(path, levels);
+  const Volume& v = levels[0];
+  std::vector<std::byte> texels;
+  for (const Volume& l : levels) {
+    const std::vector<std::byte> t = encode_texels(l, pf, path);
+    texels.insert(texels.end(), t.begin(), t.end());
+  }
+  const std::uint32_t n_levels = std::uint32_t(levels.size());
   const PixelInfo pi = pixel_info(pf);
   const bool volume = v.depth > 1;
   std::vector<std::byte> out;
@@ -38,18 +48,18 @@ void write_dds(const fs::path& path, const Volume& v, PixelFormat pf) {
   put_u32(out, std::uint32_t(v.width));
   put_u32(out, std::uint32_t(v.width * pi.texel_bytes()));  // dwPitchOrLinearSize: row pitch (uncompressed)
   put_u32(out, volume ? std::uint32_t(v.depth) : 0u);       // dwDepth
-  put_u32(out, 1);                                          // dwMipMapCount
+  put_u32(out, n_levels);                                   // dwMipMapCount
   for (int i = 0; i < 11; ++i) put_u32(out, 0);             // dwReserved1
   // DDS_PIXELFORMAT: the real format is in the DX10 header.
   put_u32(out, 32);
   put_u32(out, DDPF_FOURCC);
   put_u32(out, FOURCC_DX10);
   for (int i = 0; i < 5; ++i) put_u32(out, 0);  // dwRGBBitCount, R/G/B/A masks
-  put_u32(out, DDSCAPS_TEXTURE);                // dwCaps (COMPLEX/MIPMAP only for several surfaces)
-  put_u32(out, volume ? DDSCAPS2_VOLUME : 0u);  // dwCaps2
-  put_u32(out, 0);                              // dwCaps3
-  put_u32(out, 0);                              // dwCaps4
-  put_u32(out, 0);                              // dwReserved2
+  put_u32(out, DDSCAPS_TEXTURE | (n_levels > 1 ? DDSCAPS_COMPLEX | DDSCAPS_MIPMAP : 0u));  // dwCaps
+  put_u32(out, volume ? DDSCAPS2_VOLUME : 0u);                                             // dwCaps2
+  put_u32(out, 0);                                                                         // dwCaps3
+  put_u32(out, 0);                                                                         // dwCaps4
+  put_u32(out, 0);                                                                         // dwReserved2
   // DDS_HEADER_DXT10
   put_u32(out, pixel_format_entry(pf).dxgi);
   put_u32(out, volume ? DIM_TEXTURE3D : DIM_TEXTURE2D);
@@ -60,7 +70,7 @@ void write_dds(const fs::path& path, const Volume& v, PixelFormat pf) {
   write_file_atomic(path, out);
 }
 
-Volume read_dds(const fs::path& path) {
+Volume read_dds(const fs::path& path, int level) {
   const std::vector<std::byte> bytes = read_file(path);
   ByteReader r{bytes, &path};
   r.require(0, kHeaderBytes);
@@ -88,9 +98,20 @@ Volume read_dds(const fs::path& path) {
   }
   const PixelInfo pi = pixel_info(pf);
   check_dimensions(path, width, height, depth, pi.channels);
-  const std::size_t n = std::size_t(width) * height * depth * pi.texel_bytes();
-  r.require(kHeaderBytes, n);  // extra data (further mips) is ignored
-  return decode_texels(std::span(bytes).subspan(kHeaderBytes, n), pf, int(width), int(height), int(depth));
+  // Level `level`: the levels before it are packed after the header, level 0 first.
+  const std::uint32_t n_levels = (flags & DDSD_MIPMAPCOUNT) && r.u32(28) > 0 ? r.u32(28) : 1;
+  if (std::uint32_t(level) >= n_levels)
+    fail(path, fmt::format("mip level {} requested, the file has {}", level, n_levels));
+  if (level > 0 && depth != 1) fail(path, "mip levels of 3D DDS files are not supported");
+  std::size_t offset = kHeaderBytes;
+  std::uint32_t w = width, h = height;
+  for (int i = 0; i < level; ++i) {
+    offset += std::size_t(w) * h * pi.texel_bytes();
+    w = std::max(1u, w / 2), h = std::max(1u, h / 2);
+  }
+  const std::size_t n = std::size_t(w) * h * depth * pi.texel_bytes();
+  r.require(offset, n);  // further levels after it are not read
+  return decode_texels(std::span(bytes).subspan(offset, n), pf, int(w), int(h), int(depth));
 }
 
 }  // namespace msh::io::codecs

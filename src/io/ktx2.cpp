@@ -51,8 +51,12 @@ void pad_to(std::vector<std::byte>& out, std::size_t alignment) {
 }
 }  // namespace
 
-void write_ktx2(const fs::path& path, const Volume& v, PixelFormat pf) {
-  const std::vector<std::byte> texels = encode_texels(v, pf, path);
+void write_ktx2(const fs::path& path, const std::vector<Volume>& levels, PixelFormat pf) {
+  check_mip_chain(path, levels);
+  const Volume& v = levels[0];
+  std::vector<std::vector<std::byte>> texels;
+  for (const Volume& l : levels) texels.push_back(encode_texels(l, pf, path));
+  const std::size_t n_levels = levels.size();
   const PixelInfo pi = pixel_info(pf);
   const std::vector<std::byte> dfd = basic_dfd(pf);
   std::vector<std::byte> kvd;
@@ -67,15 +71,21 @@ void write_ktx2(const fs::path& path, const Volume& v, PixelFormat pf) {
     kvd.push_back(std::byte{0});
     pad_to(kvd, 4);  // valuePadding (counted in kvdByteLength)
   }
-  constexpr std::size_t kIndexEnd = 12 + 36 + 32 + 24;  // identifier, header, index, one level entry
-  const std::size_t dfd_offset = kIndexEnd;
+  const std::size_t index_end = 12 + 36 + 32 + 24 * n_levels;  // identifier, header, index, level entries
+  const std::size_t dfd_offset = index_end;
   const std::size_t kvd_offset = dfd_offset + dfd.size();
   const std::size_t alignment = std::lcm(std::size_t(pi.texel_bytes()), std::size_t(4));
-  std::size_t level_offset = kvd_offset + kvd.size();
-  level_offset = (level_offset + alignment - 1) / alignment * alignment;
+  const auto align = [&](std::size_t o) { return (o + alignment - 1) / alignment * alignment; };
+  // Level data smallest first (KTX 2.0 §3.9 "Mip Level Array"), each level aligned (mipPadding).
+  std::vector<std::size_t> level_offset(n_levels);
+  std::size_t end = kvd_offset + kvd.size();
+  for (std::size_t i = n_levels; i-- > 0;) {
+    level_offset[i] = align(end);
+    end = level_offset[i] + texels[i].size();
+  }
 
   std::vector<std::byte> out;
-  out.reserve(level_offset + texels.size());
+  out.reserve(end);
   for (unsigned char c : kIdentifier) out.push_back(std::byte(c));
   put_u32(out, pixel_format_entry(pf).vk);
   put_u32(out, std::uint32_t(pi.bytes_per_channel));  // typeSize
@@ -84,25 +94,29 @@ void write_ktx2(const fs::path& path, const Volume& v, PixelFormat pf) {
   put_u32(out, v.depth > 1 ? std::uint32_t(v.depth) : 0u);  // pixelDepth: 0 for 2D
   put_u32(out, 0);                                          // layerCount: not an array
   put_u32(out, 1);                                          // faceCount
-  put_u32(out, 1);                                          // levelCount
+  put_u32(out, std::uint32_t(n_levels));                    // levelCount
   put_u32(out, 0);                                          // supercompressionScheme: none
   put_u32(out, std::uint32_t(dfd_offset));
   put_u32(out, std::uint32_t(dfd.size()));
   put_u32(out, std::uint32_t(kvd_offset));
   put_u32(out, std::uint32_t(kvd.size()));
-  put_u64(out, 0);              // sgdByteOffset
-  put_u64(out, 0);              // sgdByteLength
-  put_u64(out, level_offset);   // levels[0].byteOffset
-  put_u64(out, texels.size());  // levels[0].byteLength
-  put_u64(out, texels.size());  // levels[0].uncompressedByteLength
+  put_u64(out, 0);  // sgdByteOffset
+  put_u64(out, 0);  // sgdByteLength
+  for (std::size_t i = 0; i < n_levels; ++i) {
+    put_u64(out, level_offset[i]);   // levels[i].byteOffset
+    put_u64(out, texels[i].size());  // levels[i].byteLength
+    put_u64(out, texels[i].size());  // levels[i].uncompressedByteLength
+  }
   out.insert(out.end(), dfd.begin(), dfd.end());
   out.insert(out.end(), kvd.begin(), kvd.end());
-  pad_to(out, alignment);  // mipPadding
-  out.insert(out.end(), texels.begin(), texels.end());
+  for (std::size_t i = n_levels; i-- > 0;) {
+    pad_to(out, alignment);  // mipPadding
+    out.insert(out.end(), texels[i].begin(), texels[i].end());
+  }
   write_file_atomic(path, out);
 }
 
-Volume read_ktx2(const fs::path& path) {
+Volume read_ktx2(const fs::path& path, int level) {
   const std::vector<std::byte> bytes = read_file(path);
   ByteReader r{bytes, &path};
   r.require(0, 12 + 36 + 32 + 24);
@@ -118,13 +132,20 @@ Volume read_ktx2(const fs::path& path) {
   const PixelInfo pi = pixel_info(pf);
   const long long d = depth == 0 ? 1 : depth;
   check_dimensions(path, width, height, d, pi.channels);
-  (void)levels;  // level 0 (the first entry) is the full-resolution image whatever the count
-  const std::uint64_t offset = r.u64(80), length = r.u64(88);
-  const std::size_t n = std::size_t(width) * height * d * pi.texel_bytes();
-  if (length != n) fail(path, fmt::format("level 0 holds {} bytes, expected {}", length, n));
-  if (offset > bytes.size()) fail(path, "truncated or corrupt file (level 0 offset past the end)");
+  // levelCount 0 means "generate mips at load": level 0 only is stored.
+  if (std::uint32_t(level) >= std::max(levels, 1u))
+    fail(path, fmt::format("mip level {} requested, the file has {}", level, std::max(levels, 1u)));
+  if (level > 0 && d != 1) fail(path, "mip levels of 3D KTX2 files are not supported");
+  const std::size_t entry = 80 + 24 * std::size_t(level);
+  r.require(entry, 24);
+  const std::uint64_t offset = r.u64(entry), length = r.u64(entry + 8);
+  const std::uint32_t w = std::max(1u, width >> level), h = std::max(1u, height >> level);
+  const std::size_t n = std::size_t(w) * h * d * pi.texel_bytes();
+  if (length != n) fail(path, fmt::format("level {} holds {} bytes, expected {}", level, length, n));
+  if (offset > bytes.size())
+    fail(path, fmt::format("truncated or corrupt file (level {} offset past the end)", level));
   r.require(std::size_t(offset), n);
-  return decode_texels(std::span(bytes).subspan(std::size_t(offset), n), pf, int(width), int(height), int(d));
+  return decode_texels(std::span(bytes).subspan(std::size_t(offset), n), pf, int(w), int(h), int(d));
 }
 
 }  // namespace msh::io::codecs

@@ -65,10 +65,10 @@ void write_volume(const fs::path& path, const Volume& v, FileFormat ff, PixelFor
                   const std::string& symbol) {
   switch (ff) {
     case FileFormat::Dds:
-      codecs::write_dds(path, v, pf);
+      codecs::write_dds(path, {v}, pf);
       return;
     case FileFormat::Ktx2:
-      codecs::write_ktx2(path, v, pf);
+      codecs::write_ktx2(path, {v}, pf);
       return;
     case FileFormat::Exr:
       codecs::write_exr_volume(path, v, codecs::pixel_info(pf).bytes_per_channel == 2);
@@ -85,6 +85,50 @@ void write_volume(const fs::path& path, const Volume& v, FileFormat ff, PixelFor
   }
   throw InputError("write_volume: invalid file format");
 }
+
+void write_texture_mips(const fs::path& path, const std::vector<Volume>& levels, PixelFormat pf) {
+  switch (file_format_from_path(path)) {
+    case FileFormat::Dds:
+      codecs::write_dds(path, levels, pf);
+      return;
+    case FileFormat::Ktx2:
+      codecs::write_ktx2(path, levels, pf);
+      return;
+    default:
+      throw InputError(fmt::format("{}: a mip chain is written as .dds or .ktx2", path.string()));
+  }
+}
+
+Volume read_texture_level(const fs::path& path, int level) {
+  if (level < 0) throw InputError(fmt::format("{}: mip level must be >= 0, got {}", path.string(), level));
+  switch (file_format_from_path(path)) {
+    case FileFormat::Dds:
+      return codecs::read_dds(path, level);
+    case FileFormat::Ktx2:
+      return codecs::read_ktx2(path, level);
+    default:
+      throw InputError(fmt::format("{}: mip levels are read from .dds or .ktx2", path.string()));
+  }
+}
+
+namespace codecs {
+void check_mip_chain(const fs::path& path, const std::vector<Volume>& levels) {
+  if (levels.empty()) fail(path, "no mip level to write");
+  const Volume& l0 = levels[0];
+  if (levels.size() > 1 && l0.depth != 1) fail(path, "mip chains are written for 2D textures only");
+  const int max_levels = 1 + int(std::log2(double(std::max(l0.width, l0.height))));
+  if (int(levels.size()) > max_levels)
+    fail(path, fmt::format("{} mip levels for a {}x{} texture (at most {})", levels.size(), l0.width,
+                           l0.height, max_levels));
+  for (std::size_t i = 1; i < levels.size(); ++i) {
+    const Volume& l = levels[i];
+    const int w = std::max(1, l0.width >> i), h = std::max(1, l0.height >> i);
+    if (l.width != w || l.height != h || l.depth != 1 || l.channels != l0.channels)
+      fail(path, fmt::format("mip level {} is {}x{}x{} with {} channels, expected {}x{}x1 with {}", i,
+                             l.width, l.height, l.depth, l.channels, w, h, l0.channels));
+  }
+}
+}  // namespace codecs
 
 namespace {
 Volume read_volume_any(const fs::path& path) {

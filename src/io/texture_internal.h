@@ -115,10 +115,14 @@ void write_npy(const std::filesystem::path& path, const Volume& v);
 Volume read_npy(const std::filesystem::path& path);
 void write_exr_volume(const std::filesystem::path& path, const Volume& v, bool half);
 Volume read_exr(const std::filesystem::path& path, bool as_volume);
-void write_dds(const std::filesystem::path& path, const Volume& v, PixelFormat pf);
-Volume read_dds(const std::filesystem::path& path);
-void write_ktx2(const std::filesystem::path& path, const Volume& v, PixelFormat pf);
-Volume read_ktx2(const std::filesystem::path& path);
+// DDS and KTX2 take a mip chain: levels[0] the full texture, further levels 2D and halved (check_mip_chain).
+void write_dds(const std::filesystem::path& path, const std::vector<Volume>& levels, PixelFormat pf);
+Volume read_dds(const std::filesystem::path& path, int level = 0);
+void write_ktx2(const std::filesystem::path& path, const std::vector<Volume>& levels, PixelFormat pf);
+Volume read_ktx2(const std::filesystem::path& path, int level = 0);
+// InputError unless levels is non-empty, level i is max(1, w0 >> i) × max(1, h0 >> i) × 1 with the
+// channels of level 0 for i ≥ 1 (only 2D textures have mips here), and there are at most 1 + log2(max side).
+void check_mip_chain(const std::filesystem::path& path, const std::vector<Volume>& levels);
 void write_c_header(const std::filesystem::path& path, const Volume& v, const std::string& symbol);
 void write_png_volume(const std::filesystem::path& path, const Volume& v, int bits);
 Volume read_png(const std::filesystem::path& path, bool as_volume);

@@ -56,6 +56,16 @@ void write_volume(const std::filesystem::path& path, const Volume& v, FileFormat
 // Reads DDS, KTX2, EXR, NPY, PNG written by us (format by extension) → floats. InputError on any failure.
 Volume read_volume(const std::filesystem::path& path);
 
+// A 2D texture with its mip chain as DDS or KTX2 (by extension; atomically): levels[0] the full texture,
+// level i of max(1, w >> i) × max(1, h >> i) texels with the same channels (at most 1 + log2(max side)
+// levels). DDS: dwMipMapCount and DDSCAPS_COMPLEX | DDSCAPS_MIPMAP, level 0 first; KTX2: levelCount and the
+// level index, data stored smallest level first as the KTX 2.0 specification requires. InputError otherwise
+// (and as write_volume).
+void write_texture_mips(const std::filesystem::path& path, const std::vector<Volume>& levels, PixelFormat pf);
+// Level `level` of a DDS or KTX2 file (0 = what read_volume returns). InputError when the file has no such
+// level or on any failure.
+Volume read_texture_level(const std::filesystem::path& path, int level);
+
 // 2D images for the renderer: PNG (8/16-bit gray/GA/RGB/RGBA via libpng; values returned as-is in [0,1], no
 // color conversion) and EXR (half or float RGB/RGBA via OpenEXR). Volume with depth = 1.
 Volume read_image(const std::filesystem::path& path);  // .png or .exr; InputError naming the file on failure

@@ -5,6 +5,9 @@
 
 #include <microshadow/render/texture_gen.h>
 
+#include <filesystem>
+#include <vector>
+
 namespace msh::render {
 
 // Coarse roughness: Base = the box mean r̄ of the fine perceptual roughness; Widened = r̄ widened by the slope
@@ -24,5 +27,18 @@ enum class CoarseRoughness { Base, Widened };
 // k = 1 returns a copy of `fine` (for either mode). Throws InputError on k < 1, a size not divisible by k,
 // or maps whose sizes differ. Deterministic, bit-identical whatever the thread count.
 TextureSet downsample_texture_set(const TextureSet& fine, int k, CoarseRoughness mode);
+
+// The mip chain of a texture set: level L = downsample_texture_set(fine, 2^L, Base), for every L while 2^L
+// divides both sides (down to 1 × 1 for a power-of-two set). Level log2 k is exactly the study's coarse set
+// at scale k.
+std::vector<TextureSet> texture_set_mip_chain(const TextureSet& fine);
+
+// Writes dir/mips/: for every map its whole chain as KTX2 and DDS (<map>.ktx2, <map>.dds; engine formats:
+// normal RGBA8 (n·0.5 + 0.5), roughness, metallic, micro_occlusion R8, base colour RGBA16F linear, height
+// R16F; directional as three RGBA8 files directional_{0,1,2} holding channels 0–3, 4–7, 8 as 8-bit UNORM
+// between per-channel ranges [lo, hi] of the fine level), each level also as float32 NPY
+// (<map>_mip<L>.npy, the exact values the study shades), and mips.json (levels, sizes, formats, the
+// directional ranges). Atomic files; InputError on an unwritable directory.
+void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine);
 
 }  // namespace msh::render

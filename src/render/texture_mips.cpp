@@ -1,0 +1,96 @@
+// The mip chain of a texture set and its files (render/multiscale.h): what gen-material writes, built by the
+// same box filter as the study's coarse sets.
+#include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
+#include <microshadow/render/multiscale.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace msh::render {
+
+std::vector<TextureSet> texture_set_mip_chain(const TextureSet& fine) {
+  std::vector<TextureSet> chain{fine};
+  for (int k = 2; fine.height.width() % k == 0 && fine.height.height() % k == 0; k *= 2)
+    chain.push_back(downsample_texture_set(fine, k, CoarseRoughness::Base));
+  return chain;
+}
+
+namespace {
+// Channels [c0, c0 + n) of a texture as a volume (n ≤ 4; missing channels 0), mapped by f.
+template <class F>
+io::Volume channels(const Texture& t, int c0, int n, F f) {
+  io::Volume v(t.width(), t.height(), 1, n);
+  for (int y = 0; y < t.height(); ++y)
+    for (int x = 0; x < t.width(); ++x)
+      for (int c = 0; c < n; ++c)
+        v.at(x, y, 0, c) = c0 + c < t.channels() ? f(t.at(x, y, c0 + c), c0 + c) : 0.0f;
+  return v;
+}
+}  // namespace
+
+void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine) {
+  const std::filesystem::path m = dir / "mips";
+  std::error_code ec;
+  std::filesystem::create_directories(m, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", m.string(), ec.message()));
+  const std::vector<TextureSet> chain = texture_set_mip_chain(fine);
+  nlohmann::json j = {{"levels", chain.size()}, {"maps", nlohmann::json::object()}};
+  for (const TextureSet& s : chain) j["sizes"].push_back({s.height.width(), s.height.height()});
+  const auto identity = [](float x, int) { return x; };
+  // One map: its chain in both containers (engine format) and each level exact as NPY.
+  const auto write = [&](const std::string& name, Texture TextureSet::*map, int c0, int n, io::PixelFormat pf,
+                         const auto& encode) {
+    std::vector<io::Volume> levels;
+    for (std::size_t L = 0; L < chain.size(); ++L) {
+      const Texture& t = chain[L].*map;
+      levels.push_back(channels(t, c0, n, encode));
+      io::write_volume(m / fmt::format("{}_mip{}.npy", name, L), channels(t, c0, n, identity),
+                       io::FileFormat::Npy);
+    }
+    io::write_texture_mips(m / (name + ".ktx2"), levels, pf);
+    io::write_texture_mips(m / (name + ".dds"), levels, pf);
+    j["maps"][name] = {{"ktx2", name + ".ktx2"},
+                       {"dds", name + ".dds"},
+                       {"format", io::pixel_format_name(pf)},
+                       {"npy", fmt::format("{}_mip<L>.npy", name)},
+                       {"channels", n}};
+  };
+  write("normal", &TextureSet::normal, 0, 4, io::PixelFormat::RGBA8Unorm, identity);
+  write("roughness", &TextureSet::roughness, 0, 1, io::PixelFormat::R8Unorm, identity);
+  write("metallic", &TextureSet::metallic, 0, 1, io::PixelFormat::R8Unorm, identity);
+  write("micro_occlusion", &TextureSet::visibility, 0, 1, io::PixelFormat::R8Unorm, identity);
+  write("basecolor", &TextureSet::base_color, 0, 4, io::PixelFormat::RGBA16Float, identity);
+  write("height", &TextureSet::height, 0, 1, io::PixelFormat::R16Float, identity);
+  if (!fine.directional.empty()) {
+    // 8-bit UNORM between the fine level's per-channel range: a box mean stays inside it, so every level
+    // uses the same range (decode: lo + (hi − lo) · unorm, occlusion/directional.h decode_unorm8).
+    const Texture& d = fine.directional;
+    std::vector<float> lo(std::size_t(d.channels()), 1e30f), hi(std::size_t(d.channels()), -1e30f);
+    for (int y = 0; y < d.height(); ++y)
+      for (int x = 0; x < d.width(); ++x)
+        for (int c = 0; c < d.channels(); ++c)
+          lo[std::size_t(c)] = std::min(lo[std::size_t(c)], d.at(x, y, c)),
+          hi[std::size_t(c)] = std::max(hi[std::size_t(c)], d.at(x, y, c));
+    for (std::size_t c = 0; c < lo.size(); ++c)
+      if (!(hi[c] > lo[c])) hi[c] = lo[c] + 1;
+    const auto unorm = [&](float x, int c) {
+      return (x - lo[std::size_t(c)]) / (hi[std::size_t(c)] - lo[std::size_t(c)]);
+    };
+    for (int f = 0; 4 * f < d.channels(); ++f)
+      write(fmt::format("directional_{}", f), &TextureSet::directional, 4 * f,
+            std::min(4, d.channels() - 4 * f),
+            std::min(4, d.channels() - 4 * f) == 1 ? io::PixelFormat::R8Unorm : io::PixelFormat::RGBA8Unorm,
+            unorm);
+    j["directional"] = {{"channels", d.channels()},
+                        {"lo", lo},
+                        {"hi", hi},
+                        {"decode", "channel = lo + (hi - lo) * unorm (per channel, every level)"}};
+  }
+  io::write_file_atomic(m / "mips.json", j.dump(2) + "\n");
+}
+
+}  // namespace msh::render
