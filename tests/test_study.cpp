@@ -2,6 +2,7 @@
 // (schema, counts, determinism across thread counts, bad configurations) on a tiny configuration.
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
 #include <support/cli_test_util.h>
@@ -221,6 +222,80 @@ TEST(Study, BadConfigurations) {
   c.elevations = {90};
   EXPECT_THROW(run_study(c, d), msh::InputError);
   EXPECT_FALSE(fs::exists(d / "results.json"));
+}
+
+// The user's own height maps (study --height / --material): a 16-bit PNG written here is studied under its
+// file's stem, through the procedural kinds' generation path (the directional channels are baked because a
+// term reads them: the material cache holds them); bad maps are InputErrors before anything is written.
+TEST(Study, UserHeightMaps) {
+  const fs::path d = fs::temp_directory_path() / ("msh_test_study_user." + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  auto write_map = [&](const std::string& name, int w, int h) {
+    msh::io::Volume v(w, h, 1, 1);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        v.at(i, j, 0, 0) = float(0.5 + 0.5 * std::sin(2 * M_PI * i / 16) * std::sin(2 * M_PI * j / 16));
+    msh::io::write_png(d / name, v, 16);
+    return d / name;
+  };
+  StudyConfig c = tiny();
+  c.materials = {};
+  c.shapes = {"plane"};
+  c.sphere_light = false;
+  c.terms = {"none", "directional"};
+  c.widened = c.normal_ablation = false;
+  c.featured_lights = {};
+  c.user_materials = {{"my_bumps", write_map("my_bumps.png", 64, 64), 4}};
+  c.material_cache = d / "cache";
+  const nlohmann::json r = run_study(c, d / "out");
+  EXPECT_EQ(r["config"]["materials"], nlohmann::json::array({"my_bumps"}));
+  EXPECT_EQ(r["config"]["user_materials"][0]["depth_texels"].get<double>(), 4.0);
+  // 1 light × 2 scales × 2 terms × 3 components.
+  ASSERT_EQ(r["rows"].size(), 12u);
+  for (const auto& row : r["rows"]) {
+    EXPECT_EQ(row["material"], "my_bumps");
+    if (row["component"] == "total") {
+      EXPECT_TRUE(row["bias"]["whole"].is_number());
+    }
+  }
+  int cached = 0;
+  for (const auto& e : fs::directory_iterator(d / "cache"))
+    cached += e.path().filename().string().rfind("user-my_bumps_64_", 0) == 0 &&
+              fs::exists(e.path() / "directional.npy");
+  EXPECT_EQ(cached, 1);
+  // From a gen-material folder: named after the folder, depth from material.json.
+  fs::create_directories(d / "paving");
+  fs::copy_file(d / "my_bumps.png", d / "paving" / "height.png");
+  std::ofstream(d / "paving" / "material.json") << R"({"height": "height.png", "height_texels": 3.5})";
+  const UserMaterial f = user_material_from_folder(d / "paving");
+  EXPECT_EQ(f.name, "paving");
+  EXPECT_EQ(f.depth_texels, 3.5f);
+  EXPECT_EQ(f.height, d / "paving" / "height.png");
+  EXPECT_EQ(user_material_from_folder(d / "paving/").name, "paving");
+  EXPECT_THROW(user_material_from_folder(d / "nowhere"), msh::InputError);
+  EXPECT_THROW(user_material_from_folder(d / "cache"), msh::InputError);  // no material.json
+
+  // Bad maps and depths: one InputError each, nothing written.
+  const fs::path bad_out = d / "bad";
+  const StudyConfig good = c;
+  auto expect_bad = [&](const UserMaterial& u, std::vector<int> scales = {1, 4}) {
+    StudyConfig b = good;
+    b.user_materials = {u};
+    b.scales = scales;
+    EXPECT_THROW(run_study(b, bad_out), msh::InputError) << u.height;
+  };
+  expect_bad({"missing", d / "missing.png", 4});
+  expect_bad({"my_bumps", d / "my_bumps.png", 0});
+  expect_bad({"my_bumps", d / "my_bumps.png", std::nanf("")});
+  expect_bad({"wide", write_map("wide.png", 64, 32), 4});  // not square
+  expect_bad({"my_bumps", d / "my_bumps.png", 4}, {3});    // 3 does not divide 64
+  expect_bad({"my_bumps", d / "my_bumps.png", 4}, {16});   // 16 pixels × 16 texels > 64: wider than the map
+  StudyConfig twice = good;
+  twice.user_materials.push_back(good.user_materials[0]);
+  EXPECT_THROW(run_study(twice, bad_out), msh::InputError);
+  EXPECT_FALSE(fs::exists(bad_out));
+  fs::remove_all(d);
 }
 
 // The area-light section (docs/area-lights.md) on a tiny configuration: sphere lights of two sizes, a

@@ -15,6 +15,14 @@
 namespace msh::cli {
 namespace {
 
+// Mean of channel 0 (gen-material reports the mean baked V, the measure its default depths are chosen by).
+double mean_channel(const render::Texture& t) {
+  double s = 0;
+  for (int j = 0; j < t.height(); ++j)
+    for (int i = 0; i < t.width(); ++i) s += t.at(i, j, 0);
+  return s / (double(t.width()) * t.height());
+}
+
 struct RenderArgs {
   std::string scene, out, method, bump, lut, assets, ms_normal, component, gt_intersector, area_ms;
   int width = 0, height = 0, spp = 0, threads = 0, vndf_samples = 0, area_samples = 0;
@@ -185,9 +193,11 @@ void add_render(Groups& g) {
                                         "Generate a texture set (height, normal, roughness, metallic, base "
                                         "colour, baked micro-occlusion), procedural or from a height map");
   CLI::Option* kind_opt =
-      gm->add_option("--kind", m->kind,
-                     "plaster (damaged plaster: noise, cracks, pits), bark (furrowed ridges) or gravel "
-                     "(packed stones on sand)")
+      gm->add_option(
+            "--kind", m->kind,
+            "plaster (damaged plaster: noise, cracks, pits), bark (furrowed ridges), gravel "
+            "(packed stones on sand), rock (fractured rock: blocks, cracks, ridges), brick (running-bond "
+            "paving, deep mortar joints) or cobble (rounded cobblestones)")
           ->check(CLI::IsMember(render::material_kinds()));
   CLI::Option* size_opt = gm->add_option("--size", m->size, "Texels per side")->check(CLI::Range(8, 8192));
   gm->add_option("--height", *mheight,
@@ -211,7 +221,11 @@ void add_render(Groups& g) {
     if (mheight->empty()) {
       const auto set = render::generate_texture_set(*m);
       render::write_texture_set(*mdir, set);
-      print_json({{"dir", *mdir}, {"kind", m->kind}, {"size", m->size}, {"height_texels", set.depth_texels}});
+      print_json({{"dir", *mdir},
+                  {"kind", m->kind},
+                  {"size", m->size},
+                  {"height_texels", set.depth_texels},
+                  {"mean_visibility", mean_channel(set.visibility)}});
       return;
     }
     if (kind_opt->count() > 0) throw UsageError("--kind and --height are exclusive");
@@ -224,7 +238,8 @@ void add_render(Groups& g) {
     print_json({{"dir", *mdir},
                 {"height", *mheight},
                 {"size", {h.width(), h.height()}},
-                {"height_texels", set.depth_texels}});
+                {"height_texels", set.depth_texels},
+                {"mean_visibility", mean_channel(set.visibility)}});
   });
 
   struct CmpArgs {

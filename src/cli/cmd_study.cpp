@@ -5,6 +5,7 @@
 #include <microshadow/study/study.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -14,10 +15,41 @@ namespace msh::cli {
 namespace {
 
 struct StudyArgs {
-  std::string out, materials, cache, shapes, area_ms, scales, methods;
+  std::string out, materials, cache, shapes, area_ms, scales, methods, heights, depths;
+  std::vector<std::string> folders;
   bool quick = false, quiet = false, area = false;
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
 };
+
+// --height FILE[,FILE…] --depth D[,D…] and --material DIR[,DIR…]; bad lists: one error line, exit 2.
+std::vector<study::UserMaterial> user_materials(const StudyArgs& a) {
+  std::vector<study::UserMaterial> out;
+  const auto files = split_list(a.heights);
+  if (files.empty() != a.depths.empty())
+    throw UsageError(files.empty() ? "--depth needs --height"
+                                   : "--height needs --depth (texels per unit height)");
+  if (!files.empty()) {
+    const std::vector<double> d = parse_list(a.depths, "--depth");
+    if (d.size() != 1 && d.size() != files.size())
+      throw UsageError(
+          fmt::format("--depth: {} values for {} height map{} (give one per file, or one for all)", d.size(),
+                      files.size(), files.size() == 1 ? "" : "s"));
+    for (size_t i = 0; i < files.size(); ++i) {
+      const double di = d.size() == 1 ? d[0] : d[i];
+      if (files[i].empty()) throw UsageError("--height: empty file name in the list");
+      if (!(di > 0 && di <= 1e4))
+        throw UsageError(fmt::format("--depth: {} is not a depth in (0, 10000] texels", di));
+      const std::filesystem::path p(files[i]);
+      out.push_back({p.stem().string(), p, float(di)});
+    }
+  }
+  for (const std::string& arg : a.folders)
+    for (const std::string& f : split_list(arg)) {
+      if (f.empty()) throw UsageError("--material: empty folder name in the list");
+      out.push_back(study::user_material_from_folder(f));
+    }
+  return out;
+}
 
 void add_study(Groups& g) {
   auto a = std::make_shared<StudyArgs>();
@@ -37,6 +69,17 @@ void add_study(Groups& g) {
       "--area-ms", a->area_ms,
       "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
   s->add_option("--materials", a->materials, "Comma-separated material kinds (default: the study's list)");
+  s->add_option(
+      "--height", a->heights,
+      "The user's height maps as materials: comma-separated 16-bit PNG or EXR files (grey, values in "
+      "[0,1], square; each named by its file's stem in the results; needs --depth). Without "
+      "--materials, only the user's maps are studied");
+  s->add_option("--depth", a->depths,
+                "With --height: depth of the full [0,1] range in texels, one per file or one for all");
+  s->add_option(
+      "--material", a->folders,
+      "A gen-material folder (height.png + material.json's height_texels) as a material named after "
+      "the folder; repeatable or comma-separated");
   s->add_option("--methods", a->methods,
                 "Comma-separated micro-shadowing methods (`microshadow methods`; default: the methods marked "
                 "for the study; with --area-lights, the area section's terms)");
@@ -59,6 +102,8 @@ void add_study(Groups& g) {
                            : a->quick ? study::quick_config()
                                       : study::full_config();
     if (!a->materials.empty()) c.materials = split_list(a->materials);
+    c.user_materials = user_materials(*a);
+    if (!c.user_materials.empty() && a->materials.empty()) c.materials.clear();
     if (!a->shapes.empty()) c.shapes = split_list(a->shapes);
     if (!a->methods.empty()) (a->area ? c.area_terms : c.terms) = split_list(a->methods);
     if (!a->area_ms.empty()) c.area_ms_modes = split_list(a->area_ms);

@@ -145,6 +145,125 @@ GravelSample gravel_height(float u, float v, uint32_t seed) {
   return out;
 }
 
+// Ridged multifractal (Musgrave): 1 − |2n − 1| makes sharp crests; each octave is weighted by the one
+// before, so fine detail gathers on the crests and the valleys stay smooth, as on weathered rock. In [0, 1].
+float ridged(float u, float v, int p, int octaves, uint32_t seed) {
+  float s = 0, a = 0.5f, w = 1, norm = 0;
+  for (int k = 0; k < octaves; ++k, p *= 2, a *= 0.5f) {
+    float r = 1 - std::abs(2 * value_noise(u, v, p, hash_combine(seed, uint32_t(k))) - 1);
+    r = r * r * w;
+    w = saturate(2 * r);
+    s += a * r;
+    norm += a;
+  }
+  return s / norm;
+}
+
+// Worley noise that also returns the nearest feature's cell (wrapped) and its offset from the point, in cell
+// units: per-cell shapes (rock blocks, cobbles) need which cell they are in, not just the distances.
+struct WorleyCell {
+  float f1, f2;
+  int ci, cj;    // nearest feature's cell, wrapped to [0, px) × [0, py)
+  float dx, dy;  // point − feature, cell units
+};
+WorleyCell worley_cell(float u, float v, int px, int py, uint32_t seed) {
+  const float x = u * px, y = v * py;
+  const int i = int(std::floor(x)), j = int(std::floor(y));
+  WorleyCell w{1e9f, 1e9f, 0, 0, 0, 0};
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      const int ci = wrap(i + di, px), cj = wrap(j + dj, py);
+      const float fx = float(i + di) + hash01(ci, cj, seed),
+                  fy = float(j + dj) + hash01(ci, cj, seed ^ 0x9e3779b9u);
+      const float d = std::hypot(x - fx, y - fy);
+      if (d < w.f1)
+        w.f2 = w.f1, w.f1 = d, w.ci = ci, w.cj = cj, w.dx = x - fx, w.dy = y - fy;
+      else if (d < w.f2)
+        w.f2 = d;
+    }
+  return w;
+}
+
+// Fractured rock: blocks (Worley cells, 6 × 6) each a tilted plane at its own level, so neighbouring blocks
+// meet in steps and ledges; deep cracks along the block edges; a ridged multifractal for the weathered
+// surface; a few large fracture planes (straight cliffs crossing the tile) cut across everything. Returns
+// the height and the block id (for its colour).
+struct RockSample {
+  float h;
+  uint32_t block;
+};
+RockSample rock_height(float u, float v, uint32_t seed) {
+  const float wu = u + 0.05f * (fbm(u, v, 4, 3, seed + 1) - 0.5f),
+              wv = v + 0.05f * (fbm(u, v, 4, 3, seed + 2) - 0.5f);
+  const WorleyCell c = worley_cell(wu, wv, 6, 6, seed + 3);
+  const float base = 0.35f + 0.3f * hash01(c.ci, c.cj, seed + 4);
+  const float gx = 0.5f * (hash01(c.ci, c.cj, seed + 5) - 0.5f),
+              gy = 0.5f * (hash01(c.ci, c.cj, seed + 6) - 0.5f);
+  float h = base + gx * c.dx + gy * c.dy + 0.3f * ridged(u, v, 8, 5, seed + 7);
+  // Cracks between blocks: V-shaped, 0.08 cell wide.
+  h -= 0.35f * (1.0f - smoothstep(0.0f, 0.08f, c.f2 - c.f1));
+  // Fracture planes: 3 families of straight cliffs of integer direction (so they tile): a terrace per period.
+  for (int k = 0; k < 3; ++k) {
+    const uint32_t sd = seed + 20 + 4 * uint32_t(k);
+    const int a = 1 + int(3 * hash01(k, 0, sd)), b = int(4 * hash01(k, 1, sd)) - 2;
+    const float t = float(a) * u + float(b) * v + hash01(k, 2, sd);
+    const float f = t - std::floor(t);  // position across the plane's period
+    h += 0.12f * (smoothstep(0.47f, 0.53f, f) - smoothstep(0.95f, 1.0f, f)) - 0.06f;
+  }
+  return {saturate(h), hash_combine(uint32_t(c.ci), uint32_t(c.cj)) | 1u};
+}
+
+// Brick paving, running bond: 8 × 16 bricks of 2:1 per tile, alternate rows shifted by half a brick. Each
+// brick is a rounded box (a quarter-circle edge 0.22 brick-height wide) standing on a mortar bed, with its
+// own level and a slight tilt (settled paving), and a little surface noise. Returns the height and the
+// brick id (0 = mortar).
+struct BrickSample {
+  float h;
+  uint32_t brick;
+};
+BrickSample brick_height(float u, float v, uint32_t seed) {
+  const int cols = 8, rows = 16;
+  const float y = v * rows, fy = std::floor(y);
+  const int row = int(fy);
+  const float x = u * cols + (row % 2 ? 0.5f : 0.0f), fx = std::floor(x);
+  const int col = wrap(int(fx), cols);
+  // Local coordinates from the brick's centre in brick-height units (a brick is 2 × 1).
+  const float px = 2 * (x - fx - 0.5f), py = y - fy - 0.5f;
+  const float mortar = 0.06f, round = 0.22f;  // joint half-width and edge radius, brick-height units
+  const float qx = std::abs(px) - (1 - mortar - round), qy = std::abs(py) - (0.5f - mortar - round);
+  const float sdf =
+      std::hypot(std::max(qx, 0.0f), std::max(qy, 0.0f)) + std::min(std::max(qx, qy), 0.0f) - round;
+  const float bed = 0.1f + 0.06f * fbm(u, v, 64, 3, seed + 1);
+  if (sdf >= 0) return {saturate(bed), 0u};
+  const float t = std::min(-sdf / round, 1.0f);
+  const float profile = std::sqrt(1 - (1 - t) * (1 - t));  // quarter circle: round arris
+  const float top =
+      0.78f + 0.12f * hash01(col, row, seed + 2) + 0.06f * (hash01(col, row, seed + 3) - 0.5f) * px +
+      0.12f * (hash01(col, row, seed + 4) - 0.5f) * py + 0.05f * (fbm(u, v, 32, 4, seed + 5) - 0.5f);
+  return {saturate(bed + (top - bed) * profile), hash_combine(uint32_t(col), uint32_t(row)) | 1u};
+}
+
+// Cobblestones: one rounded stone per cell of a 12 × 12 jittered grid (Voronoi cells, so the stones fill the
+// plane like set cobbles); each a dome whose height follows the distance to the cell's edge, (F2 − F1)/2,
+// with its own height; sand in the joints. Returns the height and the stone id (0 = sand).
+struct CobbleSample {
+  float h;
+  uint32_t stone;
+};
+CobbleSample cobble_height(float u, float v, uint32_t seed) {
+  const float wu = u + 0.02f * (fbm(u, v, 8, 2, seed + 1) - 0.5f),
+              wv = v + 0.02f * (fbm(u, v, 8, 2, seed + 2) - 0.5f);
+  const WorleyCell c = worley_cell(wu, wv, 12, 12, seed + 3);
+  const float edge = 0.5f * (c.f2 - c.f1);  // distance to the cell's edge, cell units
+  const float joint = 0.05f;
+  const float sand = 0.08f + 0.08f * fbm(u, v, 64, 3, seed + 4);
+  if (edge <= joint) return {saturate(sand), 0u};
+  const float t = std::min((edge - joint) / 0.3f, 1.0f);
+  const float dome = std::sqrt(1 - (1 - t) * (1 - t));  // round shoulders, flattish top
+  const float top = 0.7f + 0.3f * hash01(c.ci, c.cj, seed + 5) + 0.04f * (fbm(u, v, 32, 3, seed + 6) - 0.5f);
+  return {saturate(sand + (top - sand) * dome), hash_combine(uint32_t(c.ci), uint32_t(c.cj)) | 1u};
+}
+
 }  // namespace
 
 Texture normal_map_from_height(const Texture& height, float depth) {
@@ -186,12 +305,26 @@ float split_roughness(const GenOptions& opt, float u, float noise) {
 
 }  // namespace
 
-std::vector<std::string> material_kinds() { return {"plaster", "bark", "gravel"}; }
+namespace {
+// Depth of the full height range in texels at size 256 (scaled with the size): chosen so that the baked
+// mean V lies in 0.78–0.89 for the relief kinds (rock, brick, cobble; measured at 512², docs/study.md).
+float default_depth_at_256(const std::string& kind) {
+  if (kind == "plaster") return 6.0f;
+  if (kind == "bark") return 12.0f;
+  if (kind == "rock") return 16.0f;
+  if (kind == "brick") return 8.0f;
+  if (kind == "cobble") return 9.0f;
+  return 8.0f;  // gravel
+}
+}  // namespace
+
+std::vector<std::string> material_kinds() { return {"plaster", "bark", "gravel", "rock", "brick", "cobble"}; }
 
 TextureSet generate_texture_set(const GenOptions& opt) {
   const auto kinds = material_kinds();
   if (std::find(kinds.begin(), kinds.end(), opt.kind) == kinds.end())
-    throw InputError(fmt::format("unknown material kind '{}' (plaster, bark, gravel)", opt.kind));
+    throw InputError(
+        fmt::format("unknown material kind '{}' (plaster, bark, gravel, rock, brick, cobble)", opt.kind));
   if (opt.size < 8 || opt.size > 8192)
     throw InputError(fmt::format("size must be in [8, 8192], got {}", opt.size));
   check_bake_options(opt);
@@ -199,7 +332,7 @@ TextureSet generate_texture_set(const GenOptions& opt) {
     throw InputError("depth must be finite and >= 0");
   const int n = opt.size;
   const float scale = float(n) / 256.0f;
-  const float default_depth = opt.kind == "plaster" ? 6.0f : opt.kind == "bark" ? 12.0f : 8.0f;
+  const float default_depth = default_depth_at_256(opt.kind);
   TextureSet s;
   s.depth_texels = opt.depth_texels > 0 ? opt.depth_texels : default_depth * scale;
   s.height = Texture(n, n, 1);
@@ -218,6 +351,30 @@ TextureSet generate_texture_set(const GenOptions& opt) {
       } else if (opt.kind == "bark") {
         hv = bark_height(u, v, opt.seed);
         c = Rgbf(0.36f, 0.25f, 0.17f) * (0.55f + 0.3f * hv + 0.15f * tint);
+      } else if (opt.kind == "rock") {
+        const RockSample r = rock_height(u, v, opt.seed);
+        hv = r.h;
+        // Grey stone, per-block shade, darker in the cracks.
+        const float a = float(hash_u32(r.block) >> 8) * 0x1p-24f;
+        c = Rgbf(0.46f, 0.44f, 0.41f) * (0.55f + 0.35f * hv + 0.15f * a) * (0.9f + 0.1f * tint);
+      } else if (opt.kind == "brick") {
+        const BrickSample b = brick_height(u, v, opt.seed);
+        hv = b.h;
+        if (b.brick == 0) {
+          c = Rgbf(0.55f, 0.53f, 0.49f) * (0.85f + 0.15f * tint);  // mortar
+        } else {
+          const float a = float(hash_u32(b.brick) >> 8) * 0x1p-24f;
+          c = lerp(a, Rgbf(0.52f, 0.22f, 0.14f), Rgbf(0.62f, 0.34f, 0.22f)) * (0.85f + 0.15f * tint);
+        }
+      } else if (opt.kind == "cobble") {
+        const CobbleSample cb = cobble_height(u, v, opt.seed);
+        hv = cb.h;
+        if (cb.stone == 0) {
+          c = Rgbf(0.42f, 0.36f, 0.28f) * (0.8f + 0.2f * tint);  // sand
+        } else {
+          const float a = float(hash_u32(cb.stone) >> 8) * 0x1p-24f;
+          c = lerp(a, Rgbf(0.40f, 0.40f, 0.40f), Rgbf(0.50f, 0.44f, 0.38f)) * (0.85f + 0.15f * tint);
+        }
       } else {
         const GravelSample g = gravel_height(u, v, opt.seed);
         hv = g.h;

@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <map>
@@ -98,10 +99,28 @@ io::PixelFormat npy_format(int channels) {
                          : io::PixelFormat::RGBA32Float;
 }
 
-TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& cache, const Log& log) {
-  const auto dir = cache.empty() ? cache
-                                 : cache / fmt::format("{}_{}_a{}_d{}_s{}", go.kind, go.size, go.ao_rays,
-                                                       go.directional_azimuths, go.seed);
+// FNV-1a of a height map's texels: a user map's cache key (its file may change under the same name).
+uint64_t height_hash(const Texture& t) {
+  uint64_t h = 1469598103934665603ull;
+  for (int j = 0; j < t.height(); ++j)
+    for (int i = 0; i < t.width(); ++i) {
+      uint32_t b;
+      const float f = t.at(i, j, 0);
+      std::memcpy(&b, &f, 4);
+      h = (h ^ b) * 1099511628211ull;
+    }
+  return h;
+}
+
+// user_height: a user's map (go.kind = its name), made by texture_set_from_height with the same options.
+TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& cache, const Log& log,
+                            const Texture* user_height = nullptr, float user_depth = 0) {
+  const std::string key =
+      user_height
+          ? fmt::format("user-{}_{}_z{:.9g}_h{:016x}_a{}_d{}", go.kind, user_height->width(), user_depth,
+                        height_hash(*user_height), go.ao_rays, go.directional_azimuths)
+          : fmt::format("{}_{}_a{}_d{}_s{}", go.kind, go.size, go.ao_rays, go.directional_azimuths, go.seed);
+  const auto dir = cache.empty() ? cache : cache / key;
   struct Slot {
     const char* name;
     Texture TextureSet::*map;
@@ -124,7 +143,8 @@ TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& c
     if (log) log("study: texture set from the cache " + dir.string());
     return s;
   }
-  TextureSet s = generate_texture_set(go);
+  TextureSet s =
+      user_height ? texture_set_from_height(*user_height, user_depth, go) : generate_texture_set(go);
   if (!dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -505,8 +525,17 @@ std::string csv_line(const json& r) {
 }
 
 json config_json(const StudyConfig& c) {
+  // "materials": every material of the rows (the report's per-material tables), the user's maps last.
+  std::vector<std::string> names = c.materials;
+  json user = json::array();
+  for (const UserMaterial& u : c.user_materials) {
+    names.push_back(u.name);
+    user.push_back(
+        {{"name", u.name}, {"height", u.height.filename().string()}, {"depth_texels", u.depth_texels}});
+  }
   return {{"name", c.name},
-          {"materials", c.materials},
+          {"materials", names},
+          {"user_materials", user},
           {"fine_size", c.fine_size},
           {"ao_rays", c.ao_rays},
           {"directional_azimuths", c.directional_azimuths},
@@ -546,11 +575,25 @@ json config_json_area(const StudyConfig& c) {
 
 void validate(const StudyConfig& c) {
   auto bad = [](const std::string& what) { throw InputError("study: " + what); };
-  if (c.materials.empty()) bad("no materials");
+  if (c.materials.empty() && c.user_materials.empty()) bad("no materials");
   if (c.scales.empty()) bad("no scales");
+  // The procedural kinds' fine size (a user map's side is checked when it is loaded).
   for (int k : c.scales)
-    if (k < 1 || c.fine_size % k != 0)
+    if (!c.materials.empty() && (k < 1 || c.fine_size % k != 0))
       bad(fmt::format("scale {} does not divide the fine size {}", k, c.fine_size));
+  for (int k : c.scales)
+    if (k < 1) bad(fmt::format("scale {} must be >= 1", k));
+  std::vector<std::string> names = c.materials;
+  for (const UserMaterial& u : c.user_materials) {
+    if (u.name.empty()) bad(fmt::format("{}: a user material needs a name", u.height.string()));
+    if (!(u.depth_texels > 0) || !std::isfinite(u.depth_texels) || u.depth_texels > 1e4f)
+      bad(fmt::format("{}: depth must be in (0, 10000] texels, got {}", u.height.string(), u.depth_texels));
+    names.push_back(u.name);
+  }
+  // Rows, images and timings are keyed by the material's name.
+  for (size_t i = 0; i < names.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (names[i] == names[j]) bad(fmt::format("two materials are named '{}' (rename one file)", names[i]));
   for (const auto& s : c.shapes)
     if (s != "plane" && s != "cylinder") bad(fmt::format("unknown shape '{}' (plane, cylinder)", s));
   if (c.elevations.empty() && !c.point_light && !c.sphere_light && !area_section(c)) bad("no lights");
@@ -583,15 +626,66 @@ void validate(const StudyConfig& c) {
   if (c.gt_max_spp < c.gt_spp) bad("gt_max_spp must be >= gt_spp");
   if (c.method_spp < 1) bad("method_spp must be >= 1");
   for (int k : c.scales)
-    if (double(c.image_size) * k * kTileWorld / c.fine_size > kTileWorld * 1.01)
+    if (!c.materials.empty() && double(c.image_size) * k * kTileWorld / c.fine_size > kTileWorld * 1.01)
       bad(fmt::format("at scale {} the view ({} pixels x {} texels) is wider than the texture ({} texels)", k,
                       c.image_size, k, c.fine_size));
 }
 
+// The user's height maps, loaded and checked (square, side divisible by every scale, at least the view's
+// width) before any work, so a bad file is one error line and nothing is written.
+std::vector<Texture> load_user_maps(const StudyConfig& c) {
+  std::vector<Texture> maps;
+  for (const UserMaterial& u : c.user_materials) {
+    Texture h = load_height_map(u.height);
+    const std::string f = u.height.string();
+    if (h.width() != h.height())
+      throw InputError(fmt::format("study: {}: height map is {}x{}; the study needs a square map", f,
+                                   h.width(), h.height()));
+    for (int k : c.scales) {
+      if (h.width() % k != 0)
+        throw InputError(
+            fmt::format("study: {}: scale {} does not divide the map's size {}", f, k, h.width()));
+      if (double(c.image_size) * k * kTileWorld / h.width() > kTileWorld * 1.01)
+        throw InputError(fmt::format(
+            "study: {}: at scale {} the view ({} pixels x {} texels) is wider than the map ({} texels)", f, k,
+            c.image_size, k, h.width()));
+    }
+    maps.push_back(std::move(h));
+  }
+  return maps;
+}
+
 }  // namespace
 
-json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const Log& log_fn) {
+UserMaterial user_material_from_folder(const std::filesystem::path& dir) {
+  const std::string d = dir.string();
+  if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("{}: material folder not found", d));
+  const auto mj = dir / "material.json";
+  std::ifstream in(mj);
+  if (!in) throw InputError(fmt::format("{}: no material.json (a gen-material folder holds one)", d));
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::exception& e) {
+    throw InputError(fmt::format("{}: material.json is not JSON ({})", d, e.what()));
+  }
+  if (!j.is_object() || !j.contains("height_texels") || !j["height_texels"].is_number())
+    throw InputError(fmt::format("{}: material.json has no numeric height_texels", d));
+  const std::string height = j.value("height", std::string("height.png"));
+  UserMaterial u;
+  // The folder's name; "dir/" has an empty filename, so take the parent's.
+  u.name = (dir.has_filename() ? dir : dir.parent_path()).filename().string();
+  u.height = dir / height;
+  u.depth_texels = j["height_texels"].get<float>();
+  if (!std::filesystem::exists(u.height))
+    throw InputError(fmt::format("{}: height map {} not found", d, height));
+  return u;
+}
+
+json run_study(const StudyConfig& cfg_in, const std::filesystem::path& out, const Log& log_fn) {
+  const StudyConfig& cfg = cfg_in;
   validate(cfg);
+  const std::vector<Texture> user_maps = load_user_maps(cfg);
   const auto t_start = std::chrono::steady_clock::now();
   const double cpu_start = cpu_seconds();
   auto log = [&](const std::string& s) {
@@ -608,11 +702,19 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
   std::map<std::string, double> variant_cpu;
   uint64_t gt_rays = 0;
   double gt_ray_seconds = 0;
-  const int steps = int(cfg.materials.size() * cfg.shapes.size() * cfg.scales.size() *
-                        make_lights(cfg, frame_of("plane")).size());
+  const int steps = int((cfg.materials.size() + cfg.user_materials.size()) * cfg.shapes.size() *
+                        cfg.scales.size() * make_lights(cfg, frame_of("plane")).size());
   int step = 0;
 
-  for (const std::string& kind : cfg.materials) {
+  // The procedural kinds, then the user's maps (index m - materials.size()).
+  for (size_t m = 0; m < cfg_in.materials.size() + cfg_in.user_materials.size(); ++m) {
+    const size_t ui = m - cfg_in.materials.size();
+    const bool user = m >= cfg_in.materials.size();
+    const std::string kind = user ? cfg_in.user_materials[ui].name : cfg_in.materials[m];
+    // A user map's side is its fine size: the camera, regions and floors below read it from cfg.
+    StudyConfig mat_cfg = cfg_in;
+    if (user) mat_cfg.fine_size = user_maps[ui].width();
+    const StudyConfig& cfg = mat_cfg;
     auto t0 = std::chrono::steady_clock::now();
     GenOptions go;
     go.kind = kind;
@@ -625,7 +727,9 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
           go.directional_azimuths = cfg.directional_azimuths;
     log(fmt::format("study: generating the fine {} texture set ({}^2 texels, {} bake rays)", kind,
                     cfg.fine_size, cfg.ao_rays));
-    const TextureSet fine = load_or_generate(go, cfg.material_cache, log_fn);
+    const TextureSet fine = user ? load_or_generate(go, cfg.material_cache, log_fn, &user_maps[ui],
+                                                    cfg_in.user_materials[ui].depth_texels)
+                                 : load_or_generate(go, cfg.material_cache, log_fn);
     const double tg = secs_since(t0);
     t_gen += tg;
     timing["materials"][kind] = {{"generate_seconds", tg}};

@@ -1,8 +1,10 @@
 // Procedural texture sets like the test cases of Zurita 2026 ("Improving Direct Lighting Material
 // Occlusion - Part 2"): a height field (damaged plaster: noise, cracks, pits; bark: furrowed ridges; gravel:
-// packed stones on sand) turned into a normal map, a roughness map (left half rough, right half smooth, as in
-// that test), a base colour, and a micro-occlusion map baked the way artists bake it. A user's own height map
-// goes through the same normal map and bake (texture_set_from_height).
+// packed stones on sand; and three with steep relief: rock: fractured blocks, cracks, ridged multifractal;
+// brick: running-bond paving, rounded bricks, deep mortar joints; cobble: rounded cobblestones in sand)
+// turned into a normal map, a roughness map (left half rough, right half smooth, as in that test), a base
+// colour, and a micro-occlusion map baked the way artists bake it. A user's own height map goes through the
+// same normal map and bake (texture_set_from_height).
 #pragma once
 
 #include <microshadow/render/scene.h>
@@ -22,10 +24,12 @@ struct TextureSet {
 };
 
 struct GenOptions {
-  std::string kind = "plaster";  // plaster | bark | gravel (material_kinds())
+  std::string kind = "plaster";  // plaster | bark | gravel | rock | brick | cobble (material_kinds())
   int size = 256;                // texels per side (power of two not required)
-  float depth_texels = 0;  // 0 = the kind's default (plaster 6, bark 12, gravel 8 texels at size 256, scaled)
-  int ao_rays = 32;        // azimuths per texel for the micro-occlusion bake (each exact in elevation)
+  // 0 = the kind's default: plaster 6, bark 12, gravel 8, rock 16, brick 8, cobble 9 texels at size 256,
+  // scaled by size / 256 (rock, brick, cobble: mean baked V 0.87, 0.82, 0.81 at 512²).
+  float depth_texels = 0;
+  int ao_rays = 32;           // azimuths per texel for the micro-occlusion bake (each exact in elevation)
   float ao_max_distance = 0;  // bake ray length, texels; 0 = the kind's default (8% of the size)
   float rough_left = 0.8f, rough_right = 0.3f;
   // Directional micro-occlusion bake (bake_directional_channels, unlimited ray length): azimuths per texel;

@@ -16,11 +16,27 @@
 
 namespace msh::study {
 
+// A user's height map in the study (`study --height FILE --depth D`, `study --material DIR`): its fine
+// texture set is texture_set_from_height(load_height_map(height), depth_texels) with the same bake options
+// as the procedural kinds. The map must be square; its side is that material's fine size.
+struct UserMaterial {
+  std::string name;              // in the results (the file's stem, or the gen-material folder's name)
+  std::filesystem::path height;  // 16-bit PNG or EXR, grey, values in [0, 1] (render::load_height_map)
+  float depth_texels = 0;        // depth of the full [0, 1] range in texels, in (0, 10000]
+};
+
+// A gen-material folder (height.png and material.json with height_texels) as a user material named after
+// the folder. InputError with one line naming the folder if either is missing or unreadable.
+UserMaterial user_material_from_folder(const std::filesystem::path& dir);
+
 struct StudyConfig {
   std::string name = "full";
-  std::vector<std::string> materials{"plaster", "bark", "gravel"};  // generate_texture_set kinds
-  int fine_size = 2048;                                             // fine height field, texels per side
-  int ao_rays = 16;  // micro-occlusion bake: azimuths per fine texel (each exact in elevation)
+  // generate_texture_set kinds: the micro-geometry ones, then the relief ones (issue 22).
+  std::vector<std::string> materials{"plaster", "bark", "gravel", "rock", "brick", "cobble"};
+  // The user's height maps, studied after the procedural kinds (materials may then be empty).
+  std::vector<UserMaterial> user_materials;
+  int fine_size = 2048;  // fine height field, texels per side
+  int ao_rays = 16;      // micro-occlusion bake: azimuths per fine texel (each exact in elevation)
   // Directional micro-occlusion bake (render/directional_bake.h): azimuths per fine texel; baked only when a
   // term reads it.
   int directional_azimuths = 32;
@@ -79,7 +95,9 @@ using Log = std::function<void(const std::string&)>;
 // Runs the study and writes out_dir/results.json (config, ground-truth rows, method rows, summary),
 // results.csv (one line per method row), summary.md (the verdict tables), study.html and images/*.png, and
 // timing.json (wall times; results.json holds no times, so it is bit-identical across runs and thread
-// counts). Returns results.json's content. InputError on a bad configuration or an unwritable directory.
+// counts). Returns results.json's content. InputError on a bad configuration, a bad user height map (missing,
+// unreadable, not square, a side the scales do not divide or narrower than the view, a bad depth: checked
+// before any work) or an unwritable directory.
 nlohmann::json run_study(const StudyConfig& cfg, const std::filesystem::path& out_dir, const Log& log = {});
 
 // The verdict tables: from the method rows of results.json (used by run_study; exposed for tests).

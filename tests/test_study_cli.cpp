@@ -1,0 +1,86 @@
+// CLI tests of `microshadow study --height FILE[,FILE…] --depth D[,D…]` and `--material DIR`: every bad
+// input (missing or unreadable file, 8-bit map, wrong depth count, non-positive depth, a size the scales do
+// not divide or narrower than the view, a folder without material.json) is one error line, exit 2, before
+// any work (no output directory).
+#include <gtest/gtest.h>
+#include <microshadow/io/texture.h>
+#include <support/cli_test_util.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+namespace fs = std::filesystem;
+using namespace msh;
+
+namespace {
+
+class StudyCli : public msh::test::ScratchDirTest {
+ protected:
+  StudyCli() : ScratchDirTest("study_cli_tmp") {}
+  msh::test::CliResult run(const std::string& args) { return msh::test::run_cli(args, dir); }
+  std::string map(const std::string& name, int size, int bits = 16) {
+    io::Volume v(size, size, 1, 1);
+    for (int j = 0; j < size; ++j)
+      for (int i = 0; i < size; ++i)
+        v.at(i, j, 0, 0) = float(0.5 + 0.5 * std::sin(0.4 * i) * std::cos(0.3 * j));
+    io::write_png(dir / name, v, bits);
+    return (dir / name).string();
+  }
+  // A fast study around the user's maps: one light, two terms, small images.
+  std::string tiny() const {
+    return " --quick --shapes plane --scales 1,4 --image-size 16 --methods none,ao --gt-max-spp 32 --quiet "
+           "--threads 2 --out " +
+           (dir / "out").string();
+  }
+};
+
+}  // namespace
+
+TEST_F(StudyCli, BadUserMapsAreOneErrorLineExit2) {
+  const std::string a = map("a.png", 64), b = map("b.png", 64), c8 = map("c8.png", 64, 8),
+                    small = map("s.png", 48);
+  fs::create_directories(dir / "nojson");
+  const std::string cases[] = {
+      "--height " + (dir / "missing.png").string() + " --depth 4",  // missing file
+      "--height " + c8 + " --depth 4",                              // 8-bit PNG
+      "--height " + a + "," + b + " --depth 4,5,6",                 // wrong depth count
+      "--height " + a + " --depth 0",                               // non-positive depth
+      "--height " + a + " --depth -2",
+      "--height " + a,                                   // no depth
+      "--depth 4",                                       // no map
+      "--height " + a + "," + a + " --depth 4",          // the same name twice
+      "--height " + small + " --depth 4 --scales 1,32",  // 32 does not divide 48
+      "--height " + a + " --depth 4 --scales 1,8",       // 16 px × 8 texels > 64
+      "--material " + (dir / "nojson").string(),         // no material.json
+      "--material " + (dir / "nowhere").string(),
+  };
+  for (const std::string& args : cases) {
+    std::string full = "study " + args + " --image-size 16 --quiet --out " + (dir / "out").string();
+    if (args.find("--scales") == std::string::npos) full += " --scales 1,4";
+    const auto r = run(full);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("error"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out")) << args;
+  }
+}
+
+// A good user map (and a gen-material folder): rows named after the stem (the folder), exit 0.
+TEST_F(StudyCli, UserMapRowsCarryTheStem) {
+  const std::string a = map("my_rock.png", 64);
+  fs::create_directories(dir / "paving");
+  fs::copy_file(a, dir / "paving" / "height.png");
+  std::ofstream(dir / "paving" / "material.json") << R"({"height": "height.png", "height_texels": 3})";
+  const auto r = run("study --height " + a + " --depth 4 --material " + (dir / "paving").string() + tiny());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(msh::test::slurp(dir / "out" / "results.json"));
+  EXPECT_EQ(j["config"]["materials"], nlohmann::json::array({"my_rock", "paving"}));
+  std::set<std::string> names;
+  for (const auto& row : j["rows"]) names.insert(row["material"].get<std::string>());
+  EXPECT_EQ(names, (std::set<std::string>{"my_rock", "paving"}));
+}
