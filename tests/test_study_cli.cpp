@@ -1,7 +1,8 @@
-// CLI tests of `microshadow study --height FILE[,FILE…] --depth D[,D…]` and `--material DIR`: every bad
-// input (missing or unreadable file, 8-bit map, wrong depth count, non-positive depth, a size the scales do
-// not divide or narrower than the view, a folder without material.json) is one error line, exit 2, before
-// any work (no output directory).
+// CLI tests of `microshadow study --height FILE[,FILE…] --depth D[,D…]` and `--material DIR`: rows named
+// by the file's stem or the folder, gen-material's relief kinds (rock, brick, cobble) studied from their
+// folders, and every bad input (missing or unreadable file, 8-bit map, wrong depth count, non-positive depth,
+// a size the scales do not divide or narrower than the view, a folder without material.json) is one error
+// line, exit 2, before any work (no output directory).
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
 #include <support/cli_test_util.h>
@@ -83,4 +84,23 @@ TEST_F(StudyCli, UserMapRowsCarryTheStem) {
   std::set<std::string> names;
   for (const auto& row : j["rows"]) names.insert(row["material"].get<std::string>());
   EXPECT_EQ(names, (std::set<std::string>{"my_rock", "paving"}));
+}
+
+// gen-material's relief kinds report their mean baked V, and their folders go straight into the study
+// (--material repeated): the user's path from a baked set to a ranking.
+TEST_F(StudyCli, GenMaterialFoldersIntoTheStudy) {
+  for (const char* kind : {"rock", "brick", "cobble"}) {
+    const auto g = run(std::string("gen-material --kind ") + kind +
+                       " --size 64 --ao-rays 8 --threads 2 --out " + (dir / kind).string());
+    ASSERT_EQ(g.code, 0) << g.err;
+    const auto j = nlohmann::json::parse(g.out);
+    EXPECT_GT(j["mean_visibility"].get<double>(), 0.7) << kind;
+    EXPECT_LT(j["mean_visibility"].get<double>(), 0.95) << kind;
+  }
+  const auto r = run("study --material " + (dir / "rock").string() + "," + (dir / "brick").string() +
+                     " --material " + (dir / "cobble").string() + tiny());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(msh::test::slurp(dir / "out" / "results.json"));
+  EXPECT_EQ(j["config"]["materials"], nlohmann::json::array({"rock", "brick", "cobble"}));
+  EXPECT_EQ(j["config"]["user_materials"][0]["depth_texels"].get<double>(), 4.0);  // 16 × 64 / 256
 }
