@@ -1,5 +1,6 @@
-// The code blocks of README.md and docs/*.md that a user would paste are tested (docs/architecture.md, "Tested
-// snippets"). A fenced block whose info string holds the word `test` (```cpp test, ```python test, ```cmake test,
+// The code blocks of README.md and docs/*.md that a user would paste are tested (docs/architecture.md,
+// "Tested snippets"). A fenced block whose info string holds the word `test` (```cpp test, ```python test,
+// ```cmake test,
 // ```glsl test=HARNESS, ```hlsl test=HARNESS) is extracted and:
 //   - cpp: compiled as one translation unit with -std=c++20 -Wall -Wextra -Werror against an install of this
 //     build (`cmake --install` into a temporary prefix; pkg-config microshadow), linked and run if it has a
@@ -7,13 +8,14 @@
 //   - python: run with PYTHONPATH=<build>/python from the source tree (examples/ paths resolve);
 //   - cmake: appended to a project that defines my_engine and my_tool, configured against the install prefix
 //     only, built, and both programs run;
-//   - glsl/hlsl: the block's `#include "X"` lines expanded from shaders/<lang>/X, placed in the harness named by
-//     test=HARNESS (the user's inputs and a compute main), compiled with glslangValidator; the micro-shadowing
-//     drop-in (test=ms-lut) also runs on the Vulkan device (lavapipe) with the installed default tables and is
-//     compared with the C++ sampler (msh::lut::sample_micro_shadowing*) on the same inputs.
+//   - glsl/hlsl: the block's `#include "X"` lines expanded from shaders/<lang>/X, placed in the harness named
+//   by
+//     test=HARNESS (the user's inputs and a compute main), compiled with glslangValidator; the
+//     micro-shadowing drop-in (test=ms-lut) also runs on the Vulkan device (lavapipe) with the installed
+//     default tables and is compared with the C++ sampler (msh::lut::sample_micro_shadowing*) on the same
+//     inputs.
 // A failure names the file and line of the block's opening fence.
 #include <gtest/gtest.h>
-
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 
@@ -39,16 +41,17 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Snippet {
-  std::string file;  // relative to the source tree
-  int line = 0;      // of the opening fence (1-based)
-  std::string lang;  // first word of the info string
+  std::string file;     // relative to the source tree
+  int line = 0;         // of the opening fence (1-based)
+  std::string lang;     // first word of the info string
   std::string harness;  // test=NAME ("" for plain `test`)
   std::string code;
   std::string where() const { return file + ":" + std::to_string(line); }
 };
 
-// Fenced blocks (``` at the start of a line, optionally indented) of one Markdown text whose info string holds
-// the word `test` or `test=NAME`. An unterminated fence is an error (reported as a block with lang "!").
+// Fenced blocks (``` at the start of a line, optionally indented) of one Markdown text whose info string
+// holds the word `test` or `test=NAME`. An unterminated fence is an error (reported as a block with lang
+// "!").
 std::vector<Snippet> extract_snippets(const std::string& text, const std::string& file) {
   std::vector<Snippet> out;
   std::istringstream in(text);
@@ -70,8 +73,10 @@ std::vector<Snippet> extract_snippets(const std::string& text, const std::string
       std::string w;
       words >> cur.lang;
       while (words >> w) {
-        if (w == "test") tested = true;
-        else if (w.rfind("test=", 0) == 0) tested = true, cur.harness = w.substr(5);
+        if (w == "test")
+          tested = true;
+        else if (w.rfind("test=", 0) == 0)
+          tested = true, cur.harness = w.substr(5);
       }
     } else if (std::regex_match(line, std::regex(R"(^\s*```\s*$)"))) {
       inside = false;
@@ -117,7 +122,8 @@ std::vector<Snippet> snippets(const std::string& lang) {
   return v;
 }
 
-// ---- processes and the install prefix ------------------------------------------------------------------------
+// ---- processes and the install prefix
+// ------------------------------------------------------------------------
 
 struct Proc {
   int rc = -1;
@@ -179,7 +185,7 @@ const Prefix& install_prefix() {
     x.root = make_temp_dir("prefix");
     x.prefix = x.root / "prefix";
     const Proc r = run_cmd(quote(cache_value("CMAKE_COMMAND")) + " --install " + quote(MSH_BINARY_DIR) +
-                          " --prefix " + quote(x.prefix.string()));
+                           " --prefix " + quote(x.prefix.string()));
     if (r.rc != 0) x.error = "cmake --install failed:\n" + r.out;
     return x;
   }();
@@ -201,7 +207,8 @@ std::string python_sanitizer_env() {
     while (!p.empty() && (p.back() == '\n' || p.back() == ' ')) p.pop_back();
     return p;
   };
-  return "LD_PRELOAD=" + quote(lib("libasan.so") + " " + lib("libubsan.so")) + " ASAN_OPTIONS=detect_leaks=0 ";
+  return "LD_PRELOAD=" + quote(lib("libasan.so") + " " + lib("libubsan.so")) +
+         " ASAN_OPTIONS=detect_leaks=0 ";
 }
 
 fs::path tables_dir() { return fs::path(MSH_BINARY_DIR) / "share/microshadow/tables"; }
@@ -213,7 +220,8 @@ fs::path run_dir_with_tables() {
   return d;
 }
 
-// ---- shader harnesses ------------------------------------------------------------------------------------------
+// ---- shader harnesses
+// ------------------------------------------------------------------------------------------
 
 // The block with each `#include "X"` line replaced by shaders/<lang>/X with its own includes expanded.
 std::string expand_includes(const std::string& code, const std::string& lang) {
@@ -234,7 +242,8 @@ std::string expand_includes(const std::string& code, const std::string& lang) {
 std::string harness_source(const Snippet& s) {
   const std::string code = expand_includes(s.code, s.lang);
   if (s.harness == "ms-lut" && s.lang == "glsl")
-    // The drop-in's functions (the block: includes, samplers at bindings 2 and 3, functions), called per record.
+    // The drop-in's functions (the block: includes, samplers at bindings 2 and 3, functions), called per
+    // record.
     return "#version 450\n" + code + R"(
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer B0 { vec4 rec[]; };
@@ -286,7 +295,8 @@ void main() {
   return "";
 }
 
-// ---- the installed tables as RGBA32F textures -------------------------------------------------------------------
+// ---- the installed tables as RGBA32F textures
+// -------------------------------------------------------------------
 
 struct Table {
   msh::lut::MicroShadowingLut lut;
@@ -310,7 +320,8 @@ Table load_table(const std::string& name) {
 
 TEST(DocSnippets, ExtractorFindsMarkedFences) {
   const std::string md =
-      "text\n```cpp\nint not_tested;\n```\n\n```cpp test\nint main() { return 0; }\n```\n  ```glsl test=ms-lut\n"
+      "text\n```cpp\nint not_tested;\n```\n\n```cpp test\nint main() { return 0; }\n```\n  ```glsl "
+      "test=ms-lut\n"
       "float x;\n  ```\n```python\n```\n```cmake test\nfind_package(x)\n```\n```\nplain\n```\n";
   const auto v = extract_snippets(md, "x.md");
   ASSERT_EQ(v.size(), 3u);
@@ -333,10 +344,11 @@ TEST(DocSnippets, EveryMarkedBlockIsRunnable) {
   std::map<std::string, int> count;
   for (const Snippet& s : all_snippets()) {
     ++count[s.lang];
-    const bool known = s.lang == "cpp" || s.lang == "python" || s.lang == "cmake" || s.lang == "glsl" ||
-                       s.lang == "hlsl";
+    const bool known =
+        s.lang == "cpp" || s.lang == "python" || s.lang == "cmake" || s.lang == "glsl" || s.lang == "hlsl";
     EXPECT_TRUE(known) << s.where() << ": a block marked `test` in language '" << s.lang
-                       << "' (tested: cpp, python, cmake, glsl, hlsl)" << (s.lang == "!" ? ": unterminated" : "");
+                       << "' (tested: cpp, python, cmake, glsl, hlsl)"
+                       << (s.lang == "!" ? ": unterminated" : "");
     if (s.lang == "glsl" || s.lang == "hlsl") {
       EXPECT_FALSE(harness_source(s).empty()) << s.where() << ": unknown harness test=" << s.harness;
     }
@@ -370,7 +382,8 @@ TEST(DocSnippets, SeedLayoutSamplersOnlyWhereSeedLayoutIsSaid) {
       if (line.find("```") != std::string::npos && line.find_first_not_of(" ") == line.find("```")) {
         if (inside && std::regex_search(block, seed)) {
           EXPECT_NE(block.find("seed"), std::string::npos)
-              << f.lexically_relative(src).string() << ":" << start << ": a code block calls a seed-layout sampler on (by default) a "
+              << f.lexically_relative(src).string() << ":" << start
+              << ": a code block calls a seed-layout sampler on (by default) a "
               << "cone-layout table; use msh_ms_lut_sample_cone* or say the table is --layout seed";
         }
         inside = !inside, start = n, block.clear();
@@ -390,7 +403,8 @@ TEST(DocSnippets, ShaderBlocksCompile) {
       std::vector<uint32_t> spv;
       std::string log;
       const auto l = lang == "glsl" ? msh::test::vk::Lang::kGlsl : msh::test::vk::Lang::kHlsl;
-      EXPECT_TRUE(msh::test::vk::compile_shader(src, l, &spv, &log)) << s.where() << " (" << lang << ")\n" << log;
+      EXPECT_TRUE(msh::test::vk::compile_shader(src, l, &spv, &log)) << s.where() << " (" << lang << ")\n"
+                                                                     << log;
       EXPECT_GT(spv.size(), 100u) << s.where();
     }
 }
@@ -455,18 +469,19 @@ TEST(DocSnippets, MicroShadowingDropInMatchesCppOnInstalledTables) {
         d.push = vk::push_constants(uint32_t(recs.size()));
         d.invocations = recs.size();
         vk::Buffers out;
-        ASSERT_TRUE(vk::run(*ctx, harness_source(s), lang == "glsl" ? vk::Lang::kGlsl : vk::Lang::kHlsl, d, &out,
-                            &why))
+        ASSERT_TRUE(vk::run(*ctx, harness_source(s), lang == "glsl" ? vk::Lang::kGlsl : vk::Lang::kHlsl, d,
+                            &out, &why))
             << s.where() << ": " << why;
         const auto pv = msLut->lut.view(), av = az.lut.view();
         double e_plain = 0, e_az = 0;
         int zeros = 0, lit = 0;
         for (std::size_t i = 0; i < recs.size(); ++i) {
           const Rec& r = recs[i];
-          const V3 V(dot(r.v, r.t), dot(r.v, r.b), dot(r.v, r.n)), L(dot(r.l, r.t), dot(r.l, r.b), dot(r.l, r.n));
+          const V3 V(dot(r.v, r.t), dot(r.v, r.b), dot(r.v, r.n)),
+              L(dot(r.l, r.t), dot(r.l, r.b), dot(r.l, r.n));
           const float m = msh::lut::sample_micro_shadowing<float>(pv, r.vis, L.z, V.z, r.rough);
-          const float a = msh::lut::sample_micro_shadowing_azimuth<float>(av, r.vis, L.z, V.z, r.rough,
-                                                                          msh::lut::relative_azimuth_cos(V, L));
+          const float a = msh::lut::sample_micro_shadowing_azimuth<float>(
+              av, r.vis, L.z, V.z, r.rough, msh::lut::relative_azimuth_cos(V, L));
           const float gm = out[1][4 * i], ga = out[1][4 * i + 1];
           ASSERT_TRUE(std::isfinite(gm) && std::isfinite(ga)) << s.where() << " record " << i;
           e_plain = std::max(e_plain, double(std::abs(gm - m)));
@@ -479,10 +494,11 @@ TEST(DocSnippets, MicroShadowingDropInMatchesCppOnInstalledTables) {
         EXPECT_LE(e_az, tol) << s.where() << " " << lang << " micro_shadowing_azimuth.ktx2";
         EXPECT_GT(zeros, 1000) << s.where();  // the early-out region is exercised
         EXPECT_GT(lit, 1000) << s.where();    // and the partially lit one
-        std::printf("[ %s ] %s, %zu inputs on %s: max |shader - C++| %s %.2e (%.4f/255), azimuth %.2e "
-                    "(%.4f/255); %d zeros, %d in (0.05, 0.95)\n",
-                    lang.c_str(), s.where().c_str(), recs.size(), ctx->device_name().c_str(), table, e_plain,
-                    e_plain * 255, e_az, e_az * 255, zeros, lit);
+        std::printf(
+            "[ %s ] %s, %zu inputs on %s: max |shader - C++| %s %.2e (%.4f/255), azimuth %.2e "
+            "(%.4f/255); %d zeros, %d in (0.05, 0.95)\n",
+            lang.c_str(), s.where().c_str(), recs.size(), ctx->device_name().c_str(), table, e_plain,
+            e_plain * 255, e_az, e_az * 255, zeros, lit);
       }
     }
 }
@@ -496,7 +512,8 @@ TEST(DocSnippets, CppBlocksCompileAndRun) {
   for (const auto& e : fs::recursive_directory_iterator(p.prefix))
     if (e.path().filename() == "microshadow.pc") pcdir = e.path().parent_path();
   ASSERT_FALSE(pcdir.empty()) << "microshadow.pc not installed";
-  const Proc flags = run_cmd("PKG_CONFIG_PATH=" + quote(pcdir.string()) + " pkg-config --cflags --libs microshadow");
+  const Proc flags =
+      run_cmd("PKG_CONFIG_PATH=" + quote(pcdir.string()) + " pkg-config --cflags --libs microshadow");
   ASSERT_EQ(flags.rc, 0) << flags.out;
   std::string f = flags.out;
   while (!f.empty() && (f.back() == '\n' || f.back() == ' ')) f.pop_back();
@@ -511,15 +528,15 @@ TEST(DocSnippets, CppBlocksCompileAndRun) {
     std::ofstream(dir / (base + ".cpp")) << "#line " << s.line + 1 << " \"" << s.file << "\"\n" << s.code;
     const bool has_main = std::regex_search(s.code, std::regex(R"(\bint\s+main\s*\()"));
     const std::string cmd = "cd " + quote(dir.string()) + " && " + launcher + quote(cxx) +
-                            " -std=c++20 -O1 -Wall -Wextra -Werror " + sanitize_flags() + (has_main ? "" : "-c ") +
-                            base + ".cpp -o " +
-                            base + (has_main ? " " + f : ".o");
+                            " -std=c++20 -O1 -Wall -Wextra -Werror " + sanitize_flags() +
+                            (has_main ? "" : "-c ") + base + ".cpp -o " + base + (has_main ? " " + f : ".o");
     const Proc c = run_cmd(cmd);
     EXPECT_EQ(c.rc, 0) << s.where() << ": does not compile\n" << cmd << "\n" << c.out;
     if (c.rc != 0 || !has_main) continue;
     const Proc r = run_cmd("cd " + quote(dir.string()) + " && ./" + base);
     EXPECT_EQ(r.rc, 0) << s.where() << ": exits " << r.rc << "\n" << r.out;
-    std::printf("[ cpp ] %s: ok%s", s.where().c_str(), r.out.empty() ? "\n" : (", prints:\n" + r.out).c_str());
+    std::printf("[ cpp ] %s: ok%s", s.where().c_str(),
+                r.out.empty() ? "\n" : (", prints:\n" + r.out).c_str());
   }
   std::error_code ec;
   fs::remove_all(dir, ec);
@@ -535,10 +552,10 @@ TEST(DocSnippets, PythonBlocksRun) {
   for (const Snippet& s : blocks) {
     const fs::path f = dir / ("snippet" + std::to_string(i++) + ".py");
     std::ofstream(f) << std::string(std::size_t(s.line), '\n') << s.code;  // line numbers = the doc's
-    const Proc r = run_cmd("cd " + quote(MSH_SOURCE_DIR) + " && " + python_sanitizer_env() +
-                           "PYTHONDONTWRITEBYTECODE=1 PYTHONPATH=" +
-                          quote(std::string(MSH_BINARY_DIR) + "/python") + " " + quote(py) + " " +
-                          quote(f.string()));
+    const Proc r =
+        run_cmd("cd " + quote(MSH_SOURCE_DIR) + " && " + python_sanitizer_env() +
+                "PYTHONDONTWRITEBYTECODE=1 PYTHONPATH=" + quote(std::string(MSH_BINARY_DIR) + "/python") +
+                " " + quote(py) + " " + quote(f.string()));
     EXPECT_EQ(r.rc, 0) << s.where() << " (the traceback's line numbers are the doc's)\n" << r.out;
     std::printf("[ python ] %s: %s\n", s.where().c_str(), r.rc == 0 ? "ok" : "FAILED");
   }
@@ -567,27 +584,30 @@ TEST(DocSnippets, CmakeBlocksConfigureBuildAndRun) {
         << "#include <microshadow/lut/runtime/micro_shadowing_loader.h>\n#include <cstdio>\n"
            "int main(int, char** argv) {\n"
            "  const auto lut = msh::lut::load_micro_shadowing_lut(argv[1]);\n"
-           "  std::printf(\"tool %.6f\\n\", msh::lut::sample_micro_shadowing<float>(lut.view(), 0.6f, 0.4f, 0.8f, "
+           "  std::printf(\"tool %.6f\\n\", msh::lut::sample_micro_shadowing<float>(lut.view(), 0.6f, 0.4f, "
+           "0.8f, "
            "0.5f));\n  return 0;\n}\n";
-    std::ofstream(proj / "CMakeLists.txt") << "cmake_minimum_required(VERSION 3.25)\nproject(doc_snippet CXX)\n"
-                                              "set(CMAKE_CXX_STANDARD 20)\nadd_executable(my_engine engine.cpp)\n"
-                                              "add_executable(my_tool tool.cpp)\n"
-                                           << "# " << s.where() << "\n"
-                                           << s.code;
-    const Proc c = run_cmd(cmake + " -S " + quote(proj.string()) + " -B " + quote((proj / "build").string()) +
-                          " -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + quote(p.prefix.string()) +
-                          " -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_CXX_COMPILER=" +
-                          quote(cache_value("CMAKE_CXX_COMPILER")) + launcher +
-                          (sanitized() ? " -DCMAKE_CXX_FLAGS=-fsanitize=address,undefined "
-                                         "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined"
-                                       : ""));
+    std::ofstream(proj / "CMakeLists.txt")
+        << "cmake_minimum_required(VERSION 3.25)\nproject(doc_snippet CXX)\n"
+           "set(CMAKE_CXX_STANDARD 20)\nadd_executable(my_engine engine.cpp)\n"
+           "add_executable(my_tool tool.cpp)\n"
+        << "# " << s.where() << "\n"
+        << s.code;
+    const Proc c =
+        run_cmd(cmake + " -S " + quote(proj.string()) + " -B " + quote((proj / "build").string()) +
+                " -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + quote(p.prefix.string()) +
+                " -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_CXX_COMPILER=" +
+                quote(cache_value("CMAKE_CXX_COMPILER")) + launcher +
+                (sanitized() ? " -DCMAKE_CXX_FLAGS=-fsanitize=address,undefined "
+                               "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined"
+                             : ""));
     ASSERT_EQ(c.rc, 0) << s.where() << ": configure failed\n" << c.out;
     const Proc b = run_cmd(cmake + " --build " + quote((proj / "build").string()));
     ASSERT_EQ(b.rc, 0) << s.where() << ": build failed\n" << b.out;
     const Proc e = run_cmd(quote((proj / "build/my_engine").string()));
     EXPECT_EQ(e.rc, 0) << s.where() << e.out;
     const Proc t = run_cmd(quote((proj / "build/my_tool").string()) + " " +
-                          quote((p.prefix / "share/microshadow/tables/micro_shadowing.ktx2").string()));
+                           quote((p.prefix / "share/microshadow/tables/micro_shadowing.ktx2").string()));
     EXPECT_EQ(t.rc, 0) << s.where() << t.out;
     EXPECT_NE(t.out.find("tool 0."), std::string::npos) << s.where() << t.out;
     std::printf("[ cmake ] %s: configured, built, ran: %s", s.where().c_str(), t.out.c_str());
