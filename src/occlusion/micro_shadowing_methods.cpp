@@ -468,11 +468,17 @@ const std::vector<Entry>& entries() {
               "micro-BRDF-aware, specular lobe: chi(n.h > c) chi(h.l > c); without --phi its "
               "GGX-lobe-weighted "
               "azimuth mean (closed form)",
-              kRough | kNdotV | kPhi),
+              kRough | kNdotV | kPhi, {[] {
+                MicroShadowingGlsl g = glsl("msh_ms_specular_aware(vis, v, l)", "msh_ms_specular_aware");
+                g.phi = true;  // the indicator at the pixel's own azimuth
+                return g;
+              }()}),
          [](auto&, auto&) { return specular_aware(false); }},
         {info("specular-aware-alu", "specular-aware, closed-form mean",
               "the specular-aware azimuth mean's closed form in float, as the shaders run it",
-              kRough | kNdotV),
+              kRough | kNdotV,
+              {glsl("msh_ms_specular_aware_azimuth_mean(vis, alpha, nl, nv)",
+                    "msh_ms_specular_aware_azimuth_mean")}),
          [](auto&, auto&) { return specular_aware(true); }},
         {info("diffuse-aware", "diffuse-aware",
               "micro-BRDF-aware, Lambertian facets, reciprocal cone tests (exact quadrature; Sobol estimator "
@@ -487,7 +493,8 @@ const std::vector<Entry>& entries() {
               "ALU-only fit of the diffuse-aware (reciprocal) term's azimuth mean "
               "(micro_shadowing_aware_fit.h), "
               "float",
-              kRough | kNdotV),
+              kRough | kNdotV,
+              {glsl("msh_ms_diffuse_aware_alu(vis, nl, nv, rough)", "msh_ms_diffuse_aware_alu")}),
          [](auto&, auto&) { return diffuse_aware_alu(); }},
         {info("generic-vndf-beckmann", "generic VNDF, Smith-Beckmann",
               "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)",

@@ -46,7 +46,7 @@ struct MicroShadowingOptions {
   std::string lut_path;
 };
 
-// The viewer's GLSL form of a method (web/methods.js is generated from these): expr is a GLSL ES 3.00 float
+// The viewer's GLSL form of a method (the viewer's server generates its methods.js from these, src/view/viewer_server.cpp): expr is a GLSL ES 3.00 float
 // expression over the names listed in docs/viewer.md (vis, nl, nv, rough, alpha, cos_phi, v, l, u_samples,
 // the LUT samplers); requires_fn names the GLSL function it calls (the method is left out of the menu when
 // the shader files lack it); lut the table it samples. id_suffix and label_suffix tell apart several forms of
