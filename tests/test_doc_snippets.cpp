@@ -1,19 +1,16 @@
 // The code blocks of README.md and docs/*.md that a user would paste are tested (docs/architecture.md,
-// "Tested snippets"). A fenced block whose info string holds the word `test` (```cpp test, ```python test,
-// ```cmake test,
-// ```glsl test=HARNESS, ```hlsl test=HARNESS) is extracted and:
+// "Tested snippets"). A fenced block whose info string holds the word `test` (cpp test, python test,
+// cmake test, glsl test=HARNESS, hlsl test=HARNESS) is extracted and:
 //   - cpp: compiled as one translation unit with -std=c++20 -Wall -Wextra -Werror against an install of this
 //     build (`cmake --install` into a temporary prefix; pkg-config microshadow), linked and run if it has a
 //     main, in a directory holding the installed default tables (micro_shadowing*.ktx2 + sidecars);
 //   - python: run with PYTHONPATH=<build>/python from the source tree (examples/ paths resolve);
 //   - cmake: appended to a project that defines my_engine and my_tool, configured against the install prefix
 //     only, built, and both programs run;
-//   - glsl/hlsl: the block's `#include "X"` lines expanded from shaders/<lang>/X, placed in the harness named
-//   by
-//     test=HARNESS (the user's inputs and a compute main), compiled with glslangValidator; the
+//   - glsl/hlsl: the block's `#include "X"` lines expanded from shaders/<lang>/X, placed in the harness
+//     named by test=HARNESS (the user's inputs and a compute main), compiled with glslangValidator; the
 //     micro-shadowing drop-in (test=ms-lut) also runs on the Vulkan device (lavapipe) with the installed
-//     default tables and is compared with the C++ sampler (msh::lut::sample_micro_shadowing*) on the same
-//     inputs.
+//     default tables and is compared with the C++ sampler (msh::lut::sample_micro_shadowing*).
 // A failure names the file and line of the block's opening fence.
 #include <gtest/gtest.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
