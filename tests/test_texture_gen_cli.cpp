@@ -116,3 +116,28 @@ TEST_F(GenMaterialCli, GravelKind) {
   EXPECT_EQ(nlohmann::json::parse(slurp(out / "material.json"))["height_texels"].get<double>(), 1.0);
   EXPECT_EQ(run("gen-material --kind wood --out " + out.string()).code, 2);
 }
+
+// gen-material writes every map's mip chain (mips/: KTX2, DDS, each level as NPY; the directional channels
+// with their 8-bit ranges), and --no-mips / --directional-azimuths 0 leave them out.
+TEST_F(GenMaterialCli, WritesMipChains) {
+  const fs::path out = dir / "mips";
+  Result r = run("gen-material --kind bark --size 16 --ao-rays 4 --directional-azimuths 8 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "mips" / "mips.json"));
+  EXPECT_EQ(j["levels"].get<int>(), 5);  // 16, 8, 4, 2, 1
+  for (const char* m : {"normal", "roughness", "metallic", "micro_occlusion", "basecolor", "height",
+                        "directional_0", "directional_1", "directional_2"}) {
+    EXPECT_TRUE(fs::exists(out / "mips" / (std::string(m) + ".ktx2"))) << m;
+    EXPECT_TRUE(fs::exists(out / "mips" / (std::string(m) + ".dds"))) << m;
+    const io::Volume last = io::read_texture_level(out / "mips" / (std::string(m) + ".ktx2"), 4);
+    EXPECT_EQ(last.width, 1) << m;
+    EXPECT_TRUE(fs::exists(out / "mips" / (std::string(m) + "_mip4.npy"))) << m;
+  }
+  EXPECT_EQ(j["directional"]["lo"].size(), 9u);
+  const fs::path bare = dir / "bare";
+  r = run("gen-material --kind bark --size 16 --ao-rays 4 --directional-azimuths 0 --no-mips --out " +
+          bare.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(bare / "mips"));
+  EXPECT_EQ(run("gen-material --kind bark --size 16 --directional-azimuths 2 --out " + bare.string()).code, 2);
+}

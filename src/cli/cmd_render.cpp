@@ -1,6 +1,7 @@
 // `microshadow render`, `microshadow gen-material`, `microshadow compare`: the reference renderer's commands.
 #include <fmt/format.h>
 #include <microshadow/render/image.h>
+#include <microshadow/render/multiscale.h>
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/scene.h>
 #include <microshadow/render/texture_gen.h>
@@ -189,6 +190,7 @@ void add_render(Groups& g) {
   auto mdir = std::make_shared<std::string>();
   auto mheight = std::make_shared<std::string>();
   auto mthreads = std::make_shared<int>(0);
+  auto mno_mips = std::make_shared<bool>(false);
   CLI::App* gm = g.root->add_subcommand("gen-material",
                                         "Generate a texture set (height, normal, roughness, metallic, base "
                                         "colour, baked micro-occlusion), procedural or from a height map");
@@ -214,13 +216,20 @@ void add_render(Groups& g) {
       ->check(Finite)
       ->check(CLI::Range(0.0, 1e6));
   gm->add_option("--seed", m->seed, "Noise seed");
+  gm->add_option("--directional-azimuths", m->directional_azimuths,
+                 "Directional micro-occlusion bake (9 channels, docs/directional-occlusion.md): azimuths per "
+                 "texel; 0 = not baked")
+      ->capture_default_str();
+  gm->add_flag("--no-mips", *mno_mips,
+               "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
   gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
       ->check(CLI::Range(0, 1024));
-  gm->callback([m, mdir, mheight, mthreads, kind_opt, size_opt] {
+  gm->callback([m, mdir, mheight, mthreads, mno_mips, kind_opt, size_opt] {
     auto limit = thread_limit(*mthreads);
     if (mheight->empty()) {
       const auto set = render::generate_texture_set(*m);
       render::write_texture_set(*mdir, set);
+      if (!*mno_mips) render::write_texture_set_mips(*mdir, set);
       print_json({{"dir", *mdir},
                   {"kind", m->kind},
                   {"size", m->size},
@@ -235,6 +244,7 @@ void add_render(Groups& g) {
     const render::Texture h = render::load_height_map(*mheight);
     const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
     render::write_texture_set(*mdir, set);
+    if (!*mno_mips) render::write_texture_set_mips(*mdir, set);
     print_json({{"dir", *mdir},
                 {"height", *mheight},
                 {"size", {h.width(), h.height()}},
