@@ -4,6 +4,7 @@ light (5-70 degrees, both azimuths) and every material: the mean and the max of 
 roughness, shading normal) and the mean footprint RMSE / GT mean; and per material the same. Components
 carrying under 10 % of the total are left out per cell (as the study's ranking leaves out < 2 %).
 Usage: /usr/bin/python3 scripts/study_targets.py DIR/results.json [--methods a,b] [--component total,diffuse]
+       [--json 1] (one JSON object instead of the tables: docs/measurements/study_targets.json)
 """
 import json
 import sys
@@ -35,6 +36,18 @@ def main():
             acc[(mat, r["component"], r["scale"], r["method"])].append((abs(b - 1), f / g if f is not None else None))
     mats = sorted({k[0] for k in acc})
     scales = sorted({k[2] for k in acc})
+    if args.get("--json"):
+        out = {"source": path, "config": {k: res["config"][k] for k in ("name", "materials", "fine_size", "scales",
+                                                                        "elevations", "azimuths", "terms")},
+               "cells": []}
+        for (mat, comp, k, m), v in sorted(acc.items(), key=lambda kv: (kv[0][0], kv[0][1], kv[0][2], kv[0][3])):
+            d = [x[0] for x in v]
+            fr = [x[1] for x in v if x[1] is not None]
+            out["cells"].append({"material": mat, "component": comp, "scale": k, "method": m, "lights": len(d),
+                                 "mean_abs_dev": round(sum(d) / len(d), 4), "max_abs_dev": round(max(d), 4),
+                                 "rmse_footprint_rel": round(sum(fr) / max(1, len(fr)), 4)})
+        print(json.dumps(out, indent=1))
+        return
     for comp in comps:
         for mat in mats:
             print(f"\n{comp}, {mat}: mean |bias-1| / max |bias-1| / mean footprint RMSE rel, per k")

@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+"""The decision guide, generated from committed measurement files (docs/measurements/): writes
+docs/choosing.md and the table between the guide markers at the top of README.md. --check compares instead of
+writing and fails (exit 1) on any difference, or when a method of the study set (`microshadow methods --study
+--json`) has no entry in docs/measurements/methods.json (test_guide runs it).
+Usage: scripts/guide.py [--check] [--msh build/bin/microshadow]
+"""
+import json, os, subprocess, sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+MEAS = os.path.join(ROOT, "docs", "measurements")
+BEGIN, END = "<!-- guide:begin (scripts/guide.py writes this table; do not edit) -->", "<!-- guide:end -->"
+# The cases of the first screen: (case, method).
+CASES = [
+    ("your texture set has a height map (relief: rock, brick, bark, gravel)", "directional+generic-vndf-alu"),
+    ("only a micro-occlusion / AO map, no extra table", "diffuse-aware-alu+generic-vndf-alu"),
+    ("only a micro-occlusion / AO map, one 3D table allowed", "diffuse-aware-alu+lut3d"),
+]
+
+
+def load(name):
+    with open(os.path.join(MEAS, name)) as f:
+        return json.load(f)
+
+
+def exact_error(name):
+    """RMS / max in 1/255 of a method's run-time form against its own exact term, and the source."""
+    terms = {r["method"]: r["all"] for r in load("terms_vs_exact.json")["results"]}
+    alias = {"generic-vndf-alu": "alu"}
+    if name in ("reference", "brinck-maximov-2016", "chan-2018", "part1-analytic"):
+        a = terms[name]
+        return f"{a['rms_255']:.1f} / {a['max_255']:.0f} vs generic", "terms_vs_exact.json"
+    if name in alias:
+        a = terms[alias[name]]
+        return f"{a['rms_255']:.2f} / {a['max_255']:.1f}", "terms_vs_exact.json"
+    if name in ("lut3d", "lut2d"):
+        a = load(f"{name}_vs_exact.json")["all"]
+        return f"{a['rms_255']:.2f} / {a['max_255']:.2f}", f"{name}_vs_exact.json"
+    if name == "diffuse-aware-alu":
+        a = load("aware_alu_vs_exact.json")["diffuse-aware-alu"]["all"]
+        return f"{a['rms_255']:.2f} / {a['max_255']:.1f}", "aware_alu_vs_exact.json"
+    if name in ("none", "ao", "generic-vndf"):
+        return "exact", ""
+    if name == "directional":
+        return "fit (docs/directional-occlusion.md)", ""
+    return "–", ""
+
+
+def study(cells, method, comp):
+    """'mean (max)' of |bias − 1| over the directional lights and materials, per scale."""
+    out = []
+    for k in cells["scales"]:
+        c = cells["by"].get(("all", comp, k, method))
+        out.append(f"{c['mean_abs_dev']:.2f} ({c['max_abs_dev']:.2f})" if c else "–")
+    return " · ".join(out)
+
+
+def build(msh):
+    facts = load("methods.json")["methods"]
+    costs = load("spirv_costs.json")["methods"]
+    st = load("study_targets.json")
+    cells = {"scales": st["config"]["scales"],
+             "by": {(c["material"], c["component"], c["scale"], c["method"]): c for c in st["cells"]}}
+    errors = []
+    if msh:
+        table = json.loads(subprocess.run([msh, "methods", "--study", "--json"], check=True, capture_output=True,
+                                          text=True).stdout)
+        for m in table:
+            if m["name"] not in facts:
+                errors.append(f"docs/measurements/methods.json has no entry for the study method {m['name']}")
+    methods = [m for m in st["config"]["terms"] if m in facts]
+
+    def instr(m):
+        f = facts[m]
+        if "spirv_instructions" in f:
+            return str(f["spirv_instructions"])
+        return str(costs[m]["instructions"]) if m in costs else "–"
+
+    ks = ", ".join(f"k = {k}" for k in cells["scales"])
+    mats = ", ".join(st["config"]["materials"])
+    lights = f"{len(st['config']['elevations']) * len(st['config']['azimuths'])} directional lights " \
+             f"({', '.join(str(int(e)) for e in st['config']['elevations'])}° × azimuth " \
+             f"{' and '.join(str(int(a)) for a in st['config']['azimuths'])}°)"
+    readme = [BEGIN, "",
+              f"**Which term to ship** (study: {mats}; {lights}; scales {ks}; |term / ground truth − 1| of the "
+              "mean radiance, total, mean (max) over lights and materials per scale; "
+              "[docs/choosing.md](docs/choosing.md) has every term):", "",
+              "| your case | ship | data per texel | cost per light | study error, k = " +
+              " · ".join(str(k) for k in cells["scales"]) + " | shader call |",
+              "|---|---|---|---|---|---|"]
+    for case, m in CASES:
+        f = facts[m]
+        readme.append(f"| {case} | `{m}` | {f['data']} ({f['bytes']} B) | {instr(m)} SPIR-V instr., "
+                      f"{f['fetches_light']} fetches | {study(cells, m, 'total')} | `{f['call']}` |")
+    readme += ["", "For comparison, the best older term on the same cells: " +
+               "; ".join(f"`{m}` {study(cells, m, 'total')}" for m in ("chan-2018", "lut3d") if m in methods) + ".",
+               "", END]
+
+    doc = ["# Choosing a micro-shadowing term", "",
+           "Generated by `scripts/guide.py` from the measurement files in `docs/measurements/` (do not edit: "
+           "`test_guide` fails when this text and the files disagree). A pair `D+S` is one term on the diffuse "
+           "lobe and another on the specular lobe (`microshadow methods`).", "",
+           "## Which term to ship", ""]
+    for case, m in CASES:
+        doc.append(f"- **{case}**: `{m}` — {facts[m]['use']}. Shader: `{facts[m]['call']}`.")
+    doc += ["", "## Every term of the study", "",
+            f"Study error = |term / ground truth − 1| of the mean radiance over the whole view, mean (max) over "
+            f"the {lights} and the materials {mats}, per scale ({ks}); components under 10 % of the total are "
+            "left out per cell. Error vs exact = the run-time form against its own exact term at 10⁴ continuous "
+            "random inputs (RMS / max, 1/255). SPIR-V = instructions of a compute kernel evaluating only the term "
+            "after `spirv-opt -O` (≈ 8 of them the kernel's frame); fetches per light = table fetches after the "
+            "early-out (the per-pixel fetches of the texel's own data are shared by all lights).", "",
+            "| method | data per texel | bytes | fetches per pixel / light | SPIR-V | error vs exact | "
+            "study error, total | study error, diffuse | use |",
+            "|---|---|---:|---|---:|---|---|---|---|"]
+    for m in methods:
+        f = facts[m]
+        err, _ = exact_error(m)
+        doc.append(f"| `{m}` | {f['data']} | {f['bytes']} | {f['fetches_pixel']} / {f['fetches_light']} | "
+                   f"{instr(m)} | {err} | {study(cells, m, 'total')} | {study(cells, m, 'diffuse')} | {f['use']} |")
+    doc += ["", "## Where the numbers come from", "",
+            "| file | command |", "|---|---|",
+            "| `study_targets.json` | `microshadow study --out DIR --threads 2`, then "
+            "`scripts/study_targets.py DIR/results.json --json 1` |",
+            "| `terms_vs_exact.json` | `microshadow verify micro-shadowing-term --method all --samples 10000 --json` |",
+            "| `lut3d_vs_exact.json`, `lut2d_vs_exact.json` | `microshadow verify micro-shadowing-lut "
+            "share/microshadow/tables/micro_shadowing{,_2d}.ktx2 --samples 10000 --json` |",
+            "| `aware_alu_vs_exact.json` | `microshadow verify micro-shadowing-aware --method diffuse-aware-alu "
+            "--samples 2000 --json` |",
+            "| `spirv_costs.json` | `scripts/method_costs.py build/bin/microshadow` |",
+            "| `methods.json` | kept by hand: data, bytes, fetches, calls, use |", ""]
+    return "\n".join(readme) + "\n", "\n".join(doc), errors
+
+
+def main():
+    check = "--check" in sys.argv
+    msh = sys.argv[sys.argv.index("--msh") + 1] if "--msh" in sys.argv else None
+    readme_block, doc, errors = build(msh)
+    choosing = os.path.join(ROOT, "docs", "choosing.md")
+    readme = os.path.join(ROOT, "README.md")
+    text = open(readme).read()
+    if BEGIN not in text or END not in text:
+        errors.append("README.md lacks the guide markers")
+        new_readme = text
+    else:
+        a, b = text.index(BEGIN), text.index(END) + len(END) + 1
+        new_readme = text[:a] + readme_block + text[b:]
+    if check:
+        if not os.path.exists(choosing) or open(choosing).read() != doc:
+            errors.append("docs/choosing.md differs from what scripts/guide.py writes (run it)")
+        if new_readme != text:
+            errors.append("README.md's guide table differs from what scripts/guide.py writes (run it)")
+    else:
+        open(choosing, "w").write(doc)
+        open(readme, "w").write(new_readme)
+    for e in errors:
+        print("guide: " + e, file=sys.stderr)
+    return 1 if errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

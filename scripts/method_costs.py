@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""SPIR-V cost per light of every micro-shadowing method's GLSL form, from the method table itself
+(`microshadow methods --json`: the viewer's GLSL expressions). For each form a compute shader evaluates only
+that expression from a loaded record; glslangValidator compiles it to Vulkan SPIR-V, spirv-opt -O inlines and
+optimizes it, and the static instruction count of main (OpLabel, OpPhi etc. included; OpLine/OpName/OpDecorate
+not; about 15 are the record load and the store) and its image samples are kept. A pair is the sum of its two
+lobes' forms (one light shades both lobes). Writes JSON to stdout (docs/measurements/spirv_costs.json).
+Usage: scripts/method_costs.py path/to/microshadow
+"""
+import json, os, re, subprocess, sys, tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+INC = os.path.join(ROOT, "shaders/glsl")
+MODULES = ["micro_shadowing.glsl", "micro_shadowing_fit.glsl", "micro_shadowing_aware.glsl",
+           "micro_shadowing_aware_fit.glsl"]
+HEAD = """#version 450
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
+layout(std430, binding = 1) writeonly buffer Out { float o[]; };
+layout(binding = 2) uniform sampler3D u_lut3d;
+layout(binding = 3) uniform sampler3D u_lut2d;
+layout(binding = 4) uniform sampler3D u_lut_az;
+layout(std140, binding = 5) uniform P { int u_samples, u_lut3d_slabs, u_lut2d_slabs, u_lut_az_slabs, u_lut_az_harmonics; };
+"""
+SKIP = re.compile(r"^\s*(OpLine|OpNoLine|OpName|OpSource|OpDecorate|OpMemberName|OpMemberDecorate)")
+
+
+def count(expr):
+    src = HEAD + "".join(f'#include "{m}"\n' for m in MODULES) + """
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  vec4 a = rec[3u * i], b = rec[3u * i + 1u], c = rec[3u * i + 2u];
+  float vis = a.x, nl = a.y, nv = a.z, rough = a.w, alpha = rough * rough, cos_phi = b.w;
+  vec3 v = b.xyz, l = c.xyz;
+  o[i] = %s;
+}
+""" % expr
+    with tempfile.TemporaryDirectory() as d:
+        comp, spv, opt = (os.path.join(d, n) for n in ("s.comp", "s.spv", "o.spv"))
+        open(comp, "w").write(src)
+        subprocess.run(["glslangValidator", "-V", "-I" + INC, "-S", "comp", comp, "-o", spv], check=True,
+                       stdout=subprocess.DEVNULL)
+        subprocess.run(["spirv-opt", "-O", spv, "-o", opt], check=True)
+        dis = subprocess.run(["spirv-dis", "--raw-id", opt], check=True, capture_output=True, text=True).stdout
+    body, inside = [], False
+    for line in dis.splitlines():
+        if "OpFunction " in line or line.strip().endswith("OpFunction"):
+            inside = True
+        if inside and not SKIP.match(line):
+            body.append(line)
+        if "OpFunctionEnd" in line:
+            inside = False
+    return {"instructions": len(body), "image_samples": sum("OpImageSample" in x for x in body)}
+
+
+def main():
+    table = json.loads(subprocess.run([sys.argv[1], "methods", "--json"], check=True, capture_output=True,
+                                      text=True).stdout)
+    by_name = {m["name"]: m for m in table}
+    out = {"command": "scripts/method_costs.py build/bin/microshadow", "baseline": count("0.0"), "methods": {}}
+    for m in table:
+        if m["pair"]:
+            continue
+        if m["glsl"]:
+            out["methods"][m["name"]] = dict(count(m["glsl"][0]["expr"]), expr=m["glsl"][0]["expr"])
+    for m in table:
+        if m["pair"] and m["diffuse"] in out["methods"] and m["specular"] in out["methods"]:
+            d, s = out["methods"][m["diffuse"]], out["methods"][m["specular"]]
+            base = out["baseline"]["instructions"]
+            out["methods"][m["name"]] = {"instructions": d["instructions"] + s["instructions"] - base,
+                                         "image_samples": d["image_samples"] + s["image_samples"],
+                                         "expr": d["expr"] + " ; " + s["expr"]}
+    print(json.dumps(out, indent=1, sort_keys=True))
+
+
+if __name__ == "__main__":
+    main()
