@@ -6,10 +6,10 @@ SPIR-V, spirv-opt -O inlines and optimizes it, and the static instruction count 
 OpLoopMerge etc. included; OpLine/OpName not) and its image-sample instructions (hardware-filtered fetches,
 before any runtime early-out) are printed as a Markdown table. Usage: scripts/lut_spirv_counts.py
 """
-import os, re, subprocess, sys, tempfile
+import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-INC = os.path.join(ROOT, "shaders/glsl")  # micro_shadowing.glsl includes its prelude and body (docs/shaders.md)
+from spirv_cost import spirv_cost
+
 LIB = '#include "micro_shadowing.glsl"\n'
 HEAD = """#version 450
 #extension GL_GOOGLE_include_directive : require
@@ -28,7 +28,6 @@ METHODS = [
     ("cone azimuth-aware, H = 3 (`msh_ms_lut_sample_cone_azimuth`)",
      "msh_ms_lut_sample_cone_azimuth(lut3, 16, 3, a.x, a.y, a.z, a.w, b.x)"),
 ]
-SKIP = re.compile(r"^\s*(OpLine|OpNoLine|OpName|OpSource|OpDecorate|OpMemberName)")
 
 
 def count(call):
@@ -39,23 +38,7 @@ void main() {
   o[i] = %s;
 }
 """ % call
-    with tempfile.TemporaryDirectory() as d:
-        comp, spv, opt = (os.path.join(d, n) for n in ("s.comp", "s.spv", "o.spv"))
-        open(comp, "w").write(src)
-        subprocess.run(["glslangValidator", "-V", "-I" + INC, "-S", "comp", comp, "-o", spv], check=True,
-                       stdout=subprocess.DEVNULL)
-        subprocess.run(["spirv-opt", "-O", spv, "-o", opt], check=True)
-        dis = subprocess.run(["spirv-dis", "--raw-id", opt], check=True, capture_output=True, text=True).stdout
-    body, inside = [], False
-    for line in dis.splitlines():
-        if "OpFunction " in line or line.strip().endswith("OpFunction"):
-            inside = True
-        if inside and not SKIP.match(line):
-            body.append(line)
-        if "OpFunctionEnd" in line:
-            inside = False
-    fetches = sum("OpImageSample" in l for l in body)
-    return len(body), fetches
+    return spirv_cost(src)
 
 
 def main():

@@ -7,10 +7,10 @@ not; about 15 are the record load and the store) and its image samples are kept.
 lobes' forms (one light shades both lobes). Writes JSON to stdout (docs/measurements/spirv_costs.json).
 Usage: scripts/method_costs.py path/to/microshadow
 """
-import json, os, re, subprocess, sys, tempfile
+import json, subprocess, sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-INC = os.path.join(ROOT, "shaders/glsl")
+from spirv_cost import spirv_cost
+
 MODULES = ["micro_shadowing.glsl", "micro_shadowing_fit.glsl", "micro_shadowing_aware.glsl",
            "micro_shadowing_aware_fit.glsl"]
 HEAD = """#version 450
@@ -23,7 +23,6 @@ layout(binding = 3) uniform sampler3D u_lut2d;
 layout(binding = 4) uniform sampler3D u_lut_az;
 layout(std140, binding = 5) uniform P { int u_samples, u_lut3d_slabs, u_lut2d_slabs, u_lut_az_slabs, u_lut_az_harmonics; };
 """
-SKIP = re.compile(r"^\s*(OpLine|OpNoLine|OpName|OpSource|OpDecorate|OpMemberName|OpMemberDecorate)")
 
 
 def count(expr):
@@ -36,22 +35,8 @@ void main() {
   o[i] = %s;
 }
 """ % expr
-    with tempfile.TemporaryDirectory() as d:
-        comp, spv, opt = (os.path.join(d, n) for n in ("s.comp", "s.spv", "o.spv"))
-        open(comp, "w").write(src)
-        subprocess.run(["glslangValidator", "-V", "-I" + INC, "-S", "comp", comp, "-o", spv], check=True,
-                       stdout=subprocess.DEVNULL)
-        subprocess.run(["spirv-opt", "-O", spv, "-o", opt], check=True)
-        dis = subprocess.run(["spirv-dis", "--raw-id", opt], check=True, capture_output=True, text=True).stdout
-    body, inside = [], False
-    for line in dis.splitlines():
-        if "OpFunction " in line or line.strip().endswith("OpFunction"):
-            inside = True
-        if inside and not SKIP.match(line):
-            body.append(line)
-        if "OpFunctionEnd" in line:
-            inside = False
-    return {"instructions": len(body), "image_samples": sum("OpImageSample" in x for x in body)}
+    n, f = spirv_cost(src)
+    return {"instructions": n, "image_samples": f}
 
 
 def main():
