@@ -10,6 +10,7 @@
 #include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -129,13 +130,20 @@ TEST(LutSampler, RelativeAzimuthCosine) {
 
 // The default tables against the exact term at random (v, l, V) with roughness at the channel values.
 struct Errors {
-  double sum_abs = 0, sum_sq = 0, max_abs = 0;
+  double sum_abs = 0, sum_sq = 0, sum_4 = 0, max_abs = 0;
   int n = 0;
   void add(double e) {
-    sum_abs += std::abs(e), sum_sq += e * e, max_abs = std::max(max_abs, std::abs(e)), ++n;
+    sum_abs += std::abs(e), sum_sq += e * e, sum_4 += e * e * e * e, max_abs = std::max(max_abs, std::abs(e)),
+        ++n;
   }
   double mean() const { return sum_abs / n; }
   double rms() const { return std::sqrt(sum_sq / n); }
+  // Standard error of rms() as an estimate of the population RMS (delta method on the mean of e²:
+  // SE(√m) = SD(e²) / (2 √m √n)), from the sample's own second and fourth moments.
+  double rms_stderr() const {
+    const double m2 = sum_sq / n, var_e2 = std::max(0.0, sum_4 / n - m2 * m2);
+    return std::sqrt(var_e2 / n) / (2 * std::sqrt(m2));
+  }
 };
 
 TEST(LutSampler, AzimuthAwareTableCutsAzimuthErrorFourfold) {
@@ -281,8 +289,19 @@ TEST(LutSamplerCone, EightBitFilterWeightsTruncateTheFraction) {
 
 // The default cone table as engines sample it: continuous random inputs over the whole domain (V ∈ [0, 1],
 // N·L, N·V ∈ (0, 1], roughness uniform in [0.1, 1]; off every texel and slab), against the exact azimuth
-// mean of occlusion/micro_shadowing.h. The issue's targets: RMS ≤ 0.5/255, max ≤ 2/255 — also with 8-bit
-// filter weights and with the texels rounded to half floats (the default rgba16f file).
+// mean of occlusion/micro_shadowing.h — the domain and reference of docs/lut.md's table "After: the cone
+// layout" (`verify micro-shadowing-lut`, N = 10⁴, seed 1), whose figures are asserted here, in 1/255:
+//   float table (the "R32F" row):                  RMS 0.114, p99 0.358, max 0.990;
+//   half-float texels + 8-bit filter weights (the "--gpu-weights 8" row of the default R16F): RMS 0.117,
+//   p99 0.368, max 1.010.
+// Tolerances from the sampling error of these 600 points (the same input distribution, another generator):
+// - RMS: documented + 3 standard errors of the 600-point RMS estimate, SE = SD(e²) / (2 RMS √600) from the
+//   sample's own moments (measured: RMS 0.112 / 0.115, SE 0.0045 / 0.0047, so the bounds are ≈ 0.127 / 0.131);
+// - p99: the count above the documented p99 is Binomial(600, 0.01): mean 6, SD 2.44; asserted ≤ 6 + 3 SD = 13
+//   (measured 6 / 4);
+// - max: asserted at the documented max with no margin: a 600-point sample max exceeds a 10⁴-point one of the
+//   same distribution with probability 600 / 10600 = 5.7 % for a random seed (exchangeability); this seed is
+//   fixed and below it (measured 0.47 / 0.49).
 TEST(LutSamplerCone, DefaultTableMeetsTheTargetsAtContinuousInputs) {
   const auto lut = default_micro_shadowing_lut(false, 0);
   ASSERT_EQ(lut->layout, LutLayout::Cone);
@@ -293,23 +312,39 @@ TEST(LutSamplerCone, DefaultTableMeetsTheTargetsAtContinuousInputs) {
   view_half.data = half.data(), view_half.filter_weight_bits = 8;
   Pcg32 rng(1234);
   Errors e, e_gpu;
-  for (int i = 0; i < 600; ++i) {
+  int above = 0, above_gpu = 0;
+  const int n = 600;
+  for (int i = 0; i < n; ++i) {
     const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
     const double r = 0.1 + 0.9 * rng.next_double();
     const double exact = micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv);
-    e.add(sample_micro_shadowing<float>(view, float(V), float(nl), float(nv), float(r)) - exact);
-    e_gpu.add(sample_micro_shadowing<float>(view_half, float(V), float(nl), float(nv), float(r)) - exact);
+    const double err = sample_micro_shadowing<float>(view, float(V), float(nl), float(nv), float(r)) - exact;
+    const double err_gpu =
+        sample_micro_shadowing<float>(view_half, float(V), float(nl), float(nv), float(r)) - exact;
+    e.add(err), e_gpu.add(err_gpu);
+    above += std::abs(err) > 0.358 / 255, above_gpu += std::abs(err_gpu) > 0.368 / 255;
   }
+  std::printf("[ lut ] %d points: RMS %.4f/255 (SE %.4f) max %.3f/255 above p99 %d; gpu RMS %.4f/255 (SE %.4f) "
+              "max %.3f/255 above p99 %d\n",
+              n, 255 * e.rms(), 255 * e.rms_stderr(), 255 * e.max_abs, above, 255 * e_gpu.rms(),
+              255 * e_gpu.rms_stderr(), 255 * e_gpu.max_abs, above_gpu);
   RecordProperty("rms_255", std::to_string(255 * e.rms()));
   RecordProperty("max_255", std::to_string(255 * e.max_abs));
-  EXPECT_LE(e.rms(), 0.5 / 255) << 255 * e.rms();
-  EXPECT_LE(e.max_abs, 2.0 / 255) << 255 * e.max_abs;
-  EXPECT_LE(e_gpu.rms(), 0.5 / 255) << 255 * e_gpu.rms();
-  EXPECT_LE(e_gpu.max_abs, 2.0 / 255) << 255 * e_gpu.max_abs;
+  const int above_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 13
+  EXPECT_LE(e.rms(), 0.114 / 255 + 3 * e.rms_stderr()) << 255 * e.rms();
+  EXPECT_LE(above, above_bound);
+  EXPECT_LE(e.max_abs, 0.990 / 255) << 255 * e.max_abs;
+  EXPECT_LE(e_gpu.rms(), 0.117 / 255 + 3 * e_gpu.rms_stderr()) << 255 * e_gpu.rms();
+  EXPECT_LE(above_gpu, above_bound);
+  EXPECT_LE(e_gpu.max_abs, 1.010 / 255) << 255 * e_gpu.max_abs;
 }
 
-// The azimuth-aware default (a_0..a_3) against the exact term at the actual azimuth, continuous inputs:
-// RMS ≤ 1/255 and p99 ≤ 3/255 (here: at most 2% of 500 inputs above 3/255).
+// The azimuth-aware default (a_0..a_3) against the exact term at the actual azimuth, continuous inputs, at
+// docs/lut.md's figures for it ("default azimuth-aware" row, N = 10⁴, seed 1): RMS 0.517/255, p99 2.076/255,
+// max 14.60/255. Tolerances from the sampling error of these 500 points, derived as in the test above: RMS
+// documented + 3 SE (measured: RMS 0.43, SE 0.035); count above the documented p99 ~ Binomial(500, 0.01),
+// mean 5, SD 2.22, asserted ≤ 5 + 3 SD = 11 (measured 3); max at the documented max, no margin (a 500-point
+// max exceeds a 10⁴-point one with probability 500 / 10500 = 4.8 % for a random seed; measured 2.6).
 TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
   const auto lut = default_micro_shadowing_lut(false, 3);
   const MicroShadowingLutView view = lut->view();
@@ -317,7 +352,8 @@ TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
   Pcg32 rng(4321);
   Errors e;
   int above = 0;
-  for (int i = 0; i < 500; ++i) {
+  const int n = 500;
+  for (int i = 0; i < n; ++i) {
     const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
     const double r = 0.1 + 0.9 * rng.next_double(), phi = kPi<double> * rng.next_double();
     const double sv = std::sqrt(1 - nv * nv), sl = std::sqrt(1 - nl * nl);
@@ -327,11 +363,14 @@ TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
                                                              float(std::cos(phi))) -
                        exact;
     e.add(err);
-    above += std::abs(err) > 3.0 / 255;
+    above += std::abs(err) > 2.076 / 255;
   }
+  std::printf("[ lut azimuth ] %d points: RMS %.4f/255 (SE %.4f) max %.3f/255 above p99 %d\n", n, 255 * e.rms(),
+              255 * e.rms_stderr(), 255 * e.max_abs, above);
   RecordProperty("rms_255", std::to_string(255 * e.rms()));
-  EXPECT_LE(e.rms(), 1.0 / 255) << 255 * e.rms();
-  EXPECT_LE(above, 10);
+  EXPECT_LE(e.rms(), 0.517 / 255 + 3 * e.rms_stderr()) << 255 * e.rms();
+  EXPECT_LE(above, int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99))));  // 11
+  EXPECT_LE(e.max_abs, 14.60 / 255) << 255 * e.max_abs;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -19,61 +20,78 @@ namespace {
 
 struct Errors {
   double rms = 0, max = 0;
+  double rms_se = 0;   // standard error of rms: SD(e²) / (2 rms √n), delta method on the mean of e²
+  int above_p99 = 0;   // points with |e| > the p99 passed to measure()
+  int above_8 = 0;     // points with |e| > 8/255
 };
 
 // Uniform random inputs over the documented domain (V ∈ [0,1], N·L, N·V ∈ (0,1], r ∈ [0.1, 1]), early-out
 // region included, as `plot micro-shadowing-fit` and docs/micro-shadowing.md measure it.
 template <class F>
-Errors measure(F term, int n, uint64_t seed) {
+Errors measure(F term, int n, uint64_t seed, double p99 = 1) {
   Pcg32 rng(seed, 77);
-  double ss = 0, mx = 0;
+  double ss = 0, s4 = 0, mx = 0;
+  Errors out;
   for (int i = 0; i < n; ++i) {
     const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
     const double r = 0.1 + 0.9 * rng.next_double();
     const double e =
         std::abs(term(V, nl, nv, r) - micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv));
-    ss += e * e, mx = std::max(mx, e);
+    ss += e * e, s4 += e * e * e * e, mx = std::max(mx, e);
+    out.above_p99 += e > p99, out.above_8 += e > 8.0 / 255;
   }
-  return {std::sqrt(ss / n), mx};
+  const double m2 = ss / n;
+  out.rms = std::sqrt(m2), out.max = mx;
+  out.rms_se = m2 > 0 ? std::sqrt(std::max(0.0, s4 / n - m2 * m2) / n) / (2 * out.rms) : 0;
+  return out;
 }
 
 }  // namespace
 
-// Bounds. The targets are RMS <= 2/255 and max <= 8/255 over the domain. The two-stage form is
-// asserted at the RMS target (its validation in docs/micro-shadowing.md, 20000 points of another seed,
-// measured RMS 0.95/255: a 400-point sample stays below 2/255 with margin); its measured max is 9.0/255 (2 of
-// 20000 points above 8/255, all at N.V < 0.01), so the max is asserted at 12/255, the documented max plus
-// margin for points the validation did not visit. The one-call 40-operation form is asserted at its
-// documented accuracy (validation RMS 4.2/255, max 37/255) with the same kind of margins. Both must be
-// several times better than the best older closed-form term on the same points (Brinck-Maximov 2016 and the
-// reference step, RMS 50-60/255 on this measure).
+// Asserted at docs/micro-shadowing.md's "Measured error" table (`plot micro-shadowing-fit --samples 20000
+// --seed 3`, the same uniform domain, early-out included), RMS / p99 / max in 1/255: two-stage 0.95 / 3.2 / 9.0,
+// one-call 4.19 / 16.6 / 36.6. Tolerances from the sampling error of these 400 points (another generator):
+// - RMS: documented + 3 standard errors of the 400-point RMS, SE = SD(e²) / (2 RMS √400) from the sample's own
+//   moments (measured: two-stage RMS 0.94, SE 0.08; one-call 4.05, SE 0.30);
+// - p99: the count above the documented p99 is Binomial(400, 0.01): mean 4, SD 1.99, asserted ≤ 4 + 3 SD = 9;
+// - max: at the documented max, no margin: a 400-point sample max exceeds a 20,000-point one of the same
+//   distribution with probability 400 / 20400 = 2 % for a random seed; this seed is fixed and below it.
+// The targets are RMS ≤ 2/255 and max ≤ 8/255: the two-stage form's max is NOT met (9.0/255; 2 of the 20,000
+// points above 8/255, both at N·V < 0.01, as the docs state), so the test asserts the documented fraction
+// above 8/255 instead: 1e-4, a count ~ Poisson(0.04) here, asserted ≤ 1 (P(≥ 2) = 8e-4). The one-call form
+// meets neither error target (documented). Both must be several times better than the best older
+// closed-form term on the same points (Brinck-Maximov 2016 and the reference step, RMS 50-60/255 here).
 TEST(MicroShadowingFit, AccuracyAgainstExactAzimuthMean) {
   const int n = 400;
   const Errors fast = measure(
       [](double V, double nl, double nv, double r) {
         return double(micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r)));
       },
-      n, 4242);
+      n, 4242, 16.6 / 255);
   const Errors two = measure(
       [](double V, double nl, double nv, double r) {
         const auto px = micro_shadowing::generic_vndf_alu_pixel(float(V), float(nv), float(r));
         return double(micro_shadowing::generic_vndf_alu_light(px, float(nl)));
       },
-      n, 4242);
+      n, 4242, 3.2 / 255);
   const Errors bm =
       measure([](double V, double nl, double, double) { return micro_shadowing::brinck_maximov_2016(V, nl); },
               n, 4242);
   const Errors ref = measure(
       [](double V, double nl, double, double) { return micro_shadowing::reference_step(V, nl); }, n, 4242);
   std::printf(
-      "[ alu ] %d points: one-call RMS %.2f/255 max %.2f/255; two-stage RMS %.2f/255 max %.2f/255 "
-      "(Brinck-Maximov %.1f / %.1f, reference %.1f / %.1f)\n",
-      n, 255 * fast.rms, 255 * fast.max, 255 * two.rms, 255 * two.max, 255 * bm.rms, 255 * bm.max,
-      255 * ref.rms, 255 * ref.max);
-  EXPECT_LE(two.rms, 2.0 / 255);
-  EXPECT_LE(two.max, 12.0 / 255);
-  EXPECT_LE(fast.rms, 5.5 / 255);
-  EXPECT_LE(fast.max, 40.0 / 255);
+      "[ alu ] %d points: one-call RMS %.2f/255 (SE %.2f) max %.2f/255 above p99 %d; two-stage RMS %.2f/255 "
+      "(SE %.2f) max %.2f/255 above p99 %d above 8/255 %d (Brinck-Maximov %.1f / %.1f, reference %.1f / %.1f)\n",
+      n, 255 * fast.rms, 255 * fast.rms_se, 255 * fast.max, fast.above_p99, 255 * two.rms, 255 * two.rms_se,
+      255 * two.max, two.above_p99, two.above_8, 255 * bm.rms, 255 * bm.max, 255 * ref.rms, 255 * ref.max);
+  const int above_p99_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 9
+  EXPECT_LE(two.rms, 0.95 / 255 + 3 * two.rms_se);
+  EXPECT_LE(two.above_p99, above_p99_bound);
+  EXPECT_LE(two.max, 9.0 / 255);
+  EXPECT_LE(two.above_8, 1);
+  EXPECT_LE(fast.rms, 4.19 / 255 + 3 * fast.rms_se);
+  EXPECT_LE(fast.above_p99, above_p99_bound);
+  EXPECT_LE(fast.max, 36.6 / 255);
   EXPECT_LT(fast.rms, std::min(bm.rms, ref.rms) / 5);
   EXPECT_LT(two.rms, fast.rms);
 }

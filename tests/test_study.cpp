@@ -366,3 +366,48 @@ TEST(Study, TinyAreaLightRun) {
     for (const auto& [m, e] : cell["methods"].items()) EXPECT_EQ(e["n"].get<int>(), 1) << m;
   fs::remove_all(d1), fs::remove_all(d2);
 }
+
+// A configuration whose verdict direction is known: grazing light (5° elevation) on a relief material (bark)
+// at k = 4. There the true micro-shadowing darkens the surface far more than the light-independent occlusion
+// fraction `ao` does, so `ao` (and `none`, brighter still) must come out brighter than the ground truth.
+// Measured on this configuration (256² fine bark, 32² pixels, 16–32 GT spp; seeds 1–5): ao bias 2.33–2.39
+// with bias_stderr 0.020–0.021 (the study's noise floor, from the per-pixel errors of both images; the spread
+// over seeds, SD 0.022, agrees with it), none 2.90–2.98 ± 0.025. Asserted: ao > 1 + 10 SE (≈ 1.2) and > 1.5
+// (38 seed-SDs below the measured 2.33), none − ao > 10 combined SE (≈ 0.33; measured 0.57). 0.2 s.
+TEST(Study, GrazingLightOnReliefAoIsBrighterThanGroundTruth) {
+  StudyConfig c = quick_config();
+  c.name = "tiny-verdict";
+  c.materials = {"bark"};
+  c.shapes = {"plane"};
+  c.fine_size = 256;
+  c.ao_rays = 4;
+  c.scales = {4};
+  c.elevations = {5};
+  c.azimuths = {0};
+  c.point_light = c.sphere_light = false;
+  c.image_size = 32;
+  c.footprint = 4;
+  c.gt_spp = 16;
+  c.gt_max_spp = 32;
+  c.terms = {"none", "ao"};
+  c.widened = c.normal_ablation = false;
+  c.featured_lights = {"dir-el5-az0"};
+  const fs::path d = fs::temp_directory_path() / ("msh_test_study_verdict_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  const nlohmann::json r = run_study(c, d);
+  std::map<std::string, std::pair<double, double>> bias;  // method → (bias, bias_stderr), whole view, total
+  for (const auto& row : r["rows"]) {
+    if (row["component"] != "total") continue;
+    ASSERT_TRUE(row["bias"]["whole"].is_number()) << row.dump();
+    bias[row["method"].get<std::string>()] = {row["bias"]["whole"].get<double>(),
+                                              row["bias_stderr"]["whole"].get<double>()};
+  }
+  ASSERT_EQ(bias.size(), 2u);
+  for (const auto& [m, b] : bias) std::printf("[ verdict ] %s: bias %.4f ± %.4f\n", m.c_str(), b.first, b.second);
+  const auto [ao, ao_se] = bias["ao"];
+  const auto [none, none_se] = bias["none"];
+  EXPECT_GT(ao, 1 + 10 * ao_se);
+  EXPECT_GT(ao, 1.5);
+  EXPECT_GT(none, ao + 10 * std::hypot(ao_se, none_se));
+  fs::remove_all(d);
+}
