@@ -30,6 +30,13 @@ const io::Volume& default_bake() {
   return vol;
 }
 
+// docs/lut.md's every-texel figure for this bake (`BM_LutVerifyAllTexels`, all 1,048,576 texels, so no
+// sampling error: any subset's max is below it): max |error| 1.445e-3 against the semi-analytic exact mean,
+// plus 5e-5 for this test's reference (micro_shadowing::generic_vndf_exact_azimuth_mean agrees with the
+// semi-analytic one within 5e-5 on random configurations, 1.3e-5 on texel means): 1.5e-3 = 0.38/255
+// (measured here: 3.8e-4).
+constexpr double kSeedMax = 1.445e-3 + 5e-5;
+
 TEST(LutBaker, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
   const io::Volume& vol = default_bake();
   const BakeOptions o;
@@ -49,7 +56,7 @@ TEST(LutBaker, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
     const double exact = micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv);
     const double err = std::abs(double(vol.at(x, y, z, c)) - exact);
     worst = std::max(worst, err);
-    EXPECT_LE(err, kTol) << "texel (" << x << "," << y << "," << z << ") roughness " << r << " lut "
+    EXPECT_LE(err, kSeedMax) << "texel (" << x << "," << y << "," << z << ") roughness " << r << " lut "
                          << vol.at(x, y, z, c) << " exact " << exact;
     ++checked;
   }

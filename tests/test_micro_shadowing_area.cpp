@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 using namespace msh;
@@ -522,11 +523,18 @@ TEST(AreaShapes, EquivalentCapLimits) {
 
 TEST(AreaShapes, EquivalentCapStepAgainstExactOffGrid) {
   // The step through the equivalent cap against the exact quadrature over the true shape, at PCG32 inputs
-  // independent of verify area-lights' Sobol set. Bounds: verify area-lights --shape-points 512 measured
-  // disk RMS 4.7/255 (max 42.4), rect RMS 11.2/255 (max 76.3); the bounds allow 40 % on the RMS and 25 % on
-  // the max for the smaller sample here.
+  // independent of verify area-lights' Sobol set, over the same domain. Asserted at docs/area-lights.md's
+  // figures (`verify area-lights --shape-points 512`), RMS / p99 / max in 1/255: disk 4.7 / 21.6 / 42.4,
+  // rect 11.2 / 47.5 / 76.3. Tolerances from the sampling error of these 48 points:
+  // - RMS: documented + 3 standard errors of the 48-point RMS, SE = SD(e²) / (2 RMS √48) from the sample's own
+  //   moments (measured: disk RMS 4.50, SE 1.63; rect 9.64, SE 2.77 — printed below);
+  // - p99: the count above the documented p99 is Binomial(48, 0.01): mean 0.48, SD 0.69, asserted ≤ 0.48 +
+  //   3 SD → 2;
+  // - max: at the documented max, no margin: a 48-point sample max exceeds a 512-point one with probability
+  //   48 / 560 = 8.6 % for a random seed; this seed is fixed and below it.
   Pcg32 rng(91);
-  double sd = 0, sr = 0, md = 0, mr = 0;
+  double sd = 0, sr = 0, md = 0, mr = 0, sd4 = 0, sr4 = 0;
+  int above_d = 0, above_r = 0;
   const int n = 48;
   for (int i = 0; i < n; ++i) {
     const double V = rng.next_double(), nl = rng.next_double(), rho = (1 + 39 * rng.next_double()) * kDeg;
@@ -543,9 +551,23 @@ TEST(AreaShapes, EquivalentCapStepAgainstExactOffGrid) {
                           V, micro_shadowing::polygon_vector_form_factor(q.corners.data(), 4)) -
                       area_micro_shadowing_exact(q, Receiver::lambert(), t, {1e-7});
     sd += ed * ed, sr += er * er, md = std::max(md, std::abs(ed)), mr = std::max(mr, std::abs(er));
+    sd4 += ed * ed * ed * ed, sr4 += er * er * er * er;
+    above_d += 255 * std::abs(ed) > 21.6, above_r += 255 * std::abs(er) > 47.5;
   }
-  EXPECT_LE(255 * std::sqrt(sd / n), 1.4 * 4.7);
-  EXPECT_LE(255 * std::sqrt(sr / n), 1.4 * 11.2);
-  EXPECT_LE(255 * md, 1.25 * 42.4);
-  EXPECT_LE(255 * mr, 1.25 * 76.3);
+  const auto rms_se = [&](double s2, double s4) {  // in 1/255
+    const double m2 = s2 / n;
+    return 255 * std::sqrt(std::max(0.0, s4 / n - m2 * m2) / n) / (2 * std::sqrt(m2));
+  };
+  const double rms_d = 255 * std::sqrt(sd / n), rms_r = 255 * std::sqrt(sr / n);
+  const double se_d = rms_se(sd, sd4), se_r = rms_se(sr, sr4);
+  std::printf("[ equivalent cap ] %d points: disk RMS %.2f (SE %.2f) max %.1f above p99 %d; rect RMS %.2f (SE "
+              "%.2f) max %.1f above p99 %d (1/255)\n",
+              n, rms_d, se_d, 255 * md, above_d, rms_r, se_r, 255 * mr, above_r);
+  EXPECT_LE(rms_d, 4.7 + 3 * se_d);
+  EXPECT_LE(rms_r, 11.2 + 3 * se_r);
+  const int above_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 2
+  EXPECT_LE(above_d, above_bound);
+  EXPECT_LE(above_r, above_bound);
+  EXPECT_LE(255 * md, 42.4);
+  EXPECT_LE(255 * mr, 76.3);
 }
