@@ -57,7 +57,7 @@ TEST(LutBaker, DefaultBakeWithinHalfLsbOfExactOnRandomTexels) {
     const double err = std::abs(double(vol.at(x, y, z, c)) - exact);
     worst = std::max(worst, err);
     EXPECT_LE(err, kSeedMax) << "texel (" << x << "," << y << "," << z << ") roughness " << r << " lut "
-                         << vol.at(x, y, z, c) << " exact " << exact;
+                             << vol.at(x, y, z, c) << " exact " << exact;
     ++checked;
   }
   RecordProperty("max_abs_error", std::to_string(worst));

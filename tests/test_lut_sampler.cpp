@@ -133,8 +133,8 @@ struct Errors {
   double sum_abs = 0, sum_sq = 0, sum_4 = 0, max_abs = 0;
   int n = 0;
   void add(double e) {
-    sum_abs += std::abs(e), sum_sq += e * e, sum_4 += e * e * e * e, max_abs = std::max(max_abs, std::abs(e)),
-        ++n;
+    sum_abs += std::abs(e), sum_sq += e * e, sum_4 += e * e * e * e;
+    max_abs = std::max(max_abs, std::abs(e)), ++n;
   }
   double mean() const { return sum_abs / n; }
   double rms() const { return std::sqrt(sum_sq / n); }
@@ -296,7 +296,7 @@ TEST(LutSamplerCone, EightBitFilterWeightsTruncateTheFraction) {
 //   p99 0.368, max 1.010.
 // Tolerances from the sampling error of these 600 points (the same input distribution, another generator):
 // - RMS: documented + 3 standard errors of the 600-point RMS estimate, SE = SD(e²) / (2 RMS √600) from the
-//   sample's own moments (measured: RMS 0.112 / 0.115, SE 0.0045 / 0.0047, so the bounds are ≈ 0.127 / 0.131);
+//   sample's own moments (measured: RMS 0.112 / 0.115, SE 0.0045 / 0.0047: bounds ≈ 0.127 / 0.131);
 // - p99: the count above the documented p99 is Binomial(600, 0.01): mean 6, SD 2.44; asserted ≤ 6 + 3 SD = 13
 //   (measured 6 / 4);
 // - max: asserted at the documented max with no margin: a 600-point sample max exceeds a 10⁴-point one of the
@@ -324,10 +324,11 @@ TEST(LutSamplerCone, DefaultTableMeetsTheTargetsAtContinuousInputs) {
     e.add(err), e_gpu.add(err_gpu);
     above += std::abs(err) > 0.358 / 255, above_gpu += std::abs(err_gpu) > 0.368 / 255;
   }
-  std::printf("[ lut ] %d points: RMS %.4f/255 (SE %.4f) max %.3f/255 above p99 %d; gpu RMS %.4f/255 (SE %.4f) "
-              "max %.3f/255 above p99 %d\n",
-              n, 255 * e.rms(), 255 * e.rms_stderr(), 255 * e.max_abs, above, 255 * e_gpu.rms(),
-              255 * e_gpu.rms_stderr(), 255 * e_gpu.max_abs, above_gpu);
+  std::printf(
+      "[ lut ] %d points: RMS %.4f/255 (SE %.4f) max %.3f/255 above p99 %d; gpu RMS %.4f/255 (SE %.4f) "
+      "max %.3f/255 above p99 %d\n",
+      n, 255 * e.rms(), 255 * e.rms_stderr(), 255 * e.max_abs, above, 255 * e_gpu.rms(),
+      255 * e_gpu.rms_stderr(), 255 * e_gpu.max_abs, above_gpu);
   RecordProperty("rms_255", std::to_string(255 * e.rms()));
   RecordProperty("max_255", std::to_string(255 * e.max_abs));
   const int above_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 13
@@ -365,8 +366,8 @@ TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
     e.add(err);
     above += std::abs(err) > 2.076 / 255;
   }
-  std::printf("[ lut azimuth ] %d points: RMS %.4f/255 (SE %.4f) max %.3f/255 above p99 %d\n", n, 255 * e.rms(),
-              255 * e.rms_stderr(), 255 * e.max_abs, above);
+  std::printf("[ lut azimuth ] %d points: RMS %.4f/255 (SE %.4f) max %.3f/255 above p99 %d\n", n,
+              255 * e.rms(), 255 * e.rms_stderr(), 255 * e.max_abs, above);
   RecordProperty("rms_255", std::to_string(255 * e.rms()));
   EXPECT_LE(e.rms(), 0.517 / 255 + 3 * e.rms_stderr()) << 255 * e.rms();
   EXPECT_LE(above, int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99))));  // 11

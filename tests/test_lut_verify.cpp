@@ -270,8 +270,10 @@ void expect_finite_stats(const nlohmann::json& s, std::size_t count) {
     EXPECT_TRUE(std::isfinite(s[k].get<double>())) << k;
   }
   // The 1/255 fields are the absolute ones scaled (rms ≤ max and p99 ≤ max hold for any data: not checked).
-  EXPECT_NEAR(s["rms_255"].get<double>(), 255 * s["rms"].get<double>(), 1e-9 * (1 + s["rms_255"].get<double>()));
-  EXPECT_NEAR(s["max_255"].get<double>(), 255 * s["max"].get<double>(), 1e-9 * (1 + s["max_255"].get<double>()));
+  EXPECT_NEAR(s["rms_255"].get<double>(), 255 * s["rms"].get<double>(),
+              1e-9 * (1 + s["rms_255"].get<double>()));
+  EXPECT_NEAR(s["max_255"].get<double>(), 255 * s["max"].get<double>(),
+              1e-9 * (1 + s["max_255"].get<double>()));
 }
 
 // Small tables of both layouts (Zurita 2026b's seed layout and the cone layout), through the CLI.

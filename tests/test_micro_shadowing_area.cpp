@@ -526,8 +526,8 @@ TEST(AreaShapes, EquivalentCapStepAgainstExactOffGrid) {
   // independent of verify area-lights' Sobol set, over the same domain. Asserted at docs/area-lights.md's
   // figures (`verify area-lights --shape-points 512`), RMS / p99 / max in 1/255: disk 4.7 / 21.6 / 42.4,
   // rect 11.2 / 47.5 / 76.3. Tolerances from the sampling error of these 48 points:
-  // - RMS: documented + 3 standard errors of the 48-point RMS, SE = SD(e²) / (2 RMS √48) from the sample's own
-  //   moments (measured: disk RMS 4.50, SE 1.63; rect 9.64, SE 2.77 — printed below);
+  // - RMS: documented + 3 standard errors of the 48-point RMS, SE = SD(e²) / (2 RMS √48) from the
+  //   sample's own moments (measured: disk RMS 4.50, SE 1.63; rect 9.64, SE 2.77; printed below);
   // - p99: the count above the documented p99 is Binomial(48, 0.01): mean 0.48, SD 0.69, asserted ≤ 0.48 +
   //   3 SD → 2;
   // - max: at the documented max, no margin: a 48-point sample max exceeds a 512-point one with probability
@@ -560,9 +560,10 @@ TEST(AreaShapes, EquivalentCapStepAgainstExactOffGrid) {
   };
   const double rms_d = 255 * std::sqrt(sd / n), rms_r = 255 * std::sqrt(sr / n);
   const double se_d = rms_se(sd, sd4), se_r = rms_se(sr, sr4);
-  std::printf("[ equivalent cap ] %d points: disk RMS %.2f (SE %.2f) max %.1f above p99 %d; rect RMS %.2f (SE "
-              "%.2f) max %.1f above p99 %d (1/255)\n",
-              n, rms_d, se_d, 255 * md, above_d, rms_r, se_r, 255 * mr, above_r);
+  std::printf(
+      "[ equivalent cap ] %d points: disk RMS %.2f (SE %.2f) max %.1f above p99 %d; rect RMS %.2f (SE "
+      "%.2f) max %.1f above p99 %d (1/255)\n",
+      n, rms_d, se_d, 255 * md, above_d, rms_r, se_r, 255 * mr, above_r);
   EXPECT_LE(rms_d, 4.7 + 3 * se_d);
   EXPECT_LE(rms_r, 11.2 + 3 * se_r);
   const int above_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 2

@@ -53,10 +53,10 @@ Errors measure(int n, uint64_t seed) {
 // Asserted at docs/micro-shadowing-aware.md's figures for the fit (`verify micro-shadowing-aware --method
 // diffuse-aware-alu --samples 2000`, Owen-scrambled Sobol, seed 1): RMS 3.6/255 and max 31.9/255 outside the
 // early-out 2V + N·L < 1 (1,497 points), p99 12.3/255 over all 2000. These 48 points (another generator) also
-// skip 2V + N·V < 1, where the fit and the exact term are both exactly 0 (DiffuseAwareAlu.Limits): that removes
-// 1/9 of the zero-free domain's points (P(both lit) = 2/3 of P(N·L lit) = 3/4 for uniform V, N·L, N·V), all with
-// error 0, so the documented RMS here is 3.6 · √(9/8) = 3.82/255 and the fraction above the p99 is at most
-// 1 % · 2000 / 1333 = 1.5 %. Tolerances from the sampling error of 48 points:
+// skip 2V + N·V < 1, where the fit and the exact term are both exactly 0 (DiffuseAwareAlu.Limits): that
+// removes 1/9 of the zero-free domain's points (P(both lit) = 2/3 of P(N·L lit) = 3/4 for uniform V, N·L,
+// N·V), all with error 0, so the documented RMS here is 3.6 · √(9/8) = 3.82/255 and the fraction above the
+// p99 is at most 1 % · 2000 / 1333 = 1.5 %. Tolerances from the sampling error of 48 points:
 // - RMS: 3.82/255 + 3 standard errors of the 48-point RMS, SE = SD(e²) / (2 RMS √48) from the sample's own
 //   moments (measured: RMS 3.22/255, SE 0.59/255);
 // - p99: the count above 12.3/255 is Binomial(48, 0.015): mean 0.72, SD 0.84, asserted ≤ 0.72 + 3 SD → 3;

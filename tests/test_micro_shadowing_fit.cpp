@@ -20,9 +20,9 @@ namespace {
 
 struct Errors {
   double rms = 0, max = 0;
-  double rms_se = 0;   // standard error of rms: SD(e²) / (2 rms √n), delta method on the mean of e²
-  int above_p99 = 0;   // points with |e| > the p99 passed to measure()
-  int above_8 = 0;     // points with |e| > 8/255
+  double rms_se = 0;  // standard error of rms: SD(e²) / (2 rms √n), delta method on the mean of e²
+  int above_p99 = 0;  // points with |e| > the p99 passed to measure()
+  int above_8 = 0;    // points with |e| > 8/255
 };
 
 // Uniform random inputs over the documented domain (V ∈ [0,1], N·L, N·V ∈ (0,1], r ∈ [0.1, 1]), early-out
@@ -49,10 +49,10 @@ Errors measure(F term, int n, uint64_t seed, double p99 = 1) {
 }  // namespace
 
 // Asserted at docs/micro-shadowing.md's "Measured error" table (`plot micro-shadowing-fit --samples 20000
-// --seed 3`, the same uniform domain, early-out included), RMS / p99 / max in 1/255: two-stage 0.95 / 3.2 / 9.0,
-// one-call 4.19 / 16.6 / 36.6. Tolerances from the sampling error of these 400 points (another generator):
-// - RMS: documented + 3 standard errors of the 400-point RMS, SE = SD(e²) / (2 RMS √400) from the sample's own
-//   moments (measured: two-stage RMS 0.94, SE 0.08; one-call 4.05, SE 0.30);
+// --seed 3`, the same uniform domain, early-out included), RMS / p99 / max in 1/255: two-stage 0.95 / 3.2
+// / 9.0, one-call 4.19 / 16.6 / 36.6. Tolerances from the sampling error of these 400 points:
+// - RMS: documented + 3 standard errors of the 400-point RMS, SE = SD(e²) / (2 RMS √400) from the
+//   sample's own moments (measured: two-stage RMS 0.94, SE 0.08; one-call 4.05, SE 0.30);
 // - p99: the count above the documented p99 is Binomial(400, 0.01): mean 4, SD 1.99, asserted ≤ 4 + 3 SD = 9;
 // - max: at the documented max, no margin: a 400-point sample max exceeds a 20,000-point one of the same
 //   distribution with probability 400 / 20400 = 2 % for a random seed; this seed is fixed and below it.
@@ -81,7 +81,8 @@ TEST(MicroShadowingFit, AccuracyAgainstExactAzimuthMean) {
       [](double V, double nl, double, double) { return micro_shadowing::reference_step(V, nl); }, n, 4242);
   std::printf(
       "[ alu ] %d points: one-call RMS %.2f/255 (SE %.2f) max %.2f/255 above p99 %d; two-stage RMS %.2f/255 "
-      "(SE %.2f) max %.2f/255 above p99 %d above 8/255 %d (Brinck-Maximov %.1f / %.1f, reference %.1f / %.1f)\n",
+      "(SE %.2f) max %.2f/255 above p99 %d above 8/255 %d (Brinck-Maximov %.1f / %.1f, reference %.1f / "
+      "%.1f)\n",
       n, 255 * fast.rms, 255 * fast.rms_se, 255 * fast.max, fast.above_p99, 255 * two.rms, 255 * two.rms_se,
       255 * two.max, two.above_p99, two.above_8, 255 * bm.rms, 255 * bm.max, 255 * ref.rms, 255 * ref.max);
   const int above_p99_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 9

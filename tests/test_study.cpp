@@ -403,7 +403,8 @@ TEST(Study, GrazingLightOnReliefAoIsBrighterThanGroundTruth) {
                                               row["bias_stderr"]["whole"].get<double>()};
   }
   ASSERT_EQ(bias.size(), 2u);
-  for (const auto& [m, b] : bias) std::printf("[ verdict ] %s: bias %.4f ± %.4f\n", m.c_str(), b.first, b.second);
+  for (const auto& [m, b] : bias)
+    std::printf("[ verdict ] %s: bias %.4f ± %.4f\n", m.c_str(), b.first, b.second);
   const auto [ao, ao_se] = bias["ao"];
   const auto [none, none_se] = bias["none"];
   EXPECT_GT(ao, 1 + 10 * ao_se);
