@@ -187,14 +187,12 @@ TEST(Study, TinyRunSchemaAndDeterminism) {
       for (const char* reg : {"rough", "smooth", "whole"})
         ASSERT_TRUE(row[k].contains(reg)) << k << " " << reg;
     if (row["component"] != "total") continue;
-    // The total always has signal: every metric is a finite number and the floors are non-negative.
-    for (const char* k : {"bias", "rmse_footprint", "rmse"}) {
+    // The total always has signal: every metric is a finite number (JSON null would mark a NaN).
+    for (const char* k : {"bias", "rmse_footprint", "rmse", "rmse_stderr"}) {
       // On the tiny cylinder (5 pixels wide at k = 4) no 4 × 4 footprint may lie entirely on the surface.
       if (std::string(k) == "rmse_footprint" && row["shape"] == "cylinder" && row["scale"] == 4) continue;
       ASSERT_TRUE(row[k]["whole"].is_number()) << k << " " << row.dump();
-      EXPECT_GE(row[k]["whole"].get<double>(), 0.0);
     }
-    EXPECT_GE(row["rmse_stderr"]["whole"].get<double>(), 0.0);
     EXPECT_LE(row["ssim"].get<double>(), 1.0 + 1e-9);
   }
   // The footprint average can only remove error: rmse_footprint <= rmse (for the whole view).

@@ -254,6 +254,7 @@ void register_micro_shadowing(pyb::module_& m) {
           d["specular"] = i.is_pair() ? i.specular : i.name;
           d["uses_ndotl"] = i.uses_ndotl;
           d["in_study"] = i.in_study;
+          d["needs_texel"] = i.needs_texel;
           out.append(d);
         }
         return out;
@@ -262,7 +263,8 @@ void register_micro_shadowing(pyb::module_& m) {
       "Names of every micro-shadowing method (the CLI's `eval micro-shadowing --method` and `render "
       "--method` values; `microshadow methods`), in the registry's order; details=True returns dicts (name, "
       "label, summary, uses_roughness, uses_ndotv, accepts_phi, accepts_roughness_y, accepts_samples, "
-      "accepts_lut, pair, diffuse, specular, uses_ndotl, in_study). A pair D+S has the term D on the diffuse "
+      "accepts_lut, pair, diffuse, specular, uses_ndotl, in_study, needs_texel: per-texel channels, renderer "
+      "only). A pair D+S has the term D on the diffuse "
       "lobe and S on the specular lobe.");
   m.def(
       "eval_micro_shadowing", &eval, "method"_a, "visibility"_a, "ndotl"_a, "ndotv"_a = 1.0,
