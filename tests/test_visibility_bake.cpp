@@ -50,7 +50,7 @@ TEST(VisibilityBake, FlatIsOne) {
   }
 }
 
-// Cone of slope 0.48 (the case) with flat outskirts: the apex sees nothing above it.
+// Cone of slope 0.48 with flat outskirts: the apex sees nothing above it.
 TEST(VisibilityBake, ConvexApexIsOne) {
   const double m = 0.48;
   const Texture f =

@@ -1,4 +1,4 @@
-// Cloth, thin-film and layered BRDF models (issue 6, part 2) for the runtime registry (`eval brdf --model
+// Cloth, thin-film and layered BRDF models for the runtime registry (`eval brdf --model
 // NAME`). The math lives in include/microshadow/bsdf/{cloth,thin_film,layered}.h; these wrappers only
 // configure it and add importance sampling (mixtures of the cosine lobe and the model's own NDF / VNDF
 // sampler).

@@ -22,7 +22,8 @@ namespace msh::lut {
 // Roughness of the channels r, g, b, a of the default table (docs/lut.md).
 inline constexpr std::array<float, 4> kDefaultRoughness = {0.1f, 0.4f, 0.7f, 1.0f};
 
-// Table layouts. Seed: the layout above (Zurita 2026). Cone: the default since issue 9, see "Cone layout".
+// Table layouts. Seed: the layout above (Zurita 2026). Cone: the default (what bake micro-shadowing writes and
+// the package installs), see "Cone layout".
 enum class LutLayout { Seed, Cone };
 
 // Parameters of the cone layout (recorded in the sidecar; the defaults are what `bake` writes).

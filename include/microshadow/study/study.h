@@ -31,7 +31,7 @@ UserMaterial user_material_from_folder(const std::filesystem::path& dir);
 
 struct StudyConfig {
   std::string name = "full";
-  // generate_texture_set kinds: the micro-geometry ones, then the relief ones (issue 22).
+  // generate_texture_set kinds: the micro-geometry ones (plaster), then the ones with relief.
   std::vector<std::string> materials{"plaster", "bark", "gravel", "rock", "brick", "cobble"};
   // The user's height maps, studied after the procedural kinds (materials may then be empty).
   std::vector<UserMaterial> user_materials;
