@@ -860,3 +860,31 @@ TEST(SceneJson, HeightTexelsFromMaterialJson) {
   }
   std::filesystem::remove_all(dir);
 }
+
+// A scene material takes the directional channels from the gen-material folder's material.json (beside the
+// height map) or from its own "directional" key; a file without 9 channels is refused naming the key.
+TEST(RenderMethods, SceneReadsDirectionalChannels) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "msh_test_scene_directional";
+  std::filesystem::remove_all(dir);
+  GenOptions o;
+  o.size = 16;
+  o.ao_rays = 4;
+  o.directional_azimuths = 8;
+  write_texture_set(dir, generate_texture_set(o));
+  const auto scene = [&](const std::string& extra) {
+    return R"({"materials": {"m": {"height": ")" + (dir / "height.png").string() + "\"" + extra +
+           R"(}}, "objects": [{"type": "plane", "material": "m"}], "lights": [],
+              "settings": {"micro_shadowing": "directional"}})";
+  };
+  const Scene s = parse_scene(scene(""), "inline.json", ".");
+  EXPECT_EQ(s.materials[0].directional.channels(), 9);
+  EXPECT_EQ(s.materials[0].directional.width(), 16);
+  EXPECT_NO_THROW(Renderer{s});
+  try {
+    parse_scene(scene(R"(, "directional": ")" + (dir / "height.png").string() + "\""), "inline.json", ".");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("materials.m.directional"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}

@@ -1,9 +1,11 @@
 // Scene JSON parser: strict (unknown keys are errors), every message names the file and the key.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/scene.h>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -105,11 +107,34 @@ Texture texture_slot(const Ctx& c, const json& j, const std::string& where, int 
   return Texture::constant({v.r, v.g, v.b, 1}, 3);
 }
 
+// Directional micro-occlusion channels (occlusion/directional.h): a float32 NPY of shape (1, h, w, 9) as
+// gen-material writes it (directional.npy); every value finite.
+Texture directional_slot(const std::filesystem::path& path, const Ctx& c, const std::string& where) {
+  io::Volume v;
+  try {
+    v = io::read_volume(path);
+  } catch (const InputError& e) {
+    c.fail(where, e.what());
+  }
+  if (v.depth != 1 || v.channels != 9)
+    c.fail(where, fmt::format("{}: expected 9 channels per texel (h, w, 9), got {} x {} x {} x {}",
+                              path.string(), v.depth, v.height, v.width, v.channels));
+  Texture t(v.width, v.height, 9);
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x)
+      for (int k = 0; k < 9; ++k) {
+        const float f = v.at(x, y, 0, k);
+        if (!std::isfinite(f)) c.fail(where, fmt::format("{}: non-finite value", path.string()));
+        t.at(x, y, k) = f;
+      }
+  return t;
+}
+
 Material parse_material(const Ctx& c, const std::string& name, const json& j) {
   const std::string w = "materials." + name;
   c.keys(j, w,
          {"base_color", "normal", "roughness", "metallic", "micro_occlusion", "height", "height_texels",
-          "uv_scale", "normal_strength", "specular"});
+          "uv_scale", "normal_strength", "specular", "directional"});
   Material m;
   m.name = name;
   m.base_color = j.contains("base_color") ? texture_slot(c, j["base_color"], w + ".base_color", 3, true)
@@ -124,6 +149,8 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
                      : Texture::constant({1, 0, 0, 0}, 1);
   if (j.contains("height")) m.height = texture_slot(c, j["height"], w + ".height", 1, false);
   if (j.contains("height_texels")) m.height_texels = c.num(j["height_texels"], w + ".height_texels", 0, 1e4);
+  if (j.contains("directional"))
+    m.directional = directional_slot(c.path(j["directional"], w + ".directional"), c, w + ".directional");
   // The depth a texture set was generated and baked with travels in material.json beside its height map:
   // taken from there when the scene omits it, and a scene value that disagrees is an error.
   if (j.contains("height") && j["height"].is_string()) {
@@ -136,6 +163,11 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
       } catch (const json::exception& e) {  // parse_error, and out_of_range for a number overflow
         c.fail(w + ".height", fmt::format("{}: malformed JSON: {}", mj.string(), e.what()));
       }
+      // The directional channels the texture set was baked with, unless the scene names its own.
+      if (set.is_object() && set.contains("directional") && set["directional"].is_string() &&
+          !j.contains("directional"))
+        m.directional = directional_slot(mj.parent_path() / set["directional"].get<std::string>(), c,
+                                         mj.string() + ": directional");
       if (set.is_object() && set.contains("height_texels")) {
         if (!set["height_texels"].is_number())
           c.fail(w + ".height", fmt::format("{}: height_texels is not a number", mj.string()));

@@ -481,12 +481,20 @@ void write_texture_set(const std::filesystem::path& dir, const TextureSet& s) {
   write_tex(dir / "metallic.png", s.metallic, false, 8);
   write_tex(dir / "micro_occlusion.png", s.visibility, false, 8);
   write_tex(dir / "height.png", s.height, false, 16);
+  // The directional channels (float32, (1, h, w, 9)): the renderer takes them from material.json.
+  if (!s.directional.empty()) {
+    io::Volume v(s.directional.width(), s.directional.height(), 1, s.directional.channels());
+    for (int y = 0; y < v.height; ++y)
+      for (int x = 0; x < v.width; ++x)
+        for (int c = 0; c < v.channels; ++c) v.at(x, y, 0, c) = s.directional.at(x, y, c);
+    io::write_volume(dir / "directional.npy", v, io::FileFormat::Npy);
+  }
   const std::string json = fmt::format(
       "{{\n  \"base_color\": \"basecolor.png\",\n  \"normal\": \"normal.png\",\n  \"roughness\": "
       "\"roughness.png\",\n"
       "  \"metallic\": \"metallic.png\",\n  \"micro_occlusion\": \"micro_occlusion.png\",\n"
-      "  \"height\": \"height.png\",\n  \"height_texels\": {}\n}}\n",
-      s.depth_texels);
+      "  \"height\": \"height.png\",\n{}  \"height_texels\": {}\n}}\n",
+      s.directional.empty() ? "" : "  \"directional\": \"directional.npy\",\n", s.depth_texels);
   io::write_file_atomic(dir / "material.json", json);
 }
 

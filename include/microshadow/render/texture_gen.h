@@ -80,7 +80,9 @@ std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texe
                                          const std::vector<Vec2f>& dirs, float max_distance);
 
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png
-// (16-bit) and material.json (the scene-material snippet with height_texels) into dir (created if missing).
+// (16-bit), directional.npy (the 9 directional channels, float32 (1, h, w, 9), when baked) and material.json
+// (the scene-material snippet with height_texels and directional; a scene that names height.png takes both
+// from it) into dir (created if missing).
 void write_texture_set(const std::filesystem::path& dir, const TextureSet& set);
 
 }  // namespace msh::render
