@@ -8,6 +8,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -560,13 +562,42 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
         s.mean_dev += md, s.max_dev = std::max(s.max_dev, mx), s.rmse += rm, ++s.n;
       }
     }
-    o << "\nSummary over materials and k (mean of the per-group means; max over all lights):\n\n"
-         "| representation | mean abs(b−1) | max abs(b−1) | mean fp RMSE |\n|---|---|---|---|\n";
+    // Footprint RMSE against the best cone term (ao, reference, chan-2018 of the same storage): per cell
+    // (material, k, light) and per group (material, k; mean over the lights).
+    auto fp_of = [&](const std::string& rep, const std::string& kind, int k, float e, float az) {
+      for (const auto& r : rows)
+        if (r.bake_distance == dist && r.representation == rep && r.kind == kind && r.k == k &&
+            r.elevation_deg == e && r.azimuth_deg == az)
+          return r.rmse_footprint;
+      return std::numeric_limits<double>::quiet_NaN();
+    };
+    o << "\nSummary over materials and k (mean of the per-group means; max over all lights; cells = (material, "
+         "k, light) where the footprint RMSE is below that of every cone term (ao, reference, chan-2018); "
+         "groups = (material, k) where the mean over the lights is below the best cone term's):\n\n"
+         "| representation | bytes | mean abs(b−1) | max abs(b−1) | mean fp RMSE | fp < best cone: cells | "
+         "groups |\n|---|---|---|---|---|---|---|\n";
     for (const auto& rep : rep_order) {
       const auto& s = overall[rep];
-      if (s.n)
-        o << fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} |\n", rep, s.mean_dev / s.n, s.max_dev,
-                         s.rmse / s.n);
+      if (!s.n) continue;
+      const std::string suffix = rep.find("@8bit") != std::string::npos ? "@8bit" : "";
+      int cells = 0, cells_won = 0, bytes = 0;
+      std::map<std::pair<std::string, int>, std::array<double, 4>> groups;  // sums: rep, ao, ref, chan
+      for (const auto& r : rows) {
+        if (r.bake_distance != dist || r.representation != rep) continue;
+        bytes = r.bytes;
+        double cone[3];
+        int ci = 0;
+        for (const char* c : {"ao", "reference", "chan-2018"})
+          cone[ci++] = fp_of(std::string(c) + suffix, r.kind, r.k, r.elevation_deg, r.azimuth_deg);
+        ++cells;
+        cells_won += r.rmse_footprint < std::min({cone[0], cone[1], cone[2]});
+        auto& g = groups[{r.kind, r.k}];
+        g[0] += r.rmse_footprint, g[1] += cone[0], g[2] += cone[1], g[3] += cone[2];
+      }
+      int groups_won = 0;
+      for (const auto& [key, g] : groups) groups_won += g[0] < std::min({g[1], g[2], g[3]});
+      o << fmt::format("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {}/{} | {}/{} |\n", rep, bytes, s.mean_dev / s.n,
+                       s.max_dev, s.rmse / s.n, cells_won, cells, groups_won, groups.size());
     }
   }
   return o.str();
