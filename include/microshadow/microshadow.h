@@ -35,6 +35,7 @@
 #include <microshadow/microfacet/smith.h>
 #include <microshadow/microfacet/vcavity.h>
 #include <microshadow/occlusion/bump_terminator.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_anisotropic.h>
 #include <microshadow/occlusion/micro_shadowing_area.h>
