@@ -9,8 +9,8 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -256,11 +256,23 @@ struct Rep {
 // Representations, in table order. Channel counts at 8 bits each (the coarse normal is the engine's normal
 // map and not counted).
 const std::vector<Rep>& reps() {
-  static const std::vector<Rep> r = {
-      {"ao", 1},           {"reference", 1},           {"chan-2018", 1},         {"bent-cone", 4},
-      {"sh1-lsq", 4},      {"poly2-lsq", 9},           {"poly2-lsq-eps0.03", 9}, {"poly2-lsq-eps0.3", 9},
-      {"poly12-lsq", 12},  {"poly12-lsq-eps0.03", 12}, {"resid-poly2-p1", 12}, {"resid-poly2-p1-unit", 9}, {"resid-poly2-p1-eps0.01", 12}, {"resid-poly2-p2", 12}, {"horizon-fourier", 5},   {"hm-lit-cos", 10},
-      {"hm-transport", 10}};
+  static const std::vector<Rep> r = {{"ao", 1},
+                                     {"reference", 1},
+                                     {"chan-2018", 1},
+                                     {"bent-cone", 4},
+                                     {"sh1-lsq", 4},
+                                     {"poly2-lsq", 9},
+                                     {"poly2-lsq-eps0.03", 9},
+                                     {"poly2-lsq-eps0.3", 9},
+                                     {"poly12-lsq", 12},
+                                     {"poly12-lsq-eps0.03", 12},
+                                     {"resid-poly2-p1", 12},
+                                     {"resid-poly2-p1-unit", 9},
+                                     {"resid-poly2-p1-eps0.01", 12},
+                                     {"resid-poly2-p2", 12},
+                                     {"horizon-fourier", 5},
+                                     {"hm-lit-cos", 10},
+                                     {"hm-transport", 10}};
   return r;
 }
 
@@ -271,7 +283,8 @@ struct Fine {
 };
 
 constexpr int kChV = 0, kChBent = 1, kChSh1 = 4, kChPoly2 = 8, kChHm = 17, kChPoly2a = 27, kChPoly2b = 36,
-              kChPoly12 = 45, kChPoly12a = 57, kChResid1 = 69, kChResid2 = 78, kChNmean = 87, kChResid3 = 90, kChCount = 99;
+              kChPoly12 = 45, kChPoly12a = 57, kChResid1 = 69, kChResid2 = 78, kChNmean = 87, kChResid3 = 90,
+              kChCount = 99;
 
 Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
                           const std::vector<float>& tan_h, const std::vector<Vec3f>& n,
@@ -305,7 +318,8 @@ Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
         for (int r = 0; r < proj->nb; ++r) {
           double sum = 0;
           for (int d = 0; d < nd; ++d) {
-            const double fd = proj->damp ? f[std::size_t(d)] - dot(n[p], p2.dirs[std::size_t(d)]) : f[std::size_t(d)];
+            const double fd =
+                proj->damp ? f[std::size_t(d)] - dot(n[p], p2.dirs[std::size_t(d)]) : f[std::size_t(d)];
             sum += double(proj->P[std::size_t(r) * nd + d]) * fd;
           }
           o[first + r] = float(sum);
@@ -348,7 +362,9 @@ float eval_rep(const std::string& rep, const float* ch, const Vec3f& nc, const V
     const int power = rep[std::string("resid-poly2-p").size()] - '0';
     float b[dir::kPoly2Terms];
     dir::poly2_basis(l, b);
-    const float* d = ch + (rep.find("eps0.01") != std::string::npos ? kChResid3 : power == 1 ? kChResid1 : kChResid2);
+    const float* d = ch + (rep.find("eps0.01") != std::string::npos ? kChResid3
+                           : power == 1                             ? kChResid1
+                                                                    : kChResid2);
     float s = 0;
     for (int m = 0; m < dir::kPoly2Terms; ++m) s += d[m] * b[m];
     const Vec3f nm(ch[kChNmean], ch[kChNmean + 1], ch[kChNmean + 2]);  // stored (and quantised) mean normal
@@ -408,9 +424,9 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
       r1(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, dir::kFitEpsilon, 1),
       r2(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, dir::kFitEpsilon, 2),
       r3(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, 0.01, 1);
-  const std::vector<std::pair<const LsqProjection*, int>> lsq = {{&p2, kChPoly2},   {&p1, kChSh1},
-                                                                 {&p2a, kChPoly2a}, {&p2b, kChPoly2b},
-                                                                 {&p12, kChPoly12}, {&p12a, kChPoly12a}, {&r1, kChResid1}, {&r2, kChResid2}, {&r3, kChResid3}};
+  const std::vector<std::pair<const LsqProjection*, int>> lsq = {
+      {&p2, kChPoly2},     {&p1, kChSh1},    {&p2a, kChPoly2a}, {&p2b, kChPoly2b}, {&p12, kChPoly12},
+      {&p12a, kChPoly12a}, {&r1, kChResid1}, {&r2, kChResid2},  {&r3, kChResid3}};
   for (const auto& kind : opt.kinds) {
     GenOptions g;
     g.kind = kind, g.size = opt.size, g.ao_rays = 1;  // V is re-baked here from the same horizons
@@ -591,7 +607,8 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
           return r.rmse_footprint;
       return std::numeric_limits<double>::quiet_NaN();
     };
-    o << "\nSummary over materials and k (mean of the per-group means; max over all lights; cells = (material, "
+    o << "\nSummary over materials and k (mean of the per-group means; max over all lights; cells = "
+         "(material, "
          "k, light) where the footprint RMSE is below that of every cone term (ao, reference, chan-2018); "
          "groups = (material, k) where the mean over the lights is below the best cone term's):\n\n"
          "| representation | bytes | mean abs(b−1) | max abs(b−1) | mean fp RMSE | fp < best cone: cells | "
@@ -616,8 +633,9 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
       }
       int groups_won = 0;
       for (const auto& [key, g] : groups) groups_won += g[0] < std::min({g[1], g[2], g[3]});
-      o << fmt::format("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {}/{} | {}/{} |\n", rep, bytes, s.mean_dev / s.n,
-                       s.max_dev, s.rmse / s.n, cells_won, cells, groups_won, groups.size());
+      o << fmt::format("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {}/{} | {}/{} |\n", rep, bytes,
+                       s.mean_dev / s.n, s.max_dev, s.rmse / s.n, cells_won, cells, groups_won,
+                       groups.size());
     }
   }
   return o.str();
