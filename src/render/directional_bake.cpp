@@ -8,7 +8,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -107,8 +109,9 @@ struct LsqProjection {
   int nb = 0, ne = 0, na = 0;
   std::vector<Vec3f> dirs;  // [a · ne + j]
   std::vector<float> P;     // nb × dirs
-  LsqProjection(int nb_, const std::vector<Vec2f>& az, int ne_, double eps = 0.1)
-      : nb(nb_), ne(ne_), na(int(az.size())) {
+  int damp = 0;  // > 0: basis × (1 − z)^damp, fitted to the residual f − n · l (see "resid-poly2")
+  LsqProjection(int nb_, const std::vector<Vec2f>& az, int ne_, double eps = 0.1, int damp_ = 0)
+      : nb(nb_), ne(ne_), na(int(az.size())), damp(damp_) {
     std::vector<double> w;
     std::vector<double> B;  // dirs × nb
     for (int a = 0; a < na; ++a)
@@ -119,6 +122,7 @@ struct LsqProjection {
         w.push_back(std::cos(e) / ((eps + std::sin(e)) * (eps + std::sin(e))));
         double b[dir::kPoly12Terms];
         dir::poly12_basis<double>(Vec3d(d), b);
+        for (double& v : b) v *= std::pow(1.0 - std::sin(e), damp);
         B.insert(B.end(), b, b + nb);
       }
     const int nd = int(dirs.size());
@@ -252,11 +256,23 @@ struct Rep {
 // Representations, in table order. Channel counts at 8 bits each (the coarse normal is the engine's normal
 // map and not counted).
 const std::vector<Rep>& reps() {
-  static const std::vector<Rep> r = {
-      {"ao", 1},           {"reference", 1},           {"chan-2018", 1},         {"bent-cone", 4},
-      {"sh1-lsq", 4},      {"poly2-lsq", 9},           {"poly2-lsq-eps0.03", 9}, {"poly2-lsq-eps0.3", 9},
-      {"poly12-lsq", 12},  {"poly12-lsq-eps0.03", 12}, {"horizon-fourier", 5},   {"hm-lit-cos", 10},
-      {"hm-transport", 10}};
+  static const std::vector<Rep> r = {{"ao", 1},
+                                     {"reference", 1},
+                                     {"chan-2018", 1},
+                                     {"bent-cone", 4},
+                                     {"sh1-lsq", 4},
+                                     {"poly2-lsq", 9},
+                                     {"poly2-lsq-eps0.03", 9},
+                                     {"poly2-lsq-eps0.3", 9},
+                                     {"poly12-lsq", 12},
+                                     {"poly12-lsq-eps0.03", 12},
+                                     {"resid-poly2-p1", 12},
+                                     {"resid-poly2-p1-unit", 9},
+                                     {"resid-poly2-p1-eps0.01", 12},
+                                     {"resid-poly2-p2", 12},
+                                     {"horizon-fourier", 5},
+                                     {"hm-lit-cos", 10},
+                                     {"hm-transport", 10}};
   return r;
 }
 
@@ -267,7 +283,8 @@ struct Fine {
 };
 
 constexpr int kChV = 0, kChBent = 1, kChSh1 = 4, kChPoly2 = 8, kChHm = 17, kChPoly2a = 27, kChPoly2b = 36,
-              kChPoly12 = 45, kChPoly12a = 57, kChCount = 69;
+              kChPoly12 = 45, kChPoly12a = 57, kChResid1 = 69, kChResid2 = 78, kChNmean = 87, kChResid3 = 90,
+              kChCount = 99;
 
 Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
                           const std::vector<float>& tan_h, const std::vector<Vec3f>& n,
@@ -300,10 +317,15 @@ Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
       for (const auto& [proj, first] : lsq)
         for (int r = 0; r < proj->nb; ++r) {
           double sum = 0;
-          for (int d = 0; d < nd; ++d) sum += double(proj->P[std::size_t(r) * nd + d]) * f[std::size_t(d)];
+          for (int d = 0; d < nd; ++d) {
+            const double fd =
+                proj->damp ? f[std::size_t(d)] - dot(n[p], p2.dirs[std::size_t(d)]) : f[std::size_t(d)];
+            sum += double(proj->P[std::size_t(r) * nd + d]) * fd;
+          }
           o[first + r] = float(sum);
         }
       horizon_channels(th, n[p], dirs, o + kChHm);
+      o[kChNmean] = n[p].x, o[kChNmean + 1] = n[p].y, o[kChNmean + 2] = n[p].z;
     }
   });
   return out;
@@ -335,6 +357,19 @@ void quantize_channels(Texture& t, const Ranges& r) {
 }
 
 float eval_rep(const std::string& rep, const float* ch, const Vec3f& nc, const Vec3f& l) {
+  if (rep.rfind("resid-poly2", 0) == 0) {
+    const bool unit = rep.find("-unit") != std::string::npos;  // the renormalised coarse normal instead
+    const int power = rep[std::string("resid-poly2-p").size()] - '0';
+    float b[dir::kPoly2Terms];
+    dir::poly2_basis(l, b);
+    const float* d = ch + (rep.find("eps0.01") != std::string::npos ? kChResid3
+                           : power == 1                             ? kChResid1
+                                                                    : kChResid2);
+    float s = 0;
+    for (int m = 0; m < dir::kPoly2Terms; ++m) s += d[m] * b[m];
+    const Vec3f nm(ch[kChNmean], ch[kChNmean + 1], ch[kChNmean + 2]);  // stored (and quantised) mean normal
+    return std::max(dot(unit ? nc : nm, l) + s * std::pow(1 - l.z, float(power)), 0.0f);
+  }
   const float nl = std::max(dot(nc, l), 0.0f);
   const float V = std::clamp(ch[kChV], 0.0f, 1.0f), cos_t = std::sqrt(1 - V);
   if (rep == "ao") return V * nl;
@@ -385,10 +420,13 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
   const LsqProjection p1(4, bake_dirs, 16), p2(dir::kPoly2Terms, bake_dirs, 16),
       p2a(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, dir::kFitEpsilon),
       p2b(dir::kPoly2Terms, bake_dirs, 16, 0.3), p12(dir::kPoly12Terms, bake_dirs, 16),
-      p12a(dir::kPoly12Terms, bake_dirs, 16, 0.03);
-  const std::vector<std::pair<const LsqProjection*, int>> lsq = {{&p2, kChPoly2},   {&p1, kChSh1},
-                                                                 {&p2a, kChPoly2a}, {&p2b, kChPoly2b},
-                                                                 {&p12, kChPoly12}, {&p12a, kChPoly12a}};
+      p12a(dir::kPoly12Terms, bake_dirs, 16, 0.03),
+      r1(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, dir::kFitEpsilon, 1),
+      r2(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, dir::kFitEpsilon, 2),
+      r3(dir::kPoly2Terms, bake_dirs, dir::kFitElevations, 0.01, 1);
+  const std::vector<std::pair<const LsqProjection*, int>> lsq = {
+      {&p2, kChPoly2},     {&p1, kChSh1},    {&p2a, kChPoly2a}, {&p2b, kChPoly2b}, {&p12, kChPoly12},
+      {&p12a, kChPoly12a}, {&r1, kChResid1}, {&r2, kChResid2},  {&r3, kChResid3}};
   for (const auto& kind : opt.kinds) {
     GenOptions g;
     g.kind = kind, g.size = opt.size, g.ao_rays = 1;  // V is re-baked here from the same horizons
@@ -464,8 +502,8 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
               } else {
                 for (int J = 0; J < H; ++J)
                   for (int I = 0; I < W; ++I) {
-                    Vec3f nc(nk.at(I, J, 0), nk.at(I, J, 1), nk.at(I, J, 2));
-                    nc = nc / std::sqrt(dot(nc, nc));
+                    const Vec3f nmean(nk.at(I, J, 0), nk.at(I, J, 1), nk.at(I, J, 2));
+                    const Vec3f nc = nmean / std::sqrt(dot(nmean, nmean));
                     approx.at(I, J, 0) = eval_rep(name, &ck.at(I, J, 0), nc, lights[li].l);
                   }
               }
@@ -560,13 +598,44 @@ std::string directional_study_markdown(const std::vector<DirectionalStudyRow>& r
         s.mean_dev += md, s.max_dev = std::max(s.max_dev, mx), s.rmse += rm, ++s.n;
       }
     }
-    o << "\nSummary over materials and k (mean of the per-group means; max over all lights):\n\n"
-         "| representation | mean abs(b−1) | max abs(b−1) | mean fp RMSE |\n|---|---|---|---|\n";
+    // Footprint RMSE against the best cone term (ao, reference, chan-2018 of the same storage): per cell
+    // (material, k, light) and per group (material, k; mean over the lights).
+    auto fp_of = [&](const std::string& rep, const std::string& kind, int k, float e, float az) {
+      for (const auto& r : rows)
+        if (r.bake_distance == dist && r.representation == rep && r.kind == kind && r.k == k &&
+            r.elevation_deg == e && r.azimuth_deg == az)
+          return r.rmse_footprint;
+      return std::numeric_limits<double>::quiet_NaN();
+    };
+    o << "\nSummary over materials and k (mean of the per-group means; max over all lights; cells = "
+         "(material, "
+         "k, light) where the footprint RMSE is below that of every cone term (ao, reference, chan-2018); "
+         "groups = (material, k) where the mean over the lights is below the best cone term's):\n\n"
+         "| representation | bytes | mean abs(b−1) | max abs(b−1) | mean fp RMSE | fp < best cone: cells | "
+         "groups |\n|---|---|---|---|---|---|---|\n";
     for (const auto& rep : rep_order) {
       const auto& s = overall[rep];
-      if (s.n)
-        o << fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} |\n", rep, s.mean_dev / s.n, s.max_dev,
-                         s.rmse / s.n);
+      if (!s.n) continue;
+      const std::string suffix = rep.find("@8bit") != std::string::npos ? "@8bit" : "";
+      int cells = 0, cells_won = 0, bytes = 0;
+      std::map<std::pair<std::string, int>, std::array<double, 4>> groups;  // sums: rep, ao, ref, chan
+      for (const auto& r : rows) {
+        if (r.bake_distance != dist || r.representation != rep) continue;
+        bytes = r.bytes;
+        double cone[3];
+        int ci = 0;
+        for (const char* c : {"ao", "reference", "chan-2018"})
+          cone[ci++] = fp_of(std::string(c) + suffix, r.kind, r.k, r.elevation_deg, r.azimuth_deg);
+        ++cells;
+        cells_won += r.rmse_footprint < std::min({cone[0], cone[1], cone[2]});
+        auto& g = groups[{r.kind, r.k}];
+        g[0] += r.rmse_footprint, g[1] += cone[0], g[2] += cone[1], g[3] += cone[2];
+      }
+      int groups_won = 0;
+      for (const auto& [key, g] : groups) groups_won += g[0] < std::min({g[1], g[2], g[3]});
+      o << fmt::format("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {}/{} | {}/{} |\n", rep, bytes,
+                       s.mean_dev / s.n, s.max_dev, s.rmse / s.n, cells_won, cells, groups_won,
+                       groups.size());
     }
   }
   return o.str();
