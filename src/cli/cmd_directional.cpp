@@ -6,8 +6,11 @@
 //   microshadow bake directional HEIGHT.png|.exr --depth D --out DIR [--azimuths 32] [--distance 0]
 // The first measures every representation against the exact texture-space diffuse transport; the second
 // writes the 9 directional channels of a height map and their box-filtered mip chain as float32 NPY (one
-// file per level, directional_mip<L>.npy, shape (h, w, 9)) and directional.json (8-bit ranges).
+// file per level, directional_mip<L>.npy, shape (1, h, w, 9), io/texture.h's NPY layout) and directional.json
+// (8-bit ranges).
 #include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/texture.h>
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/texture_gen.h>
 
@@ -22,27 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using render::Texture;
-
-// float32 NPY (format 1.0), C order, shape (h, w, c).
-void write_npy_hwc(const fs::path& path, const Texture& t) {
-  std::string header = fmt::format("{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, {}, {}), }}",
-                                   t.height(), t.width(), t.channels());
-  header.append(63 - (10 + header.size()) % 64, ' ');  // total header length a multiple of 64
-  header += '\n';
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw UsageError(fmt::format("cannot write '{}'", path.string()));
-  const unsigned short len = static_cast<unsigned short>(header.size());
-  f.write("\x93NUMPY\x01\x00", 8);
-  f.put(char(len & 0xff)), f.put(char(len >> 8));
-  f << header;
-  for (int j = 0; j < t.height(); ++j)
-    for (int i = 0; i < t.width(); ++i)
-      for (int c = 0; c < t.channels(); ++c) {
-        const float v = t.at(i, j, c);
-        f.write(reinterpret_cast<const char*>(&v), sizeof v);  // little-endian hosts only
-      }
-  if (!f) throw UsageError(fmt::format("cannot write '{}'", path.string()));
-}
 
 struct StudyArgs {
   std::string kinds = "plaster,bark,gravel", scales = "1,4,16", elevations = "5,10,25,45,70",
@@ -111,20 +93,16 @@ void run_bake(const BakeArgs& a) {
   fs::create_directories(a.out);
   const auto chain = render::box_mip_chain(ch);
   for (std::size_t lv = 0; lv < chain.size(); ++lv)
-    write_npy_hwc(fs::path(a.out) / fmt::format("directional_mip{}.npy", lv), chain[lv]);
+    io::write_volume(fs::path(a.out) / fmt::format("directional_mip{}.npy", lv),
+                     render::texture_volume(chain[lv]), io::FileFormat::Npy);
   // The 8-bit encoding's per-channel range (the fine level's min and max) and the conventions.
   nlohmann::json j;
-  std::vector<float> lo(std::size_t(ch.channels()), 1e30f), hi(std::size_t(ch.channels()), -1e30f);
-  for (int y = 0; y < ch.height(); ++y)
-    for (int x = 0; x < ch.width(); ++x)
-      for (int c = 0; c < ch.channels(); ++c)
-        lo[std::size_t(c)] = std::min(lo[std::size_t(c)], ch.at(x, y, c)),
-        hi[std::size_t(c)] = std::max(hi[std::size_t(c)], ch.at(x, y, c));
+  const render::ChannelRanges r = render::channel_ranges(ch);
   j["channels"] = {"1", "x", "y", "z", "xz", "yz", "xx-yy", "xy", "zz"};
-  j["range_lo"] = lo, j["range_hi"] = hi;
+  j["range_lo"] = r.lo, j["range_hi"] = r.hi;
   j["tangent_space"] = "x = +u (columns), y = +v (rows, top to bottom), z = flat normal";
   j["azimuths"] = a.azimuths, j["max_distance"] = a.distance, j["depth_texels"] = a.depth;
-  std::ofstream(fs::path(a.out) / "directional.json") << j.dump(2) << "\n";
+  io::write_file_atomic(fs::path(a.out) / "directional.json", j.dump(2) + "\n");
   std::cout << fmt::format("wrote {} levels of {} channels to {}\n", chain.size(), ch.channels(), a.out);
 }
 

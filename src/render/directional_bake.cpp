@@ -154,6 +154,7 @@ Texture box_downsample(const Texture& t, int k) {
     throw InputError(
         fmt::format("box_downsample: k = {} must divide the size {}x{}", k, t.width(), t.height()));
   const int W = t.width() / k, H = t.height() / k, C = t.channels();
+  const double inv = 1.0 / (double(k) * double(k));
   Texture out(W, H, C);
   tbb::parallel_for(0, H, [&](int J) {
     std::vector<double> acc(static_cast<std::size_t>(C));
@@ -162,10 +163,23 @@ Texture box_downsample(const Texture& t, int k) {
       for (int j = 0; j < k; ++j)
         for (int i = 0; i < k; ++i)
           for (int c = 0; c < C; ++c) acc[std::size_t(c)] += t.at(I * k + i, J * k + j, c);
-      for (int c = 0; c < C; ++c) out.at(I, J, c) = float(acc[std::size_t(c)] / (double(k) * k));
+      for (int c = 0; c < C; ++c) out.at(I, J, c) = float(acc[std::size_t(c)] * inv);
     }
   });
   return out;
+}
+
+ChannelRanges channel_ranges(const Texture& t) {
+  ChannelRanges r{std::vector<float>(std::size_t(t.channels()), 1e30f),
+                  std::vector<float>(std::size_t(t.channels()), -1e30f)};
+  for (int j = 0; j < t.height(); ++j)
+    for (int i = 0; i < t.width(); ++i)
+      for (int c = 0; c < t.channels(); ++c)
+        r.lo[std::size_t(c)] = std::min(r.lo[std::size_t(c)], t.at(i, j, c)),
+        r.hi[std::size_t(c)] = std::max(r.hi[std::size_t(c)], t.at(i, j, c));
+  for (int c = 0; c < t.channels(); ++c)
+    if (!(r.hi[std::size_t(c)] > r.lo[std::size_t(c)])) r.hi[std::size_t(c)] = r.lo[std::size_t(c)] + 1;
+  return r;
 }
 
 std::vector<Texture> box_mip_chain(const Texture& t) {
@@ -331,24 +345,9 @@ Texture bake_all_channels(const Texture& height, const std::vector<Vec2f>& dirs,
   return out;
 }
 
-// 8-bit storage of the channels: per channel, a range [lo, hi] over the fine texture (a per-material
-// scale and bias), UNORM in between; the same ranges for every mip level (quantised again after the box
-// mean).
-struct Ranges {
-  std::vector<float> lo, hi;
-};
-Ranges channel_ranges(const Texture& t) {
-  Ranges r{std::vector<float>(std::size_t(t.channels()), 1e30f),
-           std::vector<float>(std::size_t(t.channels()), -1e30f)};
-  for (int j = 0; j < t.height(); ++j)
-    for (int i = 0; i < t.width(); ++i)
-      for (int c = 0; c < t.channels(); ++c)
-        r.lo[std::size_t(c)] = std::min(r.lo[std::size_t(c)], t.at(i, j, c)),
-        r.hi[std::size_t(c)] = std::max(r.hi[std::size_t(c)], t.at(i, j, c));
-  for (int c = 0; c < t.channels(); ++c)
-    if (!(r.hi[std::size_t(c)] > r.lo[std::size_t(c)])) r.hi[std::size_t(c)] = r.lo[std::size_t(c)] + 1;
-  return r;
-}
+// 8-bit storage of the channels (channel_ranges): the same ranges for every mip level, quantised again after
+// the box mean.
+using Ranges = ChannelRanges;
 void quantize_channels(Texture& t, const Ranges& r) {
   for (int j = 0; j < t.height(); ++j)
     for (int i = 0; i < t.width(); ++i)

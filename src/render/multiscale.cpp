@@ -3,6 +3,7 @@
 #include <microshadow/filter/lean.h>
 #include <microshadow/filter/variance_mapping.h>
 #include <microshadow/io/error.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/multiscale.h>
 #include <tbb/parallel_for.h>
 
@@ -11,21 +12,6 @@ namespace msh::render {
 namespace {
 
 // Box mean of every channel over k × k texels (sums in double, fixed order).
-Texture box_mean(const Texture& t, int k) {
-  const int w = t.width() / k, h = t.height() / k, c = t.channels();
-  Texture out(w, h, c);
-  const double inv = 1.0 / (double(k) * double(k));
-  tbb::parallel_for(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x)
-      for (int ch = 0; ch < c; ++ch) {
-        double s = 0;
-        for (int yy = y * k; yy < (y + 1) * k; ++yy)
-          for (int xx = x * k; xx < (x + 1) * k; ++xx) s += t.at(xx, yy, ch);
-        out.at(x, y, ch) = float(s * inv);
-      }
-  });
-  return out;
-}
 
 Vec3d decode_normal(const Texture& n, int x, int y) {
   Vec3d v(2.0 * n.at(x, y, 0) - 1.0, 2.0 * n.at(x, y, 1) - 1.0, 2.0 * n.at(x, y, 2) - 1.0);
@@ -59,12 +45,12 @@ TextureSet downsample_texture_set(const TextureSet& fine, int k, CoarseRoughness
 
   TextureSet c;
   c.depth_texels = fine.depth_texels / float(k);
-  c.height = box_mean(fine.height, k);
-  c.base_color = box_mean(fine.base_color, k);
-  c.metallic = box_mean(fine.metallic, k);
-  c.visibility = box_mean(fine.visibility, k);
+  c.height = box_downsample(fine.height, k);
+  c.base_color = box_downsample(fine.base_color, k);
+  c.metallic = box_downsample(fine.metallic, k);
+  c.visibility = box_downsample(fine.visibility, k);
   // Linear channels: their box mean is the coarse texel's own (occlusion/directional.h).
-  if (!fine.directional.empty()) c.directional = box_mean(fine.directional, k);
+  if (!fine.directional.empty()) c.directional = box_downsample(fine.directional, k);
   const int w = ref.width() / k, h = ref.height() / k;
   c.normal = Texture(w, h, 3);
   c.roughness = Texture(w, h, 1);

@@ -460,6 +460,14 @@ TextureSet texture_set_from_height(const Texture& height, float depth_texels, co
   return s;
 }
 
+io::Volume texture_volume(const Texture& t) {
+  io::Volume v(t.width(), t.height(), 1, t.channels());
+  for (int y = 0; y < t.height(); ++y)
+    for (int x = 0; x < t.width(); ++x)
+      for (int c = 0; c < t.channels(); ++c) v.at(x, y, 0, c) = t.at(x, y, c);
+  return v;
+}
+
 namespace {
 void write_tex(const std::filesystem::path& p, const Texture& t, bool srgb, int bits) {
   io::Volume v(t.width(), t.height(), 1, t.channels());
@@ -483,11 +491,7 @@ void write_texture_set(const std::filesystem::path& dir, const TextureSet& s) {
   write_tex(dir / "height.png", s.height, false, 16);
   // The directional channels (float32, (1, h, w, 9)): the renderer takes them from material.json.
   if (!s.directional.empty()) {
-    io::Volume v(s.directional.width(), s.directional.height(), 1, s.directional.channels());
-    for (int y = 0; y < v.height; ++y)
-      for (int x = 0; x < v.width; ++x)
-        for (int c = 0; c < v.channels; ++c) v.at(x, y, 0, c) = s.directional.at(x, y, c);
-    io::write_volume(dir / "directional.npy", v, io::FileFormat::Npy);
+    io::write_volume(dir / "directional.npy", texture_volume(s.directional), io::FileFormat::Npy);
   }
   const std::string json = fmt::format(
       "{{\n  \"base_color\": \"basecolor.png\",\n  \"normal\": \"normal.png\",\n  \"roughness\": "

@@ -4,6 +4,7 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/multiscale.h>
 
 #include <algorithm>
@@ -69,14 +70,8 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
     // 8-bit UNORM between the fine level's per-channel range: a box mean stays inside it, so every level
     // uses the same range (decode: lo + (hi − lo) · unorm, occlusion/directional.h decode_unorm8).
     const Texture& d = fine.directional;
-    std::vector<float> lo(std::size_t(d.channels()), 1e30f), hi(std::size_t(d.channels()), -1e30f);
-    for (int y = 0; y < d.height(); ++y)
-      for (int x = 0; x < d.width(); ++x)
-        for (int c = 0; c < d.channels(); ++c)
-          lo[std::size_t(c)] = std::min(lo[std::size_t(c)], d.at(x, y, c)),
-          hi[std::size_t(c)] = std::max(hi[std::size_t(c)], d.at(x, y, c));
-    for (std::size_t c = 0; c < lo.size(); ++c)
-      if (!(hi[c] > lo[c])) hi[c] = lo[c] + 1;
+    const ChannelRanges r = channel_ranges(d);
+    const std::vector<float>&lo = r.lo, &hi = r.hi;
     const auto unorm = [&](float x, int c) {
       return (x - lo[std::size_t(c)]) / (hi[std::size_t(c)] - lo[std::size_t(c)]);
     };

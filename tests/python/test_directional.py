@@ -159,6 +159,6 @@ def test_bake_equals_cli(cli, tmp_path):
     rc, _, err = cli("bake", "directional", tmp_path / "h.png", "--depth", 3, "--azimuths", 16, "--out",
                      tmp_path / "out")
     assert rc == 0, err
-    want = np.load(tmp_path / "out" / "directional_mip0.npy")
+    want = np.load(tmp_path / "out" / "directional_mip0.npy")[0]  # shape (1, h, w, 9), as io writes NPY
     got = msh.bake_directional_channels(h.astype(np.float32), 3.0, azimuths=16)
     assert np.array_equal(got, want)  # the same heights, the same bake: the same bits

@@ -27,13 +27,20 @@ Texture bake_directional_channels(const Texture& height, float depth_texels, int
 Texture bake_horizon_moment_channels(const Texture& height, float depth_texels, int azimuths,
                                      float max_distance);
 
-// Box mean over k × k texels (every channel; width and height divisible by k): mip level log2 k of a
-// box-filtered chain. InputError otherwise.
+// Box mean over k × k texels (every channel, summed in double, times 1/k²; width and height divisible by k):
+// mip level log2 k of a box-filtered chain, and every map of downsample_texture_set. InputError otherwise.
 Texture box_downsample(const Texture& t, int k);
 
 // Mip chain by repeated 2 × 2 box means: level 0 = t, down to 1 texel on the shorter side (each side halved
 // while even). Equal to box_downsample(t, 2^level) up to float rounding.
 std::vector<Texture> box_mip_chain(const Texture& t);
+
+// Per-channel [lo, hi] of a texture (the 8-bit UNORM storage of the directional channels, decoded by
+// directional::decode_unorm8; hi = lo + 1 for a constant channel). Every mip level uses the fine level's.
+struct ChannelRanges {
+  std::vector<float> lo, hi;
+};
+ChannelRanges channel_ranges(const Texture& t);
 
 // The exact diffuse transport per fine texel (vertex) of a directional light l (grid/tangent space, unit,
 // l.z > 0): lit(x, l) · (n(x) · l)⁺, lit = the ray toward l leaves the surface (tan e > tan H along the

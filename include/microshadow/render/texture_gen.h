@@ -7,6 +7,7 @@
 // same normal map and bake (texture_set_from_height).
 #pragma once
 
+#include <microshadow/io/texture.h>
 #include <microshadow/render/scene.h>
 
 #include <filesystem>
@@ -78,6 +79,9 @@ Texture bake_visibility(const Texture& height, float depth_texels, int azimuths,
 // at elevation e reaches the vertex iff tan e > tan H. Deterministic whatever the thread count.
 std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texels,
                                          const std::vector<Vec2f>& dirs, float max_distance);
+
+// The texture as a 2D io::Volume (same channels, values as they are), for the writers of io/texture.h.
+io::Volume texture_volume(const Texture& t);
 
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png
 // (16-bit), directional.npy (the 9 directional channels, float32 (1, h, w, 9), when baked) and material.json
