@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <regex>
 #include <set>
@@ -119,6 +120,90 @@ TEST(Architecture, AreaOfAHeader) {
   EXPECT_EQ(area_of(kInclude / "bsdf" / "runtime" / "x.h"), "bsdf/runtime");
   EXPECT_TRUE(is_core("occlusion"));
   EXPECT_FALSE(is_core("render"));
+}
+
+// docs/architecture.md's "Data flow" names commands, functions and files; each must still exist, so the
+// picture cannot drift from the code silently. Names come from `backticks` and the mermaid block's a::b
+// tokens.
+std::string read_all(const fs::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Every .h/.cpp under include/ and src/, concatenated (a few MB).
+const std::string& all_sources() {
+  static const std::string text = [] {
+    std::string t;
+    for (const char* dir : {"include", "src"})
+      for (const auto& e : fs::recursive_directory_iterator(fs::path(MSH_SOURCE_DIR) / dir))
+        if (e.is_regular_file() && (e.path().extension() == ".h" || e.path().extension() == ".cpp"))
+          t += read_all(e.path()) + "\n";
+    return t;
+  }();
+  return text;
+}
+
+bool names_something(const std::string& token, std::string& why) {
+  const fs::path root(MSH_SOURCE_DIR);
+  const std::string& src = all_sources();
+  if (token.rfind("microshadow ", 0) == 0 || token.rfind("verify ", 0) == 0) {
+    // A command: its last word is a subcommand name literal of the CLI.
+    const std::string word = token.substr(token.find_last_of(' ') + 1);
+    why = "no CLI subcommand \"" + word + "\"";
+    return src.find("\"" + word + "\"") != std::string::npos;
+  }
+  if (token.find("::") != std::string::npos) {
+    const std::string id = token.substr(token.rfind("::") + 2);
+    why = "no declaration of '" + id + "' under include/ or src/";
+    return std::regex_search(src, std::regex("\\b" + id + "\\b"));
+  }
+  if (token.rfind("test_", 0) == 0) {
+    why = "no ctest named " + token;
+    return read_all(root / "CMakeLists.txt").find("NAME " + token) != std::string::npos ||
+           fs::exists(root / "tests" / (token + ".cpp"));
+  }
+  if (fs::exists(root / token)) return true;
+  if (token.find('/') != std::string::npos) {
+    std::string t = token;
+    if (t.front() == '<') t = t.substr(1, t.size() - 2);
+    why = "no file or folder " + t;
+    return fs::exists(root / t) || fs::exists(root / "include" / "microshadow" / t) ||
+           fs::exists(root / "include" / t);
+  }
+  // A bare name (a class, a generated file): it appears in the sources.
+  why = "'" + token + "' appears nowhere under include/ or src/";
+  return src.find(token) != std::string::npos;
+}
+
+TEST(Architecture, DataFlowPictureNamesWhatExists) {
+  const std::string doc = read_all(fs::path(MSH_SOURCE_DIR) / "docs" / "architecture.md");
+  const auto begin = doc.find("## Data flow");
+  ASSERT_NE(begin, std::string::npos) << "docs/architecture.md has no '## Data flow' section";
+  const std::string sec = doc.substr(begin, doc.find("\n## ", begin + 3) - begin);
+  std::set<std::string> tokens;
+  const std::regex tick("`([^`\\n]+)`"), qualified(R"(\b([a-z_]+::[A-Za-z_]+))");
+  for (auto it = std::sregex_iterator(sec.begin(), sec.end(), tick); it != std::sregex_iterator(); ++it)
+    tokens.insert((*it)[1]);
+  for (auto it = std::sregex_iterator(sec.begin(), sec.end(), qualified); it != std::sregex_iterator(); ++it)
+    tokens.insert((*it)[1]);
+  tokens.erase("test_architecture");
+  EXPECT_GT(tokens.size(), 20u);
+  for (const std::string& t : tokens) {
+    if (t.find(' ') != std::string::npos && t.rfind("microshadow ", 0) != 0 && t.rfind("verify ", 0) != 0)
+      continue;  // prose in backticks
+    std::string why;
+    EXPECT_TRUE(names_something(t, why)) << "docs/architecture.md, Data flow: `" << t << "`: " << why;
+  }
+}
+
+// A renamed function is caught: the check is not vacuous.
+TEST(Architecture, DataFlowCheckRejectsUnknownNames) {
+  std::string why;
+  EXPECT_FALSE(names_something("render::no_such_function_xyz", why));
+  EXPECT_FALSE(names_something("microshadow bake no-such-command-xyz", why));
+  EXPECT_FALSE(names_something("scripts/no_such_script.py", why));
+  EXPECT_TRUE(names_something("render::load_height_map", why));
+  EXPECT_TRUE(names_something("microshadow gen-material", why));
 }
 
 }  // namespace

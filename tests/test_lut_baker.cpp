@@ -20,7 +20,7 @@
 namespace msh::lut {
 namespace {
 
-constexpr double kTol = 0.5 / 255.0;  // the accuracy the issue asks of the default bake, at every texel
+constexpr double kTol = 0.5 / 255.0;  // the documented accuracy of the default bake at every texel (docs/lut.md)
 
 double texel_value(int i, int n) { return double(i) / (n - 1); }
 
