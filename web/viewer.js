@@ -106,12 +106,17 @@ precision highp float;
 precision highp int;
 precision highp sampler2D;
 precision highp sampler3D;
+precision highp sampler2DArray;
 ${glsl}
 #line 1 1
 in vec3 v_pos; in vec3 v_n; in vec3 v_t; in vec2 v_uv;
 out vec4 o_color;
 uniform sampler2D u_base, u_normal, u_rough_tex, u_metal, u_vis_tex;
 uniform sampler3D u_lut3d, u_lut2d, u_lut_az;
+uniform sampler2DArray u_dir;  // directional channels: layers c0..c3, c4..c7, c8 (docs/directional-occlusion.md)
+// Read by the texel forms (registry "texel"): the pixel's directional channels, and the light and the shading
+// normal in the normal map's tangent frame (x = +u, y = +v, z = the geometric normal).
+vec4 dir_c0, dir_c1; float dir_c8; vec3 l_t, n_t;
 uniform int u_lut3d_slabs, u_lut2d_slabs, u_lut_az_slabs, u_lut_az_harmonics;
 uniform vec3 u_eye, u_light_dir, u_light_pos;
 uniform bool u_point, u_bump_hemi;
@@ -153,6 +158,8 @@ void main() {
     E = u_intensity / dist2;
   }
   vec3 v = msh_ms_to_shading_frame(wo, ts, bs, ns), l = msh_ms_to_shading_frame(wl, ts, bs, ns);
+  dir_c0 = texture(u_dir, vec3(v_uv, 0.0)); dir_c1 = texture(u_dir, vec3(v_uv, 1.0)); dir_c8 = texture(u_dir, vec3(v_uv, 2.0)).r;
+  l_t = vec3(dot(wl, t), dot(wl, b), dot(wl, ng)); n_t = normalize(tn);
   float nl = clamp(l.z, 0.0, 1.0), nv = clamp(v.z, 0.0, 1.0);
   float alpha = rough * rough;
   float cos_phi = msh_ms_relative_azimuth_cos(v, l);
@@ -170,6 +177,11 @@ void main() {
   if (u_mode == 6) { o_color = vec4(ng, 1.0); return; }
   if (u_mode == 7) { o_color = vec4(ns, 1.0); return; }
   if (u_mode == 8) { o_color = vec4(wl, 1.0); return; }
+  if (u_mode == 10) { o_color = dir_c0; return; }
+  if (u_mode == 11) { o_color = dir_c1; return; }
+  if (u_mode == 12) { o_color = vec4(dir_c8, 0.0, 0.0, 1.0); return; }
+  if (u_mode == 13) { o_color = vec4(l_t, 1.0); return; }
+  if (u_mode == 14) { o_color = vec4(n_t, 1.0); return; }
   if (u_mode == 1) { o_color = vec4(vec3(term), 1.0); return; }  // the term, linear grey
   // Lambert + GGX (height-correlated Smith, Schlick Fresnel), Real-Time Rendering 4th ed., eqs. 9.41, 9.42, 9.16.
   vec3 h = normalize(wl + wo);
@@ -243,7 +255,7 @@ class Viewer {
     this.glslFiles = man.glsl;
     const has = (fn) => !fn || new RegExp(`\\b${fn}\\s*\\(`).test(glsl);
     this.methods = MICRO_SHADOWING_METHODS.filter((m) => asList(m.requires).every(has) &&
-      asList(m.lut).every((k) => man.luts && man.luts[k]));
+      asList(m.lut).every((k) => man.luts && man.luts[k]) && (!m.texel || (man.material && man.material[m.texel])));
     this.bumps = BUMP_TERMINATOR_METHODS.filter((m) => has(m.requires));
     const gl = this.gl;
     const prog = gl.createProgram();
@@ -263,6 +275,8 @@ class Viewer {
       this.loadImage(mat.base_color, true), this.loadImage(mat.normal), this.loadImage(mat.roughness),
       mat.metallic ? this.loadImage(mat.metallic) : this.constTexture(0), this.loadImage(mat.micro_occlusion)]);
     this.tex = { base: tb, normal: tn, rough: tr, metal: tm, vis: tv };
+    this.tex.dir = mat.directional ? await this.loadDirectional(mat.directional) : null;
+    this.dummyDir = this.tex.dir || this.emptyArray();
     this.luts = {};
     for (const [key, L] of Object.entries(man.luts || {})) this.luts[key] = { info: L, tex: await this.loadLut(L) };
     this.dummy3d = this.dummyLut();
@@ -303,6 +317,36 @@ class Viewer {
     gl.texParameteri(gl.TEXTURE_3D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
     gl.texParameteri(gl.TEXTURE_3D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
     for (const p of [gl.TEXTURE_WRAP_S, gl.TEXTURE_WRAP_T, gl.TEXTURE_WRAP_R]) gl.texParameteri(gl.TEXTURE_3D, p, gl.CLAMP_TO_EDGE);
+    return t;
+  }
+  // The directional channels: RGBA16F layers with the server's box mip chain (trilinear fetch = the coarse
+  // texel's own channels, docs/directional-occlusion.md), repeat wrap like the other maps.
+  async loadDirectional(D) {
+    const buf = await fetchOk(D.url, 'arraybuffer');
+    const total = D.levels.reduce((n, [w, h]) => n + w * h * D.layers * 4, 0);
+    if (buf.byteLength !== total * 2)
+      throw new Error(`${D.url}: ${buf.byteLength} bytes, the manifest says ${total} half floats`);
+    const gl = this.gl, t = gl.createTexture(), all = new Uint16Array(buf);
+    gl.bindTexture(gl.TEXTURE_2D_ARRAY, t);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    let off = 0;
+    D.levels.forEach(([w, h], level) => {
+      const n = w * h * D.layers * 4;
+      gl.texImage3D(gl.TEXTURE_2D_ARRAY, level, gl.RGBA16F, w, h, D.layers, 0, gl.RGBA, gl.HALF_FLOAT, all.subarray(off, off + n));
+      off += n;
+    });
+    gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_MAX_LEVEL, D.levels.length - 1);
+    gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_MIN_FILTER, gl.LINEAR_MIPMAP_LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_WRAP_S, gl.REPEAT);
+    gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_WRAP_T, gl.REPEAT);
+    if (this.aniso) gl.texParameterf(gl.TEXTURE_2D_ARRAY, this.aniso.TEXTURE_MAX_ANISOTROPY_EXT, 8);
+    return t;
+  }
+  emptyArray() {
+    const gl = this.gl, t = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D_ARRAY, t);
+    gl.texImage3D(gl.TEXTURE_2D_ARRAY, 0, gl.RGBA16F, 1, 1, 3, 0, gl.RGBA, gl.HALF_FLOAT, new Uint16Array(12));
     return t;
   }
   dummyLut() {
@@ -385,6 +429,9 @@ class Viewer {
       const slabs = lut ? lut.info.roughness_slabs : 1;
       if (L[name + '_slabs']) gl.uniform1i(L[name + '_slabs'], slabs);
     });
+    gl.activeTexture(gl.TEXTURE0 + 8);
+    gl.bindTexture(gl.TEXTURE_2D_ARRAY, this.dummyDir);
+    if (L.u_dir) gl.uniform1i(L.u_dir, 8);
     if (L.u_lut_az_harmonics) gl.uniform1i(L.u_lut_az_harmonics, this.luts.lut_azimuth ? this.luts.lut_azimuth.info.harmonics : 0);
     for (const o of this.objects) {
       gl.uniform2f(L.u_uv_scale, s.tiling * o.uvScale[0], s.tiling * o.uvScale[1]);
@@ -462,6 +509,7 @@ class Viewer {
     const per8 = term8 ? this.methods.map((m, k) => this.readPoints(pts, { mode: 1, method: k, component: 'both' }, false)) : null;
     const isPair = (m) => m.glsl_diffuse !== undefined;
     const perS = this.methods.map((m, k) => (isPair(m) ? this.readPoints(pts, { mode: 9, method: k }, true) : null));
+    const dirs = this.tex.dir ? [10, 11, 12, 13, 14].map((mode) => this.readPoints(pts, { mode, method: 0 }, true)) : null;
     const perS8 = this.methods.map((m, k) => (isPair(m) && term8 ? this.readPoints(pts, { mode: 1, method: k, component: 'specular' }, false) : null));
     return pts.map(([x, y], i) => {
       const [vis, nl, nv, rough] = inputs[i], [, cos_phi, bump, hit] = extra[i];
@@ -477,6 +525,10 @@ class Viewer {
         v: vs[i].slice(0, 3), l: ls[i].slice(0, 3), samples: this.state.samples, values, values_specular: valuesS };
       p.ng = world[0][i].slice(0, 3); p.ns = world[1][i].slice(0, 3); p.wl = world[2][i].slice(0, 3);
       p.bump_hemi = !!this.state.bump_hemi;
+      if (dirs) {
+        p.directional = [...dirs[0][i], ...dirs[1][i], dirs[2][i][0]];
+        p.l_tangent = dirs[3][i].slice(0, 3); p.n_tangent = dirs[4][i].slice(0, 3);
+      }
       p.bumps = {};
       this.bumps.forEach((b, k) => { p.bumps[b.id] = perBump[k][i][2]; });
       if (per8) { p.term8 = t8; p.term8_specular = t8s; }
@@ -525,6 +577,14 @@ function formatProbe(p, viewer) {
     lines.push(`${v}  ${m.label}${usesN(m) ? ` (N = ${p.samples})` : ''}`);
   }
   if (viewer.methods.some((m) => m.id in p.values_specular)) lines.push('', 'pairs: diffuse-lobe term | specular-lobe term');
+  if (p.directional) {
+    // The 9 channels as fetched (filtered), and the transport they give: the mean lit · N·L over the footprint.
+    const l = p.l_tangent, b = [1, l[0], l[1], l[2], l[0] * l[2], l[1] * l[2], l[0] * l[0] - l[1] * l[1], l[0] * l[1], l[2] * l[2]];
+    const tr = l[2] > 0 ? Math.max(0, p.directional.reduce((s, c, k) => s + c * b[k], 0)) : 0;
+    lines.push('', `directional channels: ${p.directional.map((c) => c.toFixed(3)).join(' ')}`,
+      `light (tangent) ${l.map(f).join(' ')}  normal (tangent) ${p.n_tangent.map(f).join(' ')}`,
+      `transport (mean lit·N·L over the footprint) ${f(tr)}`);
+  }
   return lines.join('\n');
 }
 
@@ -602,7 +662,7 @@ async function main() {
   // For scripts (the browser test, the frame-time bench): set controls, render synchronously, probe.
   window.mshViewer = {
     ready: Promise.resolve(true),
-    methods: viewer.methods.map((x) => ({ id: x.id, label: x.label, lut: x.lut || null, cpp: x.cpp || null, pair: x.glsl_diffuse !== undefined })),
+    methods: viewer.methods.map((x) => ({ id: x.id, label: x.label, lut: x.lut || null, texel: x.texel || null, cpp: x.cpp || null, pair: x.glsl_diffuse !== undefined })),
     bumps: viewer.bumps.map((x) => x.id),
     manifest: viewer.manifest,
     set(s) { writeControls(s); viewer.state = readControls(); labels(); },

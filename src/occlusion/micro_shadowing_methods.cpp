@@ -515,8 +515,12 @@ const std::vector<Entry>& entries() {
         // l)⁺.
         {info("directional", "directional (9 linear channels)",
               "directional micro-occlusion: the mean lit * N.L over the texel's footprint from 9 linear "
-              "channels baked from the height map, divided by the shading N.L (renderer and study only)",
-              kNoNdotl | kStudy | kTexel),
+              "channels baked from the height map, divided by the shading N.L (renderer, study and viewer)",
+              kNoNdotl | kStudy | kTexel, {[] {
+                MicroShadowingGlsl g = glsl("msh_dir_term(dir_c0, dir_c1, dir_c8, l_t, n_t)", "msh_dir_term");
+                g.texel = true;
+                return g;
+              }()}),
          [](auto&, auto&) {
            Impl i{[](const Point&) -> double {
                     throw InputError(

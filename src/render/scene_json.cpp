@@ -4,6 +4,7 @@
 #include <microshadow/io/texture.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/scene.h>
+#include <microshadow/render/texture_gen.h>
 
 #include <cmath>
 #include <fstream>
@@ -110,24 +111,11 @@ Texture texture_slot(const Ctx& c, const json& j, const std::string& where, int 
 // Directional micro-occlusion channels (occlusion/directional.h): a float32 NPY of shape (1, h, w, 9) as
 // gen-material writes it (directional.npy); every value finite.
 Texture directional_slot(const std::filesystem::path& path, const Ctx& c, const std::string& where) {
-  io::Volume v;
   try {
-    v = io::read_volume(path);
+    return load_directional_channels(path);
   } catch (const InputError& e) {
     c.fail(where, e.what());
   }
-  if (v.depth != 1 || v.channels != 9)
-    c.fail(where, fmt::format("{}: expected 9 channels per texel (h, w, 9), got {} x {} x {} x {}",
-                              path.string(), v.depth, v.height, v.width, v.channels));
-  Texture t(v.width, v.height, 9);
-  for (int y = 0; y < v.height; ++y)
-    for (int x = 0; x < v.width; ++x)
-      for (int k = 0; k < 9; ++k) {
-        const float f = v.at(x, y, 0, k);
-        if (!std::isfinite(f)) c.fail(where, fmt::format("{}: non-finite value", path.string()));
-        t.at(x, y, k) = f;
-      }
-  return t;
 }
 
 Material parse_material(const Ctx& c, const std::string& name, const json& j) {

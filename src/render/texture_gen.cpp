@@ -5,6 +5,7 @@
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/math/sampling.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/heightfield.h>
 #include <microshadow/render/image.h>
@@ -466,6 +467,23 @@ io::Volume texture_volume(const Texture& t) {
     for (int x = 0; x < t.width(); ++x)
       for (int c = 0; c < t.channels(); ++c) v.at(x, y, 0, c) = t.at(x, y, c);
   return v;
+}
+
+Texture load_directional_channels(const std::filesystem::path& path) {
+  const io::Volume v = io::read_volume(path);
+  if (v.depth != 1 || v.channels != directional::kDirectionalChannels)
+    throw InputError(fmt::format("{}: expected {} channels per texel (h, w, {}), got {} x {} x {} x {}",
+                                 path.string(), directional::kDirectionalChannels,
+                                 directional::kDirectionalChannels, v.depth, v.height, v.width, v.channels));
+  Texture t(v.width, v.height, v.channels);
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x)
+      for (int k = 0; k < v.channels; ++k) {
+        const float f = v.at(x, y, 0, k);
+        if (!std::isfinite(f)) throw InputError(fmt::format("{}: non-finite value", path.string()));
+        t.at(x, y, k) = f;
+      }
+  return t;
 }
 
 namespace {

@@ -9,7 +9,9 @@
 #include <microshadow/io/texture.h>
 #include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/texture_gen.h>
 #include <pthread.h>
 #include <signal.h>
@@ -39,7 +41,8 @@ namespace fs = std::filesystem;
 namespace msh::view {
 namespace {
 
-// The built-in texture set: gen-material --kind plaster --size 512 (other options default).
+// The built-in texture set: gen-material --kind plaster --size 512 (other options default, so with the
+// directional channels).
 constexpr int kPlasterSize = 512;
 
 struct Blob {
@@ -79,7 +82,8 @@ bool safe_relative_path(const std::string& p) {
 
 // The built-in plaster, generated once into cache/viewer-plaster-512 (written beside it, then renamed).
 fs::path ensure_plaster(const fs::path& cache) {
-  const fs::path dir = cache / fmt::format("viewer-plaster-{}", kPlasterSize);
+  // "-d": with the directional channels (a cache written before they were baked lacks them).
+  const fs::path dir = cache / fmt::format("viewer-plaster-{}-d", kPlasterSize);
   if (fs::exists(dir / "material.json")) return dir;
   std::error_code ec;
   fs::create_directories(cache, ec);
@@ -91,7 +95,7 @@ fs::path ensure_plaster(const fs::path& cache) {
   g.kind = "plaster";
   g.size = kPlasterSize;
   const render::TextureSet set = render::generate_texture_set(g);
-  const fs::path tmp = cache / fmt::format("viewer-plaster-{}.tmp-{}", kPlasterSize, ::getpid());
+  const fs::path tmp = cache / fmt::format("viewer-plaster-{}-d.tmp-{}", kPlasterSize, ::getpid());
   fs::remove_all(tmp, ec);
   render::write_texture_set(tmp, set);
   fs::rename(tmp, dir, ec);
@@ -101,6 +105,35 @@ fs::path ensure_plaster(const fs::path& cache) {
       throw InputError(fmt::format("cannot write the built-in plaster into '{}'", dir.string()));
   }
   return dir;
+}
+
+uint16_t half_bits(float f) { return Imath::half(f).bits(); }
+
+// The directional channels (occlusion/directional.h) as the page samples them: a 2D array texture of three
+// RGBA16F layers (channels 0–3, 4–7, then 8 in R), with its box mip chain (render::box_mip_chain: the mean of
+// a channel is the coarse texel's own channel, so the GPU's trilinear fetch is right at every scale). One
+// blob: level after level, each layer after layer, rows of RGBA half floats (little-endian).
+nlohmann::json add_directional(const fs::path& file, std::map<std::string, Blob>& data) {
+  const render::Texture fine = render::load_directional_channels(file);  // InputError naming the file
+  const std::vector<render::Texture> chain = render::box_mip_chain(fine);
+  constexpr int kLayers = 3;
+  std::string bytes;
+  nlohmann::json levels = nlohmann::json::array();
+  for (const render::Texture& t : chain) {
+    levels.push_back({t.width(), t.height()});
+    for (int layer = 0; layer < kLayers; ++layer)
+      for (int y = 0; y < t.height(); ++y)
+        for (int x = 0; x < t.width(); ++x)
+          for (int c = 0; c < 4; ++c) {
+            const int k = 4 * layer + c;
+            const uint16_t b = half_bits(k < directional::kDirectionalChannels ? t.at(x, y, k) : 0.0f);
+            bytes.push_back(char(b & 0xff));
+            bytes.push_back(char(b >> 8));
+          }
+  }
+  const std::string url = "data/material/directional.f16";
+  data[url] = {std::move(bytes), "application/octet-stream"};
+  return {{"url", url}, {"layers", kLayers}, {"levels", levels}, {"encoding", "float16-le"}};
 }
 
 // The texture set's PNG files, validated (each decodes; the browser reads PNG only).
@@ -140,6 +173,8 @@ void add_material(const fs::path& dir, bool builtin, std::map<std::string, Blob>
     m[key] = url;
   }
   if (j.contains("height_texels") && j["height_texels"].is_number()) m["height_texels"] = j["height_texels"];
+  if (j.contains("directional") && j["directional"].is_string())
+    m["directional"] = add_directional(dir / j["directional"].get<std::string>(), data);
   man["material"] = m;
 }
 
@@ -147,7 +182,7 @@ void add_material(const fs::path& dir, bool builtin, std::map<std::string, Blob>
 std::string to_half_bytes(const io::Volume& v) {
   std::string out(v.data.size() * 2, '\0');
   for (std::size_t i = 0; i < v.data.size(); ++i) {
-    const uint16_t b = Imath::half(v.data[i]).bits();
+    const uint16_t b = half_bits(v.data[i]);
     out[2 * i] = char(b & 0xff);
     out[2 * i + 1] = char(b >> 8);
   }
@@ -302,6 +337,7 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
     if (g.samples) c["samples"] = true;
     if (g.frame) c["frame"] = true;
     if (g.two_stage) c["two_stage"] = true;
+    if (g.texel) c["texel"] = true;
     return c;
   };
   std::string out =
@@ -319,10 +355,14 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
       "//            u_lut_az_harmonics\n"
       "//   requires the GLSL function it calls (left out of the menus when the shader files lack it)\n"
       "//   lut      the table it samples (manifest \"luts\" key; left out when the server has none)\n"
+      "//   texel    \"directional\": reads the texture set's directional channels (dir_c0, dir_c1, dir_c8, "
+      "l_t,\n"
+      "//            n_t; left out when the texture set has none)\n"
       "//   cpp      what the browser test compares with: the registry method, and phi (at the pixel's "
       "azimuth),\n"
       "//            samples (with the page's N), frame (at the pixel's own v and l), two_stage (pixel + "
-      "light)\n"
+      "light),\n"
+      "//            texel (at the probed channels, l_t and n_t)\n"
       "// Pairs (the registry's D+S): { id, label, glsl_diffuse, glsl_specular, requires, lut, cpp } with "
       "each\n"
       "// lobe's expression the first GLSL form of its term, requires and lut lists, and cpp.diffuse,\n"
@@ -339,6 +379,7 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
         J e = {{"id", m.name + g.id_suffix}, {"label", m.label + g.label_suffix}, {"glsl", g.expr}};
         if (!g.requires_fn.empty()) e["requires"] = g.requires_fn;
         if (!g.lut.empty()) e["lut"] = g.lut;
+        if (g.texel) e["texel"] = "directional";
         e["cpp"] = cpp(m.name, g);
         out += "  " + e.dump() + ",\n";
       }
@@ -354,6 +395,7 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
       if (!g->lut.empty()) lut.push_back(g->lut);
     }
     e["requires"] = req, e["lut"] = lut;
+    if (gd.texel || gs.texel) e["texel"] = "directional";
     e["cpp"] = {{"method", m.name}, {"diffuse", cpp(d->name, gd)}, {"specular", cpp(s->name, gs)}};
     out += "  " + e.dump() + ",\n";
   }

@@ -83,6 +83,11 @@ std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texe
 // The texture as a 2D io::Volume (same channels, values as they are), for the writers of io/texture.h.
 io::Volume texture_volume(const Texture& t);
 
+// Reads directional channels as write_texture_set writes them (directional.npy: float32 NPY of shape
+// (1, h, w, 9), or any volume reader's format with depth 1 and 9 channels). InputError naming the file if it
+// is unreadable, has another shape or holds a non-finite value.
+Texture load_directional_channels(const std::filesystem::path& path);
+
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png
 // (16-bit), directional.npy (the 9 directional channels, float32 (1, h, w, 9), when baked) and material.json
 // (the scene-material snippet with height_texels and directional; a scene that names height.png takes both

@@ -46,16 +46,20 @@ struct MicroShadowingOptions {
   std::string lut_path;
 };
 
-// The viewer's GLSL form of a method (the viewer's server generates its methods.js from these, src/view/viewer_server.cpp): expr is a GLSL ES 3.00 float
-// expression over the names listed in docs/viewer.md (vis, nl, nv, rough, alpha, cos_phi, v, l, u_samples,
-// the LUT samplers); requires_fn names the GLSL function it calls (the method is left out of the menu when
-// the shader files lack it); lut the table it samples. id_suffix and label_suffix tell apart several forms of
-// one method (e.g. the two-stage ALU fit); phi/samples/frame/two_stage tell the browser test how to evaluate
-// the C++ side (at the pixel's azimuth, with the page's sample count, at the pixel's own v and l, per pixel +
-// per light).
+// The viewer's GLSL form of a method (the viewer's server generates its methods.js from these,
+// src/view/viewer_server.cpp): expr is a GLSL ES 3.00 float expression over the names listed in
+// docs/viewer.md (vis, nl, nv, rough, alpha, cos_phi, v, l, u_samples, the LUT samplers); requires_fn names
+// the GLSL function it calls (the method is left out of the menu when the shader files lack it); lut the
+// table it samples. id_suffix and label_suffix tell apart several forms of one method (e.g. the two-stage ALU
+// fit); phi/samples/frame/two_stage tell the browser test how to evaluate the C++ side (at the pixel's
+// azimuth, with the page's sample count, at the pixel's own v and l, per pixel + per light). texel: the form
+// reads the per-texel directional channels, which the page fetches once per pixel into dir_c0, dir_c1 (vec4)
+// and dir_c8 (float), with the light l_t and the shading normal n_t in the normal map's tangent frame (the
+// viewer offers it only for a texture set baked with them; the browser test evaluates the C++ term at the
+// probed channels).
 struct MicroShadowingGlsl {
   std::string expr, requires_fn, lut, id_suffix, label_suffix;
-  bool phi = false, samples = false, frame = false, two_stage = false;
+  bool phi = false, samples = false, frame = false, two_stage = false, texel = false;
 };
 
 // What a method reads and accepts (the CLI, the Python module and the viewer use it to reject options that do
