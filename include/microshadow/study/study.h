@@ -5,11 +5,17 @@
 #pragma once
 
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <microshadow/render/image.h>
 #include <microshadow/render/multiscale.h>
 #include <microshadow/render/scene.h>
+#include <microshadow/study/metrics.h>
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -98,7 +104,156 @@ using Log = std::function<void(const std::string&)>;
 // counts). Returns results.json's content. InputError on a bad configuration, a bad user height map (missing,
 // unreadable, not square, a side the scales do not divide or narrower than the view, a bad depth: checked
 // before any work) or an unwritable directory.
+//
+// It is the composition of the stages below: plan_study, a CellRunner running every cell of the plan in
+// order, write_featured_images after each cell, then aggregate_results, write_results and aggregate_timing.
 nlohmann::json run_study(const StudyConfig& cfg, const std::filesystem::path& out_dir, const Log& log = {});
+
+// ---- Plan: what the study renders ----
+
+// A light of a cell, placed in the frame of the shape's view centre.
+struct StudyLight {
+  std::string name;  // in the rows: dir-el{E}-az{A}, point, sphere; area section: {type}-r{R}-el{E}
+  std::string type;  // directional, point, sphere, disk, rect
+  render::Light light;
+  double elevation = 0, azimuth = 0;  // degrees, of the direction to the light at the view's centre
+  double radius_deg = 0;              // area-light section: angular radius seen from the view's centre
+};
+
+// A term variant: a runtime-registry method, rendered on the coarse set with these options.
+struct StudyVariant {
+  std::string term;
+  bool smooth_normal = false;  // N·L and N·V of the term from the unperturbed normal (rows: ms_normal)
+  render::CoarseRoughness roughness = render::CoarseRoughness::Base;
+  render::AreaMs area_ms = render::AreaMs::Sampled;  // area-light section only
+};
+
+// A material of the plan: a procedural kind, or a user's height map (loaded and checked by plan_study).
+struct StudyMaterial {
+  std::string name;             // the rows' "material"
+  int fine_size = 0;            // fine texels per side: StudyConfig::fine_size, or the user map's side
+  render::Texture user_height;  // the user's map; empty for a procedural kind
+  float depth_texels = 0;       // the user map's depth (UserMaterial::depth_texels)
+  bool user() const { return !user_height.empty(); }
+};
+
+// One cell: a ground truth and every variant of its scale, measured against it.
+struct StudyCell {
+  std::size_t material = 0;  // index into StudyPlan::materials
+  std::string shape;         // plane, cylinder
+  int scale = 1;             // k
+  StudyLight light;
+};
+
+struct StudyPlan {
+  StudyConfig config;
+  std::vector<StudyMaterial> materials;  // the procedural kinds, then the user's maps
+  // material → shape → scale → light, the order of results.json's rows (and the order in which a CellRunner
+  // builds each shared state once).
+  std::vector<StudyCell> cells;
+  std::map<int, std::vector<StudyVariant>> variants;  // per scale: what every cell of that scale renders
+};
+
+// Validates the configuration and loads and checks the user's height maps (the InputErrors of run_study,
+// before any work), then enumerates the cells and the variants.
+StudyPlan plan_study(const StudyConfig& cfg);
+
+// ---- Measure: one variant against the ground truth ----
+
+// The regions a cell is measured over: the texture's rough half and smooth half (pixels near a boundary
+// belong to neither) and the whole shape (pixels that miss it belong to no region).
+struct Regions {
+  Mask rough, smooth, whole;
+};
+
+// A cell's image per component (0 total, 1 diffuse, 2 specular), linear, and its per-channel standard error
+// (the ground truth's; a term's image has none).
+struct ComponentImages {
+  render::Image img[3], se[3];
+};
+
+// The ground truth as the metrics read it: its images, and per component the luminance and the luminance's
+// standard error.
+struct GroundTruth {
+  ComponentImages images;
+  Plane lum[3], lum_se[3];
+};
+GroundTruth make_ground_truth(ComponentImages images);
+
+// A variant's measured fields per component (total, diffuse, specular) against the ground truth: gt_mean,
+// bias, bias_stderr, rmse_footprint, rmse_footprint_floor, rmse, rmse_stderr (each per region: rough,
+// smooth, whole; NaN where a region has no signal) and ssim (null when undefined). footprint: the
+// rmse_footprint block side in pixels.
+std::array<nlohmann::json, 3> measure_variant(const ComponentImages& variant, const GroundTruth& gt,
+                                              const Regions& regions, int footprint);
+
+// ---- Cell: the ground truth and every variant of one (material, shape, scale, light) ----
+
+// An image of a featured light (StudyConfig::featured_lights), to be written under the output directory.
+struct FeaturedImage {
+  std::string file;  // relative to the output directory: images/{material}_{shape}_k{k}_{light}_{method}...
+  render::Image image;
+  float exposure = 0;    // display exposure (the ground truth's), for a linear image
+  bool display = false;  // already display-encoded (the difference images): written without tone mapping
+};
+
+// What one cell produced: results.json's entries for it and its cost. The JSON holds no NaN (null instead).
+struct CellResult {
+  nlohmann::json ground_truth;          // its "ground_truth" row: spp, rounds, floors_met, components, rays
+  nlohmann::json rows;                  // its "rows": one per variant and component
+  nlohmann::json images;                // its "images" entries (featured lights only)
+  nlohmann::json area_representative;   // area-light section: the representative point's own error
+  std::vector<FeaturedImage> featured;  // the pixels of `images`
+  // Cost, for timing.json only.
+  double ground_truth_seconds = 0, methods_seconds = 0;
+  uint64_t ground_truth_rays = 0;
+  double ground_truth_ray_seconds = 0;                // the renderer's own time for those rays
+  std::map<std::string, double> variant_cpu_seconds;  // by variant label (+ " (area light)")
+};
+
+// Runs cells of a plan. The state they share is built when a cell needs it and kept for the next cells:
+// the fine texture set of the material (generated, or read from StudyConfig::material_cache), the
+// ground-truth renderer of the material × shape (the fine geometry's acceleration structure: tens of seconds
+// for a displaced cylinder at 2048²), and the coarse scenes, camera and regions of the scale. Cells in plan
+// order build each once; a cell of another material, shape or scale rebuilds from that level down. A cell's
+// result does not depend on which cells ran before it. The plan must outlive the runner.
+class CellRunner {
+ public:
+  explicit CellRunner(const StudyPlan& plan, Log log = {});
+  ~CellRunner();
+  CellRunner(const CellRunner&) = delete;
+  CellRunner& operator=(const CellRunner&) = delete;
+
+  // The ground truth (diffuse and specular alone, in rounds that double the samples until the noise floors
+  // are met or gt_max_spp) and every variant of the cell's scale, measured (measure_variant).
+  CellResult run(const StudyCell& cell);
+
+  // What building the shared state cost: {"generate_seconds": total, "materials": {name:
+  // {"generate_seconds", "gt_build_seconds_{shape}"}}}.
+  const nlohmann::json& preparation_timing() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// One cell alone (its material and shape prepared for it): what run_study produces for that cell.
+CellResult run_cell(const StudyPlan& plan, const StudyCell& cell, const Log& log = {});
+
+// Writes a cell's featured images under out_dir (its images/ folder must exist).
+void write_featured_images(const CellResult& cell, const std::filesystem::path& out_dir);
+
+// ---- Aggregate: the run's files from its cells ----
+
+// results.json's content from the cells' results in plan order: config, ground_truth, rows, images, summary
+// (summarize), and with the area-light section area_summary and area_representative.
+nlohmann::json aggregate_results(const StudyPlan& plan, const std::vector<CellResult>& cells);
+// Writes results.json, results.csv, summary.md, area_summary.md (area-light section) and study.html.
+void write_results(const nlohmann::json& results, const std::filesystem::path& out_dir);
+// timing.json's content: CellRunner::preparation_timing, the cells' ground-truth and term times and rays
+// summed, and the run's wall and CPU (all threads) seconds.
+nlohmann::json aggregate_timing(const std::vector<CellResult>& cells, const nlohmann::json& preparation,
+                                double wall_seconds, double cpu_seconds);
 
 // The verdict tables: from the method rows of results.json (used by run_study; exposed for tests).
 nlohmann::json summarize(const nlohmann::json& rows, const StudyConfig& cfg);
