@@ -39,6 +39,60 @@ Texture ridge(double beta, double depth) {
   return field(128, 4, depth, [t](int i, int) { return -t * std::min(std::abs(i - 64), 32); });
 }
 
+// The classified walks (bake_horizon_tangents with thresholds) against the exact ones on a rough wrapping
+// field, unlimited and finite ray length: for every threshold τ, t < τ must agree with the exact tan H
+// wherever the exact walk knows the side (it under-estimates tan² H by at most its 1e-4 tolerance: t_exact ≥
+// τ means blocked, t_exact² + 1e-4 < τ² means lit), and t ≤ the exact horizon + float rounding (a lower
+// bound).
+TEST(VisibilityBake, ClassifiedHorizonsAgreeWithExactOnes) {
+  const int n = 32;
+  uint32_t st = 7;
+  auto rnd = [&] {
+    st = st * 1664525u + 1013904223u;
+    return double(st >> 8) * 0x1p-24;
+  };
+  Texture f(n, n, 1);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      f.at(i, j, 0) =
+          float(0.5 + 0.3 * std::sin(2 * kPiD * i / n) * std::sin(6 * kPiD * j / n) + 0.2 * rnd());
+  std::vector<Vec2f> dirs;
+  std::vector<std::vector<double>> thr;
+  for (int k = 0; k < 12; ++k) {
+    const double phi = 2 * kPiD * (k + 0.5) / 12;
+    dirs.emplace_back(float(std::cos(phi)), float(std::sin(phi)));
+    std::vector<double> t;
+    for (int e = 0; e < 16; ++e) t.push_back(std::tan((e + 0.5) / 16 * kPiD / 2 + 1e-3 * k));
+    thr.push_back(t);
+  }
+  int decided = 0, blocked = 0;
+  for (float R : {0.0f, 7.0f}) {
+    const auto exact = bake_horizon_tangents(f, 6.0f, dirs, R);
+    const auto cls = bake_horizon_tangents(f, 6.0f, dirs, R, thr);
+    ASSERT_EQ(exact.size(), cls.size());
+    for (std::size_t p = 0; p < exact.size(); ++p) {
+      const std::size_t k = p % dirs.size();
+      EXPECT_LE(cls[p], exact[p] * (1 + 1e-5f) + std::sqrt(1e-4f)) << p;
+      for (double tau : thr[k]) {
+        const double te = exact[p];
+        if (te >= tau) {
+          EXPECT_FALSE(cls[p] < tau) << "pixel-dir " << p << " tau " << tau << ": blocked, classified lit";
+          ++decided, ++blocked;
+        } else if (te * te + 1e-4 < tau * tau) {
+          EXPECT_TRUE(cls[p] < tau) << "pixel-dir " << p << " tau " << tau << ": lit, classified blocked";
+          ++decided;
+        }
+      }
+    }
+  }
+  EXPECT_GT(decided, 20000);
+  EXPECT_GT(blocked, 2000);  // the field is rough enough that both sides are exercised
+  EXPECT_THROW(bake_horizon_tangents(f, 6.0f, dirs, 0.0f, {{1.0}}), InputError);  // one list per direction
+  std::vector<std::vector<double>> unsorted = thr;
+  unsorted[3] = {0.5, 0.2};
+  EXPECT_THROW(bake_horizon_tangents(f, 6.0f, dirs, 0.0f, unsorted), InputError);
+}
+
 }  // namespace
 
 TEST(VisibilityBake, FlatIsOne) {

@@ -200,26 +200,37 @@ void check_azimuths(const char* what, int azimuths) {
 Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
   check_azimuths("bake_directional_channels", azimuths);
   const auto dirs = uniform_azimuths(azimuths);
-  const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance);
-  const auto n = fine_normals(height, depth);
   const LsqProjection proj(dir::kPoly2Terms, dirs, dir::kFitElevations, dir::kFitEpsilon);
-  const int w = height.width(), h = height.height(), na = azimuths, nd = int(proj.dirs.size());
+  const int w = height.width(), h = height.height(), na = azimuths, ne = proj.ne, nd = int(proj.dirs.size());
+  // tan e of every fit direction as transport_texel computes it; ascending in e within an azimuth, so the
+  // lit directions of an azimuth are those from the first one above the horizon up (and the walks only
+  // have to classify the horizon against them).
+  std::vector<std::vector<double>> tan_e(std::size_t(na), std::vector<double>(std::size_t(ne), 0.0));
+  for (int a = 0; a < na; ++a)
+    for (int e = 0; e < ne; ++e) {
+      const Vec3f& l = proj.dirs[std::size_t(a * ne + e)];
+      tan_e[std::size_t(a)][std::size_t(e)] = double(l.z) / std::sqrt(double(l.x) * l.x + double(l.y) * l.y);
+    }
+  const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
+  const auto n = fine_normals(height, depth);
   Texture out(w, h, dir::kDirectionalChannels);
   tbb::parallel_for(0, h, [&](int j) {
-    std::vector<float> f(proj.dirs.size());
     for (int i = 0; i < w; ++i) {
       const std::size_t p = std::size_t(j) * w + i;
-      for (int a = 0; a < na; ++a)
-        for (int e = 0; e < proj.ne; ++e) {
-          const int d = a * proj.ne + e;
-          f[std::size_t(d)] =
-              transport_texel(tan_h[p * std::size_t(na) + std::size_t(a)], n[p], proj.dirs[std::size_t(d)]);
+      // Σ_d P[r][d] f(d) in the order of d, the blocked directions (f = 0) left out.
+      double sum[dir::kPoly2Terms] = {};
+      for (int a = 0; a < na; ++a) {
+        const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
+        const auto& te = tan_e[std::size_t(a)];
+        int e = 0;
+        while (e < ne && !(te[std::size_t(e)] > T)) ++e;
+        for (; e < ne; ++e) {
+          const int d = a * ne + e;
+          const float f = std::max(dot(n[p], proj.dirs[std::size_t(d)]), 0.0f);
+          for (int r = 0; r < proj.nb; ++r) sum[r] += double(proj.P[std::size_t(r) * nd + d]) * f;
         }
-      for (int r = 0; r < proj.nb; ++r) {
-        double sum = 0;
-        for (int d = 0; d < nd; ++d) sum += double(proj.P[std::size_t(r) * nd + d]) * f[std::size_t(d)];
-        out.at(i, j, r) = float(sum);
       }
+      for (int r = 0; r < proj.nb; ++r) out.at(i, j, r) = float(sum[r]);
     }
   });
   return out;
@@ -246,7 +257,12 @@ Texture exact_diffuse_transport(const Texture& height, float depth, Vec3f l, flo
     throw InputError("exact_diffuse_transport: the light must be a unit vector above the tangent plane");
   const float horiz = std::sqrt(l.x * l.x + l.y * l.y);
   const Vec2f az = horiz > 0 ? Vec2f(l.x / horiz, l.y / horiz) : Vec2f(1, 0);
-  const auto tan_h = bake_horizon_tangents(height, depth, {az}, max_distance);
+  // Classified against the light's own tan e (transport_texel's value): lit is exact, no horizon tolerance.
+  const double tan_e = horiz > 0 ? double(l.z) / std::sqrt(double(l.x) * l.x + double(l.y) * l.y)
+                                 : std::numeric_limits<double>::infinity();
+  const auto tan_h = std::isfinite(tan_e)
+                         ? bake_horizon_tangents(height, depth, {az}, max_distance, {{tan_e}})
+                         : std::vector<float>(std::size_t(height.width()) * height.height(), 0.0f);
   const auto n = fine_normals(height, depth);
   const int w = height.width(), h = height.height();
   Texture out(w, h, 1);

@@ -60,8 +60,13 @@ struct Heights {
 // exact in float.
 class HorizonWalk {
  public:
-  HorizonWalk(const Heights& f, int i0, int j0, float cx, float sy, float R)
-      : f_(f),
+  // thresholds (optional, ascending, n of them): the walk only has to classify tan H against them (see
+  // bake_horizon_tangents' overload), so its gate is the next threshold above the current horizon.
+  HorizonWalk(const Heights& f, int i0, int j0, float cx, float sy, float R,
+              const double* thresholds = nullptr, int n_thresholds = 0)
+      : thresholds_(thresholds),
+        n_thresholds_(n_thresholds),
+        f_(f),
         i0_(i0),
         j0_(j0),
         z0_(*f.vertex(i0, j0)),
@@ -139,7 +144,18 @@ class HorizonWalk {
   // the field's highest point (rise/g) and the ray-length disc (a point at s with Δz/s > g needs
   // s² (1 + g²) < R²).
   void update() {
-    gate_ = std::sqrt(T_ * T_ + kTan2Tolerance);
+    if (thresholds_) {
+      // The smallest threshold above T, a hair lower (1e-6 relative, far above the float rounding of the
+      // gate tests), so a skipped point can never reach it; none left: every threshold is classified.
+      while (next_ < n_thresholds_ && !(thresholds_[next_] > double(T_))) ++next_;
+      if (next_ == n_thresholds_) {
+        gate_ = std::numeric_limits<float>::infinity(), limit_ = 0;
+        return;
+      }
+      gate_ = float(thresholds_[next_] * (1 - 1e-6));
+    } else {
+      gate_ = std::sqrt(T_ * T_ + kTan2Tolerance);
+    }
     limit_ = rise_ / gate_;
     if (limited_) limit_ = std::min(limit_, R_ / std::sqrt(1 + gate_ * gate_));
   }
@@ -179,6 +195,8 @@ class HorizonWalk {
     }
   }
 
+  const double* thresholds_;
+  int n_thresholds_, next_ = 0;
   const Heights& f_;
   int i0_, j0_;
   float z0_, cx_, sy_, R_;
@@ -214,8 +232,10 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
   return vis;
 }
 
-std::vector<float> bake_horizon_tangents(const Texture& height, float depth, const std::vector<Vec2f>& dirs,
-                                         float max_distance) {
+namespace {
+// Both forms of bake_horizon_tangents: exact tangents (thresholds null) or classified against thresholds.
+std::vector<float> horizon_walks(const Texture& height, float depth, const std::vector<Vec2f>& dirs,
+                                 float max_distance, const std::vector<std::vector<double>>* thresholds) {
   if (!(depth >= 0) || !std::isfinite(depth))
     throw InputError(fmt::format("bake_horizon_tangents: depth must be finite and >= 0, got {}", depth));
   if (std::isnan(max_distance)) throw InputError("bake_horizon_tangents: max distance is NaN");
@@ -223,16 +243,39 @@ std::vector<float> bake_horizon_tangents(const Texture& height, float depth, con
   for (const Vec2f& d : dirs)
     if (!(std::abs(d.x * d.x + d.y * d.y - 1) < 1e-4f))
       throw InputError("bake_horizon_tangents: azimuth directions must be unit vectors");
+  if (thresholds) {
+    if (thresholds->size() != dirs.size())
+      throw InputError("bake_horizon_tangents: one threshold list per direction is needed");
+    for (const auto& t : *thresholds)
+      if (!std::is_sorted(t.begin(), t.end()) || (!t.empty() && !(t.front() > 0)))
+        throw InputError("bake_horizon_tangents: thresholds must be positive and ascending");
+  }
   const float R = max_distance > 0 ? max_distance : std::numeric_limits<float>::infinity();
   const Heights f(height, depth);
   const int w = height.width(), h = height.height(), n = int(dirs.size());
   std::vector<float> out(std::size_t(w) * h * n);
   tbb::parallel_for(0, h, [&](int j) {
     for (int i = 0; i < w; ++i)
-      for (int k = 0; k < n; ++k)
-        out[(std::size_t(j) * w + i) * n + k] = HorizonWalk(f, i, j, dirs[k].x, dirs[k].y, R).run();
+      for (int k = 0; k < n; ++k) {
+        const auto* t = thresholds ? &(*thresholds)[std::size_t(k)] : nullptr;
+        out[(std::size_t(j) * w + i) * n + k] =
+            HorizonWalk(f, i, j, dirs[k].x, dirs[k].y, R, t ? t->data() : nullptr, t ? int(t->size()) : 0)
+                .run();
+      }
   });
   return out;
+}
+}  // namespace
+
+std::vector<float> bake_horizon_tangents(const Texture& height, float depth, const std::vector<Vec2f>& dirs,
+                                         float max_distance) {
+  return horizon_walks(height, depth, dirs, max_distance, nullptr);
+}
+
+std::vector<float> bake_horizon_tangents(const Texture& height, float depth, const std::vector<Vec2f>& dirs,
+                                         float max_distance,
+                                         const std::vector<std::vector<double>>& thresholds) {
+  return horizon_walks(height, depth, dirs, max_distance, &thresholds);
 }
 
 }  // namespace msh::render

@@ -15,10 +15,11 @@ namespace msh::render {
 // lit · (n · l)⁺ over the hemisphere, channel order 1, x, y, z, xz, yz, x² − y², xy, z²) of a height map
 // (values in [0, 1], depth_texels as in HeightField), per texel: the transport is exact on the fit's
 // direction grid (`azimuths` azimuths φ_a = 2π(a + ½)/azimuths, directional::kFitElevations elevations),
-// horizons by bake_horizon_tangents with ray length max_distance texels (≤ 0 = unlimited, the measured
-// choice), n = the central-difference normal of normal_map_from_height. Float32, unencoded (8-bit: see
-// directional::decode_unorm8). Deterministic whatever the thread count. InputError on azimuths outside
-// [4, 4096] (and as bake_horizon_tangents).
+// horizons by bake_horizon_tangents (classified against the fit directions' elevations: lit is exact, and
+// the walks stop as soon as no fit direction can change) with ray length max_distance texels (≤ 0 =
+// unlimited, the measured choice), n = the central-difference normal of normal_map_from_height. Float32,
+// unencoded (8-bit: see directional::decode_unorm8). Deterministic whatever the thread count. InputError on
+// azimuths outside [4, 4096] (and as bake_horizon_tangents).
 Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
                                   float max_distance);
 
@@ -44,8 +45,9 @@ ChannelRanges channel_ranges(const Texture& t);
 
 // The exact diffuse transport per fine texel (vertex) of a directional light l (grid/tangent space, unit,
 // l.z > 0): lit(x, l) · (n(x) · l)⁺, lit = the ray toward l leaves the surface (tan e > tan H along the
-// light's azimuth, ray length max_distance, ≤ 0 = unlimited), n = the central-difference normal. One
-// channel. The coarse transport at scale k is box_downsample(result, k).
+// light's azimuth, exact horizon: bake_horizon_tangents classified against tan e, ray length max_distance,
+// ≤ 0 = unlimited), n = the central-difference normal. One channel. The coarse transport at scale k is
+// box_downsample(result, k).
 Texture exact_diffuse_transport(const Texture& height, float depth_texels, Vec3f l, float max_distance);
 
 // The measurement of docs/directional-occlusion.md.

@@ -79,6 +79,14 @@ Texture bake_visibility(const Texture& height, float depth_texels, int azimuths,
 // at elevation e reaches the vertex iff tan e > tan H. Deterministic whatever the thread count.
 std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texels,
                                          const std::vector<Vec2f>& dirs, float max_distance);
+// The same walks when only the comparison of tan H with given values matters: thresholds[k] (ascending, > 0)
+// for dirs[k]. The result t satisfies, for every threshold τ of its direction, t < τ ⟺ tan H < τ (tan H the
+// exact horizon, without the 1e-4 tolerance above); t itself is a lower bound of tan H. A walk stops as soon
+// as no further point can cross the next threshold above its horizon, which makes it several times shorter
+// (the directional bake needs exactly this: which fit directions are lit).
+std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texels,
+                                         const std::vector<Vec2f>& dirs, float max_distance,
+                                         const std::vector<std::vector<double>>& thresholds);
 
 // The texture as a 2D io::Volume (same channels, values as they are), for the writers of io/texture.h.
 io::Volume texture_volume(const Texture& t);
