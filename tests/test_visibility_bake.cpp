@@ -39,23 +39,29 @@ Texture ridge(double beta, double depth) {
   return field(128, 4, depth, [t](int i, int) { return -t * std::min(std::abs(i - 64), 32); });
 }
 
+// A rough wrapping field: 0.5 + amp · sin(2π i/n) · wave(2π ky j/n) + 0.2 · uniform noise (LCG from seed).
+Texture wavy_noisy_field(int n, uint32_t seed, double amp, int ky, bool cosine) {
+  auto rnd = [&] {
+    seed = seed * 1664525u + 1013904223u;
+    return double(seed >> 8) * 0x1p-24;
+  };
+  Texture f(n, n, 1);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double y = 2 * kPiD * ky * j / n;
+      f.at(i, j, 0) =
+          float(0.5 + amp * std::sin(2 * kPiD * i / n) * (cosine ? std::cos(y) : std::sin(y)) + 0.2 * rnd());
+    }
+  return f;
+}
+
 // The classified walks (bake_horizon_tangents with thresholds) against the exact ones on a rough wrapping
 // field, unlimited and finite ray length: for every threshold τ, t < τ must agree with the exact tan H
 // wherever the exact walk knows the side (it under-estimates tan² H by at most its 1e-4 tolerance: t_exact ≥
 // τ means blocked, t_exact² + 1e-4 < τ² means lit), and t ≤ the exact horizon + float rounding (a lower
 // bound).
 TEST(VisibilityBake, ClassifiedHorizonsAgreeWithExactOnes) {
-  const int n = 32;
-  uint32_t st = 7;
-  auto rnd = [&] {
-    st = st * 1664525u + 1013904223u;
-    return double(st >> 8) * 0x1p-24;
-  };
-  Texture f(n, n, 1);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      f.at(i, j, 0) =
-          float(0.5 + 0.3 * std::sin(2 * kPiD * i / n) * std::sin(6 * kPiD * j / n) + 0.2 * rnd());
+  const Texture f = wavy_noisy_field(32, 7, 0.3, 3, false);
   std::vector<Vec2f> dirs;
   std::vector<std::vector<double>> thr;
   for (int k = 0; k < 12; ++k) {
@@ -185,16 +191,7 @@ TEST(VisibilityBake, ThreadIndependentAndBadInput) {
 TEST(VisibilityBake, RandomFieldMatchesBruteForce) {
   const int n = 24;
   const double depth = 5;
-  uint32_t st = 99;
-  auto rnd = [&] {
-    st = st * 1664525u + 1013904223u;
-    return double(st >> 8) * 0x1p-24;
-  };
-  Texture f(n, n, 1);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      f.at(i, j, 0) =
-          float(0.5 + 0.25 * std::sin(2 * kPiD * i / n) * std::cos(4 * kPiD * j / n) + 0.2 * rnd());
+  const Texture f = wavy_noisy_field(n, 99, 0.25, 2, true);
   auto zv = [&](int i, int j) { return (double(f.at(((i % n) + n) % n, ((j % n) + n) % n, 0)) - 1) * depth; };
   auto surf = [&](double x, double y) {
     const double fx0 = std::floor(x), fy0 = std::floor(y);
