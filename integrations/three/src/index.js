@@ -49,6 +49,7 @@ export const DEBUG_MODES = {
   direct: 8,   // (direct diffuse, direct specular) of the light, green channel
   terms_diffuse: 9,   // the diffuse-lobe term of the first four lights of the loop (all lights lit)
   terms_specular: 10, // the specular-lobe term of the first four lights
+  indirect: 11,  // three's indirect diffuse light (after its AO, when aoOnIndirect)
 };
 
 // One set of uniform objects per material, shared by every program three compiles for it: three keeps a
@@ -302,7 +303,8 @@ export function addMicroShadowing(material, options = {}) {
 	else if ( msh_debug_mode == 7 ) gl_FragColor = vec4( geometryNormal, 1.0 );
 	else if ( msh_debug_mode == 8 ) gl_FragColor = msh_dbg_direct;
 	else if ( msh_debug_mode == 9 ) gl_FragColor = msh_dbg_d;
-	else if ( msh_debug_mode == 10 ) gl_FragColor = msh_dbg_s;`, 'fragment');
+	else if ( msh_debug_mode == 10 ) gl_FragColor = msh_dbg_s;
+	else if ( msh_debug_mode == 11 ) gl_FragColor = vec4( reflectedLight.indirectDiffuse, 1.0 );`, 'fragment');
     shader.fragmentShader = fs;
     if (visSource === 'map') {
       let vs = shader.vertexShader;
