@@ -13,7 +13,11 @@
 // chromium/node/playwright-core/three unless MSH_ALLOW_NO_BROWSER=1 (then skips), as the viewer test.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/texture.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_area.h>
@@ -281,6 +285,12 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   fs::remove_all(shots);
   const fs::path& copy = example_copy();
   ASSERT_TRUE(fs::is_regular_file(copy / "index.html"));
+  // The default 3D table as `bake micro-shadowing --out lut.npy` writes it (float32 NPY and its sidecar), for
+  // the module's NPY loader: the page compares it with the served raw half floats.
+  io::write_volume(copy / "data" / "lut3d.npy", lut::default_micro_shadowing_lut(false)->volume,
+                   io::FileFormat::Npy);
+  io::write_file_atomic(copy / "data" / "lut3d.npy.json",
+                        lut::sidecar_json(lut::default_bake_options(lut::LutLayout::Cone)));
   // The static copy served as is (`microshadow view --root`), the driver in the browser.
   const fs::path out = dir / "server.out", err = dir / "server.err";
   const pid_t pid = fork();
@@ -298,13 +308,34 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
     else
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
+  // docs/three.md's five lines as written, in a harness: a scene, the example's glTF model for model.glb, one
+  // render; the harness reports each mesh's program cache key (the module's key when the call took).
+  const std::string doc = slurp(kSource / "docs" / "three.md");
+  const auto h = doc.find("## The five lines"), a = doc.find("```js\n", h), b = doc.find("```", a + 6);
+  ASSERT_TRUE(h != std::string::npos && a != std::string::npos && b != std::string::npos) << "docs/three.md";
+  std::string five = doc.substr(a + 6, b - a - 6);
+  const auto glb = five.find("'model.glb'");
+  ASSERT_NE(glb, std::string::npos) << five;
+  five.replace(glb, 11, "'data/model.gltf'");
+  std::ofstream(dir / "snippet.js")
+      << "import * as THREE from 'three';\nconst scene = new THREE.Scene();\n"
+      << five
+      << "\ntry {\n  const r = new THREE.WebGLRenderer();\n  r.setSize(64, 64);\n"
+         "  const cam = new THREE.PerspectiveCamera(40, 1, 0.1, 20);\n  cam.position.set(0, 1, 3);\n"
+         "  cam.lookAt(0, 0, 0);\n  scene.add(new THREE.DirectionalLight(0xffffff, 2));\n  r.render(scene, "
+         "cam);\n"
+         "  const keys = [];\n  scene.traverse((o) => { if (o.isMesh) "
+         "keys.push(o.material.customProgramCacheKey()); });\n"
+         "  window.mshSnippet = { keys, gl_error: r.getContext().getError(), programs: "
+         "r.info.programs.length };\n"
+         "} catch (e) { window.mshSnippet = { error: e.message }; }\n";
   std::string node_out;
   int rc = -1;
   if (!url.empty()) {
-    const std::string cmd = "cd " + kBrowserDir.string() + " && node three_test.mjs --url " + url +
-                            " --out " + shots.string() + " --module " +
-                            (copy / "microshadow-three").string() + " --chromium " + chromium_path() + " > " +
-                            (dir / "node.out").string() + " 2>&1";
+    const std::string cmd =
+        "cd " + kBrowserDir.string() + " && node three_test.mjs --url " + url + " --out " + shots.string() +
+        " --module " + (copy / "microshadow-three").string() + " --chromium " + chromium_path() +
+        " --snippet " + (dir / "snippet.js").string() + " > " + (dir / "node.out").string() + " 2>&1";
     rc = std::system(cmd.c_str());
     node_out = slurp(dir / "node.out");
   }
@@ -319,6 +350,21 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
   ASSERT_TRUE(res.value("example_loaded", false)) << res["errors"].dump(1);
   EXPECT_GT(res["example_mean"].get<double>(), 0.05) << "the example's frame is (nearly) black";
+  // The five lines of docs/three.md: every mesh of the glTF model got micro-shadowing and compiled.
+  const auto& sn = res["snippet"];
+  ASSERT_TRUE(sn.is_object() && !sn.contains("error")) << sn.dump();
+  ASSERT_FALSE(sn["keys"].empty());
+  for (const auto& k : sn["keys"])
+    EXPECT_NE(k.get<std::string>().find("msh:diffuse-aware-alu+generic-vndf-alu:aoMap"), std::string::npos)
+        << k;
+  EXPECT_EQ(sn["gl_error"], 0);
+  EXPECT_GE(sn["programs"].get<int>(), 1);
+  // The NPY table loads to the same texture as the raw half floats (same size; half conversions agree to 1
+  // ulp).
+  ASSERT_TRUE(res["npy"].is_object()) << "the NPY table was not loaded";
+  EXPECT_EQ(res["npy"]["size"], res["npy"]["f16_size"]);
+  EXPECT_EQ(res["npy"]["n"], res["npy"]["f16_n"]);
+  EXPECT_LE(res["npy"]["max_ulps"].get<int>(), 1);
   for (const auto& f : res["screenshots"]) EXPECT_TRUE(fs::is_regular_file(f.get<std::string>())) << f;
 
   // Every method of the registry with a GLSL form is in the module's list.
@@ -467,14 +513,14 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   EXPECT_GE(direct_n, 100) << "too few pixels for the on/off check of the direct light";
 
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  const auto& b = res["bundle"];
+  const auto& bundle = res["bundle"];
   std::printf(
       "three.js r%s: %zu methods x 4 lights, %d probe points; module %.1f kB (%.1f kB gzip, GLSL %.1f kB); "
       "frame at 1280x720 (SwiftShader) %.0f ms with micro-shadowing, %.0f ms without; scene checks: N.L "
       "%.1e, N.V %.1e, cap %.1e; direct on/off relative %.1e (n=%d); test %.0f s (driver %.0f s)\n",
       res["revision"].get<std::string>().c_str(), res["methods"].size(), npts,
-      b["bytes"].get<double>() / 1000, b["gzip_bytes"].get<double>() / 1000,
-      b["glsl_bytes"].get<double>() / 1000, res["frame_ms"]["with"].get<double>(),
+      bundle["bytes"].get<double>() / 1000, bundle["gzip_bytes"].get<double>() / 1000,
+      bundle["glsl_bytes"].get<double>() / 1000, res["frame_ms"]["with"].get<double>(),
       res["frame_ms"]["without"].get<double>(),
       std::max({scene_nl["point"], scene_nl["spot"], scene_nl["directional"]}),
       std::max({scene_nv["point"], scene_nv["spot"], scene_nv["directional"], scene_nv["rect"]}),

@@ -278,11 +278,14 @@ export function addMicroShadowing(material, options = {}) {
     if (k === 'lut_azimuth') uniforms.u_lut_az_harmonics.value = L.harmonics;
   }
 
-  const previous = material.onBeforeCompile;
-  const previousKey = material.customProgramCacheKey;
+  // The material's own hooks (not three's defaults) are kept: called first, and part of the cache key.
+  const proto = Object.getPrototypeOf(material);
+  const previous = material.onBeforeCompile, previousKey = material.customProgramCacheKey;
+  const userCompile = previous !== proto.onBeforeCompile ? previous : null;
+  const userKey = previousKey !== proto.customProgramCacheKey ? previousKey : null;
   const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}`;
   material.onBeforeCompile = function (shader, renderer) {
-    if (previous && previous !== Object.getPrototypeOf(material).onBeforeCompile) previous.call(this, shader, renderer);
+    if (userCompile) userCompile.call(this, shader, renderer);
     Object.assign(shader.uniforms, uniforms);
     let fs = shader.fragmentShader;
     fs = replaceOnce(fs, '#include <lights_physical_pars_fragment>',
@@ -314,7 +317,7 @@ export function addMicroShadowing(material, options = {}) {
     }
   };
   material.customProgramCacheKey = function () {
-    return `${previousKey ? previousKey.call(this) : ''}|${key}`;
+    return `${userKey ? userKey.call(this) : userCompile ? userCompile.toString() : ''}|${key}`;
   };
   material.needsUpdate = true;
   ACTIVE.set(material, true);
