@@ -374,6 +374,12 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
                            "generic-vndf", "generic-vndf-alu", "lut3d", "lut2d", "lut3d-azimuth",
                            "diffuse-aware-alu+generic-vndf-alu", "diffuse-aware-alu+lut3d"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
+  // ... and none is left out (the module keeps the entries whose GLSL functions its shader files define).
+  const std::string mjs = msh::view::methods_js(occlusion::micro_shadowing_methods());
+  std::size_t entries = 0;
+  for (auto p = mjs.find("\n  {\"id\":"); p != std::string::npos; p = mjs.find("\n  {\"id\":", p + 1))
+    ++entries;
+  EXPECT_EQ(res["methods"].size(), entries) << "a method of methods.js is missing from the module's list";
   ASSERT_EQ(res["runs"].size(), res["methods"].size() + 1);
 
   const std::vector<std::string> order = res["light_order"];

@@ -12,10 +12,8 @@
 // term where one exists, else the term at the cap's axis. Indirect light, clearcoat and sheen are unchanged;
 // three's AO on indirect light is kept or dropped (aoOnIndirect).
 import { Matrix3 } from 'three';
-import { MICRO_SHADOWING_METHODS } from './generated/methods.js';
+import { MICRO_SHADOWING_METHODS as REGISTRY_METHODS } from './generated/methods.js';
 import { MSH_GLSL } from './generated/glsl.js';
-
-export { MICRO_SHADOWING_METHODS };
 export { loadMicroShadowingLut, parseNpy } from './luts.js';
 
 // The recommended method when only an AO / micro-occlusion map exists and no table is wanted (README's guide,
@@ -71,6 +69,11 @@ function materialUniforms(material) {
 }
 
 const asList = (x) => (x === undefined || x === null ? [] : [].concat(x));
+
+// The registry's methods whose GLSL functions the shipped shader files define (as the viewer filters them).
+const LIBRARY_TEXT = [...GLSL_FILES, GLSL_AREA].map((f) => MSH_GLSL[f] || '').join('\n');
+export const MICRO_SHADOWING_METHODS = REGISTRY_METHODS.filter((m) =>
+  asList(m.requires).every((fn) => new RegExp(`\\b${fn}\\s*\\(`).test(LIBRARY_TEXT)));
 
 // The method's entry of generated/methods.js; throws (one line) listing the methods for an unknown id.
 export function findMethod(id) {
