@@ -93,7 +93,17 @@ async function setup({ width, height, grid }) {
   };
   const methods = MSH.MICRO_SHADOWING_METHODS.map((m) => ({ id: m.id, label: m.label, lut: m.lut || null, cpp: m.cpp,
     pair: m.glsl_diffuse !== undefined, lobes: MSH.methodLobes(m.id) }));
-  return { methods, lights, light_order: LIGHT_ORDER, samples: SAMPLES, v_levels: V_LEVELS.map((b) => b / 255), v_const: V_CONST, roughness: ROUGH,
+  // The NPY loader: the test writes the default 3D table as float32 NPY (data/lut3d.npy, the format of
+  // `bake micro-shadowing --out lut.npy`); its half floats against the served raw half floats.
+  let npy = null;
+  if (luts.lut3d) {
+    const T = await MSH.loadMicroShadowingLut('data/lut3d.npy');
+    const a = T.texture.image.data, b = luts.lut3d.texture.image.data;
+    let maxUlps = 0;
+    for (let i = 0; i < Math.min(a.length, b.length); ++i) maxUlps = Math.max(maxUlps, Math.abs(a[i] - b[i]));
+    npy = { size: T.size, channels: T.channels, slabs: T.slabs, f16_size: luts.lut3d.size, n: a.length, f16_n: b.length, max_ulps: maxUlps };
+  }
+  return { npy, methods, lights, light_order: LIGHT_ORDER, samples: SAMPLES, v_levels: V_LEVELS.map((b) => b / 255), v_const: V_CONST, roughness: ROUGH,
     luts: Object.fromEntries(Object.entries(luts).map(([k, L]) => [k, { size: L.size, slabs: L.slabs, harmonics: L.harmonics, url: L.url }])),
     revision: THREE.REVISION };
 }
