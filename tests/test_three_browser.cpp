@@ -291,6 +291,14 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
                    io::FileFormat::Npy);
   io::write_file_atomic(copy / "data" / "lut3d.npy.json",
                         lut::sidecar_json(lut::default_bake_options(lut::LutLayout::Cone)));
+  // The default 3D table as `make install` ships it (share/microshadow/tables/micro_shadowing.ktx2, baked at
+  // build time by `bake micro-shadowing`), for three's KTX2Loader.
+  const fs::path ktx2 =
+      fs::path(MSH_BINARY_DIR) / "share" / "microshadow" / "tables" / "micro_shadowing.ktx2";
+  ASSERT_TRUE(fs::is_regular_file(ktx2)) << ktx2 << " is missing: build the target microshadow_tables";
+  fs::copy_file(ktx2, copy / "data" / "lut3d.ktx2", fs::copy_options::overwrite_existing);
+  fs::copy_file(ktx2.string() + ".json", copy / "data" / "lut3d.ktx2.json",
+                fs::copy_options::overwrite_existing);
   // The static copy served as is (`microshadow view --root`), the driver in the browser.
   const fs::path out = dir / "server.out", err = dir / "server.err";
   const pid_t pid = fork();
@@ -365,6 +373,28 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   EXPECT_EQ(res["npy"]["size"], res["npy"]["f16_size"]);
   EXPECT_EQ(res["npy"]["n"], res["npy"]["f16_n"]);
   EXPECT_LE(res["npy"]["max_ulps"].get<int>(), 1);
+  // The installed KTX2 table (R16F, through three's KTX2Loader) holds the raw tables' half floats, and lut3d
+  // renders through it exactly as through them.
+  ASSERT_TRUE(res["npy"].contains("ktx2")) << "the KTX2 table was not loaded";
+  const auto& kt = res["npy"]["ktx2"];
+  EXPECT_TRUE(kt.value("is3d", false));
+  EXPECT_EQ(kt["size"], res["npy"]["f16_size"]);
+  EXPECT_EQ(kt["n"], res["npy"]["f16_n"]);
+  EXPECT_EQ(kt["max_ulps"].get<int>(), 0);
+  {
+    const std::size_t nm = res["methods"].size();
+    ASSERT_EQ(res["runs"].size(), nm + 2);
+    const auto& K = res["runs"][nm + 1];
+    ASSERT_EQ(K["method"], "lut3d");
+    const auto it = std::find_if(res["runs"].begin(), res["runs"].end(),
+                                 [](const json& r) { return r["method"] == "lut3d"; });
+    double kd = 0;
+    for (const char* key : {"terms_d", "terms_s"})
+      for (int p = 0; p < int(res["points"].size()); ++p)
+        for (int k = 0; k < 4; ++k)
+          kd = std::max(kd, std::abs(K[key][p][k].get<double>() - (*it)[key][p][k].get<double>()));
+    EXPECT_EQ(kd, 0.0) << "lut3d through the KTX2 table differs from the raw half floats";
+  }
   for (const auto& f : res["screenshots"]) EXPECT_TRUE(fs::is_regular_file(f.get<std::string>())) << f;
 
   // Every method of the registry with a GLSL form is in the module's list.
@@ -380,7 +410,7 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   for (auto p = mjs.find("\n  {\"id\":"); p != std::string::npos; p = mjs.find("\n  {\"id\":", p + 1))
     ++entries;
   EXPECT_EQ(res["methods"].size(), entries) << "a method of methods.js is missing from the module's list";
-  ASSERT_EQ(res["runs"].size(), res["methods"].size() + 1);
+  ASSERT_EQ(res["runs"].size(), res["methods"].size() + 2);
 
   const std::vector<std::string> order = res["light_order"];
   const auto& lights = res["lights"];
@@ -396,14 +426,15 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   double direct_max = 0;
   int direct_n = 0, v_const_seen = 0;
   const auto& plain_inputs = res["runs"][0]["lights"];
-  const auto& variant_run = res["runs"][res["runs"].size() - 1];
+  const std::size_t nm = res["methods"].size();
+  const auto& variant_run = res["runs"][nm];
   ASSERT_TRUE(variant_run["variant"].get<bool>());
   const int npts = int(res["points"].size());
-  for (std::size_t run = 0; run < res["runs"].size(); ++run) {
+  for (std::size_t run = 0; run <= nm; ++run) {
     const auto& R = res["runs"][run];
     const bool variant = R["variant"];
     const auto& in = variant ? R["lights"] : plain_inputs;
-    const auto& m = res["methods"][std::min(run, res["methods"].size() - 1)];
+    const auto& m = res["methods"][std::min(run, nm - 1)];
     ASSERT_EQ(R["method"], variant ? json("diffuse-aware-alu+generic-vndf-alu") : m["id"]);
     const json& method = variant ? *std::find_if(res["methods"].begin(), res["methods"].end(),
                                                  [&](const json& x) { return x["id"] == R["method"]; })

@@ -36,6 +36,11 @@ constexpr const char* kThreeFiles[] = {
     "examples/jsm/lights/RectAreaLightUniformsLib.js",
     "examples/jsm/lights/RectAreaLightTexturesLib.js",
     "examples/jsm/helpers/RectAreaLightHelper.js",
+    "examples/jsm/loaders/KTX2Loader.js",
+    "examples/jsm/utils/WorkerPool.js",
+    "examples/jsm/libs/ktx-parse.module.js",
+    "examples/jsm/libs/zstddec.module.js",
+    "examples/jsm/math/ColorSpaces.js",
 };
 
 // The shader files the module uses (integrations/three/src/index.js): the point terms and LUT samplers, the

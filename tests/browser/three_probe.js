@@ -27,6 +27,7 @@ function dataTexture(w, h, f, { nearest = false } = {}) {
 }
 
 let S = null;
+let S_KTX2 = null;
 
 async function setup({ width, height, grid }) {
   RectAreaLightUniformsLib.init();
@@ -102,6 +103,14 @@ async function setup({ width, height, grid }) {
     let maxUlps = 0;
     for (let i = 0; i < Math.min(a.length, b.length); ++i) maxUlps = Math.max(maxUlps, Math.abs(a[i] - b[i]));
     npy = { size: T.size, channels: T.channels, slabs: T.slabs, f16_size: luts.lut3d.size, n: a.length, f16_n: b.length, max_ulps: maxUlps };
+    // And the installed default table (share/microshadow/tables/micro_shadowing.ktx2, R16F; the test copies it
+    // to data/lut3d.ktx2) through three's KTX2Loader: the same half floats.
+    const K = await MSH.loadMicroShadowingLut('data/lut3d.ktx2', { renderer });
+    const k = K.texture.image.data;
+    let kUlps = 0;
+    for (let i = 0; i < Math.min(k.length, b.length); ++i) kUlps = Math.max(kUlps, Math.abs(k[i] - b[i]));
+    npy.ktx2 = { size: K.size, channels: K.channels, n: k.length, max_ulps: kUlps, type: K.texture.type, is3d: !!K.texture.isData3DTexture };
+    S_KTX2 = K;  // rendered with in the last run (three_test.mjs)
   }
   return { npy, methods, lights, light_order: LIGHT_ORDER, samples: SAMPLES, v_levels: V_LEVELS.map((b) => b / 255), v_const: V_CONST, roughness: ROUGH,
     luts: Object.fromEntries(Object.entries(luts).map(([k, L]) => [k, { size: L.size, slabs: L.slabs, harmonics: L.harmonics, url: L.url }])),
@@ -110,9 +119,9 @@ async function setup({ width, height, grid }) {
 
 // The method on the three materials: V from the aoMap on all three, or (variant) from the aoMap on the
 // plane, the separate visibility map on the sphere and the constant on the cylinder.
-function attach(method, variant = false, aoOnIndirect = true) {
+function attach(method, variant = false, aoOnIndirect = true, luts = S.luts) {
   for (const h of S.handles) h.dispose();
-  const base = { method, luts: S.luts, debug: true, samples: SAMPLES, aoOnIndirect };
+  const base = { method, luts, debug: true, samples: SAMPLES, aoOnIndirect };
   S.handles = [MSH.addMicroShadowing(S.mats[0], { ...base }),
     MSH.addMicroShadowing(S.mats[1], variant ? { ...base, visibilityMap: S.vis } : base),
     MSH.addMicroShadowing(S.mats[2], variant ? { ...base, visibility: V_CONST } : base)];
@@ -135,10 +144,10 @@ function read(mode, k, float, enabled = true) {
 
 // One method: both lobes' terms of the four lights (float and 8-bit); with o.inputs the inputs of every
 // light (V, N·L, N·V, roughness; v, l; the rect light's cap; position, normal), with o.direct each light's
-// direct light with micro-shadowing on and off.
+// direct light with micro-shadowing on and off; with o.ktx2 the 3D table loaded from KTX2.
 function run(method, o = {}) {
   const t0 = performance.now();
-  attach(method, !!o.variant);
+  attach(method, !!o.variant, true, o.ktx2 ? { ...S.luts, lut3d: S_KTX2 } : S.luts);
   const gl = S.renderer.getContext();
   const out = { method, variant: !!o.variant, terms_d: read('terms_diffuse', -1, true), terms_s: read('terms_specular', -1, true),
     terms8_d: read('terms_diffuse', -1, false), terms8_s: read('terms_specular', -1, false) };

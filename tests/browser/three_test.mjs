@@ -77,9 +77,10 @@ async function probe() {
   mark('setup');
   results.runs = [];
   // Every method with V from the aoMap (the first also reads the inputs), then the recommended pair with the
-  // three V sources (its own inputs) and each light's direct light on and off.
+  // three V sources (its own inputs) and each light's direct light on and off, then lut3d with the table
+  // loaded from KTX2.
   const jobs = results.methods.map((m, i) => [m.id, { inputs: i === 0 }]);
-  jobs.push([DEFAULT_PAIR, { variant: true, inputs: true, direct: true }]);
+  jobs.push([DEFAULT_PAIR, { variant: true, inputs: true, direct: true }], ['lut3d', { ktx2: true }]);
   for (const [id, o] of jobs) {
     const r = await page.evaluate(([i, opt]) => window.mshProbe.run(i, opt), [id, o]);
     if (r.error !== 0) results.errors.push(`gl error ${r.error} with ${id}`);

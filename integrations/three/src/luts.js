@@ -1,8 +1,10 @@
 // Loading microshadow's baked micro-shadowing tables (cone layout, docs/lut.md) as three.js 3D textures:
 // `microshadow bake micro-shadowing --out lut.npy` (float32 NPY, shape (depth, height, width, channels), with
-// its sidecar lut.npy.json) or the viewer's raw half floats (`microshadow view --export`: data/lut3d.f16 with
-// data/lut3d.json). Uploaded as half floats (linear filtering everywhere WebGL2 runs), clamp to edge, no mips:
-// the layout the GLSL cone sampler expects (shaders/glsl/micro_shadowing.glsl, msh_ms_lut_sample_cone).
+// its sidecar lut.npy.json), `--out lut.ktx2` (through three's KTX2Loader; the installed default tables
+// share/microshadow/tables/micro_shadowing*.ktx2 are such files) or the viewer's raw half floats
+// (`microshadow view --export`: data/lut3d.f16 with data/lut3d.json). Linear filtering, clamp to edge, no
+// mips: the layout the GLSL cone sampler expects (shaders/glsl/micro_shadowing.glsl, msh_ms_lut_sample_cone);
+// NPY and raw tables are uploaded as half floats (linear filtering everywhere WebGL2 runs).
 import { ClampToEdgeWrapping, Data3DTexture, DataUtils, HalfFloatType, LinearFilter, RedFormat, RGFormat, RGBAFormat } from 'three';
 
 async function fetchOk(url, kind) {
@@ -47,14 +49,36 @@ function lutTexture(half, w, h, d, c) {
   return tex;
 }
 
-// A cone-layout table from a URL: `.npy` (sidecar URL + '.json') or `.f16` (sidecar: the same name with
-// `.json`); options.sidecar overrides the sidecar's URL. Returns {texture, slabs, harmonics, size, sidecar}
-// for addMicroShadowing's `luts` option. Throws (one line) for a seed-layout table, non-default cone warps
-// (the GLSL sampler has the defaults as constants) or a size that does not match the sidecar.
+// A KTX2 table through three's KTX2Loader (uncompressed formats need no transcoder): the 3D texture,
+// filtered linearly. A float32 table (bake --pixel-format rgba32f) needs OES_texture_float_linear.
+async function loadKtx2(url, renderer) {
+  if (!renderer) throw new Error(`microshadow: ${url}: a KTX2 table loads through three's KTX2Loader, which needs the renderer: loadMicroShadowingLut(url, { renderer })`);
+  const { KTX2Loader } = await import('three/addons/loaders/KTX2Loader.js');
+  const loader = new KTX2Loader().detectSupport(renderer);
+  try {
+    const tex = await loader.loadAsync(url);
+    if (!tex.isData3DTexture) throw new Error(`microshadow: ${url} is not a 3D texture`);
+    tex.minFilter = tex.magFilter = LinearFilter;
+    tex.wrapS = tex.wrapT = tex.wrapR = ClampToEdgeWrapping;
+    tex.generateMipmaps = false;
+    tex.mipmaps = [];
+    tex.unpackAlignment = 1;
+    tex.needsUpdate = true;
+    return tex;
+  } finally {
+    loader.dispose();
+  }
+}
+
+// A cone-layout table from a URL: `.npy` or `.ktx2` (sidecar URL + '.json', as `bake micro-shadowing` writes
+// it) or `.f16` (sidecar: the same name with `.json`); options.sidecar overrides the sidecar's URL;
+// options.renderer is needed for KTX2. Returns {texture, slabs, harmonics, size, channels, sidecar} for
+// addMicroShadowing's `luts` option. Throws (one line) for a seed-layout table, non-default cone warps (the
+// GLSL sampler has the defaults as constants) or a size that does not match the sidecar.
 export async function loadMicroShadowingLut(url, options = {}) {
-  const npy = /\.npy$/i.test(url);
-  const sideUrl = options.sidecar || (npy ? `${url}.json` : url.replace(/\.[^./]+$/, '.json'));
-  const [buf, side] = await Promise.all([fetchOk(url, 'buf'), fetchOk(sideUrl, 'json')]);
+  const npy = /\.npy$/i.test(url), ktx2 = /\.ktx2$/i.test(url);
+  const sideUrl = options.sidecar || (npy || ktx2 ? `${url}.json` : url.replace(/\.[^./]+$/, '.json'));
+  const [buf, side] = await Promise.all([ktx2 ? loadKtx2(url, options.renderer) : fetchOk(url, 'buf'), fetchOk(sideUrl, 'json')]);
   if (side.layout !== 'cone')
     throw new Error(`microshadow: ${url} is a ${side.layout}-layout table; the shaders sample cone-layout tables (bake micro-shadowing --layout cone, the default)`);
   const defaults = { warp_scale: 2, nv_scale: 3, top_scale: 3, roughness_range: [0.1, 1] };
@@ -63,6 +87,14 @@ export async function loadMicroShadowingLut(url, options = {}) {
       throw new Error(`microshadow: ${url} was baked with ${k} = ${JSON.stringify(side[k])}; the GLSL sampler has the default ${JSON.stringify(v)}`);
   const slabs = side.roughness_slabs, harmonics = side.harmonics || 0;
   let w, h, d, c, half;
+  if (ktx2) {
+    const t = buf;
+    [w, h, d] = [t.image.width, t.image.height, t.image.depth];
+    c = { [RedFormat]: 1, [RGFormat]: 2, [RGBAFormat]: 4 }[t.format];
+    if (w !== side.size_t || h !== side.size_n_dot_l || d !== side.size_n_dot_v * slabs || !c)
+      throw new Error(`microshadow: ${url}: ${w}x${h}x${d} texels do not match its sidecar ${sideUrl}`);
+    return { texture: t, slabs, harmonics, size: [w, h, d], channels: c, sidecar: side, url };
+  }
   if (npy) {
     const a = parseNpy(buf, url);
     if (a.shape.length !== 4) throw new Error(`microshadow: ${url}: shape (${a.shape}) is not (depth, height, width, channels)`);
