@@ -24,7 +24,9 @@
 #include <microshadow/occlusion/micro_shadowing_aware.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -96,6 +98,79 @@ const fs::path& example_copy() {
     return d;
   }();
   return dir;
+}
+
+// `microshadow view ARGS` in the background (stdout, stderr in dir) and the URL it prints (empty: none in 60
+// s).
+struct Server {
+  pid_t pid = -1;
+  std::string url;
+  fs::path err;
+};
+Server start_view(const std::vector<std::string>& args, const fs::path& dir) {
+  Server s;
+  const fs::path out = dir / "server.out";
+  s.err = dir / "server.err";
+  s.pid = fork();
+  if (s.pid == 0) {
+    if (!freopen(out.c_str(), "w", stdout) || !freopen(s.err.c_str(), "w", stderr)) _exit(127);
+    std::vector<std::string> all = {MSH_CLI_PATH, "view"};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& x : all) argv.push_back(x.data());
+    argv.push_back(nullptr);
+    execv(MSH_CLI_PATH, argv.data());
+    _exit(127);
+  }
+  for (int i = 0; i < 600 && s.url.empty(); ++i) {
+    const std::string o = slurp(out);
+    const auto p = o.find("http://");
+    if (p != std::string::npos && o.find(' ', p) != std::string::npos)
+      s.url = o.substr(p, o.find(' ', p) - p);
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return s;
+}
+// SIGINT (Ctrl-C), then its exit code (-1: killed after 30 s, or not a normal exit).
+int stop_view(Server& s) {
+  if (s.pid <= 0) return -1;
+  kill(s.pid, SIGINT);
+  for (int i = 0; i < 300; ++i) {
+    int status = 0;
+    if (waitpid(s.pid, &status, WNOHANG) == s.pid) {
+      s.pid = -1;
+      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  kill(s.pid, SIGKILL);
+  waitpid(s.pid, nullptr, 0);
+  s.pid = -1;
+  return -1;
+}
+
+// GET path (HTTP/1.0 over a socket, the Host header a browser sends): the status line and the body.
+std::pair<std::string, std::string> http_get(const std::string& url, const std::string& path) {
+  const int port = std::stoi(url.substr(url.rfind(':') + 1));
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(uint16_t(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
+    close(fd);
+    return {"connect failed", ""};
+  }
+  const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
+  std::string resp;
+  if (write(fd, req.data(), req.size()) == ssize_t(req.size())) {
+    char buf[65536];
+    for (ssize_t n; (n = read(fd, buf, sizeof(buf))) > 0;) resp.append(buf, std::size_t(n));
+  }
+  close(fd);
+  const auto eol = resp.find("\r\n"), body = resp.find("\r\n\r\n");
+  return {resp.substr(0, eol), body == std::string::npos ? "" : resp.substr(body + 4)};
 }
 
 // ---- without a browser --------------------------------------------------------------------------------
@@ -229,6 +304,28 @@ TEST(ThreeExample, ExportsAStaticCopy) {
             lock["packages"]["node_modules/three"]["version"]);
 }
 
+// `view --three` serves the example from a copy in the cache directory, removed when Ctrl-C stops it.
+TEST(ThreeExample, ServesTheExampleAndCleansUp) {
+  REQUIRE_BROWSER();
+  const fs::path dir = scratch_dir("three");
+  Server s = start_view({"--three", "--port", "0", "--cache", kCache.string()}, dir);
+  if (s.url.empty()) {
+    stop_view(s);
+    FAIL() << "the server printed no URL: " << slurp(s.err);
+  }
+  const fs::path served = kCache / ("three-example-" + std::to_string(s.pid));
+  EXPECT_TRUE(fs::is_regular_file(served / "index.html"));
+  const auto [st, page] = http_get(s.url, "/");
+  EXPECT_NE(st.find("200"), std::string::npos) << st;
+  EXPECT_NE(page.find("importmap"), std::string::npos);
+  EXPECT_EQ(http_get(s.url, "/microshadow-three/generated/methods.js").second,
+            msh::view::methods_js(occlusion::micro_shadowing_methods()));
+  EXPECT_EQ(http_get(s.url, "/data/model.gltf").second, msh::view::three_example_gltf("material/"));
+  EXPECT_NE(http_get(s.url, "/three/build/three.module.js").first.find("200"), std::string::npos);
+  EXPECT_EQ(stop_view(s), 0) << slurp(s.err);
+  EXPECT_FALSE(fs::exists(served)) << "the served copy was left in the cache";
+}
+
 // ---- the browser ---------------------------------------------------------------------------------------
 
 struct Stat {
@@ -299,23 +396,6 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   fs::copy_file(ktx2, copy / "data" / "lut3d.ktx2", fs::copy_options::overwrite_existing);
   fs::copy_file(ktx2.string() + ".json", copy / "data" / "lut3d.ktx2.json",
                 fs::copy_options::overwrite_existing);
-  // The static copy served as is (`microshadow view --root`), the driver in the browser.
-  const fs::path out = dir / "server.out", err = dir / "server.err";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(127);
-    execl(MSH_CLI_PATH, MSH_CLI_PATH, "view", "--root", copy.c_str(), "--port", "0", (char*)nullptr);
-    _exit(127);
-  }
-  std::string url;
-  for (int i = 0; i < 600 && url.empty(); ++i) {
-    const std::string o = slurp(out);
-    const auto p = o.find("http://");
-    if (p != std::string::npos && o.find(' ', p) != std::string::npos)
-      url = o.substr(p, o.find(' ', p) - p);
-    else
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
   // docs/three.md's five lines as written, in a harness: a scene, the example's glTF model for model.glb, one
   // render; the harness reports each mesh's program cache key (the module's key when the call took).
   const std::string doc = slurp(kSource / "docs" / "three.md");
@@ -337,6 +417,9 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
          "  window.mshSnippet = { keys, gl_error: r.getContext().getError(), programs: "
          "r.info.programs.length };\n"
          "} catch (e) { window.mshSnippet = { error: e.message }; }\n";
+  // The static copy served as is (`microshadow view --root`), the driver in the browser.
+  Server server = start_view({"--root", copy.string(), "--port", "0"}, dir);
+  const std::string url = server.url;
   std::string node_out;
   int rc = -1;
   if (!url.empty()) {
@@ -347,11 +430,9 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
     rc = std::system(cmd.c_str());
     node_out = slurp(dir / "node.out");
   }
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_FALSE(url.empty()) << "the server printed no URL: " << slurp(err);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp(err);
+  const int code = stop_view(server);
+  ASSERT_FALSE(url.empty()) << "the server printed no URL: " << slurp(server.err);
+  EXPECT_EQ(code, 0) << slurp(server.err);
   ASSERT_EQ(rc, 0) << node_out;
   const json res = json::parse(slurp(shots / "results.json"));
 
