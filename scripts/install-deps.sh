@@ -28,16 +28,19 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
-# The browser test's driver (playwright-core, tests/browser/package-lock.json); node_modules is not committed.
+# The browser tests' npm packages from their committed lockfiles (node_modules is not committed): the driver
+# (playwright-core, tests/browser) and three.js for the three.js integration (integrations/three).
 install_browser_driver() {
-  local d
-  d="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/browser"
-  if [ -f "$d/package-lock.json" ] && command -v npm >/dev/null 2>&1 &&
-     ! cmp -s "$d/package-lock.json" "$d/node_modules/.msh-installed-lock.json" 2>/dev/null; then
-    echo "install-deps: npm ci in tests/browser (playwright-core)" >&2
-    (cd "$d" && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.msh-installed-lock.json) ||
-      echo "install-deps: npm ci failed: the browser test will fail (MSH_ALLOW_NO_BROWSER=1 skips it)" >&2
-  fi
+  local root d
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  for d in "$root/tests/browser" "$root/integrations/three"; do
+    if [ -f "$d/package-lock.json" ] && command -v npm >/dev/null 2>&1 &&
+       ! cmp -s "$d/package-lock.json" "$d/node_modules/.msh-installed-lock.json" 2>/dev/null; then
+      echo "install-deps: npm ci in ${d#"$root"/}" >&2
+      (cd "$d" && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.msh-installed-lock.json) ||
+        echo "install-deps: npm ci failed in ${d#"$root"/}: the browser tests will fail (MSH_ALLOW_NO_BROWSER=1 skips them)" >&2
+    fi
+  done
 }
 
 if [ ${#missing[@]} -eq 0 ]; then

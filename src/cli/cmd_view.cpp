@@ -3,6 +3,8 @@
 //   microshadow view [--material DIR] [--lut FILE] [--port 8080] [--host 127.0.0.1]
 //   microshadow view --root out/viewer            (serve a static copy as is)
 //   microshadow view --export out/viewer          (write the static copy and exit)
+//   microshadow view --three [--export DIR]       (the three.js example, docs/three.md)
+//   microshadow view --three-module DIR           (write the three.js module's generated files and exit)
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -11,6 +13,7 @@
 #include <memory>
 #include <system_error>
 
+#include "../view/three_example.h"
 #include "../view/viewer_server.h"
 #include "common.h"
 
@@ -44,7 +47,8 @@ fs::path find_assets() {
 
 struct ViewArgs {
   view::ViewerOptions o;
-  std::string material, lut, root, exp, cache;
+  std::string material, lut, root, exp, cache, three_module;
+  bool three = false;
 };
 
 void register_view(Groups& g) {
@@ -69,6 +73,13 @@ void register_view(Groups& g) {
   c->add_option("--cache", a->cache,
                 "Cache directory for the built-in plaster (default $XDG_CACHE_HOME/"
                 "microshadow or ~/.cache/microshadow)");
+  c->add_flag("--three", a->three,
+              "The three.js example (examples/three/, integrations/three/; docs/three.md) instead of the "
+              "viewer: served, or with --export written as a static copy. Needs the source tree and `npm ci` "
+              "in integrations/three");
+  c->add_option("--three-module", a->three_module,
+                "Write the three.js module's generated files (methods.js from the registry, glsl.js from "
+                "shaders/glsl/) to DIR and exit, e.g. integrations/three/src/generated");
   c->callback([a] {
     // Before any thread starts (the table bake uses TBB): SIGINT/SIGTERM go to the server's stop thread.
     view::block_stop_signals();
@@ -77,18 +88,49 @@ void register_view(Groups& g) {
     o.lut = a->lut;
     o.root = a->root;
     o.cache = a->cache;
+    if (!a->three_module.empty()) {
+      if (!a->exp.empty() || !a->root.empty() || a->three)
+        throw UsageError(
+            "--three-module writes the module's files only: not with --export, --root or --three");
+      view::write_three_module(find_assets(), a->three_module);
+      print_json({{"dir", a->three_module}});
+      return;
+    }
+    if (a->three && !a->root.empty())
+      throw UsageError("--three and --root are exclusive (--root serves any copy)");
     if (!a->exp.empty()) {
       if (!a->root.empty()) throw UsageError("--export and --root are exclusive");
       o.assets = find_assets();
-      view::export_viewer(o, a->exp);
+      if (a->three)
+        view::export_three_example(o, a->exp);
+      else
+        view::export_viewer(o, a->exp);
       print_json({{"dir", a->exp}});
       return;
     }
     if (o.root.empty()) o.assets = find_assets();
-    view::serve(o, [](const std::string& url) {
-      fmt::print("microshadow view: serving {} (open it in a browser; Ctrl-C stops the server)\n", url);
-      std::fflush(stdout);
-    });
+    // The three.js example: its static copy in the cache directory, served as a root, removed on exit.
+    fs::path three_copy;
+    if (a->three) {
+      const fs::path cache = o.cache.empty() ? view::default_cache_dir() : o.cache;
+      three_copy = cache / fmt::format("three-example-{}", ::getpid());
+      view::export_three_example(o, three_copy);
+      o.root = three_copy;
+      o.material.clear();
+      o.lut.clear();
+    }
+    try {
+      view::serve(o, [](const std::string& url) {
+        fmt::print("microshadow view: serving {} (open it in a browser; Ctrl-C stops the server)\n", url);
+        std::fflush(stdout);
+      });
+    } catch (...) {
+      std::error_code ec;
+      if (!three_copy.empty()) fs::remove_all(three_copy, ec);
+      throw;
+    }
+    std::error_code ec;
+    if (!three_copy.empty()) fs::remove_all(three_copy, ec);
   });
 }
 

@@ -61,6 +61,7 @@ std::string mime_type(const std::string& path) {
   if (ext == ".js" || ext == ".mjs") return "text/javascript; charset=utf-8";
   if (ext == ".css") return "text/css; charset=utf-8";
   if (ext == ".json") return "application/json";
+  if (ext == ".gltf") return "model/gltf+json";
   if (ext == ".png") return "image/png";
   if (ext == ".glsl" || ext == ".txt" || ext == ".md") return "text/plain; charset=utf-8";
   return "application/octet-stream";
@@ -400,6 +401,14 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
     out += "  " + e.dump() + ",\n";
   }
   return out + "];\n";
+}
+
+std::map<std::string, std::string> viewer_data_files(const ViewerOptions& o) {
+  Content c = build_content(o);
+  std::map<std::string, std::string> files;
+  for (auto& [path, blob] : c.data) files[path] = std::move(blob.bytes);
+  files["data/manifest.json"] = c.manifest.dump(1) + "\n";
+  return files;
 }
 
 void export_viewer(const ViewerOptions& o, const fs::path& out) {

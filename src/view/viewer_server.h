@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,12 @@ std::filesystem::path default_cache_dir();
 // Writes a static copy of the viewer (page, GLSL files, texture set, tables, manifest) to `out` (replaced
 // atomically: written beside it, then renamed). Any static HTTP server can serve it. InputError on bad input.
 void export_viewer(const ViewerOptions& o, const std::filesystem::path& out);
+
+// The page's data files as the viewer serves them, path -> bytes: "data/manifest.json" (without its "glsl"
+// list), "data/material/<map>.png" (the texture set) and "data/<table>.f16" with "data/<table>.json" (the
+// cone-layout tables as raw half floats and their sidecars). The three.js example reuses them
+// (three_example.h). InputError on bad input, as export_viewer.
+std::map<std::string, std::string> viewer_data_files(const ViewerOptions& o);
 
 // Prepares the content (InputError with one line on bad input: a non-loopback host, missing textures, a
 // table the shaders cannot sample, a port in use), binds, calls on_ready(url) and serves until SIGINT or

@@ -1,0 +1,359 @@
+// microshadow for three.js (docs/three.md): micro-shadowing — the micro-occlusion of a surface acting on
+// direct light (docs/micro-shadowing.md) — on MeshStandardMaterial and MeshPhysicalMaterial, through three's
+// public extension point `onBeforeCompile`. The shader code is the project's own GLSL (shaders/glsl/*.glsl,
+// generated/glsl.js) and the method list the runtime registry's (generated/methods.js); both are written by
+// `microshadow view --three-module src/generated` (`npm run build`).
+//
+// What it changes: three's RE_Direct (directional, point, spot lights) and RE_Direct_RectArea (RectAreaLight)
+// are wrapped: each light's diffuse and specular contributions are multiplied by the method's diffuse- and
+// specular-lobe terms at V (the visibility), N·L, N·V and the material's roughness (three's perceptual
+// roughness, after its specular anti-aliasing). A RectAreaLight uses the area-light form: the equivalent cap
+// of the rectangle (its vector form factor, docs/area-lights.md §5) with the product-rule cap form of the
+// term where one exists, else the term at the cap's axis. Indirect light, clearcoat and sheen are unchanged;
+// three's AO on indirect light is kept or dropped (aoOnIndirect).
+import { Matrix3 } from 'three';
+import { MICRO_SHADOWING_METHODS as REGISTRY_METHODS } from './generated/methods.js';
+import { MSH_GLSL } from './generated/glsl.js';
+export { loadMicroShadowingLut, parseNpy } from './luts.js';
+
+// The recommended method when only an AO / micro-occlusion map exists and no table is wanted (README's guide,
+// docs/choosing.md): the diffuse-aware ALU fit on the diffuse lobe, the generic ALU fit on the specular lobe.
+export const DEFAULT_METHOD = 'diffuse-aware-alu+generic-vndf-alu';
+
+// Area-light forms (shaders/glsl/micro_shadowing_area.glsl) of the registry terms that have one: over the
+// equivalent cap (nl_cap = N·L of its axis, rho = its angular radius), Lambertian receiver. Other terms are
+// evaluated at the cap's axis.
+export const AREA_FORMS = {
+  reference: 'msh_ms_reference_step_area_cap(vis, nl_cap, rho)',
+  'brinck-maximov-2016': 'msh_ms_brinck_maximov2016_area_cap(vis, nl_cap, rho)',
+  'chan-2018': 'msh_ms_chan2018_area_cap(vis, nl_cap, rho)',
+  'part1-analytic': 'msh_ms_part1_analytic_area_cap(vis, nl_cap, rho)',
+  'generic-vndf-alu': 'msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)',
+};
+
+// The shader files the terms need (micro_shadowing_area only when the scene has RectAreaLights).
+const GLSL_FILES = ['micro_shadowing.glsl', 'micro_shadowing_fit.glsl', 'micro_shadowing_aware.glsl', 'micro_shadowing_aware_fit.glsl'];
+const GLSL_AREA = 'micro_shadowing_area.glsl';
+
+// Debug outputs (options.debug, setDebug): what the fragment writes instead of its colour, for one light.
+export const DEBUG_MODES = {
+  inputs: 1,   // (V, N·L, N·V, roughness)
+  terms: 2,    // (diffuse-lobe term, specular-lobe term, cos φ, 1 lit / 0.5 not lit)
+  v: 3,        // v in the shading frame (n = +z)
+  l: 4,        // l in the shading frame (a RectAreaLight: the equivalent cap's axis)
+  cap: 5,      // RectAreaLight: (N·L of the equivalent cap's axis, its angular radius, |F|, 1)
+  position: 6, // view-space position
+  normal: 7,   // view-space shading normal
+  direct: 8,   // (direct diffuse, direct specular) of the light, green channel
+  terms_diffuse: 9,   // the diffuse-lobe term of the first four lights of the loop (all lights lit)
+  terms_specular: 10, // the specular-lobe term of the first four lights
+  indirect: 11,  // three's indirect diffuse light (after its AO, when aoOnIndirect)
+};
+
+// One set of uniform objects per material, shared by every program three compiles for it: three keeps a
+// material's programs by cache key and, when it goes back to one compiled before, keeps the uniforms of the
+// material's latest compilation, so every compilation must hand over the same objects, with every name.
+const UNIFORMS = new WeakMap();
+const ACTIVE = new WeakMap();
+const LUT_UNIFORMS = { lut3d: 'u_lut3d', lut2d: 'u_lut2d', lut_azimuth: 'u_lut_az' };
+function materialUniforms(material) {
+  let u = UNIFORMS.get(material);
+  if (!u) {
+    u = { msh_enabled: { value: true }, u_samples: { value: 32 }, msh_debug_mode: { value: 0 }, msh_debug_light: { value: -1 },
+      msh_visibility: { value: 1 }, msh_visibility_map: { value: null }, msh_visibility_map_transform: { value: new Matrix3() },
+      u_lut_az_harmonics: { value: 0 } };
+    for (const n of Object.values(LUT_UNIFORMS)) { u[n] = { value: null }; u[`${n}_slabs`] = { value: 1 }; }
+    UNIFORMS.set(material, u);
+  }
+  return u;
+}
+
+const asList = (x) => (x === undefined || x === null ? [] : [].concat(x));
+
+// The registry's methods whose GLSL functions the shipped shader files define (as the viewer filters them).
+const LIBRARY_TEXT = [...GLSL_FILES, GLSL_AREA].map((f) => MSH_GLSL[f] || '').join('\n');
+export const MICRO_SHADOWING_METHODS = REGISTRY_METHODS.filter((m) =>
+  asList(m.requires).every((fn) => new RegExp(`\\b${fn}\\s*\\(`).test(LIBRARY_TEXT)));
+
+// The method's entry of generated/methods.js; throws (one line) listing the methods for an unknown id.
+export function findMethod(id) {
+  const m = MICRO_SHADOWING_METHODS.find((e) => e.id === id);
+  if (!m) throw new Error(`microshadow: unknown method '${id}'; methods: ${MICRO_SHADOWING_METHODS.map((e) => e.id).join(', ')}`);
+  return m;
+}
+
+// Each lobe's term of a method: { diffuse: {term, glsl, area, form}, specular: {...} } where term is the
+// registry name, glsl the point expression, area the RectAreaLight expression and form 'cap' (the area form)
+// or 'axis' (the point term at the cap's axis).
+export function methodLobes(id) {
+  const m = findMethod(id);
+  const lobe = (glsl, cpp) => {
+    const a = AREA_FORMS[cpp.method];
+    return { term: cpp.method, glsl, area: a || glsl, form: a ? 'cap' : 'axis', cpp };
+  };
+  return m.glsl_diffuse !== undefined
+    ? { diffuse: lobe(m.glsl_diffuse, m.cpp.diffuse), specular: lobe(m.glsl_specular, m.cpp.specular) }
+    : { diffuse: lobe(m.glsl, m.cpp), specular: lobe(m.glsl, m.cpp) };
+}
+
+function glslLibrary() {
+  for (const f of [...GLSL_FILES, GLSL_AREA])
+    if (typeof MSH_GLSL[f] !== 'string') throw new Error(`microshadow: generated/glsl.js has no ${f} (run npm run build)`);
+  return `${GLSL_FILES.map((f) => `// ---- shaders/glsl/${f}\n${MSH_GLSL[f]}`).join('\n')}
+#if NUM_RECT_AREA_LIGHTS > 0
+// ---- shaders/glsl/${GLSL_AREA}
+${MSH_GLSL[GLSL_AREA]}
+#endif
+`;
+}
+
+function parsBlock(lobes, luts, debug, visSource) {
+  const lutDecl = luts.map((k) => {
+    const u = LUT_UNIFORMS[k];
+    return `uniform highp sampler3D ${u};\nuniform int ${u}_slabs;${k === 'lut_azimuth' ? '\nuniform int u_lut_az_harmonics;' : ''}`;
+  }).join('\n');
+  return `
+// ---- microshadow (integrations/three, docs/three.md) ----
+${glslLibrary()}
+${lutDecl}
+uniform bool msh_enabled;
+uniform int u_samples;
+${visSource === 'map' ? 'uniform sampler2D msh_visibility_map;\nvarying vec2 vMshVisUv;' : ''}
+${visSource === 'constant' ? 'uniform float msh_visibility;' : ''}
+float msh_vis = 1.0;   // V of this pixel, set before the light loop
+int msh_light_index = 0;
+#ifdef MSH_DEBUG
+uniform int msh_debug_mode, msh_debug_light;
+vec4 msh_dbg_inputs = vec4(0.0), msh_dbg_terms = vec4(0.0), msh_dbg_v = vec4(0.0), msh_dbg_l = vec4(0.0);
+vec4 msh_dbg_cap = vec4(0.0), msh_dbg_direct = vec4(0.0), msh_dbg_d = vec4(0.0), msh_dbg_s = vec4(0.0);
+#endif
+
+// The method's terms (diffuse lobe, specular lobe) at one light direction.
+vec2 msh_point_terms(float vis, float nl, float nv, float rough, float alpha, float cos_phi, vec3 v, vec3 l) {
+  return vec2(${lobes.diffuse.glsl}, ${lobes.specular.glsl});
+}
+#if NUM_RECT_AREA_LIGHTS > 0
+vec2 msh_area_terms(float vis, float nl_cap, float rho, float nv, float rough, float alpha, vec3 v, vec3 l) {
+  float nl = clamp(nl_cap, 0.0, 1.0);
+  float cos_phi = msh_ms_relative_azimuth_cos(v, l);
+  return vec2(${lobes.diffuse.area}, ${lobes.specular.area});
+}
+#endif
+
+// An orthonormal frame (t, b) about the unit normal n (Duff et al. 2017, "Building an Orthonormal Basis,
+// Revisited"): the terms depend only on directions relative to n.
+void msh_frame(vec3 n, out vec3 t, out vec3 b) {
+  float s = n.z >= 0.0 ? 1.0 : -1.0;
+  float a = -1.0 / (s + n.z), c = n.x * n.y * a;
+  t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
+  b = vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+bool msh_record(vec4 inputs, vec4 terms, vec3 v, vec3 l) {
+#ifdef MSH_DEBUG
+  bool mine = msh_debug_light < 0 || msh_light_index == msh_debug_light;
+  if (msh_light_index == msh_debug_light) {
+    msh_dbg_inputs = inputs; msh_dbg_terms = terms; msh_dbg_v = vec4(v, 1.0); msh_dbg_l = vec4(l, 1.0);
+  }
+  if (msh_light_index < 4) { msh_dbg_d[msh_light_index] = terms.x; msh_dbg_s[msh_light_index] = terms.y; }
+  ++msh_light_index;
+  return mine;
+#else
+  return true;
+#endif
+}
+
+void msh_RE_Direct(const in IncidentLight directLight, const in vec3 geometryPosition, const in vec3 geometryNormal,
+                   const in vec3 geometryViewDir, const in vec3 geometryClearcoatNormal, const in PhysicalMaterial material,
+                   inout ReflectedLight reflectedLight) {
+  ReflectedLight own = ReflectedLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  RE_Direct_Physical(directLight, geometryPosition, geometryNormal, geometryViewDir, geometryClearcoatNormal, material, own);
+  vec3 t, b;
+  msh_frame(geometryNormal, t, b);
+  vec3 v = msh_ms_to_shading_frame(geometryViewDir, t, b, geometryNormal);
+  vec3 l = msh_ms_to_shading_frame(directLight.direction, t, b, geometryNormal);
+  float nl = clamp(l.z, 0.0, 1.0), nv = clamp(v.z, 0.0, 1.0), rough = material.roughness;
+  float cos_phi = msh_ms_relative_azimuth_cos(v, l);
+  vec2 ms = msh_enabled ? msh_point_terms(msh_vis, nl, nv, rough, rough * rough, cos_phi, v, l) : vec2(1.0);
+  if (!msh_record(vec4(msh_vis, nl, nv, rough), vec4(ms, cos_phi, nl > 0.0 ? 1.0 : 0.5), v, l)) return;
+  reflectedLight.directDiffuse += own.directDiffuse * ms.x;
+  reflectedLight.directSpecular += own.directSpecular * ms.y;
+#ifdef MSH_DEBUG
+  if (msh_light_index - 1 == msh_debug_light) msh_dbg_direct = vec4(own.directDiffuse.g * ms.x, own.directSpecular.g * ms.y, 0.0, 1.0);
+#endif
+}
+#undef RE_Direct
+#define RE_Direct msh_RE_Direct
+
+#if NUM_RECT_AREA_LIGHTS > 0
+void msh_RE_Direct_RectArea(const in RectAreaLight rectAreaLight, const in vec3 geometryPosition, const in vec3 geometryNormal,
+                            const in vec3 geometryViewDir, const in vec3 geometryClearcoatNormal, const in PhysicalMaterial material,
+                            inout ReflectedLight reflectedLight) {
+  ReflectedLight own = ReflectedLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  RE_Direct_RectArea_Physical(rectAreaLight, geometryPosition, geometryNormal, geometryViewDir, geometryClearcoatNormal, material, own);
+  vec3 n = geometryNormal, t, b;
+  msh_frame(n, t, b);
+  vec3 c = rectAreaLight.position - geometryPosition, hw = rectAreaLight.halfWidth, hh = rectAreaLight.halfHeight;
+  // The rectangle's corners seen from the point (three's order), its vector form factor and equivalent cap.
+  vec3 F = msh_ms_quad_vector_form_factor(msh_ms_to_shading_frame(c + hw - hh, t, b, n), msh_ms_to_shading_frame(c - hw - hh, t, b, n),
+                                          msh_ms_to_shading_frame(c - hw + hh, t, b, n), msh_ms_to_shading_frame(c + hw + hh, t, b, n));
+  vec3 cs = msh_ms_to_shading_frame(c, t, b, n);
+  vec2 cap = msh_ms_equivalent_cap(F, cs);
+  float lf = length(F);
+  vec3 l = lf > 0.0 ? F / lf : normalize(cs);
+  vec3 v = msh_ms_to_shading_frame(geometryViewDir, t, b, n);
+  float nv = clamp(v.z, 0.0, 1.0), rough = material.roughness;
+  vec2 ms = msh_enabled ? msh_area_terms(msh_vis, cap.x, cap.y, nv, rough, rough * rough, v, l) : vec2(1.0);
+#ifdef MSH_DEBUG
+  if (msh_light_index == msh_debug_light) msh_dbg_cap = vec4(cap, lf, 1.0);
+#endif
+  if (!msh_record(vec4(msh_vis, clamp(cap.x, 0.0, 1.0), nv, rough), vec4(ms, msh_ms_relative_azimuth_cos(v, l), lf > 0.0 ? 1.0 : 0.5), v, l)) return;
+  reflectedLight.directDiffuse += own.directDiffuse * ms.x;
+  reflectedLight.directSpecular += own.directSpecular * ms.y;
+#ifdef MSH_DEBUG
+  if (msh_light_index - 1 == msh_debug_light) msh_dbg_direct = vec4(own.directDiffuse.g * ms.x, own.directSpecular.g * ms.y, 0.0, 1.0);
+#endif
+}
+#undef RE_Direct_RectArea
+#define RE_Direct_RectArea msh_RE_Direct_RectArea
+#endif
+// ---- end microshadow ----
+`;
+}
+
+function replaceOnce(src, find, repl, what) {
+  if (!src.includes(find))
+    throw new Error(`microshadow: '${find}' not found in the ${what} shader: this three.js version is not supported (tested with the version in integrations/three/package.json)`);
+  return src.replace(find, repl);
+}
+
+// Adds micro-shadowing to a MeshStandardMaterial or MeshPhysicalMaterial (docs/three.md). Options:
+//   method       a method id of MICRO_SHADOWING_METHODS (default DEFAULT_METHOD); a pair 'D+S' puts term D on
+//                the diffuse lobe and S on the specular lobe
+//   visibility   where V comes from: 'aoMap' (default: the material's aoMap, channel R, with aoMapIntensity
+//                as three applies it; the glTF occlusion texture), 'map' (options.visibilityMap, channel R,
+//                UV channel 0 with the texture's transform) or a number in [0, 1] (a constant V)
+//   visibilityMap  the texture for visibility 'map' (giving it selects 'map')
+//   aoOnIndirect keep three's AO on indirect light (default true); false: the aoMap is V only
+//   luts         { lut3d, lut2d, lut_azimuth }: tables from loadMicroShadowingLut, required by the methods
+//                that sample them
+//   samples      samples of the generic-vndf estimator (default 32)
+//   debug        compile the debug outputs (setDebug); off by default (no cost)
+// Returns a handle: enabled (get/set: micro-shadowing on or off without recompiling), method, lobes,
+// uniforms, setDebug(mode | null, lightIndex), dispose() (restores the material's own onBeforeCompile).
+export function addMicroShadowing(material, options = {}) {
+  if (!material || !material.isMeshStandardMaterial)
+    throw new Error('microshadow: addMicroShadowing needs a MeshStandardMaterial or MeshPhysicalMaterial');
+  const method = options.method || DEFAULT_METHOD;
+  const entry = findMethod(method);
+  const lobes = methodLobes(method);
+  const luts = asList(entry.lut);
+  for (const k of luts)
+    if (!options.luts || !options.luts[k] || !options.luts[k].texture)
+      throw new Error(`microshadow: method '${method}' samples the table '${k}': pass luts: { ${k}: await loadMicroShadowingLut(URL) }`);
+  let visSource = 'aoMap';
+  if (typeof options.visibility === 'number') visSource = 'constant';
+  else if (options.visibility === 'map' || options.visibilityMap) visSource = 'map';
+  else if (options.visibility !== undefined && options.visibility !== 'aoMap')
+    throw new Error(`microshadow: visibility must be 'aoMap', 'map' or a number in [0, 1], got ${JSON.stringify(options.visibility)}`);
+  if (visSource === 'constant' && !(options.visibility >= 0 && options.visibility <= 1))
+    throw new Error(`microshadow: a constant visibility must be in [0, 1], got ${options.visibility}`);
+  if (visSource === 'map' && !(options.visibilityMap && options.visibilityMap.isTexture))
+    throw new Error("microshadow: visibility 'map' needs options.visibilityMap (a THREE.Texture, V in channel R)");
+  if (visSource === 'aoMap' && !material.aoMap)
+    throw new Error("microshadow: the material has no aoMap: set material.aoMap (the glTF occlusion texture) first, or pass visibilityMap or a constant visibility");
+  const aoOnIndirect = options.aoOnIndirect !== false;
+  const debug = !!options.debug;
+
+  if (ACTIVE.has(material))
+    throw new Error('microshadow: this material has micro-shadowing already: call dispose() on its handle before adding it again');
+  const uniforms = materialUniforms(material);
+  uniforms.msh_enabled.value = true;
+  uniforms.u_samples.value = options.samples || 32;
+  uniforms.msh_debug_mode.value = 0;
+  uniforms.msh_debug_light.value = -1;
+  if (visSource === 'constant') uniforms.msh_visibility.value = options.visibility;
+  if (visSource === 'map') uniforms.msh_visibility_map.value = options.visibilityMap;
+  for (const k of luts) {
+    const L = options.luts[k], u = LUT_UNIFORMS[k];
+    uniforms[u].value = L.texture;
+    uniforms[`${u}_slabs`].value = L.slabs;
+    if (k === 'lut_azimuth') uniforms.u_lut_az_harmonics.value = L.harmonics;
+  }
+
+  // The material's own hooks (not three's defaults) are kept: called first, and part of the cache key.
+  const proto = Object.getPrototypeOf(material);
+  const previous = material.onBeforeCompile, previousKey = material.customProgramCacheKey;
+  const userCompile = previous !== proto.onBeforeCompile ? previous : null;
+  const userKey = previousKey !== proto.customProgramCacheKey ? previousKey : null;
+  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}`;
+  material.onBeforeCompile = function (shader, renderer) {
+    if (userCompile) userCompile.call(this, shader, renderer);
+    Object.assign(shader.uniforms, uniforms);
+    let fs = shader.fragmentShader;
+    fs = replaceOnce(fs, '#include <lights_physical_pars_fragment>',
+      `#include <lights_physical_pars_fragment>\n${debug ? '#define MSH_DEBUG\n' : ''}${parsBlock(lobes, luts, debug, visSource)}`, 'fragment');
+    const vis = visSource === 'aoMap'
+      ? '#ifdef USE_AOMAP\n\tmsh_vis = ( texture2D( aoMap, vAoMapUv ).r - 1.0 ) * aoMapIntensity + 1.0;\n#endif'
+      : visSource === 'map' ? '\tmsh_vis = texture2D( msh_visibility_map, vMshVisUv ).r;' : '\tmsh_vis = msh_visibility;';
+    fs = replaceOnce(fs, '#include <lights_fragment_begin>', `${vis}\n\tmsh_vis = clamp( msh_vis, 0.0, 1.0 );\n#include <lights_fragment_begin>`, 'fragment');
+    if (!aoOnIndirect) fs = replaceOnce(fs, '#include <aomap_fragment>', '// microshadow: aoOnIndirect = false, three\'s AO on indirect light left out', 'fragment');
+    if (debug)
+      fs = replaceOnce(fs, '#include <dithering_fragment>', `#include <dithering_fragment>
+	if ( msh_debug_mode == 1 ) gl_FragColor = msh_dbg_inputs;
+	else if ( msh_debug_mode == 2 ) gl_FragColor = msh_dbg_terms;
+	else if ( msh_debug_mode == 3 ) gl_FragColor = msh_dbg_v;
+	else if ( msh_debug_mode == 4 ) gl_FragColor = msh_dbg_l;
+	else if ( msh_debug_mode == 5 ) gl_FragColor = msh_dbg_cap;
+	else if ( msh_debug_mode == 6 ) gl_FragColor = vec4( geometryPosition, 1.0 );
+	else if ( msh_debug_mode == 7 ) gl_FragColor = vec4( geometryNormal, 1.0 );
+	else if ( msh_debug_mode == 8 ) gl_FragColor = msh_dbg_direct;
+	else if ( msh_debug_mode == 9 ) gl_FragColor = msh_dbg_d;
+	else if ( msh_debug_mode == 10 ) gl_FragColor = msh_dbg_s;
+	else if ( msh_debug_mode == 11 ) gl_FragColor = vec4( reflectedLight.indirectDiffuse, 1.0 );`, 'fragment');
+    shader.fragmentShader = fs;
+    if (visSource === 'map') {
+      let vs = shader.vertexShader;
+      vs = replaceOnce(vs, '#include <common>', '#include <common>\nuniform mat3 msh_visibility_map_transform;\nvarying vec2 vMshVisUv;', 'vertex');
+      vs = replaceOnce(vs, '#include <uv_vertex>', '#include <uv_vertex>\n\tvMshVisUv = ( msh_visibility_map_transform * vec3( uv, 1.0 ) ).xy;', 'vertex');
+      shader.vertexShader = vs;
+    }
+  };
+  material.customProgramCacheKey = function () {
+    return `${userKey ? userKey.call(this) : userCompile ? userCompile.toString() : ''}|${key}`;
+  };
+  material.needsUpdate = true;
+  ACTIVE.set(material, true);
+
+  const handle = {
+    method,
+    lobes,
+    uniforms,
+    get enabled() { return uniforms.msh_enabled.value; },
+    set enabled(on) { uniforms.msh_enabled.value = !!on; },
+    // Debug output (needs options.debug): a DEBUG_MODES name, or null for the normal colour; lightIndex is
+    // the light's place in three's light loop (point, spot, directional, then RectAreaLights, each in scene
+    // order); with lightIndex >= 0 the other lights' direct light is left out.
+    setDebug(mode, lightIndex = 0) {
+      if (!debug) throw new Error('microshadow: setDebug needs addMicroShadowing(material, { debug: true })');
+      if (mode !== null && !DEBUG_MODES[mode]) throw new Error(`microshadow: unknown debug mode '${mode}'; modes: ${Object.keys(DEBUG_MODES).join(', ')}`);
+      uniforms.msh_debug_mode.value = mode === null ? 0 : DEBUG_MODES[mode];
+      uniforms.msh_debug_light.value = mode === null ? -1 : lightIndex;
+    },
+    // The visibility map's UV transform follows the texture's (texture.matrix); call after changing it.
+    updateVisibilityTransform() {
+      if (visSource !== 'map') return;
+      const t = uniforms.msh_visibility_map.value;
+      if (t.matrixAutoUpdate) t.updateMatrix();
+      uniforms.msh_visibility_map_transform.value.copy(t.matrix);
+    },
+    dispose() {
+      ACTIVE.delete(material);
+      material.onBeforeCompile = previous;
+      material.customProgramCacheKey = previousKey;
+      material.needsUpdate = true;
+    },
+  };
+  handle.updateVisibilityTransform();
+  return handle;
+}

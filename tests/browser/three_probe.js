@@ -1,0 +1,191 @@
+// In-page part of the three.js browser test (tests/browser/three_test.mjs injects it into the example page
+// opened with ?probe, whose import map serves three and microshadow-three). A known scene — a plane, a sphere
+// and a cylinder with a procedural normal map, V from the material's aoMap (plane), a separate visibility map
+// (sphere) and a constant (cylinder) — lit by one point, one spot, one directional and one rect-area light;
+// for every method and light it renders the module's debug outputs into float32 and 8-bit render targets and
+// reads back the probe pixels: the inputs (V, N·L, N·V, roughness, v, l, the rect light's equivalent cap),
+// each lobe's term, the light's direct diffuse and specular with micro-shadowing on and off, and the pixel's
+// view-space position and normal (the C++ test recomputes N·L and the equivalent cap from the scene).
+import * as THREE from 'three';
+import { RectAreaLightUniformsLib } from 'three/addons/lights/RectAreaLightUniformsLib.js';
+import * as MSH from 'microshadow-three';
+
+const V_LEVELS = [38, 77, 115, 140, 158, 179, 204, 230, 255];  // the visibility texture's bytes
+const V_CONST = 0.62;                                           // the cylinder's constant V
+const ROUGH = [0.35, 0.6, 0.85];                                // plane, sphere, cylinder
+const LIGHT_ORDER = ['point', 'spot', 'directional', 'rect'];   // three's light loop order (index = debug light)
+const SAMPLES = 16;                                             // the generic-vndf estimator's samples
+
+function dataTexture(w, h, f, { nearest = false } = {}) {
+  const d = new Uint8Array(w * h * 4);
+  for (let j = 0; j < h; ++j) for (let i = 0; i < w; ++i) d.set(f(i, j), 4 * (j * w + i));
+  const t = new THREE.DataTexture(d, w, h, THREE.RGBAFormat, THREE.UnsignedByteType);
+  t.wrapS = t.wrapT = THREE.RepeatWrapping;
+  if (nearest) { t.minFilter = t.magFilter = THREE.NearestFilter; t.generateMipmaps = false; } else { t.minFilter = THREE.LinearMipmapLinearFilter; t.generateMipmaps = true; }
+  t.needsUpdate = true;
+  return t;
+}
+
+let S = null;
+let S_KTX2 = null;
+
+async function setup({ width, height, grid }) {
+  RectAreaLightUniformsLib.init();
+  const man = await (await fetch('data/manifest.json')).json();
+  const luts = {};
+  for (const [k, L] of Object.entries(man.luts || {})) luts[k] = await MSH.loadMicroShadowingLut(L.url);
+  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height);
+  document.body.appendChild(renderer.domElement);
+  const vis = dataTexture(8, 8, (i, j) => { const v = V_LEVELS[(3 * i + 5 * j) % V_LEVELS.length]; return [v, v, v, 255]; }, { nearest: true });
+  // Smooth bumps: h = 0.12 (sin 2πu sin 2πv + 0.5 sin 6πu), normal = normalize(−∂h/∂u, −∂h/∂v, 1).
+  const N = 64;
+  const nmap = dataTexture(N, N, (i, j) => {
+    const u = (i + 0.5) / N, v = (j + 0.5) / N, tp = 2 * Math.PI;
+    const hu = 0.12 * tp * (Math.cos(tp * u) * Math.sin(tp * v) + 1.5 * Math.cos(3 * tp * u));
+    const hv = 0.12 * tp * Math.sin(tp * u) * Math.cos(tp * v);
+    const l = Math.hypot(hu, hv, 1);
+    return [-hu / l, -hv / l, 1 / l].map((x) => Math.round((x * 0.5 + 0.5) * 255)).concat([255]);
+  });
+  const mat = (r) => new THREE.MeshStandardMaterial({ color: 0xcccccc, roughness: r, metalness: 0, normalMap: nmap });
+  const mats = ROUGH.map(mat);
+  for (const m of mats) m.aoMap = vis;
+  const scene = new THREE.Scene();
+  const objs = [new THREE.Mesh(new THREE.PlaneGeometry(5, 5).rotateX(-Math.PI / 2), mats[0]),
+    new THREE.Mesh(new THREE.SphereGeometry(0.8, 64, 32), mats[1]),
+    new THREE.Mesh(new THREE.CylinderGeometry(0.6, 0.6, 1.6, 64, 1, true), mats[2])];
+  objs[1].position.set(-1.2, 0.8, 0);
+  objs[2].position.set(1.3, 0.8, 0.2);
+  for (const o of objs) scene.add(o);
+  const point = new THREE.PointLight(0xffffff, 8, 0, 2);
+  point.position.set(-2.5, 2, 1.5);
+  const spot = new THREE.SpotLight(0xffffff, 20, 0, THREE.MathUtils.degToRad(40), 0.2, 2);
+  spot.position.set(2.5, 3, 2);
+  spot.target.position.set(0.5, 0, 0);
+  const dir = new THREE.DirectionalLight(0xffffff, 2);
+  const el = THREE.MathUtils.degToRad(20), az = THREE.MathUtils.degToRad(60);
+  dir.position.set(Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az)).multiplyScalar(10);
+  const rect = new THREE.RectAreaLight(0xffffff, 5, 2, 0.8);
+  rect.position.set(0, 1.2, 2.5);
+  rect.lookAt(0, 0.3, 0);
+  scene.add(point, spot, spot.target, dir, dir.target, rect, new THREE.AmbientLight(0xffffff, 0.5));
+  const camera = new THREE.PerspectiveCamera(45, width / height, 0.1, 50);
+  camera.position.set(0, 3.5, 6);
+  camera.lookAt(0, 0.5, 0);
+  scene.updateMatrixWorld(true);
+  camera.updateMatrixWorld(true);
+  const rt = (type) => new THREE.WebGLRenderTarget(width, height, { type, depthBuffer: true, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter });
+  S = { renderer, scene, camera, mats, luts, vis, width, height, rtF: rt(THREE.FloatType), rt8: rt(THREE.UnsignedByteType), handles: [] };
+  // Probe points: a grid over the frame.
+  S.points = [];
+  for (let j = 0; j < grid[1]; ++j)
+    for (let i = 0; i < grid[0]; ++i) S.points.push([Math.floor(width * (i + 0.5) / grid[0]), Math.floor(height * (j + 0.5) / grid[1])]);
+  // The lights as three's shaders see them (view space; RectAreaLight as WebGLLights sets its uniforms).
+  const view = camera.matrixWorldInverse;
+  const vpos = (o) => new THREE.Vector3().setFromMatrixPosition(o.matrixWorld).applyMatrix4(view).toArray();
+  const rot = new THREE.Matrix4().extractRotation(new THREE.Matrix4().multiplyMatrices(view, rect.matrixWorld));
+  const lights = {
+    point: { position: vpos(point) },
+    spot: { position: vpos(spot) },
+    directional: { direction: new THREE.Vector3().subVectors(dir.position, dir.target.position).transformDirection(view).toArray() },
+    rect: { position: vpos(rect), half_width: new THREE.Vector3(rect.width / 2, 0, 0).applyMatrix4(rot).toArray(),
+      half_height: new THREE.Vector3(0, rect.height / 2, 0).applyMatrix4(rot).toArray() },
+  };
+  const methods = MSH.MICRO_SHADOWING_METHODS.map((m) => ({ id: m.id, label: m.label, lut: m.lut || null, cpp: m.cpp,
+    pair: m.glsl_diffuse !== undefined, lobes: MSH.methodLobes(m.id) }));
+  // The NPY loader: the test writes the default 3D table as float32 NPY (data/lut3d.npy, the format of
+  // `bake micro-shadowing --out lut.npy`); its half floats against the served raw half floats.
+  let npy = null;
+  if (luts.lut3d) {
+    const T = await MSH.loadMicroShadowingLut('data/lut3d.npy');
+    const a = T.texture.image.data, b = luts.lut3d.texture.image.data;
+    let maxUlps = 0;
+    for (let i = 0; i < Math.min(a.length, b.length); ++i) maxUlps = Math.max(maxUlps, Math.abs(a[i] - b[i]));
+    npy = { size: T.size, channels: T.channels, slabs: T.slabs, f16_size: luts.lut3d.size, n: a.length, f16_n: b.length, max_ulps: maxUlps };
+    // And the installed default table (share/microshadow/tables/micro_shadowing.ktx2, R16F; the test copies it
+    // to data/lut3d.ktx2) through three's KTX2Loader: the same half floats.
+    const K = await MSH.loadMicroShadowingLut('data/lut3d.ktx2', { renderer });
+    const k = K.texture.image.data;
+    let kUlps = 0;
+    for (let i = 0; i < Math.min(k.length, b.length); ++i) kUlps = Math.max(kUlps, Math.abs(k[i] - b[i]));
+    npy.ktx2 = { size: K.size, channels: K.channels, n: k.length, max_ulps: kUlps, type: K.texture.type, is3d: !!K.texture.isData3DTexture };
+    S_KTX2 = K;  // rendered with in the last run (three_test.mjs)
+  }
+  return { npy, methods, lights, light_order: LIGHT_ORDER, samples: SAMPLES, v_levels: V_LEVELS.map((b) => b / 255), v_const: V_CONST, roughness: ROUGH,
+    luts: Object.fromEntries(Object.entries(luts).map(([k, L]) => [k, { size: L.size, slabs: L.slabs, harmonics: L.harmonics, url: L.url }])),
+    revision: THREE.REVISION };
+}
+
+// The method on the three materials: V from the aoMap on all three, or (variant) from the aoMap on the
+// plane, the separate visibility map on the sphere and the constant on the cylinder.
+function attach(method, variant = false, aoOnIndirect = true, luts = S.luts) {
+  for (const h of S.handles) h.dispose();
+  const base = { method, luts, debug: true, samples: SAMPLES, aoOnIndirect };
+  S.handles = [MSH.addMicroShadowing(S.mats[0], { ...base }),
+    MSH.addMicroShadowing(S.mats[1], variant ? { ...base, visibilityMap: S.vis } : base),
+    MSH.addMicroShadowing(S.mats[2], variant ? { ...base, visibility: V_CONST } : base)];
+}
+
+// The probe pixels of one render of debug `mode` for light `k` (-1: every light lit), rows from the top.
+function read(mode, k, float, enabled = true) {
+  for (const h of S.handles) { h.setDebug(mode, k); h.enabled = enabled; }
+  const rt = float ? S.rtF : S.rt8, { width: w, height: h } = S;
+  S.renderer.setRenderTarget(rt);
+  S.renderer.setClearColor(0x000000, 0);
+  S.renderer.clear();
+  S.renderer.render(S.scene, S.camera);
+  const buf = float ? new Float32Array(w * h * 4) : new Uint8Array(w * h * 4);
+  S.renderer.readRenderTargetPixels(rt, 0, 0, w, h, buf);
+  S.renderer.setRenderTarget(null);
+  for (const x of S.handles) { x.setDebug(null); x.enabled = true; }
+  return S.points.map(([x, y]) => Array.from(buf.subarray(4 * ((h - 1 - y) * w + x), 4 * ((h - 1 - y) * w + x) + 4)));
+}
+
+// One method: both lobes' terms of the four lights (float and 8-bit); with o.inputs the inputs of every
+// light (V, N·L, N·V, roughness; v, l; the rect light's cap; position, normal), with o.direct each light's
+// direct light with micro-shadowing on and off; with o.ktx2 the 3D table loaded from KTX2.
+function run(method, o = {}) {
+  const t0 = performance.now();
+  attach(method, !!o.variant, true, o.ktx2 ? { ...S.luts, lut3d: S_KTX2 } : S.luts);
+  const gl = S.renderer.getContext();
+  const out = { method, variant: !!o.variant, terms_d: read('terms_diffuse', -1, true), terms_s: read('terms_specular', -1, true),
+    terms8_d: read('terms_diffuse', -1, false), terms8_s: read('terms_specular', -1, false) };
+  out.first_ms = performance.now() - t0;
+  if (o.inputs || o.direct) {
+    out.lights = [];
+    for (let k = 0; k < LIGHT_ORDER.length; ++k) {
+      const L = {};
+      if (o.inputs) for (const m of ['inputs', 'v', 'l', 'position', 'normal'].concat(LIGHT_ORDER[k] === 'rect' ? ['cap'] : [])) L[m] = read(m, k, true);
+      if (o.direct) { L.direct_on = read('direct', k, true); L.direct_off = read('direct', k, true, false); }
+      out.lights.push(L);
+    }
+  }
+  out.error = gl.getError();
+  out.ms = performance.now() - t0;
+  return out;
+}
+
+// The AO switch: three's indirect diffuse light with aoOnIndirect true and false, and V (V from the aoMap).
+function aoSwitch(method) {
+  attach(method, false, true);
+  const on = read('indirect', -1, true), inputs = read('inputs', 0, true);
+  attach(method, false, false);
+  const off = read('indirect', -1, true);
+  return { on, off, inputs };
+}
+
+// A shaded frame on the canvas (sRGB output) with every light, micro-shadowing on or off.
+function shaded(method, enabled) {
+  attach(method);
+  for (const h of S.handles) h.enabled = enabled;
+  S.renderer.setRenderTarget(null);
+  S.renderer.setClearColor(0x101014, 1);
+  S.renderer.render(S.scene, S.camera);
+  S.renderer.getContext().finish();
+  return S.renderer.getContext().getError();
+}
+
+window.mshProbe = { setup, run, shaded, aoSwitch, points: () => S.points };
+
+window.mshProbeLoaded = true;

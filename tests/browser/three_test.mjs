@@ -1,0 +1,164 @@
+// Drives headless Debian chromium (SwiftShader WebGL2) through the three.js example for
+// tests/test_three_browser.cpp: opens the example page with ?probe, injects three_probe.js (the known scene and
+// its read-backs) and runs every method of the module's list for every light type; then opens the example
+// itself at 1280x720 for screenshots and the frame time with and without micro-shadowing, and measures the
+// module's size. Collects console errors. Writes OUT/results.json; the C++ test compares with the library.
+//
+//   node three_test.mjs --url http://127.0.0.1:PORT/ --out DIR --module DIR/microshadow-three
+//        [--chromium /usr/bin/chromium] [--figure FILE.png [--figure-only]] [--frames N] [--snippet FILE.js]
+// --figure: also copy the with/without split at grazing sun (docs/three.md's figure) to FILE; --figure-only:
+// only that (no probe, no frame time). --snippet: a module run in the probe page after the probe (docs/three.md's
+// five lines in a harness); it sets window.mshSnippet, recorded as results.snippet.
+import { chromium } from 'playwright-core';
+import fs from 'node:fs';
+import path from 'node:path';
+import zlib from 'node:zlib';
+import { fileURLToPath } from 'node:url';
+
+const arg = (name, def) => {
+  const i = process.argv.indexOf(`--${name}`);
+  return i > 0 ? process.argv[i + 1] : def;
+};
+const url = arg('url'), out = arg('out'), moduleDir = arg('module'), figure = arg('figure');
+const exe = arg('chromium', '/usr/bin/chromium'), frames = Number(arg('frames', '3'));
+const figureOnly = process.argv.includes('--figure-only');
+const snippet = arg('snippet');
+// The docs figure: the sun 7° above the horizon behind the camera, the split through the glTF torus and the
+// plane; left without micro-shadowing, right with the recommended pair.
+const FIGURE = { elevation: 7, azimuth: 200, camera: [0, 1.1, -3.6], target: [0, 0.3, -0.5], panel: false, split: true, attached: true, light: 'sun' };
+if (!url || !out || !moduleDir) {
+  console.error('usage: node three_test.mjs --url URL --out DIR --module DIR [--chromium PATH] [--figure FILE] [--frames N]');
+  process.exit(2);
+}
+fs.mkdirSync(out, { recursive: true });
+const here = path.dirname(fileURLToPath(import.meta.url));
+const DEFAULT_PAIR = 'diffuse-aware-alu+generic-vndf-alu';
+const CHROMIUM_ARGS = ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist', '--no-sandbox', '--disable-dev-shm-usage'];
+
+const results = { url, errors: [], screenshots: [], timing: {} };
+const T0 = Date.now();
+const mark = (k) => { results.timing[k] = (Date.now() - T0) / 1000; };
+
+// The module as a user ships it: every file under microshadow-three/, raw and gzip -9.
+const files = [];
+const walk = (d) => { for (const e of fs.readdirSync(d, { withFileTypes: true })) { const p = path.join(d, e.name); if (e.isDirectory()) walk(p); else files.push(p); } };
+walk(moduleDir);
+const all = Buffer.concat(files.sort().map((f) => fs.readFileSync(f)));
+results.bundle = { files: files.map((f) => path.relative(moduleDir, f)), bytes: all.length, gzip_bytes: zlib.gzipSync(all, { level: 9 }).length,
+  glsl_bytes: fs.statSync(path.join(moduleDir, 'generated', 'glsl.js')).size };
+
+const browser = await chromium.launch({ executablePath: exe, headless: true, args: CHROMIUM_ARGS });
+const watch = (page, tag) => {
+  page.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') results.errors.push(`${tag} console ${m.type()}: ${m.text().slice(0, 2000)}`); });
+  page.on('pageerror', (e) => results.errors.push(`${tag} pageerror: ${e.message}`));
+};
+try {
+  if (!figureOnly) await probe();
+  if (!figureOnly) await example();
+  if (figure) await figureShot();
+  mark('done');
+} catch (e) {
+  results.errors.push(`driver: ${e.message}`);
+} finally {
+  await browser.close();
+}
+
+// ---- the probe: known scene, every method, every light
+async function probe() {
+  const W = 192, H = 108, GRID = [24, 14];
+  const page = await browser.newPage({ viewport: { width: W + 40, height: H + 40 } });
+  watch(page, 'probe');
+  await page.goto(`${url}?probe`);
+  await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 60000 });
+  await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, 'three_probe.js'), 'utf8') });
+  await page.waitForFunction(() => window.mshProbeLoaded === true, null, { timeout: 60000 });
+  Object.assign(results, await page.evaluate((o) => window.mshProbe.setup(o), { width: W, height: H, grid: GRID }));
+  results.points = await page.evaluate(() => window.mshProbe.points());
+  mark('setup');
+  results.runs = [];
+  // Every method with V from the aoMap (the first also reads the inputs), then the recommended pair with the
+  // three V sources (its own inputs) and each light's direct light on and off, then lut3d with the table
+  // loaded from KTX2.
+  const jobs = results.methods.map((m, i) => [m.id, { inputs: i === 0 }]);
+  jobs.push([DEFAULT_PAIR, { variant: true, inputs: true, direct: true }], ['lut3d', { ktx2: true }]);
+  for (const [id, o] of jobs) {
+    const r = await page.evaluate(([i, opt]) => window.mshProbe.run(i, opt), [id, o]);
+    if (r.error !== 0) results.errors.push(`gl error ${r.error} with ${id}`);
+    results.runs.push(r);
+  }
+  results.ao_switch = await page.evaluate((id) => window.mshProbe.aoSwitch(id), DEFAULT_PAIR);
+  mark('methods');
+  if (snippet) {
+    await page.addScriptTag({ type: 'module', content: fs.readFileSync(snippet, 'utf8') });
+    await page.waitForFunction(() => window.mshSnippet !== undefined, null, { timeout: 120000 });
+    results.snippet = await page.evaluate(() => window.mshSnippet);
+    mark('snippet');
+  }
+  for (const [name, on] of [['three_probe_without', false], ['three_probe_with', true]]) {
+    const err = await page.evaluate(([p, on]) => window.mshProbe.shaded(p, on), [DEFAULT_PAIR, on]);
+    if (err !== 0) results.errors.push(`gl error ${err} (${name})`);
+    const file = path.join(out, `${name}.png`);
+    await page.locator('canvas').screenshot({ path: file });
+    results.screenshots.push(file);
+  }
+  await page.close();
+}
+
+// ---- the example at 1280x720: screenshots, frame time with and without micro-shadowing
+async function example() {
+  const ex = await browser.newPage({ viewport: { width: 1280, height: 720 } });
+  watch(ex, 'example');
+  await ex.goto(url);
+  await ex.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 180000 });
+  results.example_loaded = await ex.evaluate(() => window.mshExampleReady);
+  mark('example');
+  if (results.example_loaded) {
+    await ex.evaluate(() => { window.mshExample.resize(1280, 720); window.mshExample.set({ animate: false, azimuth: 65, elevation: 8 }); });
+    // Interleaved rounds (with, without, with, without): SwiftShader shares the cores with whatever else runs.
+    const t = { with: [], without: [] };
+    for (let round = 0; round < 2; ++round)
+      for (const [name, s] of [['with', { attached: true }], ['without', { attached: false }]]) {
+        await ex.evaluate((st) => window.mshExample.set(st), s);
+        t[name].push(await ex.evaluate((n) => window.mshExample.time(n), frames));
+      }
+    const mean = (a) => a.reduce((x, y) => x + y, 0) / a.length;
+    results.frame_ms = { with: mean(t.with), without: mean(t.without), rounds: t, frames_per_round: frames };
+    mark('frame_time');
+    const shots = [['three_example_with', { attached: true, split: false }],
+      ['three_example_without', { attached: false, split: false }], ['three_grazing_split', FIGURE]];
+    for (const [name, s] of shots) {
+      const err = await ex.evaluate((st) => { window.mshExample.set(st); return window.mshExample.render(); }, s);
+      if (err !== 0) results.errors.push(`gl error ${err} (${name})`);
+      const file = path.join(out, `${name}.png`);
+      await ex.screenshot({ path: file });
+      results.screenshots.push(file);
+    }
+    // A nearly black frame means nothing was drawn.
+    results.example_mean = await ex.evaluate(() => {
+      const gl = window.mshExample.renderer.getContext(), w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+      const px = new Uint8Array(w * h * 4);
+      gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+      let s = 0;
+      for (let i = 0; i < px.length; i += 4) s += px[i] + px[i + 1] + px[i + 2];
+      return s / (3 * 255 * w * h);
+    });
+  }
+  await ex.close();
+}
+// ---- the docs figure at 960x540 (docs/figures/three_grazing.png)
+async function figureShot() {
+  const W = 960, H = 540;
+  const p = await browser.newPage({ viewport: { width: W, height: H } });
+  watch(p, 'figure');
+  await p.goto(url);
+  await p.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 180000 });
+  if (!(await p.evaluate(() => window.mshExampleReady))) { results.errors.push('figure: the example did not load'); return; }
+  const err = await p.evaluate(([w, h, st]) => { window.mshExample.resize(w, h); window.mshExample.set(st); return window.mshExample.render(); }, [W, H, FIGURE]);
+  if (err !== 0) results.errors.push(`gl error ${err} (figure)`);
+  await p.screenshot({ path: figure });
+  results.screenshots.push(figure);
+  await p.close();
+}
+
+fs.writeFileSync(path.join(out, 'results.json'), JSON.stringify(results));
+console.log(`wrote ${path.join(out, 'results.json')}: ${(results.runs || []).length} methods, ${results.errors.length} errors, ${results.timing.done} s`);

@@ -1,0 +1,665 @@
+// The three.js integration (integrations/three, docs/three.md). Without a browser: the module's generated
+// files are the registry's method list and the project's GLSL files with their includes expanded; the
+// example's glTF model is valid (buffer, counts, unit normals, tangent frame along +u, +v); the example's
+// static copy holds the page, the module, three.js and the data, and bad option combinations fail with one
+// line. In headless Debian chromium (SwiftShader WebGL2, tests/browser/three_test.mjs with playwright-core):
+// a known scene lit by a point, a spot, a directional and a rect-area light, every method of the module's
+// list, each lobe's term read back per probe pixel (float32 and 8-bit render targets) and compared with the
+// C++ library at the pixel's inputs (V, N·L, N·V, roughness, v, l, the rect light's equivalent cap), which
+// are themselves checked against the scene (N·L, N·V and the cap recomputed from the pixel's position and
+// normal and the lights; V one of the texture's values or the constant); each light's direct diffuse and
+// specular with micro-shadowing on and off differ by exactly the lobes' terms; no console errors;
+// screenshots, the module's size and the frame time at 1280x720 printed. Fails without
+// chromium/node/playwright-core/three unless MSH_ALLOW_NO_BROWSER=1 (then skips), as the viewer test.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <microshadow/io/atomic_file.h>
+#include <microshadow/io/texture.h>
+#include <microshadow/lut/micro_shadowing_lut.h>
+#include <microshadow/lut/runtime/micro_shadowing_baker.h>
+#include <microshadow/lut/runtime/micro_shadowing_loader.h>
+#include <microshadow/microfacet/ggx.h>
+#include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_area.h>
+#include <microshadow/occlusion/micro_shadowing_aware.h>
+#include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "../src/view/shader_source.h"
+#include "../src/view/three_example.h"
+#include "../src/view/viewer_server.h"
+#include "support/cli_test_util.h"
+
+namespace fs = std::filesystem;
+using namespace msh;
+using msh::test::run_cli;
+using msh::test::scratch_dir;
+using msh::test::slurp;
+using nlohmann::json;
+
+namespace {
+
+const fs::path kSource = fs::path(MSH_SOURCE_DIR);
+const fs::path kBrowserDir = kSource / "tests" / "browser";
+const fs::path kThree = kSource / "integrations" / "three" / "node_modules" / "three";
+// The built-in plaster's cache, shared with the viewer test (generated once).
+const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
+
+std::string chromium_path() {
+  const char* e = std::getenv("MSH_CHROMIUM");
+  return e && *e ? e : "/usr/bin/chromium";
+}
+
+// Why the browser part cannot run here ("" = it can).
+std::string missing_browser() {
+  if (access(chromium_path().c_str(), X_OK) != 0)
+    return "no chromium at " + chromium_path() + " (Debian package chromium)";
+  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node on PATH (Debian package nodejs)";
+  if (!fs::exists(kBrowserDir / "node_modules" / "playwright-core" / "package.json"))
+    return "playwright-core is not installed: run `npm ci` in tests/browser (scripts/install-deps.sh does)";
+  if (!fs::exists(kThree / "package.json"))
+    return "three is not installed: run `npm ci` in integrations/three (scripts/install-deps.sh does)";
+  return "";
+}
+
+#define REQUIRE_BROWSER()                                                        \
+  do {                                                                           \
+    const std::string why = missing_browser();                                   \
+    if (!why.empty()) {                                                          \
+      const char* allow = std::getenv("MSH_ALLOW_NO_BROWSER");                   \
+      if (allow && std::string(allow) == "1") GTEST_SKIP() << why;               \
+      FAIL() << why << " (set MSH_ALLOW_NO_BROWSER=1 to skip the browser test)"; \
+    }                                                                            \
+  } while (0)
+
+int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+// The example's static copy, written once per process (the default tables bake in seconds).
+const fs::path& example_copy() {
+  static const fs::path dir = [] {
+    const fs::path d = fs::path(MSH_BINARY_DIR) / "three_example";
+    const auto r =
+        run_cli("view --three --export " + d.string() + " --cache " + kCache.string(), scratch_dir("three"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    return d;
+  }();
+  return dir;
+}
+
+// `microshadow view ARGS` in the background (stdout, stderr in dir) and the URL it prints (empty: none in 60
+// s).
+struct Server {
+  pid_t pid = -1;
+  std::string url;
+  fs::path err;
+};
+Server start_view(const std::vector<std::string>& args, const fs::path& dir) {
+  Server s;
+  const fs::path out = dir / "server.out";
+  s.err = dir / "server.err";
+  s.pid = fork();
+  if (s.pid == 0) {
+    if (!freopen(out.c_str(), "w", stdout) || !freopen(s.err.c_str(), "w", stderr)) _exit(127);
+    std::vector<std::string> all = {MSH_CLI_PATH, "view"};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& x : all) argv.push_back(x.data());
+    argv.push_back(nullptr);
+    execv(MSH_CLI_PATH, argv.data());
+    _exit(127);
+  }
+  for (int i = 0; i < 600 && s.url.empty(); ++i) {
+    const std::string o = slurp(out);
+    const auto p = o.find("http://");
+    if (p != std::string::npos && o.find(' ', p) != std::string::npos)
+      s.url = o.substr(p, o.find(' ', p) - p);
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return s;
+}
+// SIGINT (Ctrl-C), then its exit code (-1: killed after 30 s, or not a normal exit).
+int stop_view(Server& s) {
+  if (s.pid <= 0) return -1;
+  kill(s.pid, SIGINT);
+  for (int i = 0; i < 300; ++i) {
+    int status = 0;
+    if (waitpid(s.pid, &status, WNOHANG) == s.pid) {
+      s.pid = -1;
+      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  kill(s.pid, SIGKILL);
+  waitpid(s.pid, nullptr, 0);
+  s.pid = -1;
+  return -1;
+}
+
+// GET path (HTTP/1.0 over a socket, the Host header a browser sends): the status line and the body.
+std::pair<std::string, std::string> http_get(const std::string& url, const std::string& path) {
+  const int port = std::stoi(url.substr(url.rfind(':') + 1));
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(uint16_t(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
+    close(fd);
+    return {"connect failed", ""};
+  }
+  const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
+  std::string resp;
+  if (write(fd, req.data(), req.size()) == ssize_t(req.size())) {
+    char buf[65536];
+    for (ssize_t n; (n = read(fd, buf, sizeof(buf))) > 0;) resp.append(buf, std::size_t(n));
+  }
+  close(fd);
+  const auto eol = resp.find("\r\n"), body = resp.find("\r\n\r\n");
+  return {resp.substr(0, eol), body == std::string::npos ? "" : resp.substr(body + 4)};
+}
+
+// ---- without a browser --------------------------------------------------------------------------------
+
+TEST(ThreeModule, GeneratedFilesAreTheRegistryAndTheShaders) {
+  const fs::path dir = scratch_dir("three");
+  msh::view::write_three_module(kSource, dir / "gen");
+  EXPECT_EQ(slurp(dir / "gen" / "methods.js"), msh::view::methods_js(occlusion::micro_shadowing_methods()));
+  const std::string glsl = slurp(dir / "gen" / "glsl.js");
+  for (const char* f : {"micro_shadowing.glsl", "micro_shadowing_fit.glsl", "micro_shadowing_aware.glsl",
+                        "micro_shadowing_aware_fit.glsl", "micro_shadowing_area.glsl"}) {
+    const std::string text = msh::view::expand_shader_includes(kSource / "shaders" / "glsl" / f);
+    EXPECT_NE(glsl.find(json(f).dump() + ": " + json(text).dump()), std::string::npos) << f;
+    EXPECT_EQ(text.find("\n#include"), std::string::npos) << f;
+  }
+  // The CLI writes the same files; a wrong combination of options is one line and exit 2.
+  const auto r = run_cli("view --three-module " + (dir / "cli").string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(dir / "cli" / "methods.js"), slurp(dir / "gen" / "methods.js"));
+  EXPECT_EQ(slurp(dir / "cli" / "glsl.js"), glsl);
+  for (const std::string& bad :
+       {"view --three-module " + (dir / "x").string() + " --three", "view --three --root " + dir.string()}) {
+    const auto b = run_cli(bad, dir);
+    EXPECT_EQ(b.code, 2) << bad;
+    EXPECT_EQ(count_lines(b.err), 1) << b.err;
+  }
+  // The module's sources are in the tree; the generated files are not.
+  EXPECT_TRUE(fs::is_regular_file(kSource / "integrations" / "three" / "src" / "index.js"));
+  EXPECT_TRUE(fs::is_regular_file(kSource / "integrations" / "three" / "package-lock.json"));
+}
+
+std::vector<unsigned char> unbase64(const std::string& s) {
+  std::vector<unsigned char> out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char c : s) {
+    int v = c >= 'A' && c <= 'Z'   ? c - 'A'
+            : c >= 'a' && c <= 'z' ? c - 'a' + 26
+            : c >= '0' && c <= '9' ? c - '0' + 52
+            : c == '+'             ? 62
+            : c == '/'             ? 63
+                                   : -1;
+    if (v < 0) break;
+    acc = acc << 6 | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(uint8_t(acc >> bits));
+    }
+  }
+  return out;
+}
+
+TEST(ThreeModule, GltfModelIsValid) {
+  const json g = json::parse(msh::view::three_example_gltf("material/"));
+  EXPECT_EQ(g["asset"]["version"], "2.0");
+  const std::string uri = g["buffers"][0]["uri"];
+  const std::string prefix = "data:application/octet-stream;base64,";
+  ASSERT_EQ(uri.rfind(prefix, 0), 0u);
+  const auto buf = unbase64(uri.substr(prefix.size()));
+  ASSERT_EQ(buf.size(), g["buffers"][0]["byteLength"].get<std::size_t>());
+  const auto& prim = g["meshes"][0]["primitives"][0];
+  const auto floats = [&](int accessor) {
+    const auto& a = g["accessors"][accessor];
+    const auto& v = g["bufferViews"][a["bufferView"].get<int>()];
+    const std::size_t off = v["byteOffset"], len = v["byteLength"];
+    EXPECT_LE(off + len, buf.size());
+    std::vector<float> f(len / 4);
+    std::memcpy(f.data(), buf.data() + off, len);
+    return f;
+  };
+  const auto P = floats(prim["attributes"]["POSITION"]), N = floats(prim["attributes"]["NORMAL"]);
+  const auto T = floats(prim["attributes"]["TANGENT"]), U = floats(prim["attributes"]["TEXCOORD_0"]);
+  const int n = g["accessors"][0]["count"];
+  constexpr int nu = 128, nv = 48;
+  ASSERT_EQ(n, (nu + 1) * (nv + 1));
+  ASSERT_EQ(P.size(), 3u * n);
+  ASSERT_EQ(T.size(), 4u * n);
+  const auto& ia = g["accessors"][prim["indices"].get<int>()];
+  EXPECT_EQ(ia["count"], nu * nv * 6);
+  EXPECT_EQ(ia["componentType"], 5123);
+  const auto& iv = g["bufferViews"][ia["bufferView"].get<int>()];
+  for (std::size_t k = 0; k < ia["count"].get<std::size_t>(); ++k) {
+    uint16_t i;
+    std::memcpy(&i, buf.data() + iv["byteOffset"].get<std::size_t>() + 2 * k, 2);
+    ASSERT_LT(i, n);
+  }
+  // Unit normals; the tangent along +u and the bitangent cross(N, T) w along +v (the normal map's y).
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const int a = j * (nu + 1) + i, b = a + 1, c = a + nu + 1;
+      const Vec3d p(P[3 * a], P[3 * a + 1], P[3 * a + 2]), nn(N[3 * a], N[3 * a + 1], N[3 * a + 2]);
+      const Vec3d t(T[4 * a], T[4 * a + 1], T[4 * a + 2]);
+      const double w = T[4 * a + 3];
+      ASSERT_NEAR(length(nn), 1.0, 1e-6);
+      ASSERT_NEAR(std::abs(w), 1.0, 0.0);
+      const Vec3d du = Vec3d(P[3 * b], P[3 * b + 1], P[3 * b + 2]) - p,
+                  dv = Vec3d(P[3 * c], P[3 * c + 1], P[3 * c + 2]) - p;
+      ASSERT_GT(U[2 * b] - U[2 * a], 0.0f);
+      ASSERT_GT(U[2 * c + 1] - U[2 * a + 1], 0.0f);
+      ASSERT_GT(dot(t, du), 0.0) << i << " " << j;
+      ASSERT_GT(dot(cross(nn, t) * w, dv), 0.0) << i << " " << j;
+      ASSERT_NEAR(dot(nn, t), 0.0, 1e-6);
+    }
+  const auto& mat = g["materials"][0];
+  const int occ = mat["occlusionTexture"]["index"];
+  EXPECT_EQ(g["images"][g["textures"][occ]["source"].get<int>()]["uri"], "material/micro_occlusion.png");
+  EXPECT_EQ(mat["pbrMetallicRoughness"]["metallicFactor"], 0.0);
+  // Deterministic.
+  EXPECT_EQ(msh::view::three_example_gltf("material/"), msh::view::three_example_gltf("material/"));
+}
+
+TEST(ThreeExample, ExportsAStaticCopy) {
+  REQUIRE_BROWSER();
+  const fs::path& copy = example_copy();
+  for (const char* f :
+       {"index.html", "main.js", "README.txt", "microshadow-three/index.js", "microshadow-three/luts.js",
+        "microshadow-three/generated/methods.js", "microshadow-three/generated/glsl.js",
+        "three/build/three.module.js", "three/build/three.core.js", "three/LICENSE",
+        "three/examples/jsm/loaders/GLTFLoader.js", "data/manifest.json", "data/model.gltf", "data/lut3d.f16",
+        "data/lut3d.json", "data/material/micro_occlusion.png"})
+    EXPECT_TRUE(fs::is_regular_file(copy / f)) << f;
+  EXPECT_EQ(slurp(copy / "microshadow-three" / "generated" / "methods.js"),
+            msh::view::methods_js(occlusion::micro_shadowing_methods()));
+  EXPECT_EQ(slurp(copy / "microshadow-three" / "index.js"),
+            slurp(kSource / "integrations" / "three" / "src" / "index.js"));
+  EXPECT_EQ(slurp(copy / "data" / "model.gltf"), msh::view::three_example_gltf("material/"));
+  // The three.js copied is the locked version.
+  const json lock = json::parse(slurp(kSource / "integrations" / "three" / "package-lock.json"));
+  EXPECT_EQ(json::parse(slurp(copy / "three" / "package.json"))["version"],
+            lock["packages"]["node_modules/three"]["version"]);
+}
+
+// `view --three` serves the example from a copy in the cache directory, removed when Ctrl-C stops it.
+TEST(ThreeExample, ServesTheExampleAndCleansUp) {
+  REQUIRE_BROWSER();
+  const fs::path dir = scratch_dir("three");
+  Server s = start_view({"--three", "--port", "0", "--cache", kCache.string()}, dir);
+  if (s.url.empty()) {
+    stop_view(s);
+    FAIL() << "the server printed no URL: " << slurp(s.err);
+  }
+  const fs::path served = kCache / ("three-example-" + std::to_string(s.pid));
+  EXPECT_TRUE(fs::is_regular_file(served / "index.html"));
+  const auto [st, page] = http_get(s.url, "/");
+  EXPECT_NE(st.find("200"), std::string::npos) << st;
+  EXPECT_NE(page.find("importmap"), std::string::npos);
+  EXPECT_EQ(http_get(s.url, "/microshadow-three/generated/methods.js").second,
+            msh::view::methods_js(occlusion::micro_shadowing_methods()));
+  EXPECT_EQ(http_get(s.url, "/data/model.gltf").second, msh::view::three_example_gltf("material/"));
+  EXPECT_NE(http_get(s.url, "/three/build/three.module.js").first.find("200"), std::string::npos);
+  EXPECT_EQ(stop_view(s), 0) << slurp(s.err);
+  EXPECT_FALSE(fs::exists(served)) << "the served copy was left in the cache";
+}
+
+// ---- the browser ---------------------------------------------------------------------------------------
+
+struct Stat {
+  double max_float = 0, max_8bit = 0;
+  int n = 0;
+};
+
+Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
+
+// The C++ value of one lobe's term at a probe pixel: the point term (the registry's evaluator, at the pixel's
+// azimuth, its own v and l or in two stages as the GLSL form says), or for the rect light's 'cap' form the
+// area-light fast form over the equivalent cap (occlusion/micro_shadowing_area.h).
+struct Reference {
+  std::map<std::string, std::unique_ptr<occlusion::MicroShadowingEvaluator>> evaluators;
+  double eval(const json& lobe, bool rect, float V, float nl, float nv, float r, const Vec3f& v,
+              const Vec3f& l, double nl_cap, double rho, int samples) {
+    const json& c = lobe["cpp"];
+    const std::string term = c["method"];
+    if (rect && lobe["form"] == "cap") {
+      if (term == "reference") return micro_shadowing::reference_step_area_cap<double>(V, nl_cap, rho);
+      if (term == "brinck-maximov-2016")
+        return micro_shadowing::brinck_maximov_2016_area_cap<double>(V, nl_cap, rho);
+      if (term == "chan-2018") return micro_shadowing::chan_2018_area_cap<double>(V, nl_cap, rho);
+      if (term == "part1-analytic") return micro_shadowing::part1_analytic_area_cap<double>(V, nl_cap, rho);
+      if (term == "generic-vndf-alu")
+        return micro_shadowing::generic_vndf_alu_area_cap<double>(V, nl_cap, nv, r, rho);
+      ADD_FAILURE() << "no C++ area form for " << term;
+      return -1;
+    }
+    if (c.value("frame", false)) {
+      const float a = r * r;
+      return micro_shadowing::generic_vndf_estimate<float>(V, GGX<float>(a, a), v, l, samples,
+                                                           micro_shadowing::G2Form::HeightCorrelated, 1u);
+    }
+    if (c.value("two_stage", false)) return micro_shadowing::generic_vndf_alu_two_stage<float>(V, nl, nv, r);
+    // The shader ports the float closed form (shaders/glsl/micro_shadowing_aware.glsl); the registry
+    // evaluates it in double, which differs by up to 1e-3 at low roughness (docs/micro-shadowing-aware.md).
+    if (term == "specular-aware-alu")
+      return micro_shadowing::specular_aware_azimuth_mean<float>(V, r * r, nl, nv);
+    const bool with_phi = c.value("phi", false);
+    auto& e = evaluators[term];
+    if (!e) e = std::make_unique<occlusion::MicroShadowingEvaluator>(term);
+    occlusion::MicroShadowingQuery q{V, nl, nv, r, std::nullopt, std::nullopt};
+    if (with_phi) q.phi = std::acos(std::clamp(double(lut::relative_azimuth_cos(v, l)), -1.0, 1.0));
+    return e->eval(q);
+  }
+};
+
+TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
+  REQUIRE_BROWSER();
+  const auto t_start = std::chrono::steady_clock::now();
+  const fs::path dir = scratch_dir("three");
+  const fs::path shots = fs::path(MSH_BINARY_DIR) / "three_screenshots";
+  fs::remove_all(shots);
+  const fs::path& copy = example_copy();
+  ASSERT_TRUE(fs::is_regular_file(copy / "index.html"));
+  // The default 3D table as `bake micro-shadowing --out lut.npy` writes it (float32 NPY and its sidecar), for
+  // the module's NPY loader: the page compares it with the served raw half floats.
+  io::write_volume(copy / "data" / "lut3d.npy", lut::default_micro_shadowing_lut(false)->volume,
+                   io::FileFormat::Npy);
+  io::write_file_atomic(copy / "data" / "lut3d.npy.json",
+                        lut::sidecar_json(lut::default_bake_options(lut::LutLayout::Cone)));
+  // The default 3D table as `make install` ships it (share/microshadow/tables/micro_shadowing.ktx2, baked at
+  // build time by `bake micro-shadowing`), for three's KTX2Loader.
+  const fs::path ktx2 =
+      fs::path(MSH_BINARY_DIR) / "share" / "microshadow" / "tables" / "micro_shadowing.ktx2";
+  ASSERT_TRUE(fs::is_regular_file(ktx2)) << ktx2 << " is missing: build the target microshadow_tables";
+  fs::copy_file(ktx2, copy / "data" / "lut3d.ktx2", fs::copy_options::overwrite_existing);
+  fs::copy_file(ktx2.string() + ".json", copy / "data" / "lut3d.ktx2.json",
+                fs::copy_options::overwrite_existing);
+  // docs/three.md's five lines as written, in a harness: a scene, the example's glTF model for model.glb, one
+  // render; the harness reports each mesh's program cache key (the module's key when the call took).
+  const std::string doc = slurp(kSource / "docs" / "three.md");
+  const auto h = doc.find("## The five lines"), a = doc.find("```js\n", h), b = doc.find("```", a + 6);
+  ASSERT_TRUE(h != std::string::npos && a != std::string::npos && b != std::string::npos) << "docs/three.md";
+  std::string five = doc.substr(a + 6, b - a - 6);
+  const auto glb = five.find("'model.glb'");
+  ASSERT_NE(glb, std::string::npos) << five;
+  five.replace(glb, 11, "'data/model.gltf'");
+  std::ofstream(dir / "snippet.js")
+      << "import * as THREE from 'three';\nconst scene = new THREE.Scene();\n"
+      << five
+      << "\ntry {\n  const r = new THREE.WebGLRenderer();\n  r.setSize(64, 64);\n"
+         "  const cam = new THREE.PerspectiveCamera(40, 1, 0.1, 20);\n  cam.position.set(0, 1, 3);\n"
+         "  cam.lookAt(0, 0, 0);\n  scene.add(new THREE.DirectionalLight(0xffffff, 2));\n  r.render(scene, "
+         "cam);\n"
+         "  const keys = [];\n  scene.traverse((o) => { if (o.isMesh) "
+         "keys.push(o.material.customProgramCacheKey()); });\n"
+         "  window.mshSnippet = { keys, gl_error: r.getContext().getError(), programs: "
+         "r.info.programs.length };\n"
+         "} catch (e) { window.mshSnippet = { error: e.message }; }\n";
+  // The static copy served as is (`microshadow view --root`), the driver in the browser.
+  Server server = start_view({"--root", copy.string(), "--port", "0"}, dir);
+  const std::string url = server.url;
+  std::string node_out;
+  int rc = -1;
+  if (!url.empty()) {
+    const std::string cmd =
+        "cd " + kBrowserDir.string() + " && node three_test.mjs --url " + url + " --out " + shots.string() +
+        " --module " + (copy / "microshadow-three").string() + " --chromium " + chromium_path() +
+        " --snippet " + (dir / "snippet.js").string() + " > " + (dir / "node.out").string() + " 2>&1";
+    rc = std::system(cmd.c_str());
+    node_out = slurp(dir / "node.out");
+  }
+  const int code = stop_view(server);
+  ASSERT_FALSE(url.empty()) << "the server printed no URL: " << slurp(server.err);
+  EXPECT_EQ(code, 0) << slurp(server.err);
+  ASSERT_EQ(rc, 0) << node_out;
+  const json res = json::parse(slurp(shots / "results.json"));
+
+  EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
+  ASSERT_TRUE(res.value("example_loaded", false)) << res["errors"].dump(1);
+  EXPECT_GT(res["example_mean"].get<double>(), 0.05) << "the example's frame is (nearly) black";
+  // The five lines of docs/three.md: every mesh of the glTF model got micro-shadowing and compiled.
+  const auto& sn = res["snippet"];
+  ASSERT_TRUE(sn.is_object() && !sn.contains("error")) << sn.dump();
+  ASSERT_FALSE(sn["keys"].empty());
+  for (const auto& k : sn["keys"])
+    EXPECT_NE(k.get<std::string>().find("msh:diffuse-aware-alu+generic-vndf-alu:aoMap"), std::string::npos)
+        << k;
+  EXPECT_EQ(sn["gl_error"], 0);
+  EXPECT_GE(sn["programs"].get<int>(), 1);
+  // The NPY table loads to the same texture as the raw half floats (same size; half conversions agree to 1
+  // ulp).
+  ASSERT_TRUE(res["npy"].is_object()) << "the NPY table was not loaded";
+  EXPECT_EQ(res["npy"]["size"], res["npy"]["f16_size"]);
+  EXPECT_EQ(res["npy"]["n"], res["npy"]["f16_n"]);
+  EXPECT_LE(res["npy"]["max_ulps"].get<int>(), 1);
+  // The installed KTX2 table (R16F, through three's KTX2Loader) holds the raw tables' half floats, and lut3d
+  // renders through it exactly as through them.
+  ASSERT_TRUE(res["npy"].contains("ktx2")) << "the KTX2 table was not loaded";
+  const auto& kt = res["npy"]["ktx2"];
+  EXPECT_TRUE(kt.value("is3d", false));
+  EXPECT_EQ(kt["size"], res["npy"]["f16_size"]);
+  EXPECT_EQ(kt["n"], res["npy"]["f16_n"]);
+  EXPECT_EQ(kt["max_ulps"].get<int>(), 0);
+  {
+    const std::size_t nm = res["methods"].size();
+    ASSERT_EQ(res["runs"].size(), nm + 2);
+    const auto& K = res["runs"][nm + 1];
+    ASSERT_EQ(K["method"], "lut3d");
+    const auto it = std::find_if(res["runs"].begin(), res["runs"].end(),
+                                 [](const json& r) { return r["method"] == "lut3d"; });
+    double kd = 0;
+    for (const char* key : {"terms_d", "terms_s"})
+      for (int p = 0; p < int(res["points"].size()); ++p)
+        for (int k = 0; k < 4; ++k)
+          kd = std::max(kd, std::abs(K[key][p][k].get<double>() - (*it)[key][p][k].get<double>()));
+    EXPECT_EQ(kd, 0.0) << "lut3d through the KTX2 table differs from the raw half floats";
+  }
+  for (const auto& f : res["screenshots"]) EXPECT_TRUE(fs::is_regular_file(f.get<std::string>())) << f;
+
+  // Every method of the registry with a GLSL form is in the module's list.
+  std::vector<std::string> ids;
+  for (const auto& m : res["methods"]) ids.push_back(m["id"]);
+  for (const char* want : {"none", "ao", "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic",
+                           "generic-vndf", "generic-vndf-alu", "lut3d", "lut2d", "lut3d-azimuth",
+                           "diffuse-aware-alu+generic-vndf-alu", "diffuse-aware-alu+lut3d"})
+    EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
+  // ... and none is left out (the module keeps the entries whose GLSL functions its shader files define).
+  const std::string mjs = msh::view::methods_js(occlusion::micro_shadowing_methods());
+  std::size_t entries = 0;
+  for (auto p = mjs.find("\n  {\"id\":"); p != std::string::npos; p = mjs.find("\n  {\"id\":", p + 1))
+    ++entries;
+  EXPECT_EQ(res["methods"].size(), entries) << "a method of methods.js is missing from the module's list";
+  ASSERT_EQ(res["runs"].size(), res["methods"].size() + 2);
+
+  const std::vector<std::string> order = res["light_order"];
+  const auto& lights = res["lights"];
+  std::vector<double> levels = res["v_levels"];
+  const double v_const = res["v_const"];
+  const std::vector<double> rough = res["roughness"];
+  const int samples = res["samples"];
+  Reference ref;
+  // [light type][method + lobe] -> deviation; scene checks per light type.
+  std::map<std::string, std::map<std::string, Stat>> stats;
+  std::map<std::string, double> scene_nl, scene_nv, scene_cap;
+  std::map<std::string, int> lit_count;
+  double direct_max = 0;
+  int direct_n = 0, v_const_seen = 0;
+  const auto& plain_inputs = res["runs"][0]["lights"];
+  const std::size_t nm = res["methods"].size();
+  const auto& variant_run = res["runs"][nm];
+  ASSERT_TRUE(variant_run["variant"].get<bool>());
+  const int npts = int(res["points"].size());
+  for (std::size_t run = 0; run <= nm; ++run) {
+    const auto& R = res["runs"][run];
+    const bool variant = R["variant"];
+    const auto& in = variant ? R["lights"] : plain_inputs;
+    const auto& m = res["methods"][std::min(run, nm - 1)];
+    ASSERT_EQ(R["method"], variant ? json("diffuse-aware-alu+generic-vndf-alu") : m["id"]);
+    const json& method = variant ? *std::find_if(res["methods"].begin(), res["methods"].end(),
+                                                 [&](const json& x) { return x["id"] == R["method"]; })
+                                 : m;
+    const std::string id = method["id"].get<std::string>() + (variant ? " (V: aoMap, map, constant)" : "");
+    for (int k = 0; k < int(order.size()); ++k) {
+      const std::string type = order[k];
+      const bool rect = type == "rect";
+      const auto& L = in[k];
+      for (int p = 0; p < npts; ++p) {
+        const auto& pos = L["position"][p];
+        if (!(pos[3].get<double>() > 0.5)) continue;  // background
+        const float V = L["inputs"][p][0], nl = L["inputs"][p][1], nv = L["inputs"][p][2],
+                    r = L["inputs"][p][3];
+        const Vec3f v(vec3(L["v"][p])), l(vec3(L["l"][p]));
+        const Vec3d P = vec3(pos), n = vec3(L["normal"][p]);
+        double nl_cap = 0, rho = 0;
+        if (rect) nl_cap = L["cap"][p][0], rho = L["cap"][p][1];
+        // The inputs against the scene (once per input set).
+        if (run == 0 || variant) {
+          bool level = false;
+          for (double x : levels) level = level || std::abs(V - x) < 1e-6;
+          const bool is_const = variant && std::abs(V - v_const) < 1e-6;
+          v_const_seen += is_const;
+          EXPECT_TRUE(level || is_const) << type << " V = " << V;
+          bool rough_ok = false;
+          for (double x : rough) rough_ok = rough_ok || (r >= x - 1e-6 && r <= x + 0.15);
+          EXPECT_TRUE(rough_ok) << type << " roughness " << r;
+          const double nv_scene = std::clamp(dot(n, -normalize(P)), 0.0, 1.0);
+          scene_nv[type] = std::max(scene_nv[type], std::abs(nv - nv_scene));
+          if (!rect) {
+            const Vec3d wl = type == "directional" ? normalize(vec3(lights[type]["direction"]))
+                                                   : normalize(vec3(lights[type]["position"]) - P);
+            scene_nl[type] = std::max(scene_nl[type], std::abs(nl - std::clamp(dot(n, wl), 0.0, 1.0)));
+          } else {
+            // The equivalent cap of the rectangle as three places it (WebGLLights), seen from the pixel.
+            const Vec3d c = vec3(lights["rect"]["position"]) - P, hw = vec3(lights["rect"]["half_width"]),
+                        hh = vec3(lights["rect"]["half_height"]);
+            const Vec3d corners[4] = {c + hw - hh, c - hw - hh, c - hw + hh, c + hw + hh};
+            const Vec3d F = micro_shadowing::polygon_vector_form_factor(corners, 4);
+            const double lf = length(F), q = std::clamp(lf / 3.14159265358979323846, 0.0, 1.0);
+            scene_cap[type] = std::max({scene_cap[type], std::abs(nl_cap - dot(F, n) / lf),
+                                        std::abs(rho - std::atan2(std::sqrt(q), std::sqrt(1 - q)))});
+          }
+        }
+        const bool lit = rect ? rho > 0 : nl > 0;
+        if (!lit) continue;
+        ++lit_count[type];
+        for (int lobe = 0; lobe < 2; ++lobe) {
+          const json& lb = method["lobes"][lobe ? "specular" : "diffuse"];
+          const std::string term = lb["cpp"]["method"];
+          if (term == "reference" && !rect && std::abs(double(nl) - std::sqrt(1.0 - V)) < 1e-4) continue;
+          const double want = ref.eval(lb, rect, V, nl, nv, r, v, l, nl_cap, rho, samples);
+          const double got = R[lobe ? "terms_s" : "terms_d"][p][k];
+          const double got8 = R[lobe ? "terms8_s" : "terms8_d"][p][k].get<double>() / 255.0;
+          // The contract: 8-bit output within 2/255 of the library. The float32 value besides: within the
+          // shaders' documented precision for forms of arithmetic and square roots (1e-4); LUTs: half floats
+          // and the GPU's filter weights (1e-3); the estimator: a sample whose decision flips moves it by
+          // 1/n. Forms built on sin/cos/atan/acos (the rect light's cap forms, specular-aware-alu) are
+          // asserted at 2/255 only: their documented precision is lavapipe's, SwiftShader's transcendentals
+          // differ more (the table printed below and docs/three.md give the float deviation).
+          double tol = 1e-4, tol8 = 2.0 / 255;
+          if (lb["cpp"].value("frame", false)) tol = 2.0 / samples + 1e-4, tol8 = 1.0 / 255 + 2.0 / samples;
+          if (term.rfind("lut", 0) == 0) tol = 1e-3;
+          if ((rect && lb["form"] == "cap") || term == "specular-aware-alu") tol = tol8;
+          const std::string what = id + (lobe ? " specular" : " diffuse");
+          EXPECT_NEAR(got, want, tol)
+              << what << " (" << type << ") at V=" << V << " N.L=" << nl << " N.V=" << nv << " r=" << r
+              << (rect ? " cap N.L=" + std::to_string(nl_cap) + " rho=" + std::to_string(rho) : "");
+          EXPECT_NEAR(got8, want, tol8) << what << " 8-bit (" << type << ")";
+          Stat& st = stats[type][what];
+          st.max_float = std::max(st.max_float, std::abs(got - want));
+          st.max_8bit = std::max(st.max_8bit, std::abs(got8 - want));
+          ++st.n;
+        }
+        // Micro-shadowing multiplies this light's direct diffuse and specular by the two lobes' terms.
+        if (variant) {
+          const auto &on = L["direct_on"][p], &off = L["direct_off"][p];
+          for (int lobe = 0; lobe < 2; ++lobe) {
+            const double o = off[lobe], term = R[lobe ? "terms_s" : "terms_d"][p][k];
+            if (!(o > 1e-4)) continue;
+            const double d = std::abs(on[lobe].get<double>() - o * term) / o;
+            EXPECT_LE(d, 1e-4) << type << (lobe ? " specular" : " diffuse") << ": on " << on[lobe] << " off "
+                               << o << " term " << term;
+            direct_max = std::max(direct_max, d);
+            ++direct_n;
+          }
+        }
+      }
+    }
+  }
+  for (const auto& t : order) {
+    EXPECT_GE(lit_count[t] / int(res["runs"].size()), 20) << t << ": too few lit probe pixels";
+    if (t != "rect") {
+      EXPECT_LE(scene_nl[t], 1e-4) << t << ": N.L differs from the scene's";
+    } else {
+      EXPECT_LE(scene_cap[t], 1e-3) << "the rect light's equivalent cap differs from the scene's";
+    }
+    EXPECT_LE(scene_nv[t], 1e-4) << t << ": N.V differs from the scene's";
+  }
+  EXPECT_GT(v_const_seen, 0) << "no pixel of the cylinder (constant V) was probed";
+  // aoOnIndirect: three's AO multiplies the indirect diffuse light by V when on, and is left out when off.
+  const auto& ao = res["ao_switch"];
+  int ao_n = 0;
+  for (int p = 0; p < npts; ++p) {
+    const double on = ao["on"][p][1], off = ao["off"][p][1], V = ao["inputs"][p][0];
+    if (!(ao["off"][p][3].get<double>() > 0.5)) continue;
+    ASSERT_GT(off, 1e-3) << "no indirect light at a probe pixel";
+    EXPECT_NEAR(on, off * V, 1e-4 * off) << "aoOnIndirect at V = " << V;
+    ++ao_n;
+  }
+  EXPECT_GE(ao_n, 50);
+  EXPECT_GE(direct_n, 100) << "too few pixels for the on/off check of the direct light";
+
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  const auto& bundle = res["bundle"];
+  std::printf(
+      "three.js r%s: %zu methods x 4 lights, %d probe points; module %.1f kB (%.1f kB gzip, GLSL %.1f kB); "
+      "frame at 1280x720 (SwiftShader) %.0f ms with micro-shadowing, %.0f ms without; scene checks: N.L "
+      "%.1e, N.V %.1e, cap %.1e; direct on/off relative %.1e (n=%d); test %.0f s (driver %.0f s)\n",
+      res["revision"].get<std::string>().c_str(), res["methods"].size(), npts,
+      bundle["bytes"].get<double>() / 1000, bundle["gzip_bytes"].get<double>() / 1000,
+      bundle["glsl_bytes"].get<double>() / 1000, res["frame_ms"]["with"].get<double>(),
+      res["frame_ms"]["without"].get<double>(),
+      std::max({scene_nl["point"], scene_nl["spot"], scene_nl["directional"]}),
+      std::max({scene_nv["point"], scene_nv["spot"], scene_nv["directional"], scene_nv["rect"]}),
+      scene_cap["rect"], direct_max, direct_n, secs, res["timing"]["done"].get<double>());
+  std::printf(
+      "max |three.js - C++| per method and lobe, 8-bit output in 1/255 (float32 target in 1/255):\n  %-58s",
+      "method, lobe");
+  for (const auto& t : order) std::printf(" %-17s", t.c_str());
+  std::printf("\n");
+  json table;
+  for (const auto& [what, unused] : stats[order[0]]) {
+    std::printf("  %-58s", what.c_str());
+    for (const auto& t : order) {
+      const Stat& st = stats[t][what];
+      std::printf(" %5.2f (%6.3f) %3d", st.max_8bit * 255, st.max_float * 255, st.n);
+      table[what][t] = {
+          {"max_8bit_255", st.max_8bit * 255}, {"max_float_255", st.max_float * 255}, {"n", st.n}};
+    }
+    std::printf("\n");
+  }
+  std::ofstream(shots / "comparison.json") << table.dump(1) << "\n";
+}
+
+}  // namespace
