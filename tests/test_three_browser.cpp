@@ -485,12 +485,18 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
                            "generic-vndf", "generic-vndf-alu", "lut3d", "lut2d", "lut3d-azimuth",
                            "diffuse-aware-alu+generic-vndf-alu", "diffuse-aware-alu+lut3d"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
-  // ... and none is left out (the module keeps the entries whose GLSL functions its shader files define).
+  // ... and none is left out (the module keeps the entries whose GLSL functions its shader files define),
+  // except the forms that read per-texel directional channels ("texel"), which the module does not wire.
   const std::string mjs = msh::view::methods_js(occlusion::micro_shadowing_methods());
-  std::size_t entries = 0;
-  for (auto p = mjs.find("\n  {\"id\":"); p != std::string::npos; p = mjs.find("\n  {\"id\":", p + 1))
-    ++entries;
+  std::size_t entries = 0, texel = 0;
+  for (auto p = mjs.find("\n  {\"id\":"); p != std::string::npos; p = mjs.find("\n  {\"id\":", p + 1)) {
+    const std::string line = mjs.substr(p + 1, mjs.find('\n', p + 1) - p - 1);
+    (line.find("\"texel\"") != std::string::npos ? texel : entries) += 1;
+  }
+  EXPECT_GE(texel, 1u) << "the registry's directional form (texel) is not in methods.js";
   EXPECT_EQ(res["methods"].size(), entries) << "a method of methods.js is missing from the module's list";
+  for (const auto& id : ids)
+    EXPECT_EQ(id.find("directional"), std::string::npos) << id << " needs texel data";
   ASSERT_EQ(res["runs"].size(), res["methods"].size() + 2);
 
   const std::vector<std::string> order = res["light_order"];

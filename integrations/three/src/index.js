@@ -70,9 +70,10 @@ function materialUniforms(material) {
 
 const asList = (x) => (x === undefined || x === null ? [] : [].concat(x));
 
-// The registry's methods whose GLSL functions the shipped shader files define (as the viewer filters them).
+// The registry's methods whose GLSL functions the shipped shader files define (as the viewer filters them),
+// without the forms that read per-texel directional channels ("texel": not wired into three's materials yet).
 const LIBRARY_TEXT = [...GLSL_FILES, GLSL_AREA].map((f) => MSH_GLSL[f] || '').join('\n');
-export const MICRO_SHADOWING_METHODS = REGISTRY_METHODS.filter((m) =>
+export const MICRO_SHADOWING_METHODS = REGISTRY_METHODS.filter((m) => !m.texel &&
   asList(m.requires).every((fn) => new RegExp(`\\b${fn}\\s*\\(`).test(LIBRARY_TEXT)));
 
 // The method's entry of generated/methods.js; throws (one line) listing the methods for an unknown id.
