@@ -353,7 +353,8 @@ enum Flag : unsigned {
   kLut = 32,      // accepts --lut
   kNoNdotl = 64,  // does not depend on N·L
   kStudy = 128,   // in the study's default list
-  kTexel = 256,   // reads the per-texel directional channels (renderer only)
+  kTexel =
+      256,  // reads the per-texel directional channels (the renderer, the study and the viewer; eval throws)
 };
 MicroShadowingMethodInfo info(const char* name, const char* label, const char* summary, unsigned f,
                               std::vector<MicroShadowingGlsl> glsl = {}) {

@@ -77,8 +77,8 @@ struct MicroShadowingMethodInfo {
   // Rendered by the multiscale study by default (a term the renderer runs per shading point at a cost the
   // study affords: closed forms, ALU fits, tables, estimators; not exact quadrature).
   bool in_study = false;
-  // Reads per-texel data beyond V (MicroShadowingShadeInput::texel): only the renderer evaluates it (eval
-  // throws); texel_channels is how many channels it reads.
+  // Reads per-texel data beyond V (MicroShadowingShadeInput::texel): the renderer (shade) and the viewer
+  // (its GLSL form, flagged texel) evaluate it, eval throws; texel_channels is how many channels it reads.
   bool needs_texel = false;
   int texel_channels = 0;
   // The viewer's forms (none: not in the viewer).
