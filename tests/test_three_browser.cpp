@@ -43,6 +43,7 @@
 #include "../src/view/three_example.h"
 #include "../src/view/viewer_server.h"
 #include "support/cli_test_util.h"
+#include "support/view_server_util.h"
 
 namespace fs = std::filesystem;
 using namespace msh;
@@ -59,32 +60,15 @@ const fs::path kThree = kSource / "integrations" / "three" / "node_modules" / "t
 // The built-in plaster's cache, shared with the viewer test (generated once).
 const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
 
-std::string chromium_path() {
-  const char* e = std::getenv("MSH_CHROMIUM");
-  return e && *e ? e : "/usr/bin/chromium";
-}
-
 // Why the browser part cannot run here ("" = it can).
 std::string missing_browser() {
-  if (access(chromium_path().c_str(), X_OK) != 0)
-    return "no chromium at " + chromium_path() + " (Debian package chromium)";
-  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node on PATH (Debian package nodejs)";
-  if (!fs::exists(kBrowserDir / "node_modules" / "playwright-core" / "package.json"))
-    return "playwright-core is not installed: run `npm ci` in tests/browser (scripts/install-deps.sh does)";
+  const std::string why = msh::test::missing_browser_driver(kBrowserDir);
+  if (!why.empty()) return why;
   if (!fs::exists(kThree / "package.json"))
     return "three is not installed: run `npm ci` in integrations/three (scripts/install-deps.sh does)";
   return "";
 }
-
-#define REQUIRE_BROWSER()                                                        \
-  do {                                                                           \
-    const std::string why = missing_browser();                                   \
-    if (!why.empty()) {                                                          \
-      const char* allow = std::getenv("MSH_ALLOW_NO_BROWSER");                   \
-      if (allow && std::string(allow) == "1") GTEST_SKIP() << why;               \
-      FAIL() << why << " (set MSH_ALLOW_NO_BROWSER=1 to skip the browser test)"; \
-    }                                                                            \
-  } while (0)
+#define REQUIRE_BROWSER() MSH_REQUIRE_BROWSER(missing_browser())
 
 int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
@@ -100,78 +84,11 @@ const fs::path& example_copy() {
   return dir;
 }
 
-// `microshadow view ARGS` in the background (stdout, stderr in dir) and the URL it prints (empty: none in 60
-// s).
-struct Server {
-  pid_t pid = -1;
-  std::string url;
-  fs::path err;
-};
-Server start_view(const std::vector<std::string>& args, const fs::path& dir) {
-  Server s;
-  const fs::path out = dir / "server.out";
-  s.err = dir / "server.err";
-  s.pid = fork();
-  if (s.pid == 0) {
-    if (!freopen(out.c_str(), "w", stdout) || !freopen(s.err.c_str(), "w", stderr)) _exit(127);
-    std::vector<std::string> all = {MSH_CLI_PATH, "view"};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& x : all) argv.push_back(x.data());
-    argv.push_back(nullptr);
-    execv(MSH_CLI_PATH, argv.data());
-    _exit(127);
-  }
-  for (int i = 0; i < 600 && s.url.empty(); ++i) {
-    const std::string o = slurp(out);
-    const auto p = o.find("http://");
-    if (p != std::string::npos && o.find(' ', p) != std::string::npos)
-      s.url = o.substr(p, o.find(' ', p) - p);
-    else
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return s;
-}
-// SIGINT (Ctrl-C), then its exit code (-1: killed after 30 s, or not a normal exit).
-int stop_view(Server& s) {
-  if (s.pid <= 0) return -1;
-  kill(s.pid, SIGINT);
-  for (int i = 0; i < 300; ++i) {
-    int status = 0;
-    if (waitpid(s.pid, &status, WNOHANG) == s.pid) {
-      s.pid = -1;
-      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  kill(s.pid, SIGKILL);
-  waitpid(s.pid, nullptr, 0);
-  s.pid = -1;
-  return -1;
-}
-
-// GET path (HTTP/1.0 over a socket, the Host header a browser sends): the status line and the body.
-std::pair<std::string, std::string> http_get(const std::string& url, const std::string& path) {
-  const int port = std::stoi(url.substr(url.rfind(':') + 1));
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(uint16_t(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
-    close(fd);
-    return {"connect failed", ""};
-  }
-  const std::string req = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
-  std::string resp;
-  if (write(fd, req.data(), req.size()) == ssize_t(req.size())) {
-    char buf[65536];
-    for (ssize_t n; (n = read(fd, buf, sizeof(buf))) > 0;) resp.append(buf, std::size_t(n));
-  }
-  close(fd);
-  const auto eol = resp.find("\r\n"), body = resp.find("\r\n\r\n");
-  return {resp.substr(0, eol), body == std::string::npos ? "" : resp.substr(body + 4)};
-}
+using msh::test::chromium_path;
+using msh::test::http_get;
+using msh::test::start_view;
+using msh::test::stop_view;
+using Server = msh::test::ViewServer;
 
 // ---- without a browser --------------------------------------------------------------------------------
 

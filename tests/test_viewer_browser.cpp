@@ -40,6 +40,7 @@
 #include "../src/view/shader_source.h"
 #include "../src/view/viewer_server.h"
 #include "support/cli_test_util.h"
+#include "support/view_server_util.h"
 
 namespace fs = std::filesystem;
 using namespace msh;
@@ -53,127 +54,20 @@ const fs::path kBrowserDir = fs::path(MSH_SOURCE_DIR) / "tests" / "browser";
 // The built-in plaster is generated once into this cache (a few CPU-seconds) and reused by later runs.
 const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
 
-std::string chromium_path() {
-  const char* e = std::getenv("MSH_CHROMIUM");
-  return e && *e ? e : "/usr/bin/chromium";
-}
-
-// Why the browser test cannot run here ("" = it can).
-std::string missing_browser() {
-  if (access(chromium_path().c_str(), X_OK) != 0)
-    return "no chromium at " + chromium_path() + " (Debian package chromium)";
-  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node on PATH (Debian package nodejs)";
-  if (!fs::exists(kBrowserDir / "node_modules" / "playwright-core" / "package.json"))
-    return "playwright-core is not installed: run `npm ci` in tests/browser (scripts/install-deps.sh does)";
-  return "";
-}
-
-#define REQUIRE_BROWSER()                                                        \
-  do {                                                                           \
-    const std::string why = missing_browser();                                   \
-    if (!why.empty()) {                                                          \
-      const char* allow = std::getenv("MSH_ALLOW_NO_BROWSER");                   \
-      if (allow && std::string(allow) == "1") GTEST_SKIP() << why;               \
-      FAIL() << why << " (set MSH_ALLOW_NO_BROWSER=1 to skip the browser test)"; \
-    }                                                                            \
-  } while (0)
+std::string missing_browser() { return msh::test::missing_browser_driver(kBrowserDir); }
+#define REQUIRE_BROWSER() MSH_REQUIRE_BROWSER(missing_browser())
 
 int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
-// A `microshadow view ...` process with stdout/stderr in files; the URL from its first line.
-struct Server {
-  pid_t pid = -1;
-  fs::path out, err;
-  std::string url;
-};
-
+using msh::test::chromium_path;
+using msh::test::http_get;
+using msh::test::http_get_host;
+using msh::test::url_port;
+using Server = msh::test::ViewServer;
 Server start_server(const std::vector<std::string>& args, const fs::path& dir) {
-  Server s;
-  s.out = dir / "server.out";
-  s.err = dir / "server.err";
-  s.pid = fork();
-  if (s.pid == 0) {
-    if (!freopen(s.out.c_str(), "w", stdout) || !freopen(s.err.c_str(), "w", stderr)) _exit(127);
-    std::vector<char*> argv;
-    std::vector<std::string> all = {MSH_CLI_PATH, "view"};
-    all.insert(all.end(), args.begin(), args.end());
-    for (auto& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(MSH_CLI_PATH, argv.data());
-    _exit(127);
-  }
-  // The server prints its URL once it serves (the default tables bake at start-up: seconds; the plaster is
-  // generated on the first run only).
-  for (int i = 0; i < 3000; ++i) {
-    const std::string o = slurp(s.out);
-    const auto p = o.find("http://");
-    if (p != std::string::npos && o.find(' ', p) != std::string::npos) {
-      s.url = o.substr(p, o.find(' ', p) - p);
-      return s;
-    }
-    int status = 0;
-    if (waitpid(s.pid, &status, WNOHANG) == s.pid) {
-      s.pid = -1;
-      ADD_FAILURE() << "the server exited: " << slurp(s.err);
-      return s;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ADD_FAILURE() << "the server printed no URL in 300 s";
-  return s;
+  return msh::test::start_view(args, dir);
 }
-
-// SIGINT (Ctrl-C), then the exit code (−1: did not exit in 30 s, or not normally).
-int stop_server(Server& s, int sig = SIGINT) {
-  if (s.pid <= 0) return -1;
-  kill(s.pid, sig);
-  for (int i = 0; i < 300; ++i) {
-    int status = 0;
-    if (waitpid(s.pid, &status, WNOHANG) == s.pid) {
-      s.pid = -1;
-      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  kill(s.pid, SIGKILL);
-  waitpid(s.pid, nullptr, 0);
-  s.pid = -1;
-  return -1;
-}
-
-int url_port(const std::string& url) { return std::stoi(url.substr(url.rfind(':') + 1)); }
-
-// GET path over a plain socket (HTTP/1.0) with this Host header (nullopt: none): the status line and the
-// body.
-std::pair<std::string, std::string> http_get_host(const std::string& url, const std::string& path,
-                                                  const std::optional<std::string>& host) {
-  const int port = url_port(url);
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(uint16_t(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
-    close(fd);
-    return {"connect failed", ""};
-  }
-  const std::string req = "GET " + path + " HTTP/1.0\r\n" + (host ? "Host: " + *host + "\r\n" : "") + "\r\n";
-  if (write(fd, req.data(), req.size()) != ssize_t(req.size())) {
-    close(fd);
-    return {"write failed", ""};
-  }
-  std::string resp;
-  char buf[65536];
-  for (ssize_t n; (n = read(fd, buf, sizeof(buf))) > 0;) resp.append(buf, std::size_t(n));
-  close(fd);
-  const auto eol = resp.find("\r\n"), body = resp.find("\r\n\r\n");
-  return {resp.substr(0, eol), body == std::string::npos ? "" : resp.substr(body + 4)};
-}
-
-// GET path with the Host header a browser sends for the URL.
-std::pair<std::string, std::string> http_get(const std::string& url, const std::string& path) {
-  return http_get_host(url, path, "127.0.0.1:" + std::to_string(url_port(url)));
-}
+int stop_server(Server& s, int sig = SIGINT) { return msh::test::stop_view(s, sig); }
 
 // A small cone-layout table (2 roughness slabs, 4 x 4 x 2 texels) at `out`; the CLI's exit code.
 int bake_small_cone_table(const fs::path& out) {
