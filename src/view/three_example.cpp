@@ -215,19 +215,13 @@ void export_three_example(const ViewerOptions& o, const fs::path& out) {
   const std::string glsl = three_glsl_js(o.assets / "shaders" / "glsl");
   const auto data = viewer_data_files(o);
 
-  const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  const fs::path tmp = parent / fmt::format(".{}.tmp-{}", out.filename().string(), ::getpid());
-  fs::remove_all(tmp, ec);
   const auto write = [&](const fs::path& p, const std::string& bytes) {
     fs::create_directories(p.parent_path());
     std::ofstream f(p, std::ios::binary);
     f.write(bytes.data(), std::streamsize(bytes.size()));
     if (!f) throw InputError(fmt::format("cannot write '{}'", p.string()));
   };
-  try {
-    fs::create_directories(tmp);
+  write_directory_atomically(out, "the three.js example", [&](const fs::path& tmp) {
     for (const auto& e : fs::directory_iterator(example))
       if (e.is_regular_file()) copy_into(e.path(), tmp / e.path().filename());
     for (const auto& e : fs::recursive_directory_iterator(integ / "src")) {
@@ -247,19 +241,7 @@ void export_three_example(const ViewerOptions& o, const fs::path& out) {
         "then open the URL:\n  microshadow view --root " +
             out.string() + "\n  or any static server, e.g. python3 -m http.server --bind 127.0.0.1 -d " +
             out.string() + " 8080\nthree/ is three.js (MIT licence: three/LICENSE).\n");
-  } catch (const fs::filesystem_error& e) {
-    fs::remove_all(tmp, ec);
-    throw InputError(fmt::format("cannot write the three.js example '{}': {}", out.string(), e.what()));
-  } catch (...) {
-    fs::remove_all(tmp, ec);
-    throw;
-  }
-  fs::remove_all(out, ec);
-  fs::rename(tmp, out, ec);
-  if (ec) {
-    fs::remove_all(tmp, ec);
-    throw InputError(fmt::format("cannot write the three.js example '{}': {}", out.string(), ec.message()));
-  }
+  });
 }
 
 }  // namespace msh::view

@@ -411,16 +411,36 @@ std::map<std::string, std::string> viewer_data_files(const ViewerOptions& o) {
   return files;
 }
 
-void export_viewer(const ViewerOptions& o, const fs::path& out) {
-  if (!o.root.empty())
-    throw InputError("--export writes a static copy from the source files; not with --root");
-  Content c = build_content(o);
+void write_directory_atomically(const fs::path& out, const std::string& what,
+                                const std::function<void(const fs::path& tmp)>& fill) {
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(parent, ec);
   const fs::path tmp = parent / fmt::format(".{}.tmp-{}", out.filename().string(), ::getpid());
   fs::remove_all(tmp, ec);
   try {
+    fs::create_directories(tmp);
+    fill(tmp);
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(tmp, ec);
+    throw InputError(fmt::format("cannot write {} '{}': {}", what, out.string(), e.what()));
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+  fs::remove_all(out, ec);
+  fs::rename(tmp, out, ec);
+  if (ec) {
+    fs::remove_all(tmp, ec);
+    throw InputError(fmt::format("cannot write {} '{}': {}", what, out.string(), ec.message()));
+  }
+}
+
+void export_viewer(const ViewerOptions& o, const fs::path& out) {
+  if (!o.root.empty())
+    throw InputError("--export writes a static copy from the source files; not with --root");
+  Content c = build_content(o);
+  write_directory_atomically(out, "the viewer copy", [&](const fs::path& tmp) {
     fs::create_directories(tmp / "shaders" / "glsl");
     fs::create_directories(tmp / "data" / "material");
     for (const auto& e : fs::recursive_directory_iterator(o.assets / "web")) {
@@ -452,19 +472,7 @@ void export_viewer(const ViewerOptions& o, const fs::path& out) {
         << out.string()
         << " 8080\n"
            "Opening index.html from file:// does not work: browsers refuse fetch() of file URLs.\n";
-  } catch (const fs::filesystem_error& e) {
-    fs::remove_all(tmp, ec);
-    throw InputError(fmt::format("cannot write the viewer copy '{}': {}", out.string(), e.what()));
-  } catch (...) {
-    fs::remove_all(tmp, ec);
-    throw;
-  }
-  fs::remove_all(out, ec);
-  fs::rename(tmp, out, ec);
-  if (ec) {
-    fs::remove_all(tmp);
-    throw InputError(fmt::format("cannot write the viewer copy '{}': {}", out.string(), ec.message()));
-  }
+  });
 }
 
 void block_stop_signals() {

@@ -49,6 +49,12 @@ std::filesystem::path default_cache_dir();
 // atomically: written beside it, then renamed). Any static HTTP server can serve it. InputError on bad input.
 void export_viewer(const ViewerOptions& o, const std::filesystem::path& out);
 
+// Writes the directory `out` whole or not at all: fill(tmp) writes into a fresh temporary directory beside
+// it, which then replaces `out` (renamed). On any failure the temporary directory is removed and InputError
+// names `what` and `out` (a filesystem error) or the exception passes through.
+void write_directory_atomically(const std::filesystem::path& out, const std::string& what,
+                                const std::function<void(const std::filesystem::path& tmp)>& fill);
+
 // The page's data files as the viewer serves them, path -> bytes: "data/manifest.json" (without its "glsl"
 // list), "data/material/<map>.png" (the texture set) and "data/<table>.f16" with "data/<table>.json" (the
 // cone-layout tables as raw half floats and their sidecars). The three.js example reuses them
