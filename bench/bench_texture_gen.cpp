@@ -3,6 +3,7 @@
 // downsample. Counters: texels/s and horizon walks/s (one walk = one azimuth of one texel, every elevation
 // resolved). Wall time (UseRealTime): the work runs on oneTBB's threads.
 #include <benchmark/benchmark.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/multiscale.h>
 #include <microshadow/render/texture_gen.h>
 
@@ -59,6 +60,40 @@ void BM_BakeVisibility(benchmark::State& state) {
 }
 BENCHMARK(BM_BakeVisibility)
     ->ArgsProduct({{0, 1, 2}, {1024}, {8}})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// The directional bake's horizons on the rock kind (depth scaled with the size, as gen-material does), 32
+// azimuths, unlimited rays: arg 0 = the lattice sweep (what the bake uses), 1 = the walks classified against
+// the fit's elevations on the same directions (the bake's path for a finite ray length); and the whole bake
+// (arg 2: horizons + normals + fit). Counter: vertex-azimuths/s.
+void BM_DirectionalHorizons(benchmark::State& state) {
+  const int size = int(state.range(0)), path = int(state.range(1));
+  static std::map<int, TextureSet> cache;
+  if (!cache.count(size)) {
+    GenOptions o;
+    o.kind = "rock", o.size = size, o.ao_rays = 1, o.ao_max_distance = 0.5f, o.directional_azimuths = 0;
+    cache.emplace(size, generate_texture_set(o));
+  }
+  const TextureSet& s = cache.at(size);
+  const DirectionalBakeAzimuths az = directional_bake_azimuths(32);
+  std::vector<std::vector<double>> tan_e(az.dirs.size());
+  for (auto& t : tan_e)
+    for (int e = 0; e < 16; ++e) t.push_back(std::tan((e + 0.5) / 16 * 1.5707963267948966));
+  for (auto _ : state) {
+    if (path == 0)
+      benchmark::DoNotOptimize(bake_horizon_tangents_lattice(s.height, s.depth_texels, az.steps));
+    if (path == 1)
+      benchmark::DoNotOptimize(bake_horizon_tangents(s.height, s.depth_texels, az.dirs, 0, tan_e));
+    if (path == 2) benchmark::DoNotOptimize(bake_directional_channels(s.height, s.depth_texels, 32, 0));
+  }
+  state.counters["vertex-azimuths/s"] =
+      benchmark::Counter(double(size) * size * 32, benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel(path == 0 ? "lattice sweep" : path == 1 ? "classified walks" : "whole bake");
+}
+BENCHMARK(BM_DirectionalHorizons)
+    ->ArgsProduct({{512}, {0, 1, 2}})
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);

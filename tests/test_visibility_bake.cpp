@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <numeric>
 #include <tuple>
 
 using namespace msh;
@@ -229,4 +230,114 @@ TEST(VisibilityBake, RandomFieldMatchesBruteForce) {
     std::printf("R=%g: max |bake - brute force| %.2e, mean %.2e over %d texels\n", R, max_err,
                 sum_err / count, count);
   }
+}
+
+// ---- Lattice sweeps (bake_horizon_tangents_lattice) ----
+
+// The sweep against two references: the exact walks along the same direction (which under-estimate tan² H by
+// at most their 1e-4 tolerance and never over-estimate it), and an independent brute force (the profile of
+// the triangulated surface sampled every 0.005 of a step over two periods of the line, where the horizon must
+// lie; its miss of a breakpoint costs at most slope · 0.005 · |step| in Δz). On a square and a non-square
+// rough field, steps on the axes, the diagonals and steep rational slopes, both signs.
+TEST(LatticeSweep, EqualsExactWalksAndBruteForce) {
+  const std::vector<LatticeStep> steps = {{1, 0},  {0, 1}, {-1, 0}, {0, -1}, {1, 1},  {-1, 1},
+                                          {1, -1}, {2, 1}, {3, -2}, {-5, 3}, {1, -7}, {7, 4}};
+  std::vector<Vec2f> dirs;
+  for (const LatticeStep& s : steps) dirs.push_back(lattice_direction(s));
+  for (auto [w, h] : {std::pair{32, 32}, std::pair{24, 40}}) {
+    Texture f(w, h, 1);
+    uint32_t seed = 12345u + uint32_t(w);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        seed = seed * 1664525u + 1013904223u;
+        f.at(i, j, 0) = float(0.5 + 0.3 * std::sin(2 * kPiD * i / w) * std::cos(4 * kPiD * j / h) +
+                              0.2 * double(seed >> 8) * 0x1p-24);
+      }
+    const double depth = 7;
+    const auto sweep = bake_horizon_tangents_lattice(f, float(depth), steps);
+    const auto walk = bake_horizon_tangents(f, float(depth), dirs, 0);
+    ASSERT_EQ(sweep.size(), walk.size());
+    int raised = 0;
+    for (std::size_t p = 0; p < sweep.size(); ++p) {
+      ASSERT_TRUE(std::isfinite(sweep[p]) && sweep[p] >= 0) << p;
+      EXPECT_GE(sweep[p], walk[p] * (1 - 1e-5f) - 1e-6f) << "vertex-step " << p;
+      EXPECT_LE(double(sweep[p]) * sweep[p], double(walk[p]) * walk[p] + 1e-4 + 1e-5 * walk[p]) << p;
+      raised += sweep[p] > 0.05f;
+    }
+    EXPECT_GT(raised, int(sweep.size()) / 4);  // the field is rough enough for real horizons
+    auto zv = [&](int i, int j) {
+      return (double(f.at(((i % w) + w) % w, ((j % h) + h) % h, 0)) - 1) * depth;
+    };
+    auto surf = [&](double x, double y) {
+      const double fx0 = std::floor(x), fy0 = std::floor(y);
+      const int i = int(fx0), j = int(fy0);
+      const double fx = x - fx0, fy = y - fy0;
+      const double a = zv(i, j), b = zv(i + 1, j), c = zv(i + 1, j + 1), d = zv(i, j + 1);
+      return fx >= fy ? a + fx * (b - a) + fy * (c - b) : a + fy * (d - a) + fx * (c - d);
+    };
+    double max_err = 0;
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      const LatticeStep st = steps[k];
+      const double len = std::hypot(double(st.p), double(st.q));
+      const int period = std::lcm(w / std::gcd(w, std::abs(st.p)), h / std::gcd(h, std::abs(st.q)));
+      for (int j = 1; j < h; j += 7)
+        for (int i = 2; i < w; i += 5) {
+          const double z0 = zv(i, j);
+          double T = 0;
+          for (double t = 0.005; t <= 2.0 * period; t += 0.005)
+            T = std::max(T, (surf(i + t * st.p, j + t * st.q) - z0) / (t * len));
+          const float got = sweep[(std::size_t(j) * w + i) * steps.size() + k];
+          // Sampling misses a breakpoint by ≤ 0.0025 of a step on each side: Δz ≤ 2 · 0.0025 · |step| ·
+          // slope.
+          EXPECT_GE(got, T - 1e-6) << i << "," << j << " step " << st.p << "," << st.q;
+          EXPECT_LE(got, T + 0.02) << i << "," << j << " step " << st.p << "," << st.q;
+          max_err = std::max(max_err, std::abs(double(got) - T));
+        }
+    }
+    std::printf("%dx%d: max |sweep - brute force| %.2e\n", w, h, max_err);
+  }
+}
+
+TEST(LatticeSweep, ThreadIndependentAndBadInput) {
+  const Texture f = field(
+      48, 40, 12, [](int i, int j) { return -6 - 5 * std::sin(0.4 * i) * std::cos(0.3 * j + 0.2 * i); });
+  const auto steps = lattice_azimuths(32, 0.5);
+  std::vector<float> a;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    a = bake_horizon_tangents_lattice(f, 12, steps);
+  }
+  EXPECT_EQ(a, bake_horizon_tangents_lattice(f, 12, steps));
+  EXPECT_THROW(bake_horizon_tangents_lattice(f, 12, {{2, 4}}), InputError);
+  EXPECT_THROW(bake_horizon_tangents_lattice(f, 12, {{0, 0}}), InputError);
+  EXPECT_THROW(bake_horizon_tangents_lattice(f, -1, steps), InputError);
+  EXPECT_THROW(bake_horizon_tangents_lattice(Texture(), 12, steps), InputError);
+}
+
+// Every azimuth within the tolerance of its uniform target, primitive, and of the smallest ring that has
+// one (no step of smaller max(|p|, |q|) is within the tolerance).
+TEST(LatticeSweep, LatticeAzimuthsNearUniform) {
+  for (int n : {4, 16, 32, 64})
+    for (double tol : {0.5, 0.1}) {
+      const auto steps = lattice_azimuths(n, tol);
+      ASSERT_EQ(int(steps.size()), n);
+      for (int a = 0; a < n; ++a) {
+        const LatticeStep s = steps[std::size_t(a)];
+        const double phi = 2 * kPiD * (a + 0.5) / n;
+        const double err = std::abs(std::remainder(lattice_azimuth(s) - phi, 2 * kPiD)) * 180 / kPiD;
+        EXPECT_LE(err, tol) << n << " " << a;
+        EXPECT_EQ(std::gcd(std::abs(s.p), std::abs(s.q)), 1);
+        const int M = std::max(std::abs(s.p), std::abs(s.q));
+        for (int p = -(M - 1); p < M; ++p)
+          for (int q = -(M - 1); q < M; ++q) {
+            if (!p && !q) continue;
+            EXPECT_GT(std::abs(std::remainder(std::atan2(q, p) - phi, 2 * kPiD)) * 180 / kPiD, tol);
+          }
+        const Vec2f d = lattice_direction(s);
+        EXPECT_NEAR(d.x * d.x + d.y * d.y, 1.0f, 1e-6f);
+      }
+    }
+  EXPECT_THROW(lattice_azimuths(0, 0.5), InputError);
+  EXPECT_THROW(lattice_azimuths(8, 0), InputError);
+  EXPECT_THROW(lattice_azimuths(8, 50), InputError);
 }

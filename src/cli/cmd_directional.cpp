@@ -102,6 +102,10 @@ void run_bake(const BakeArgs& a) {
   j["range_lo"] = r.lo, j["range_hi"] = r.hi;
   j["tangent_space"] = "x = +u (columns), y = +v (rows, top to bottom), z = flat normal";
   j["azimuths"] = a.azimuths, j["max_distance"] = a.distance, j["depth_texels"] = a.depth;
+  // The fit's azimuths as lattice steps (p, q) (empty above kMaxLatticeAzimuths: uniform azimuths).
+  j["azimuth_steps"] = nlohmann::json::array();
+  for (const render::LatticeStep& st : render::directional_bake_azimuths(a.azimuths).steps)
+    j["azimuth_steps"].push_back({st.p, st.q});
   io::write_file_atomic(fs::path(a.out) / "directional.json", j.dump(2) + "\n");
   std::cout << fmt::format("wrote {} levels of {} channels to {}\n", chain.size(), ch.channels(), a.out);
 }
@@ -135,7 +139,11 @@ void add_directional(Groups& g) {
   b->add_option("height", ba->height, "Height map (16-bit PNG or EXR, grey, [0, 1])")->required();
   b->add_option("--depth", ba->depth, "Depth of the full height range, texels")->required();
   b->add_option("--out", ba->out, "Output directory")->required();
-  b->add_option("--azimuths", ba->azimuths, "Azimuths per texel")->capture_default_str();
+  b->add_option(
+       "--azimuths", ba->azimuths,
+       "Azimuths per texel, 4-4096 (up to 64: grid steps within 0.5 deg of uniform, horizons by exact "
+       "sweeps; above: uniform, by walks)")
+      ->capture_default_str();
   b->add_option("--distance", ba->distance, "Ray length, texels (0 = unlimited)")->capture_default_str();
   b->add_option("--threads", ba->threads, "Worker threads (0 = all)");
 }

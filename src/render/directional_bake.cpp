@@ -104,13 +104,15 @@ std::vector<double> invert(std::vector<double> a, int n) {
 
 // Weighted least-squares projection of a hemisphere function sampled on a direction grid onto the first
 // nb poly2 functions: coefficients = P · f. The grid: the bake azimuths × ne elevations (uniform in e), the
-// weight cos e (solid angle) / (0.1 + sin e)² (roughly relative error, so grazing lights count).
+// weight cos e (solid angle) / (0.1 + sin e)² (roughly relative error, so grazing lights count), times the
+// azimuth's share of the circle relative to a uniform one (az_weight; empty = uniform azimuths).
 struct LsqProjection {
   int nb = 0, ne = 0, na = 0;
   std::vector<Vec3f> dirs;  // [a · ne + j]
   std::vector<float> P;     // nb × dirs
   int damp = 0;  // > 0: basis × (1 − z)^damp, fitted to the residual f − n · l (see "resid-poly2")
-  LsqProjection(int nb_, const std::vector<Vec2f>& az, int ne_, double eps = 0.1, int damp_ = 0)
+  LsqProjection(int nb_, const std::vector<Vec2f>& az, int ne_, double eps = 0.1, int damp_ = 0,
+                const std::vector<double>& az_weight = {})
       : nb(nb_), ne(ne_), na(int(az.size())), damp(damp_) {
     std::vector<double> w;
     std::vector<double> B;  // dirs × nb
@@ -119,7 +121,8 @@ struct LsqProjection {
         const double e = (j + 0.5) / ne * kPi<double> / 2;
         const Vec3f d(float(std::cos(e) * az[a].x), float(std::cos(e) * az[a].y), float(std::sin(e)));
         dirs.push_back(d);
-        w.push_back(std::cos(e) / ((eps + std::sin(e)) * (eps + std::sin(e))));
+        w.push_back(std::cos(e) / ((eps + std::sin(e)) * (eps + std::sin(e))) *
+                    (az_weight.empty() ? 1.0 : az_weight[std::size_t(a)]));
         double b[dir::kPoly12Terms];
         dir::poly12_basis<double>(Vec3d(d), b);
         for (double& v : b) v *= std::pow(1.0 - std::sin(e), damp);
@@ -197,10 +200,37 @@ void check_azimuths(const char* what, int azimuths) {
 }
 }  // namespace
 
+DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
+  check_azimuths("directional_bake_azimuths", azimuths);
+  DirectionalBakeAzimuths r;
+  const int na = azimuths;
+  if (na > kMaxLatticeAzimuths) {
+    r.dirs = uniform_azimuths(na);
+    r.weights.assign(std::size_t(na), 1.0);
+    return r;
+  }
+  r.steps = lattice_azimuths(na, kLatticeAzimuthErrorDeg);
+  std::vector<double> phi;
+  for (const LatticeStep& st : r.steps) {
+    r.dirs.push_back(lattice_direction(st));
+    phi.push_back(lattice_azimuth(st));
+  }
+  // Each azimuth's share of the circle: half the arcs to its neighbours (the targets are ascending and the
+  // error is below half their spacing, so the steps keep their order), relative to 2π/na.
+  for (int a = 0; a < na; ++a) {
+    const double next = phi[std::size_t((a + 1) % na)], prev = phi[std::size_t((a + na - 1) % na)];
+    auto arc = [](double x) { return x - 2 * kPi<double> * std::floor(x / (2 * kPi<double>)); };
+    r.weights.push_back(0.5 * (arc(next - phi[std::size_t(a)]) + arc(phi[std::size_t(a)] - prev)) * na /
+                        (2 * kPi<double>));
+  }
+  return r;
+}
+
 Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
   check_azimuths("bake_directional_channels", azimuths);
-  const auto dirs = uniform_azimuths(azimuths);
-  const LsqProjection proj(dir::kPoly2Terms, dirs, dir::kFitElevations, dir::kFitEpsilon);
+  const DirectionalBakeAzimuths az = directional_bake_azimuths(azimuths);
+  const auto& dirs = az.dirs;
+  const LsqProjection proj(dir::kPoly2Terms, dirs, dir::kFitElevations, dir::kFitEpsilon, 0, az.weights);
   const int w = height.width(), h = height.height(), na = azimuths, ne = proj.ne, nd = int(proj.dirs.size());
   // tan e of every fit direction as transport_texel computes it; ascending in e within an azimuth, so the
   // lit directions of an azimuth are those from the first one above the horizon up (and the walks only
@@ -211,8 +241,16 @@ Texture bake_directional_channels(const Texture& height, float depth, int azimut
       const Vec3f& l = proj.dirs[std::size_t(a * ne + e)];
       tan_e[std::size_t(a)][std::size_t(e)] = double(l.z) / std::sqrt(double(l.x) * l.x + double(l.y) * l.y);
     }
-  const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
+  // Unlimited rays on lattice azimuths: one exact sweep per line; otherwise the classified walks.
+  const auto tan_h = !az.steps.empty() && !(max_distance > 0)
+                         ? bake_horizon_tangents_lattice(height, depth, az.steps)
+                         : bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
   const auto n = fine_normals(height, depth);
+  // P transposed (direction-major, the 9 rows of a direction side by side), widened once.
+  std::vector<double> PT(std::size_t(nd) * dir::kPoly2Terms);
+  for (int d = 0; d < nd; ++d)
+    for (int r = 0; r < proj.nb; ++r)
+      PT[std::size_t(d) * dir::kPoly2Terms + r] = proj.P[std::size_t(r) * nd + d];
   Texture out(w, h, dir::kDirectionalChannels);
   tbb::parallel_for(0, h, [&](int j) {
     for (int i = 0; i < w; ++i) {
@@ -227,7 +265,8 @@ Texture bake_directional_channels(const Texture& height, float depth, int azimut
         for (; e < ne; ++e) {
           const int d = a * ne + e;
           const float f = std::max(dot(n[p], proj.dirs[std::size_t(d)]), 0.0f);
-          for (int r = 0; r < proj.nb; ++r) sum[r] += double(proj.P[std::size_t(r) * nd + d]) * f;
+          const double* pd = &PT[std::size_t(d) * dir::kPoly2Terms];
+          for (int r = 0; r < dir::kPoly2Terms; ++r) sum[r] += pd[r] * f;
         }
       }
       for (int r = 0; r < proj.nb; ++r) out.at(i, j, r) = float(sum[r]);

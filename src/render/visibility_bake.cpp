@@ -16,15 +16,20 @@
 // tolerance of 1e-4 on tan² H, so on V), and the walk stops where nothing of the field can (s > (z_max −
 // z_ij) / tan H) or the ray length ends. (A maximum mip pyramid, Tevs et al. 2008, was measured slower here:
 // the cells near the horizon line dominate, and its block tests skip nothing more.)
+//
+// On lattice azimuths (bake_horizon_tangents_lattice) the same exact horizons come from one convex-hull sweep
+// per line of vertices, at a cost independent of the walk length (see "Lattice sweeps" below).
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/render/texture_gen.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <vector>
 
 namespace msh::render {
@@ -266,6 +271,201 @@ std::vector<float> horizon_walks(const Texture& height, float depth, const std::
   return out;
 }
 }  // namespace
+
+// ---- Lattice sweeps ----
+
+namespace {
+
+int gcd_int(int a, int b) { return std::gcd(std::abs(a), std::abs(b)); }
+
+// A breakpoint of the profile between a vertex and the next one along a step (p, q): where the line crosses
+// a cell edge or a cell diagonal, at parameter t ∈ (0, 1) of the step. Its height is the triangulated
+// surface at (t p, t q) from the vertex: cell (ci, cj) from the vertex, fractions (fx, fy) in it.
+struct Breakpoint {
+  double t;
+  int ci, cj;
+  float fx, fy;
+};
+
+std::vector<Breakpoint> step_breakpoints(LatticeStep st) {
+  std::vector<double> ts;
+  const int ap = std::abs(st.p), aq = std::abs(st.q), ad = std::abs(st.p - st.q);
+  for (int m = 1; m < ap; ++m) ts.push_back(double(m) / ap);  // x = integer
+  for (int m = 1; m < aq; ++m) ts.push_back(double(m) / aq);  // y = integer
+  for (int m = 1; m < ad; ++m) ts.push_back(double(m) / ad);  // x − y = integer (a cell diagonal)
+  std::sort(ts.begin(), ts.end());
+  ts.erase(std::unique(ts.begin(), ts.end(), [](double a, double b) { return b - a < 1e-12; }), ts.end());
+  std::vector<Breakpoint> out;
+  double prev = 0;
+  for (double t : ts) {
+    // The cell is the one the segment crosses just before t (it holds the midpoint with the previous
+    // breakpoint), so the point is on that cell's boundary or diagonal; the clamps keep the fractions in
+    // [0, 1].
+    const double tm = 0.5 * (prev + t);
+    prev = t;
+    const double xm = tm * st.p, ym = tm * st.q;
+    const int ci = int(std::floor(xm)), cj = int(std::floor(ym));
+    const float fx = float(std::clamp(t * st.p - ci, 0.0, 1.0)),
+                fy = float(std::clamp(t * st.q - cj, 0.0, 1.0));
+    out.push_back({t, ci, cj, fx, fy});
+  }
+  return out;
+}
+
+}  // namespace
+
+double lattice_azimuth(LatticeStep s) { return std::atan2(double(s.q), double(s.p)); }
+
+Vec2f lattice_direction(LatticeStep s) {
+  const double n = std::hypot(double(s.p), double(s.q));
+  return Vec2f(float(s.p / n), float(s.q / n));
+}
+
+std::vector<LatticeStep> lattice_azimuths(int n, double max_error_deg) {
+  if (n < 1 || n > 4096) throw InputError(fmt::format("lattice_azimuths: n must be in [1, 4096], got {}", n));
+  if (!(max_error_deg >= 0.01 && max_error_deg <= 45))
+    throw InputError(
+        fmt::format("lattice_azimuths: max error must be in [0.01, 45] degrees, got {}", max_error_deg));
+  const double tol = max_error_deg * kPi<double> / 180;
+  std::vector<LatticeStep> out;
+  for (int a = 0; a < n; ++a) {
+    const double phi = 2 * kPi<double> * (a + 0.5) / n;
+    for (int M = 1;; ++M) {
+      // The primitive steps with max(|p|, |q|) = M (the ring of the square of radius M); smaller M were
+      // tried.
+      double best = std::numeric_limits<double>::infinity();
+      LatticeStep bs;
+      for (int p = -M; p <= M; ++p)
+        for (int q = -M; q <= M; ++q) {
+          if (std::max(std::abs(p), std::abs(q)) != M || gcd_int(p, q) != 1) continue;
+          const double d = std::abs(std::remainder(std::atan2(double(q), double(p)) - phi, 2 * kPi<double>));
+          if (d < best) best = d, bs = {p, q};
+        }
+      if (best <= tol) {
+        out.push_back(bs);
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float depth,
+                                                 const std::vector<LatticeStep>& steps) {
+  if (!(depth >= 0) || !std::isfinite(depth))
+    throw InputError(
+        fmt::format("bake_horizon_tangents_lattice: depth must be finite and >= 0, got {}", depth));
+  if (height.empty()) throw InputError("bake_horizon_tangents_lattice: empty height map");
+  for (const LatticeStep& st : steps)
+    if (gcd_int(st.p, st.q) != 1)
+      throw InputError(
+          fmt::format("bake_horizon_tangents_lattice: step ({}, {}) is not primitive", st.p, st.q));
+  const Heights f(height, depth);
+  const int w = height.width(), h = height.height(), W = w + 1, n = int(steps.size());
+  std::vector<float> out(std::size_t(w) * h * std::size_t(n));
+  // Into [0, m): one add or subtract for the usual small offsets, the remainder otherwise (tiny maps).
+  auto wrap = [](int v, int m) {
+    if (v >= m) v -= m;
+    if (v < 0) v += m;
+    return v >= 0 && v < m ? v : ((v % m) + m) % m;
+  };
+  for (int k = 0; k < n; ++k) {
+    const LatticeStep st = steps[std::size_t(k)];
+    const auto bps = step_breakpoints(st);
+    const double len = std::hypot(double(st.p), double(st.q));
+    // Vertices per line: the smallest K with K p ≡ 0 (mod w) and K q ≡ 0 (mod h).
+    const int kx = w / std::gcd(w, std::abs(st.p)), ky = h / std::gcd(h, std::abs(st.q));
+    const int K = std::lcm(kx, ky);
+    // One start vertex per line, in memory order (neighbouring lines run side by side through memory).
+    std::vector<int> starts;
+    {
+      std::vector<char> seen(std::size_t(w) * h, 0);
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+          if (seen[std::size_t(j) * w + i]) continue;
+          starts.push_back(j * w + i);
+          int x = i, y = j;
+          for (int m = 0; m < K; ++m) {
+            seen[std::size_t(y) * w + x] = 1;
+            x = wrap(x + st.p, w), y = wrap(y + st.q, h);
+          }
+        }
+    }
+    const int per = 1 + int(bps.size());  // profile points per step: the vertex, then its breakpoints
+    std::vector<double> s_off(std::size_t(per), 0.0);  // their distances from the step's vertex
+    for (int b = 1; b < per; ++b) s_off[std::size_t(b)] = bps[std::size_t(b - 1)].t * len;
+    // Distances along the line, the same for every line of the step.
+    const std::size_t N = std::size_t(K) * per;
+    std::vector<double> ss(N);
+    for (int m = 0; m < K; ++m)
+      for (int b = 0; b < per; ++b) ss[std::size_t(m) * per + b] = double(m) * len + s_off[std::size_t(b)];
+    const double L = double(K) * len;
+    // Lines go in bundles of kBundle neighbours (consecutive starts, side by side in memory), their profiles
+    // read in lockstep so the rows a step crosses are read once for the whole bundle.
+    constexpr std::size_t kBundle = 8;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, starts.size(), kBundle), [&](const auto& r) {
+      std::vector<float> zs(N * kBundle);
+      std::vector<int> vid(std::size_t(K) * kBundle);
+      std::vector<double> hs(N), hz(N);  // the hull ahead, farthest first: n_h points
+      for (std::size_t l0 = r.begin(); l0 < r.end(); l0 += kBundle) {
+        const std::size_t nl = std::min(kBundle, r.end() - l0);
+        int xs[kBundle], ys[kBundle];
+        for (std::size_t u = 0; u < nl; ++u) xs[u] = starts[l0 + u] % w, ys[u] = starts[l0 + u] / w;
+        for (int m = 0; m < K; ++m)
+          for (std::size_t u = 0; u < nl; ++u) {
+            const int x = xs[u], y = ys[u];
+            float* z = &zs[u * N + std::size_t(m) * per];
+            z[0] = *f.vertex(x, y);
+            vid[u * std::size_t(K) + std::size_t(m)] = y * w + x;
+            for (int b = 1; b < per; ++b) {
+              const Breakpoint& bp = bps[std::size_t(b - 1)];
+              const float* c = f.vertex(wrap(x + bp.ci, w), wrap(y + bp.cj, h));
+              const float a0 = c[0], b0 = c[1], c0 = c[W + 1], d0 = c[W];
+              const float fx = bp.fx, fy = bp.fy;
+              z[b] = fx >= fy ? a0 + fx * (b0 - a0) + fy * (c0 - b0) : a0 + fy * (d0 - a0) + fx * (c0 - d0);
+            }
+            xs[u] = wrap(x + st.p, w), ys[u] = wrap(y + st.q, h);
+          }
+        for (std::size_t u = 0; u < nl; ++u) {
+          const float* zl = &zs[u * N];
+          const int* vl = &vid[u * std::size_t(K)];
+          // Sweep backwards from the profile's highest point once around: nothing beyond it (one period
+          // further) rises above it, so it hides every point there from every point before it. (The highest
+          // point may be a breakpoint: they interpolate vertices off the line.)
+          const std::size_t start = std::size_t(std::max_element(zl, zl + N) - zl);
+          std::size_t n_h = 0;
+          double* const hsp = hs.data();
+          double* const hzp = hz.data();
+          auto visit = [&](std::size_t idx, double shift, bool is_vertex) {
+            const double s = ss[idx] - shift, z = zl[idx];
+            // Drop the nearest hull point while the next one is at least as steep from here (it is then
+            // under the chord to it, for this point and every one before it): (zA − z)/(sA − s) ≥ (zB −
+            // z)/(sB − s), denominators > 0.
+            while (n_h >= 2 &&
+                   (hzp[n_h - 2] - z) * (hsp[n_h - 1] - s) >= (hzp[n_h - 1] - z) * (hsp[n_h - 2] - s))
+              --n_h;
+            if (is_vertex)
+              out[std::size_t(vl[idx / std::size_t(per)]) * n + k] =
+                  n_h ? float(std::max((hzp[n_h - 1] - z) / (hsp[n_h - 1] - s), 0.0)) : 0.0f;
+            hsp[n_h] = s, hzp[n_h] = z, ++n_h;
+          };
+          // Point idx is a vertex iff idx ≡ 0 (mod per); b counts that down alongside idx.
+          std::size_t b = start % std::size_t(per);
+          for (std::size_t idx = start + 1; idx-- > 0;) {
+            visit(idx, 0.0, b == 0);
+            b = b == 0 ? std::size_t(per) - 1 : b - 1;
+          }
+          b = std::size_t(per) - 1;
+          for (std::size_t idx = N; idx-- > start + 1;) {
+            visit(idx, L, b == 0);
+            b = b == 0 ? std::size_t(per) - 1 : b - 1;
+          }
+        }
+      }
+    });
+  }
+  return out;
+}
 
 std::vector<float> bake_horizon_tangents(const Texture& height, float depth, const std::vector<Vec2f>& dirs,
                                          float max_distance) {

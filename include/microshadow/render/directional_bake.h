@@ -5,21 +5,36 @@
 
 #include <microshadow/math/vec.h>
 #include <microshadow/render/scene.h>
+#include <microshadow/render/texture_gen.h>
 
 #include <string>
 #include <vector>
 
 namespace msh::render {
 
+// The fit's azimuths for a given count: up to kMaxLatticeAzimuths, lattice steps (texture_gen.h
+// lattice_azimuths) within kLatticeAzimuthErrorDeg of the uniform φ_a = 2π(a + ½)/azimuths, each weighted by
+// its share of the circle (half the arcs to its neighbours, relative to 2π/azimuths); above, the uniform
+// azimuths themselves, weight 1, steps empty. InputError outside [4, 4096].
+constexpr int kMaxLatticeAzimuths = 64;
+constexpr double kLatticeAzimuthErrorDeg = 0.5;
+struct DirectionalBakeAzimuths {
+  std::vector<LatticeStep> steps;  // empty above kMaxLatticeAzimuths
+  std::vector<Vec2f> dirs;         // unit, ascending azimuth
+  std::vector<double> weights;
+};
+DirectionalBakeAzimuths directional_bake_azimuths(int azimuths);
+
 // The 9 directional channels (occlusion/directional.h: the weighted least-squares fit of degree ≤ 2 of
 // lit · (n · l)⁺ over the hemisphere, channel order 1, x, y, z, xz, yz, x² − y², xy, z²) of a height map
 // (values in [0, 1], depth_texels as in HeightField), per texel: the transport is exact on the fit's
-// direction grid (`azimuths` azimuths φ_a = 2π(a + ½)/azimuths, directional::kFitElevations elevations),
-// horizons by bake_horizon_tangents (classified against the fit directions' elevations: lit is exact, and
-// the walks stop as soon as no fit direction can change) with ray length max_distance texels (≤ 0 =
-// unlimited, the measured choice), n = the central-difference normal of normal_map_from_height. Float32,
-// unencoded (8-bit: see directional::decode_unorm8). Deterministic whatever the thread count. InputError on
-// azimuths outside [4, 4096] (and as bake_horizon_tangents).
+// direction grid (the azimuths of directional_bake_azimuths × directional::kFitElevations elevations), n =
+// the central-difference normal of normal_map_from_height. Horizons: with unlimited rays (max_distance ≤ 0,
+// the measured choice) on lattice azimuths, exact by bake_horizon_tangents_lattice (one sweep per line, cost
+// independent of the depth); otherwise the walks of bake_horizon_tangents classified against the fit
+// directions' elevations (lit is exact) with ray length max_distance texels. Float32, unencoded (8-bit: see
+// directional::decode_unorm8). Deterministic whatever the thread count. InputError on azimuths outside
+// [4, 4096] (and as bake_horizon_tangents).
 Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
                                   float max_distance);
 

@@ -88,6 +88,34 @@ std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texe
                                          const std::vector<Vec2f>& dirs, float max_distance,
                                          const std::vector<std::vector<double>>& thresholds);
 
+// A horizontal direction on the integer grid: the primitive step (p, q) (gcd(|p|, |q|) = 1), azimuth
+// atan2(q, p) (x = +i columns, y = +j rows). The line through a vertex along it meets a vertex every step, so
+// all the vertices on one line share one height profile, and one sweep finds all their horizons.
+struct LatticeStep {
+  int p = 1, q = 0;
+};
+
+// n azimuths near the uniform ones φ_a = 2π(a + ½)/n: for each, among the primitive steps of the smallest
+// max(|p|, |q|) that has one within max_error_deg of φ_a, the closest to φ_a. InputError for n outside
+// [1, 4096] or max_error_deg outside [0.01, 45].
+std::vector<LatticeStep> lattice_azimuths(int n, double max_error_deg);
+
+// Azimuth (radians, in (−π, π]) and unit direction of a lattice step.
+double lattice_azimuth(LatticeStep s);
+Vec2f lattice_direction(LatticeStep s);
+
+// tan H ≥ 0 of the exact horizon at every vertex along each lattice step, unlimited ray length: the same
+// surface, start-point rule and layout as bake_horizon_tangents (and equal to its exact value up to float
+// rounding: no tolerance). One sweep per line of vertices (per step, the lines through the vertices wrap onto
+// themselves), keeping the upper convex hull of the profile ahead (the horizon of a point is its tangent to
+// that hull; Timonen & Westerholm 2010, "Scalable Height Field Self-Shadowing", here on the exact
+// triangulated profile of a lattice line, whose breakpoints are the same on every step). Starting each sweep
+// at the line's highest vertex makes one pass enough. Cost O(vertices · Σ(|p| + |q| + |p − q|)), independent
+// of the relief's depth. InputError on an empty map, a non-primitive step or depth not finite ≥ 0.
+// Deterministic whatever the thread count.
+std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float depth_texels,
+                                                 const std::vector<LatticeStep>& steps);
+
 // The texture as a 2D io::Volume (same channels, values as they are), for the writers of io/texture.h.
 io::Volume texture_volume(const Texture& t);
 
