@@ -40,6 +40,21 @@ Texture ridge(double beta, double depth) {
   return field(128, 4, depth, [t](int i, int) { return -t * std::min(std::abs(i - 64), 32); });
 }
 
+// Height of vertex (i, j) (wrapped) in texel units, and of the triangulated surface at (x, y): triangle
+// (00, 10, 11) where fx ≥ fy, (00, 11, 01) otherwise. Written here independently of the bake.
+double vertex_z(const Texture& f, double depth, int i, int j) {
+  const int w = f.width(), h = f.height();
+  return (double(f.at(((i % w) + w) % w, ((j % h) + h) % h, 0)) - 1) * depth;
+}
+double surface_z(const Texture& f, double depth, double x, double y) {
+  const double fx0 = std::floor(x), fy0 = std::floor(y);
+  const int i = int(fx0), j = int(fy0);
+  const double fx = x - fx0, fy = y - fy0;
+  const double a = vertex_z(f, depth, i, j), b = vertex_z(f, depth, i + 1, j),
+               c = vertex_z(f, depth, i + 1, j + 1), d = vertex_z(f, depth, i, j + 1);
+  return fx >= fy ? a + fx * (b - a) + fy * (c - b) : a + fy * (d - a) + fx * (c - d);
+}
+
 // A rough wrapping field: 0.5 + amp · sin(2π i/n) · wave(2π ky j/n) + 0.2 · uniform noise (LCG from seed).
 Texture wavy_noisy_field(int n, uint32_t seed, double amp, int ky, bool cosine) {
   auto rnd = [&] {
@@ -193,14 +208,8 @@ TEST(VisibilityBake, RandomFieldMatchesBruteForce) {
   const int n = 24;
   const double depth = 5;
   const Texture f = wavy_noisy_field(n, 99, 0.25, 2, true);
-  auto zv = [&](int i, int j) { return (double(f.at(((i % n) + n) % n, ((j % n) + n) % n, 0)) - 1) * depth; };
-  auto surf = [&](double x, double y) {
-    const double fx0 = std::floor(x), fy0 = std::floor(y);
-    const int i = int(fx0), j = int(fy0);
-    const double fx = x - fx0, fy = y - fy0;
-    const double a = zv(i, j), b = zv(i + 1, j), c = zv(i + 1, j + 1), d = zv(i, j + 1);
-    return fx >= fy ? a + fx * (b - a) + fy * (c - b) : a + fy * (d - a) + fx * (c - d);
-  };
+  auto zv = [&](int i, int j) { return vertex_z(f, depth, i, j); };
+  auto surf = [&](double x, double y) { return surface_z(f, depth, x, y); };
   for (double R : {6.0, 30.0}) {  // 30 > the period: the walk wraps
     const Texture v = bake_visibility(f, float(depth), 256, float(R));
     double max_err = 0, sum_err = 0;
@@ -265,16 +274,8 @@ TEST(LatticeSweep, EqualsExactWalksAndBruteForce) {
       raised += sweep[p] > 0.05f;
     }
     EXPECT_GT(raised, int(sweep.size()) / 4);  // the field is rough enough for real horizons
-    auto zv = [&](int i, int j) {
-      return (double(f.at(((i % w) + w) % w, ((j % h) + h) % h, 0)) - 1) * depth;
-    };
-    auto surf = [&](double x, double y) {
-      const double fx0 = std::floor(x), fy0 = std::floor(y);
-      const int i = int(fx0), j = int(fy0);
-      const double fx = x - fx0, fy = y - fy0;
-      const double a = zv(i, j), b = zv(i + 1, j), c = zv(i + 1, j + 1), d = zv(i, j + 1);
-      return fx >= fy ? a + fx * (b - a) + fy * (c - b) : a + fy * (d - a) + fx * (c - d);
-    };
+    auto zv = [&](int i, int j) { return vertex_z(f, depth, i, j); };
+    auto surf = [&](double x, double y) { return surface_z(f, depth, x, y); };
     double max_err = 0;
     for (std::size_t k = 0; k < steps.size(); ++k) {
       const LatticeStep st = steps[k];

@@ -1,0 +1,308 @@
+// How much of the directional term's error in the study is the data model's floor: the view–light
+// correlation (docs/directional-occlusion.md, "View–light correlation"). In texture space, on the procedural
+// height fields, exact horizons (bake_horizon_tangents_lattice) and central-difference normals n:
+//
+//   f(x)  = lit_l(x) · (n · l)⁺                       the diffuse transport the 9 channels fit
+//   w(x)  = vis_v(x) · (n · v)⁺ / n_z                 screen area per flat area seen by an orthographic
+//                                                      camera along v (vis_v: not masked toward v)
+//   GT    = Σ f w / Σ w                               what the camera's pixels average
+//   a     = Σ f / N                                   the best any view-independent per-texel data gives
+//   b     = Σ f (n · v) / (n_z v_z) / N               a + (E[f s_x] v_x + E[f s_y] v_y) / v_z, s = (n_x, n_y)
+//   / n_z:
+//                                                      projected area without masking, from two more linear
+//                                                      functions of l (E[s] = 0 on a wrapping field, so Σ w
+//                                                      without masking is N v_z exactly)
+//   c     = Σ f (n · v)⁺ / n_z / Σ (n · v)⁺ / n_z     GT without the masking
+//
+// It prints a / GT, b / GT and c / GT per material and light (the light and view as in the study: lights at
+// azimuth 0° and 90°, the camera at view_elevation looking along +v, i.e. v at azimuth −90°), and the mean
+// and max |ratio − 1| per material. A flat field gives exactly 1 everywhere (tests/test_area_probes.cpp runs
+// it). Whole-texture means: the scale k does not enter (the study's per-pixel shading does; this is the
+// floor).
+#include <fmt/format.h>
+#include <microshadow/io/error.h>
+#include <microshadow/occlusion/directional.h>
+#include <microshadow/render/directional_bake.h>
+#include <microshadow/render/heightfield.h>
+#include <microshadow/render/texture_gen.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace msh;
+using namespace msh::render;
+
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180;
+
+struct Row {
+  std::string kind;
+  double elev, az, gt, a, b, c;
+  // With --fits: the same a and b from the fitted functions (the fit grid of the bake): a9 = T by the 9
+  // channels; b94 / b99 = a9 plus G_x, G_y each fitted with 4 (band 1) / 9 (degree 2) functions.
+  double a9 = 0, b94 = 0, b99 = 0;
+};
+
+// Weighted least squares on the bake's direction grid: the coefficients of the first nb poly2 functions
+// fitted to samples f[d] (normal equations, Gaussian elimination with partial pivoting, double).
+std::vector<double> fit_poly2(const std::vector<Vec3d>& dirs, const std::vector<double>& wts,
+                              const std::vector<double>& f, int nb) {
+  std::vector<double> G(std::size_t(nb) * (nb + 1), 0.0);
+  auto g = [&](int r, int c) -> double& { return G[std::size_t(r) * (nb + 1) + c]; };
+  for (std::size_t d = 0; d < dirs.size(); ++d) {
+    double b[directional::kPoly2Terms];
+    directional::poly2_basis(dirs[d], b);
+    for (int r = 0; r < nb; ++r) {
+      for (int c = 0; c < nb; ++c) g(r, c) += wts[d] * b[r] * b[c];
+      g(r, nb) += wts[d] * b[r] * f[d];
+    }
+  }
+  for (int c = 0; c < nb; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < nb; ++r)
+      if (std::abs(g(r, c)) > std::abs(g(piv, c))) piv = r;
+    for (int k = 0; k <= nb; ++k) std::swap(g(c, k), g(piv, k));
+    for (int r = c + 1; r < nb; ++r) {
+      const double m = g(r, c) / g(c, c);
+      for (int k = c; k <= nb; ++k) g(r, k) -= m * g(c, k);
+    }
+  }
+  std::vector<double> x(static_cast<std::size_t>(nb));
+  for (int r = nb - 1; r >= 0; --r) {
+    double acc = g(r, nb);
+    for (int k = r + 1; k < nb; ++k) acc -= g(r, k) * x[std::size_t(k)];
+    x[std::size_t(r)] = acc / g(r, r);
+  }
+  return x;
+}
+
+double eval_poly2(const std::vector<double>& c, const Vec3d& l) {
+  double b[directional::kPoly2Terms];
+  directional::poly2_basis(l, b);
+  double s = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) s += c[i] * b[i];
+  return s;
+}
+
+// The whole-texture means T(l) = E[f], G_x(l) = E[f s_x], G_y(l) = E[f s_y] on the bake's direction grid
+// (32 lattice azimuths × kFitElevations), fitted; the box mean of per-texel fits is this fit (linearity).
+void add_fits(const Texture& height, float depth, const std::vector<Vec3f>& n, double view_elev,
+              std::vector<Row>& rows, std::size_t first) {
+  const DirectionalBakeAzimuths az = directional_bake_azimuths(32);
+  const auto T = bake_horizon_tangents_lattice(height, depth, az.steps);
+  const std::size_t na = az.steps.size(), N = n.size();
+  const int ne = directional::kFitElevations;
+  std::vector<Vec3d> dirs;
+  std::vector<double> wts, ft, fx, fy;
+  for (std::size_t a = 0; a < na; ++a)
+    for (int j = 0; j < ne; ++j) {
+      const double e = (j + 0.5) / ne * 90 * kDeg;
+      const Vec3d l(std::cos(e) * az.dirs[a].x, std::cos(e) * az.dirs[a].y, std::sin(e));
+      const double tan_e = std::tan(e);
+      double st = 0, sx = 0, sy = 0;
+      for (std::size_t p = 0; p < N; ++p) {
+        if (!(tan_e > T[p * na + a])) continue;
+        const double f = std::max(double(n[p].x) * l.x + double(n[p].y) * l.y + double(n[p].z) * l.z, 0.0);
+        st += f, sx += f * n[p].x / n[p].z, sy += f * n[p].y / n[p].z;
+      }
+      dirs.push_back(l);
+      wts.push_back(std::cos(e) * directional::fit_weight(std::sin(e)) * az.weights[a]);
+      ft.push_back(st / double(N)), fx.push_back(sx / double(N)), fy.push_back(sy / double(N));
+    }
+  const auto ct = fit_poly2(dirs, wts, ft, 9), cx4 = fit_poly2(dirs, wts, fx, 4),
+             cy4 = fit_poly2(dirs, wts, fy, 4), cx9 = fit_poly2(dirs, wts, fx, 9),
+             cy9 = fit_poly2(dirs, wts, fy, 9);
+  const double ve = view_elev * kDeg, vx = 0, vy = -std::cos(ve), vz = std::sin(ve);
+  for (std::size_t i = first; i < rows.size(); ++i) {
+    Row& r = rows[i];
+    const double e = r.elev * kDeg, a = r.az * kDeg;
+    const Vec3d l(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+    r.a9 = eval_poly2(ct, l);
+    r.b94 = r.a9 + (eval_poly2(cx4, l) * vx + eval_poly2(cy4, l) * vy) / vz;
+    r.b99 = r.a9 + (eval_poly2(cx9, l) * vx + eval_poly2(cy9, l) * vy) / vz;
+  }
+}
+
+// Horizontal unit step of an axis azimuth (0, 90, 180, 270 degrees).
+LatticeStep axis_step(double az) {
+  const int q = int(std::lround(az / 90.0)) & 3;
+  if (std::abs(az - 90.0 * std::lround(az / 90.0)) > 1e-9)
+    throw InputError("azimuths must be multiples of 90");
+  return q == 0   ? LatticeStep{1, 0}
+         : q == 1 ? LatticeStep{0, 1}
+         : q == 2 ? LatticeStep{-1, 0}
+                  : LatticeStep{0, -1};
+}
+
+std::vector<Row> measure(const Texture& height, float depth, const std::string& kind,
+                         const std::vector<double>& elevations, const std::vector<double>& azimuths,
+                         double view_elev, bool fits) {
+  const int w = height.width(), h = height.height();
+  const std::size_t N = std::size_t(w) * h;
+  std::vector<LatticeStep> steps;
+  for (double az : azimuths) steps.push_back(axis_step(az));
+  steps.push_back({0, -1});  // toward the camera
+  const auto T = bake_horizon_tangents_lattice(height, depth, steps);
+  const std::size_t ns = steps.size(), iv = ns - 1;
+  const HeightField hf(height, depth);
+  std::vector<Vec3f> n(N);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) n[std::size_t(j) * w + i] = hf.vertex_normal(i, j);
+  const double ve = view_elev * kDeg;
+  const Vec3f v(0.0f, float(-std::cos(ve)), float(std::sin(ve)));
+  const double tan_v = std::tan(ve);
+  std::vector<Row> rows;
+  for (std::size_t ai = 0; ai < azimuths.size(); ++ai)
+    for (double e : elevations) {
+      const double az = azimuths[ai] * kDeg, er = e * kDeg;
+      const Vec3f l(float(std::cos(er) * std::cos(az)), float(std::cos(er) * std::sin(az)),
+                    float(std::sin(er)));
+      const double tan_l = std::tan(er);
+      double sf = 0, sfw = 0, sw = 0, sb = 0, sfc = 0, swc = 0;
+      for (std::size_t p = 0; p < N; ++p) {
+        const double f = tan_l > T[p * ns + ai] ? std::max(double(dot(n[p], l)), 0.0) : 0.0;
+        const double nv = dot(n[p], v), nz = n[p].z;
+        const double wc = std::max(nv, 0.0) / nz, wm = tan_v > T[p * ns + iv] ? wc : 0.0;
+        sf += f, sfw += f * wm, sw += wm, sb += f * nv / (nz * v.z), sfc += f * wc, swc += wc;
+      }
+      const double gt = sw > 0 ? sfw / sw : 0;
+      rows.push_back({kind, e, azimuths[ai], gt, sf / double(N), sb / double(N), swc > 0 ? sfc / swc : 0});
+    }
+  if (fits) add_fits(height, depth, n, view_elev, rows, 0);
+  return rows;
+}
+
+std::vector<double> parse_list(const std::string& s, const char* what) {
+  std::vector<double> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      out.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError(fmt::format("{}: '{}' is not a number", what, item));
+    }
+  }
+  if (out.empty()) throw InputError(fmt::format("{}: empty list", what));
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Directional micro-occlusion: the view-light correlation floor in texture space (whole-texture means "
+      "of "
+      "the exact transport, with and without the camera's projected area and masking; "
+      "docs/directional-occlusion.md)"};
+  std::string kinds = "plaster,bark,gravel,rock,brick,cobble", elevations = "5,10,25,45,70",
+              azimuths = "0,90";
+  int size = 512;
+  double view_elev = 60;
+  bool json = false, flat = false, fits = false;
+  app.add_option("--kinds", kinds, "Comma-separated material kinds")->capture_default_str();
+  app.add_option("--size", size, "Texels per side")->check(CLI::Range(8, 8192))->capture_default_str();
+  app.add_option("--elevations", elevations, "Light elevations, degrees")->capture_default_str();
+  app.add_option("--azimuths", azimuths, "Light azimuths, multiples of 90 degrees")->capture_default_str();
+  app.add_option("--view-elevation", view_elev, "Camera elevation, degrees, looking along +v")
+      ->check(CLI::Range(1.0, 89.0))
+      ->capture_default_str();
+  app.add_flag("--flat", flat, "A flat field instead of the kinds (every ratio is 1)");
+  app.add_flag(
+      "--fits", fits,
+      "Also the fitted forms: T by the 9 channels, and T plus the slope-weighted G_x, G_y fitted with 4 "
+      "or 9 functions each");
+  app.add_flag("--json", json, "Print the rows as JSON");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    const auto el = parse_list(elevations, "--elevations"), az = parse_list(azimuths, "--azimuths");
+    for (double e : el)
+      if (!(e > 0 && e < 90)) throw InputError(fmt::format("--elevations: {} is not in (0, 90)", e));
+    std::vector<Row> rows;
+    if (flat) {
+      rows = measure(Texture(size, size, 1), 4.0f, "flat", el, az, view_elev, fits);
+    } else {
+      std::stringstream ss(kinds);
+      std::string kind;
+      while (std::getline(ss, kind, ',')) {
+        GenOptions g;
+        g.kind = kind, g.size = size, g.ao_rays = 1, g.ao_max_distance = 0.5f, g.directional_azimuths = 0;
+        const TextureSet s = generate_texture_set(g);
+        const auto r = measure(s.height, s.depth_texels, kind, el, az, view_elev, fits);
+        rows.insert(rows.end(), r.begin(), r.end());
+      }
+    }
+    if (json) {
+      nlohmann::json j;
+      j["size"] = size, j["view_elevation"] = view_elev;
+      for (const Row& r : rows)
+        j["rows"].push_back({{"kind", r.kind},
+                             {"elevation", r.elev},
+                             {"azimuth", r.az},
+                             {"gt", r.gt},
+                             {"view_independent", r.gt > 0 ? r.a / r.gt : 0},
+                             {"slope_corrected", r.gt > 0 ? r.b / r.gt : 0},
+                             {"no_masking", r.gt > 0 ? r.c / r.gt : 0},
+                             {"fit9", r.gt > 0 ? r.a9 / r.gt : 0},
+                             {"fit9_slope4", r.gt > 0 ? r.b94 / r.gt : 0},
+                             {"fit9_slope9", r.gt > 0 ? r.b99 / r.gt : 0}});
+      std::cout << j.dump(1) << "\n";
+      return 0;
+    }
+    // Columns: ratio to GT of each form.
+    struct Col {
+      const char* name;
+      double Row::*v;
+    };
+    std::vector<Col> cols = {
+        {"view-independent a", &Row::a}, {"slope-corrected b", &Row::b}, {"unmasked c", &Row::c}};
+    if (fits) {
+      cols.push_back({"9-channel fit", &Row::a9});
+      cols.push_back({"fit + slope band 1 (+8)", &Row::b94});
+      cols.push_back({"fit + slope degree 2 (+18)", &Row::b99});
+    }
+    std::string head = "| material | light (elev/az) |", rule = "|---|---|";
+    for (const Col& c : cols) head += fmt::format(" {} / GT |", c.name), rule += "---|";
+    std::cout << head << "\n" << rule << "\n";
+    for (const Row& r : rows) {
+      std::cout << fmt::format("| {} | {:g}/{:g} |", r.kind, r.elev, r.az);
+      for (const Col& c : cols) std::cout << fmt::format(" {:.3f} |", r.*(c.v) / r.gt);
+      std::cout << "\n";
+    }
+    std::cout << "\nmean (max) |ratio - 1| over the lights\n\n| material |";
+    for (const Col& c : cols) std::cout << " " << c.name << " |";
+    std::cout << "\n" << rule.substr(4) << "\n";
+    for (std::size_t i = 0; i < rows.size();) {
+      std::size_t j = i;
+      std::vector<double> m(cols.size()), x(cols.size());
+      for (; j < rows.size() && rows[j].kind == rows[i].kind; ++j)
+        for (std::size_t q = 0; q < cols.size(); ++q) {
+          const double d = std::abs(rows[j].*(cols[q].v) / rows[j].gt - 1);
+          m[q] += d, x[q] = std::max(x[q], d);
+        }
+      std::cout << "| " << rows[i].kind << " |";
+      for (std::size_t q = 0; q < cols.size(); ++q)
+        std::cout << fmt::format(" {:.3f} ({:.3f}) |", m[q] / double(j - i), x[q]);
+      std::cout << "\n";
+      i = j;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "directional_view_probe: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
