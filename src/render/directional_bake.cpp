@@ -226,8 +226,10 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
   return r;
 }
 
-Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
-  check_azimuths("bake_directional_channels", azimuths);
+namespace {
+// The fits of bake_directional_channels (slopes false: 9 channels of f = lit · (n · l)⁺) or of
+// bake_directional_slope_channels (slopes true: 18 channels, f · n_x/n_z then f · n_y/n_z).
+Texture fit_directional(const Texture& height, float depth, int azimuths, float max_distance, bool slopes) {
   const DirectionalBakeAzimuths az = directional_bake_azimuths(azimuths);
   const auto& dirs = az.dirs;
   const LsqProjection proj(dir::kPoly2Terms, dirs, dir::kFitElevations, dir::kFitEpsilon, 0, az.weights);
@@ -247,16 +249,17 @@ Texture bake_directional_channels(const Texture& height, float depth, int azimut
                          : bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
   const auto n = fine_normals(height, depth);
   // P transposed (direction-major, the 9 rows of a direction side by side), widened once.
-  std::vector<double> PT(std::size_t(nd) * dir::kPoly2Terms);
+  constexpr int nb = dir::kPoly2Terms;
+  std::vector<double> PT(std::size_t(nd) * nb);
   for (int d = 0; d < nd; ++d)
-    for (int r = 0; r < proj.nb; ++r)
-      PT[std::size_t(d) * dir::kPoly2Terms + r] = proj.P[std::size_t(r) * nd + d];
-  Texture out(w, h, dir::kDirectionalChannels);
+    for (int r = 0; r < nb; ++r) PT[std::size_t(d) * nb + r] = proj.P[std::size_t(r) * nd + d];
+  Texture out(w, h, slopes ? 2 * nb : nb);
   tbb::parallel_for(0, h, [&](int j) {
     for (int i = 0; i < w; ++i) {
       const std::size_t p = std::size_t(j) * w + i;
       // Σ_d P[r][d] f(d) in the order of d, the blocked directions (f = 0) left out.
-      double sum[dir::kPoly2Terms] = {};
+      double sum[2 * nb] = {};
+      const double sx = double(n[p].x) / n[p].z, sy = double(n[p].y) / n[p].z;
       for (int a = 0; a < na; ++a) {
         const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
         const auto& te = tan_e[std::size_t(a)];
@@ -265,14 +268,30 @@ Texture bake_directional_channels(const Texture& height, float depth, int azimut
         for (; e < ne; ++e) {
           const int d = a * ne + e;
           const float f = std::max(dot(n[p], proj.dirs[std::size_t(d)]), 0.0f);
-          const double* pd = &PT[std::size_t(d) * dir::kPoly2Terms];
-          for (int r = 0; r < dir::kPoly2Terms; ++r) sum[r] += pd[r] * f;
+          const double* pd = &PT[std::size_t(d) * nb];
+          if (slopes) {
+            for (int r = 0; r < nb; ++r) sum[r] += pd[r] * (f * sx), sum[nb + r] += pd[r] * (f * sy);
+          } else {
+            for (int r = 0; r < nb; ++r) sum[r] += pd[r] * f;
+          }
         }
       }
-      for (int r = 0; r < proj.nb; ++r) out.at(i, j, r) = float(sum[r]);
+      for (int r = 0; r < out.channels(); ++r) out.at(i, j, r) = float(sum[r]);
     }
   });
   return out;
+}
+}  // namespace
+
+Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
+  check_azimuths("bake_directional_channels", azimuths);
+  return fit_directional(height, depth, azimuths, max_distance, false);
+}
+
+Texture bake_directional_slope_channels(const Texture& height, float depth, int azimuths,
+                                        float max_distance) {
+  check_azimuths("bake_directional_slope_channels", azimuths);
+  return fit_directional(height, depth, azimuths, max_distance, true);
 }
 
 Texture bake_horizon_moment_channels(const Texture& height, float depth, int azimuths, float max_distance) {

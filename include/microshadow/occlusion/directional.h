@@ -41,8 +41,9 @@ void poly2_basis(Vec3<T> l, T out[kPoly2Terms]) {
   out[8] = l.z * l.z;
 }
 
-// The fit that defines the channels (render/directional_bake.h bakes exactly this): directions at azimuths
-// φ_a = 2π(a + ½)/N_φ (N_φ = the bake's azimuth count, 32 by default) and elevations
+// The fit that defines the channels (render/directional_bake.h bakes exactly this): directions at the bake's
+// N_φ azimuths (32 by default; up to 64, grid steps within 0.5° of 2π(a + ½)/N_φ, each weighted by its share
+// of the circle: render::directional_bake_azimuths) and elevations
 // e_j = (j + ½)/kFitElevations · π/2, each with weight cos e_j · fit_weight(sin e_j);
 // c = argmin Σ w (Σ_i c_i b_i(l) − f(l))².
 inline constexpr int kFitElevations = 16;
@@ -73,6 +74,26 @@ T directional_term(const T* channels, Vec3<T> l_local, Vec3<T> n_coarse_local) {
   const T nl = dot(n_coarse_local, l_local);
   if (!(nl > T(1e-4))) return T(0);
   return directional_transport(channels, l_local) / nl;
+}
+
+// The view correction (measured, not yet shipped: docs/directional-occlusion.md, "The view–light correlation
+// floor"). A camera along v sees each facet with its projected area (n · v)⁺/n_z; without masking, the mean
+// it averages is E[f (n · v)/(n_z v_z)] = T(l) + (G_x(l) v_x + G_y(l) v_y)/v_z, G = E[f n_x/n_z], E[f
+// n_y/n_z] (render::bake_directional_slope_channels: 18 channels, x then y). v: unit, tangent space, toward
+// the camera; v_z is taken ≥ kMinViewZ (at grazing views masking, which this leaves out, dominates). 0 for
+// l.z ≤ 0; ≥ 0.
+inline constexpr int kSlopeChannels = 2 * kPoly2Terms;
+inline constexpr double kMinViewZ = 0.1;
+template <class T>
+T directional_view_transport(const T* channels, const T* slope_channels, Vec3<T> l_local, Vec3<T> v_local) {
+  if (!(l_local.z > T(0))) return T(0);
+  T b[kPoly2Terms];
+  poly2_basis(l_local, b);
+  T t = 0, gx = 0, gy = 0;
+  for (int i = 0; i < kPoly2Terms; ++i)
+    t += channels[i] * b[i], gx += slope_channels[i] * b[i], gy += slope_channels[kPoly2Terms + i] * b[i];
+  const T vz = std::max(v_local.z, T(kMinViewZ));
+  return std::max(t + (gx * v_local.x + gy * v_local.y) / vz, T(0));
 }
 
 // 8-bit storage: channel i as UNORM between a per-material range [lo_i, hi_i] (the fine level's min and max,

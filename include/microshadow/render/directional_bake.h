@@ -38,6 +38,13 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths);
 Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
                                   float max_distance);
 
+// The view correction's 18 channels (measured, not yet a renderer method: docs/directional-occlusion.md,
+// "The view–light correlation floor"): the same fit, grid, horizons and normals applied to f · n_x/n_z
+// (channels 0–8) and f · n_y/n_z (channels 9–17), f = lit · (n · l)⁺. Linear, so box means are the coarse
+// texel's own fit. directional::directional_view_transport reads them. Errors as bake_directional_channels.
+Texture bake_directional_slope_channels(const Texture& height, float depth_texels, int azimuths,
+                                        float max_distance);
+
 // The 10 horizon-moment channels (directional.h, "hm" alternatives) with the same azimuths, horizons and
 // normals; facet slopes where nothing rises above the tangent plane.
 Texture bake_horizon_moment_channels(const Texture& height, float depth_texels, int azimuths,
