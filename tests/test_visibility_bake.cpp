@@ -338,6 +338,15 @@ TEST(LatticeSweep, LatticeAzimuthsNearUniform) {
         EXPECT_NEAR(d.x * d.x + d.y * d.y, 1.0f, 1e-6f);
       }
     }
+  // The far end of the domain stays fast (one O(1) test per ring) and within its tolerance.
+  const auto fine = lattice_azimuths(4096, 0.01);
+  ASSERT_EQ(fine.size(), 4096u);
+  for (int a = 0; a < 4096; ++a)
+    EXPECT_LE(std::abs(std::remainder(lattice_azimuth(fine[std::size_t(a)]) - 2 * kPiD * (a + 0.5) / 4096,
+                                      2 * kPiD)) *
+                  180 / kPiD,
+              0.01)
+        << a;
   EXPECT_THROW(lattice_azimuths(0, 0.5), InputError);
   EXPECT_THROW(lattice_azimuths(8, 0), InputError);
   EXPECT_THROW(lattice_azimuths(8, 50), InputError);

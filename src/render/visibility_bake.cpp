@@ -330,17 +330,22 @@ std::vector<LatticeStep> lattice_azimuths(int n, double max_error_deg) {
   std::vector<LatticeStep> out;
   for (int a = 0; a < n; ++a) {
     const double phi = 2 * kPi<double> * (a + 0.5) / n;
+    const double c = std::cos(phi), sn = std::sin(phi);
     for (int M = 1;; ++M) {
-      // The primitive steps with max(|p|, |q|) = M (the ring of the square of radius M); smaller M were
-      // tried.
+      // On the ring max(|p|, |q|) = M the azimuth is monotonic along each side, so the closest steps to φ
+      // are the two lattice points beside the ray's crossing of its side. (A non-primitive one has the
+      // azimuth of a step on a smaller ring, already farther than the tolerance.) O(1) per ring.
       double best = std::numeric_limits<double>::infinity();
       LatticeStep bs;
-      for (int p = -M; p <= M; ++p)
-        for (int q = -M; q <= M; ++q) {
-          if (std::max(std::abs(p), std::abs(q)) != M || gcd_int(p, q) != 1) continue;
-          const double d = std::abs(std::remainder(std::atan2(double(q), double(p)) - phi, 2 * kPi<double>));
-          if (d < best) best = d, bs = {p, q};
-        }
+      const bool x_side = std::abs(c) >= std::abs(sn);
+      const double other = x_side ? M * sn / std::abs(c) : M * c / std::abs(sn);
+      for (double o : {std::floor(other), std::ceil(other)}) {
+        const int k = int(std::clamp(o, double(-M), double(M)));
+        const int p = x_side ? (c > 0 ? M : -M) : k, q = x_side ? k : (sn > 0 ? M : -M);
+        if (gcd_int(p, q) != 1) continue;
+        const double d = std::abs(std::remainder(std::atan2(double(q), double(p)) - phi, 2 * kPi<double>));
+        if (d < best) best = d, bs = {p, q};
+      }
       if (best <= tol) {
         out.push_back(bs);
         break;
