@@ -40,6 +40,13 @@ namespace {
 // which changes cos² H = 1/(1 + tan² H), i.e. V, by at most kTan2Tolerance (V is never lowered by it). It
 // also bounds unlimited walks: beyond s = (z_max − z_ij)/√kTan2Tolerance nothing can matter.
 constexpr float kTan2Tolerance = 1e-4f;
+// The triangulated surface in a cell with corner heights a = (0, 0), b = (1, 0), c = (1, 1), d = (0, 1) at
+// fractions (fx, fy) ∈ [0, 1]²: triangle (a, b, c) where fx ≥ fy, (a, c, d) otherwise; both agree on the
+// diagonal. The walks and the sweeps read the surface through this one definition.
+inline float cell_height(float a, float b, float c, float d, float fx, float fy) {
+  return fx >= fy ? a + fx * (b - a) + fy * (c - b) : a + fy * (d - a) + fx * (c - d);
+}
+
 // Heights in texel units, stored with one extra column and row (the wrapped first ones) so a cell's four
 // vertices are at p, p + 1, p + w + 1, p + w + 2.
 struct Heights {
@@ -109,11 +116,10 @@ class HorizonWalk {
       const float a = p[0] - z0_, b = p[1] - z0_, c = p[W + 1] - z0_, d = p[W] - z0_;
       if (std::max(std::max(a, b), std::max(c, d)) > s * gate_) {
         const float fdi = float(di), fdj = float(dj);
-        // Surface Δz at parameter t in this cell: triangle (00, 10, 11) where fx ≥ fy, (00, 11, 01)
-        // otherwise; both agree on the diagonal, and the clamps keep boundary points on the cell.
+        // Surface Δz at parameter t in this cell (cell_height); the clamps keep boundary points on the cell.
         auto eval = [&](float t) {
           const float fx = std::clamp(cx_ * t - fdi, 0.0f, 1.0f), fy = std::clamp(sy_ * t - fdj, 0.0f, 1.0f);
-          return fx >= fy ? a + fx * (b - a) + fy * (c - b) : a + fy * (d - a) + fx * (c - d);
+          return cell_height(a, b, c, d, fx, fy);
         };
         float s_l = s, z_l = z_in_known ? z_in : eval(s);
         if (cx_ != sy_) {  // diagonal crossing fx = fy
@@ -425,9 +431,7 @@ std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float de
             for (int b = 1; b < per; ++b) {
               const Breakpoint& bp = bps[std::size_t(b - 1)];
               const float* c = f.vertex(wrap(x + bp.ci, w), wrap(y + bp.cj, h));
-              const float a0 = c[0], b0 = c[1], c0 = c[W + 1], d0 = c[W];
-              const float fx = bp.fx, fy = bp.fy;
-              z[b] = fx >= fy ? a0 + fx * (b0 - a0) + fy * (c0 - b0) : a0 + fy * (d0 - a0) + fx * (c0 - d0);
+              z[b] = cell_height(c[0], c[1], c[W + 1], c[W], bp.fx, bp.fy);
             }
             xs[u] = wrap(x + st.p, w), ys[u] = wrap(y + st.q, h);
           }
@@ -441,7 +445,7 @@ std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float de
           std::size_t n_h = 0;
           double* const hsp = hs.data();
           double* const hzp = hz.data();
-          auto visit = [&](std::size_t idx, double shift, bool is_vertex) {
+          auto visit = [&](std::size_t idx, double shift) {
             const double s = ss[idx] - shift, z = zl[idx];
             // Drop the nearest hull point while the next one is at least as steep from here (it is then
             // under the chord to it, for this point and every one before it): (zA − z)/(sA − s) ≥ (zB −
@@ -449,22 +453,13 @@ std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float de
             while (n_h >= 2 &&
                    (hzp[n_h - 2] - z) * (hsp[n_h - 1] - s) >= (hzp[n_h - 1] - z) * (hsp[n_h - 2] - s))
               --n_h;
-            if (is_vertex)
+            if (idx % std::size_t(per) == 0)  // a vertex: its horizon
               out[std::size_t(vl[idx / std::size_t(per)]) * n + k] =
                   n_h ? float(std::max((hzp[n_h - 1] - z) / (hsp[n_h - 1] - s), 0.0)) : 0.0f;
             hsp[n_h] = s, hzp[n_h] = z, ++n_h;
           };
-          // Point idx is a vertex iff idx ≡ 0 (mod per); b counts that down alongside idx.
-          std::size_t b = start % std::size_t(per);
-          for (std::size_t idx = start + 1; idx-- > 0;) {
-            visit(idx, 0.0, b == 0);
-            b = b == 0 ? std::size_t(per) - 1 : b - 1;
-          }
-          b = std::size_t(per) - 1;
-          for (std::size_t idx = N; idx-- > start + 1;) {
-            visit(idx, L, b == 0);
-            b = b == 0 ? std::size_t(per) - 1 : b - 1;
-          }
+          for (std::size_t idx = start + 1; idx-- > 0;) visit(idx, 0.0);
+          for (std::size_t idx = N; idx-- > start + 1;) visit(idx, L);
         }
       }
     });
