@@ -373,6 +373,15 @@ TEST(DirectionalPoly2, BakerMatchesIndependentFitOffTheGrid) {
       }
     }
   EXPECT_LT(max_slope_coef, 1e-3);
+
+  // The one-pass 27-channel bake (what gen-material --directional-view writes) is both bakes, bit for bit.
+  const Texture v27 = bake_directional_view_channels(s.height, s.depth_texels, na, 0);
+  ASSERT_EQ(v27.channels(), dir::kViewChannels);
+  for (int y = 0; y < s.height.height(); ++y)
+    for (int x = 0; x < s.height.width(); ++x)
+      for (int k = 0; k < dir::kViewChannels; ++k)
+        ASSERT_EQ(v27.at(x, y, k), k < 9 ? ch.at(x, y, k) : sc.at(x, y, k - 9)) << x << " " << y << " " << k;
+  EXPECT_THROW(bake_directional_view_channels(s.height, s.depth_texels, 3, 0), InputError);
 }
 
 // The view correction on relief: whole-texture (the box mean of every texel), at the study's lights and

@@ -6,6 +6,7 @@
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 #include <microshadow/math/sampling.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
@@ -201,6 +202,38 @@ TEST(MicroShadowingTexelTerms, DirectionalReadsItsChannels) {
   // Below the horizon: no light.
   in.l = in.l_tangent = Vec3f(1, 0, -0.1f);
   EXPECT_EQ(d.shade(in).diffuse, 0.0f);
+}
+
+// directional-view: 27 channels; the flat surface's channels give 1 whatever the view, and any channels give
+// the core directional_view_term (v in tangent space); fewer channels than it reads: no term (1), as the
+// renderer refuses such a material before shading.
+TEST(MicroShadowingTexelTerms, DirectionalViewReadsItsChannelsAndTheView) {
+  const MicroShadowingEvaluator d("directional-view"), p("directional-view+generic-vndf-alu");
+  EXPECT_TRUE(d.info().needs_texel && p.info().needs_texel);
+  EXPECT_EQ(d.info().texel_channels, 27);
+  EXPECT_EQ(p.info().texel_channels, 27);
+  EXPECT_THROW(d.eval(MicroShadowingQuery{0.5, 0.5, 1, 0.5, std::nullopt, std::nullopt}), InputError);
+  float c[27] = {};
+  c[3] = 1;
+  MicroShadowingShadeInput in;
+  in.texel = c, in.texel_channels = 27;
+  in.l = in.l_tangent = normalize(Vec3f(0.6f, 0.2f, 0.5f));
+  in.v_tangent = normalize(Vec3f(-0.7f, 0.3f, 0.4f));
+  EXPECT_NEAR(d.shade(in).diffuse, 1.0f, 1e-6f);
+  Pcg32 rng(5);
+  const auto u = [&] { return rng.next_float() - 0.5f; };
+  for (int t = 0; t < 50; ++t) {
+    for (float& x : c) x = u();
+    c[0] += 0.5f;
+    in.l_tangent = normalize(Vec3f(u(), u(), u() + 0.5f));
+    in.v_tangent = normalize(Vec3f(u(), u(), u() + 0.5f));
+    in.n_tangent = normalize(Vec3f(0.4f * u(), 0.4f * u(), 1));
+    EXPECT_EQ(d.shade(in).diffuse,
+              directional::directional_view_term(c, in.l_tangent, in.v_tangent, in.n_tangent));
+    EXPECT_EQ(p.shade(in).diffuse, d.shade(in).diffuse);
+  }
+  in.texel_channels = 9;
+  EXPECT_EQ(d.shade(in).diffuse, 1.0f);
 }
 
 TEST(MicroShadowingMethods, SameValuesFromManyThreads) {

@@ -117,8 +117,8 @@ TEST(RenderMethods, EveryRegistryMethodRendersAndPairsSplitByLobe) {
       "settings": {"width": 6, "height": 6, "spp": 1, "vndf_samples": 8}})";
   auto render = [&](const std::string& method, Component c) {
     Scene s = parse_scene(scene, "inline.json", ".");
-    // Directional channels of a flat surface (transport = N·L: the z channel is 1).
-    s.materials[0].directional = Texture(1, 1, 9);
+    // Directional channels of a flat surface (transport = N·L: the z channel is 1; slopes 0), all 27.
+    s.materials[0].directional = Texture(1, 1, 27);
     s.materials[0].directional.at(0, 0, 3) = 1.0f;
     s.settings.micro_shadowing = method;
     s.settings.component = c;
@@ -141,6 +141,49 @@ TEST(RenderMethods, EveryRegistryMethodRendersAndPairsSplitByLobe) {
                                   std::pair{Component::Specular, name.substr(plus + 1)}}) {
       const Image a = render(name, c), b = render(part, c);
       for (std::size_t i = 0; i < a.px.size(); ++i) EXPECT_EQ(a.px[i].r, b.px[i].r) << name << " " << part;
+    }
+  }
+}
+
+// The view correction reads the camera in the texture's tangent space (x = +u, y = +v): constant channels
+// T = l.z, G_x = gx, G_y = gy give the diffuse radiance of `directional` times 1 + (gx v_x + gy v_y)/(v_z
+// l.z), v toward the eye. A narrow camera (1°) makes v the same at every pixel; the plane's tangent (+x, or
+// +y with v = cross(n, t) = −x) fixes what v_x, v_y are, independently of the renderer's frames.
+TEST(RenderMethods, DirectionalViewReadsTheCameraInTangentSpace) {
+  struct Case {
+    const char* eye;
+    const char* tangent;
+    float gx, gy, vx, vy;  // v = (vx, vy, 1)/√2 in tangent space
+  };
+  const double el = 40, lz = std::sin(el * kPi<double> / 180);
+  for (const Case& k :
+       {Case{"[0, -2, 2]", "[1, 0, 0]", 0.0f, 0.2f, 0, -1},
+        Case{"[0, -2, 2]", "[1, 0, 0]", 0.3f, 0.0f, 0, -1},
+        Case{"[2, 0, 2]", "[1, 0, 0]", -0.25f, 0.0f, 1, 0}, Case{"[2, 0, 2]", "[0, 1, 0]", 0.0f, 0.2f, 0, -1},
+        Case{"[2, 0, 2]", "[0, 1, 0]", 0.3f, 0.0f, 0, -1}}) {
+    const std::string json = std::string(R"({
+      "camera": {"eye": )") + k.eye +
+                             R"(, "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 1},
+      "materials": {"m": {"base_color": 0.5, "specular": 0}},
+      "objects": [{"type": "plane", "material": "m", "size": [20, 20], "tangent": )" +
+                             k.tangent + R"(}],
+      "lights": [{"type": "directional", "elevation_deg": 40, "azimuth_deg": 30, "intensity": 2}],
+      "settings": {"width": 3, "height": 3, "spp": 1, "component": "diffuse"}})";
+    auto render = [&](const char* method) {
+      Scene s = parse_scene(json, "inline.json", ".");
+      s.materials[0].directional = Texture(1, 1, 27);
+      s.materials[0].directional.at(0, 0, 3) = 1.0f;
+      s.materials[0].directional.at(0, 0, 9) = k.gx;
+      s.materials[0].directional.at(0, 0, 18) = k.gy;
+      s.settings.micro_shadowing = method;
+      return Renderer(s).render();
+    };
+    const Image d = render("directional"), v = render("directional-view");
+    const double expect = 1 + (k.gx * k.vx + k.gy * k.vy) / lz;
+    for (std::size_t i = 0; i < d.px.size(); ++i) {
+      ASSERT_GT(d.px[i].r, 0.01f);
+      EXPECT_NEAR(v.px[i].r / d.px[i].r, expect, 0.01)
+          << k.eye << " " << k.tangent << " " << k.gx << " " << k.gy;
     }
   }
 }

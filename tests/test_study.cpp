@@ -162,17 +162,17 @@ TEST(Study, TinyRunSchemaAndDeterminism) {
 
   // Rows: 1 material × 2 shapes × 2 lights × (k = 1: every term + the smooth-normal ablation of those that
   // read N·L; k = 4: + every term with the widened roughness) × 3 components. The terms are the registry's
-  // study list: 17 today, 14 of them read N·L.
+  // study list: 19 today, 15 of them read N·L.
   const std::vector<std::string> terms = tiny().terms;
   ASSERT_EQ(terms, msh::occlusion::micro_shadowing_study_methods());
-  ASSERT_EQ(terms.size(), 17u);
+  ASSERT_EQ(terms.size(), 19u);
   const auto n_nl = std::count_if(terms.begin(), terms.end(), [](const std::string& t) {
     return msh::occlusion::find_micro_shadowing_method(t)->uses_ndotl;
   });
-  EXPECT_EQ(n_nl, 14);
+  EXPECT_EQ(n_nl, 15);
   EXPECT_EQ(r1["config"]["terms"].get<std::vector<std::string>>(), terms);
   const auto& rows = r1["rows"];
-  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * ((17 + 14) + (17 + 14 + 17)) * 3));
+  EXPECT_EQ(rows.size(), std::size_t(2 * 2 * ((19 + 15) + (19 + 15 + 19)) * 3));
   std::set<std::string> seen;
   for (const auto& row : rows) seen.insert(row["method"].get<std::string>());
   EXPECT_EQ(seen, std::set<std::string>(terms.begin(), terms.end()));

@@ -1,8 +1,10 @@
 // CLI tests of `gen-material --height FILE --depth D` (a user's height map baked into the procedural kinds'
 // texture set) and `--kind gravel`: the outputs against closed forms (V-groove: bottom cos β, rim 1; the
 // material.json depth), thread-count independence, and bad input (one error line, exit 2, no output).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
+#include <microshadow/render/texture_gen.h>
 #include <support/cli_test_util.h>
 #include <sys/wait.h>
 
@@ -121,7 +123,8 @@ TEST_F(GenMaterialCli, GravelKind) {
 // with their 8-bit ranges), and --no-mips / --directional-azimuths 0 leave them out.
 TEST_F(GenMaterialCli, WritesMipChains) {
   const fs::path out = dir / "mips";
-  Result r = run("gen-material --kind bark --size 16 --ao-rays 4 --directional-azimuths 8 --out " + out.string());
+  Result r =
+      run("gen-material --kind bark --size 16 --ao-rays 4 --directional-azimuths 8 --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(slurp(out / "mips" / "mips.json"));
   EXPECT_EQ(j["levels"].get<int>(), 5);  // 16, 8, 4, 2, 1
@@ -139,5 +142,41 @@ TEST_F(GenMaterialCli, WritesMipChains) {
           bare.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_FALSE(fs::exists(bare / "mips"));
-  EXPECT_EQ(run("gen-material --kind bark --size 16 --directional-azimuths 2 --out " + bare.string()).code, 2);
+  EXPECT_EQ(run("gen-material --kind bark --size 16 --directional-azimuths 2 --out " + bare.string()).code,
+            2);
+
+  // --directional-view: 27 channels in directional.npy (the 9 as without it, then the 18 slope channels),
+  // seven 4-channel mip files, a renderer material that the directional-view method accepts.
+  const fs::path view = dir / "view";
+  r = run(
+      "gen-material --kind bark --size 16 --ao-rays 4 --directional-azimuths 8 --directional-view --out " +
+      view.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const render::Texture d9 = render::load_directional_channels(out / "directional.npy");
+  const render::Texture d27 = render::load_directional_channels(view / "directional.npy");
+  ASSERT_EQ(d27.channels(), 27);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int k = 0; k < 9; ++k) ASSERT_EQ(d27.at(x, y, k), d9.at(x, y, k));
+  const nlohmann::json jv = nlohmann::json::parse(slurp(view / "mips" / "mips.json"));
+  EXPECT_EQ(jv["directional"]["lo"].size(), 27u);
+  for (int f = 0; f < 7; ++f)
+    EXPECT_TRUE(fs::exists(view / "mips" / fmt::format("directional_{}.ktx2", f))) << f;
+  EXPECT_FALSE(fs::exists(view / "mips" / "directional_7.ktx2"));
+  const auto write_scene = [&](const fs::path& set, const std::string& name) {
+    const std::string f = (dir / name).string();
+    std::ofstream(f) << R"({"materials": {"m": {"height": ")" << (set / "height.png").string()
+                     << R"(", "normal": ")" << (set / "normal.png").string()
+                     << R"("}}, "objects": [{"type": "plane", "material": "m"}],
+      "lights": [{"type": "directional", "elevation_deg": 20}], "settings": {"width": 8, "height": 8}})";
+    return f;
+  };
+  r = run("render " + write_scene(view, "view.json") + " --method directional-view --out " +
+          (dir / "v.png").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  // The 9-channel set is refused by the method that reads 27, naming the count.
+  r = run("render " + write_scene(out, "nine.json") + " --method directional-view --out " +
+          (dir / "v9.png").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("27"), std::string::npos) << r.err;
 }

@@ -473,9 +473,10 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
   // and so is every method of the list (registry and test pairs).
   std::vector<std::string> ids;
   for (const auto& m : res["methods"]) ids.push_back(m["id"]);
-  for (const char* want : {"none", "ao", "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic",
-                           "generic-vndf", "generic-vndf-alu", "generic-vndf-alu-two-stage", "lut3d", "lut2d",
-                           "lut3d-azimuth", "directional", "directional+generic-vndf-alu"})
+  for (const char* want :
+       {"none", "ao", "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic", "generic-vndf",
+        "generic-vndf-alu", "generic-vndf-alu-two-stage", "lut3d", "lut2d", "lut3d-azimuth", "directional",
+        "directional+generic-vndf-alu", "directional-view", "directional-view+generic-vndf-alu"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
   const auto listed = methods_js_entries(msh::view::methods_js(methods));
   EXPECT_EQ(ids.size(), listed.size());
@@ -534,17 +535,26 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
             // S = sum |c_i b_i(l)|), the 8-bit display clamped to 1 (the term may exceed 1 near the coarse
             // terminator).
             ASSERT_TRUE(p.contains("directional")) << "a texel method without probed channels (" << id << ")";
-            float ch[directional::kDirectionalChannels], b[directional::kDirectionalChannels];
-            for (int k = 0; k < directional::kDirectionalChannels; ++k)
-              ch[k] = p["directional"][k].get<float>();
-            const Vec3f lt(p["l_tangent"][0].get<float>(), p["l_tangent"][1].get<float>(),
-                           p["l_tangent"][2].get<float>());
-            const Vec3f nt(p["n_tangent"][0].get<float>(), p["n_tangent"][1].get<float>(),
-                           p["n_tangent"][2].get<float>());
+            // The view correction's forms read all 27 channels and the tangent-space view (directional.h).
+            const int nch = occlusion::find_micro_shadowing_method(form["method"])->texel_channels;
+            ASSERT_GE(int(p["directional"].size()), nch) << id;
+            float ch[directional::kViewChannels], b[directional::kDirectionalChannels];
+            for (int k = 0; k < nch; ++k) ch[k] = p["directional"][k].get<float>();
+            const auto vec = [&](const char* key) {
+              return Vec3f(p[key][0].get<float>(), p[key][1].get<float>(), p[key][2].get<float>());
+            };
+            const Vec3f lt = vec("l_tangent"), nt = vec("n_tangent"), vt = vec("v_tangent");
             directional::poly2_basis(lt, b);
+            // S of each 9-term sum (the view's G sums weighted as in shaders/portable/directional.h).
             double S = 0, nl_abs = std::abs(nt.x * lt.x) + std::abs(nt.y * lt.y) + std::abs(nt.z * lt.z);
-            for (int k = 0; k < directional::kDirectionalChannels; ++k) S += std::abs(double(ch[k]) * b[k]);
-            want = directional::directional_term<float>(ch, lt, nt);
+            const double vz = std::max(double(vt.z), directional::kMinViewZ);
+            for (int k = 0; k < nch; ++k) {
+              const double w = k < 9 ? 1.0 : k < 18 ? std::abs(vt.x) / vz : std::abs(vt.y) / vz;
+              S += std::abs(double(ch[k]) * b[k % 9]) * w;
+            }
+            want = nch == directional::kViewChannels
+                       ? directional::directional_view_term<float>(ch, lt, vt, nt)
+                       : directional::directional_term<float>(ch, lt, nt);
             const double ntl = std::max(1e-4, double(dot(nt, lt)));
             tol = 1e-6 * S / ntl + (1e-6 + 2.5e-7 * nl_abs / ntl) * std::abs(want) + 1e-7;
             tol8 = 1.0 / 255 + tol;

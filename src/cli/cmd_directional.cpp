@@ -3,11 +3,11 @@
 //   microshadow verify directional [--kinds plaster,bark,gravel] [--size 512] [--scales 1,4,16]
 //       [--elevations 5,10,25,45,70] [--azimuths 0,90] [--bake-azimuths 32] [--distances 0,-1] [--quantize]
 //       [--threads N] [--out FILE.md] [--json]
-//   microshadow bake directional HEIGHT.png|.exr --depth D --out DIR [--azimuths 32] [--distance 0]
+//   microshadow bake directional HEIGHT.png|.exr --depth D --out DIR [--azimuths 32] [--distance 0] [--view]
 // The first measures every representation against the exact texture-space diffuse transport; the second
-// writes the 9 directional channels of a height map and their box-filtered mip chain as float32 NPY (one
-// file per level, directional_mip<L>.npy, shape (1, h, w, 9), io/texture.h's NPY layout) and directional.json
-// (8-bit ranges).
+// writes the 9 directional channels of a height map (27 with --view: the view correction's slope channels
+// follow) and their box-filtered mip chain as float32 NPY (one file per level, directional_mip<L>.npy, shape
+// (1, h, w, 9 or 27), io/texture.h's NPY layout) and directional.json (8-bit ranges).
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
@@ -83,13 +83,15 @@ struct BakeArgs {
   std::string height, out;
   float depth = 0, distance = 0;
   int azimuths = 32, threads = 0;
+  bool view = false;
 };
 
 void run_bake(const BakeArgs& a) {
   const auto limit = thread_limit(a.threads);
   require_range(a.depth, 1e-6, 1e4, "--depth");
   const Texture h = render::load_height_map(a.height);
-  const Texture ch = render::bake_directional_channels(h, a.depth, a.azimuths, a.distance);
+  const Texture ch = a.view ? render::bake_directional_view_channels(h, a.depth, a.azimuths, a.distance)
+                            : render::bake_directional_channels(h, a.depth, a.azimuths, a.distance);
   fs::create_directories(a.out);
   const auto chain = render::box_mip_chain(ch);
   for (std::size_t lv = 0; lv < chain.size(); ++lv)
@@ -98,7 +100,12 @@ void run_bake(const BakeArgs& a) {
   // The 8-bit encoding's per-channel range (the fine level's min and max) and the conventions.
   nlohmann::json j;
   const render::ChannelRanges r = render::channel_ranges(ch);
-  j["channels"] = {"1", "x", "y", "z", "xz", "yz", "xx-yy", "xy", "zz"};
+  // The basis of each group (occlusion/directional.h): T, then with --view G_x and G_y.
+  const std::vector<std::string> basis = {"1", "x", "y", "z", "xz", "yz", "xx-yy", "xy", "zz"};
+  j["channels"] = basis;
+  if (a.view)
+    for (const char* g : {"gx:", "gy:"})
+      for (const std::string& b : basis) j["channels"].push_back(g + b);
   j["range_lo"] = r.lo, j["range_hi"] = r.hi;
   j["tangent_space"] = "x = +u (columns), y = +v (rows, top to bottom), z = flat normal";
   j["azimuths"] = a.azimuths, j["max_distance"] = a.distance, j["depth_texels"] = a.depth;
@@ -132,9 +139,9 @@ void add_directional(Groups& g) {
 
   const auto [b, ba] = add_command<BakeArgs>(
       g.bake, "directional",
-      "Directional-occlusion channels (9, docs/directional-occlusion.md) of a height map and their "
-      "box-filtered "
-      "mip chain (float32 NPY per level) with directional.json (8-bit ranges, conventions)",
+      "Directional-occlusion channels (9, or 27 with --view; docs/directional-occlusion.md) of a height map "
+      "and their box-filtered mip chain (float32 NPY per level) with directional.json (8-bit ranges, "
+      "conventions)",
       run_bake);
   b->add_option("height", ba->height, "Height map (16-bit PNG or EXR, grey, [0, 1])")->required();
   b->add_option("--depth", ba->depth, "Depth of the full height range, texels")->required();
@@ -145,6 +152,9 @@ void add_directional(Groups& g) {
        "sweeps; above: uniform, by walks)")
       ->capture_default_str();
   b->add_option("--distance", ba->distance, "Ray length, texels (0 = unlimited)")->capture_default_str();
+  b->add_flag("--view", ba->view,
+              "Also the view correction's 18 slope channels G_x, G_y (27 channels: what the directional-view "
+              "method reads)");
   b->add_option("--threads", ba->threads, "Worker threads (0 = all)");
 }
 

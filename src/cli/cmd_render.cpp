@@ -220,6 +220,9 @@ void add_render(Groups& g) {
                  "Directional micro-occlusion bake (9 channels, docs/directional-occlusion.md): azimuths per "
                  "texel; 0 = not baked")
       ->capture_default_str();
+  gm->add_flag("--directional-view", m->directional_view,
+               "Bake the view correction's 18 slope channels too (27 channels in directional.npy), what the "
+               "directional-view method reads");
   gm->add_flag("--no-mips", *mno_mips,
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
   gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")

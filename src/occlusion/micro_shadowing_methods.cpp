@@ -534,6 +534,36 @@ const std::vector<Entry>& entries() {
            };
            return i;
          }},
+        // The same with the view correction (directional_view_term): 27 channels, the 9 and the 18 slope
+        // channels G_x, G_y that weight each facet by its projected area toward the camera.
+        {[] {
+           MicroShadowingMethodInfo i =
+               info("directional-view", "directional, view-corrected (27 linear channels)",
+                    "directional micro-occlusion with the view correction: the 9 channels plus 18 slope "
+                    "channels that weight each facet by its projected area toward the camera (renderer, "
+                    "study and viewer)",
+                    kNoNdotl | kStudy | kTexel, {[] {
+                      MicroShadowingGlsl g =
+                          glsl("msh_dir_view_term(dir_v, l_t, view_t, n_t)", "msh_dir_view_term");
+                      g.texel = true;
+                      return g;
+                    }()});
+           i.texel_channels = directional::kViewChannels;
+           return i;
+         }(),
+         [](auto&, auto&) {
+           Impl i{[](const Point&) -> double {
+                    throw InputError(
+                        "directional-view reads per-texel channels: render or study a material baked with "
+                        "them (gen-material --directional-view)");
+                  },
+                  nullptr};
+           i.shade = [](const In& in) {
+             if (in.texel_channels < directional::kViewChannels) return 1.0f;
+             return directional::directional_view_term(in.texel, in.l_tangent, in.v_tangent, in.n_tangent);
+           };
+           return i;
+         }},
         // Named pairs (docs/micro-shadowing-aware.md): the diffuse-aware term on the diffuse lobe, a specular
         // term on the specular lobe.
         {pair("diffuse-aware", "specular-aware", "aware (estimator + indicator)",
@@ -560,6 +590,11 @@ const std::vector<Entry>& entries() {
         {pair("directional", "generic-vndf-alu", "directional + generic ALU (specular)",
               "directional micro-occlusion on the diffuse lobe, the generic term's ALU fit on the specular "
               "lobe",
+              kStudy),
+         nullptr},
+        {pair("directional-view", "generic-vndf-alu", "directional view-corrected + generic ALU (specular)",
+              "view-corrected directional micro-occlusion on the diffuse lobe, the generic term's ALU fit on "
+              "the specular lobe",
               kStudy),
          nullptr},
         {pair("diffuse-aware", "generic-vndf", "recommended, estimators",

@@ -1,6 +1,7 @@
-// microshadow.directional_transport / directional_term / bake_directional_channels: the directional
-// micro-occlusion run time of include/microshadow/occlusion/directional.h (9 linear channels per texel,
-// tangent space of the normal map), vectorized, and the bake of render/directional_bake.h.
+// microshadow.directional_transport / directional_term / directional_view_transport / directional_view_term /
+// bake_directional_channels: the directional micro-occlusion run time of include/microshadow/occlusion/
+// directional.h (9 linear channels per texel, 27 with the view correction; tangent space of the normal map),
+// vectorized, and the bake of render/directional_bake.h.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 #include <microshadow/occlusion/directional.h>
@@ -16,12 +17,13 @@ namespace {
 using namespace pybind11::literals;
 namespace dir = msh::directional;
 
-constexpr int kCh = dir::kDirectionalChannels;
+constexpr int kCh = dir::kDirectionalChannels, kViewCh = dir::kViewChannels;
 
-// The 9 channels of element i of argument a, as double (the library's functions are templated on the scalar).
+// The n channels of element i of argument a, as double (the library's functions are templated on the
+// scalar).
 template <class R>
-void read_channels(const R& r, std::size_t a, std::size_t i, double out[kCh]) {
-  for (int k = 0; k < kCh; ++k) out[k] = r(a, i, k);
+void read_channels(const R& r, std::size_t a, std::size_t i, double* out, int n = kCh) {
+  for (int k = 0; k < n; ++k) out[k] = r(a, i, k);
 }
 
 // A 2-D height array (values in [0, 1], each side in [8, 16384], as `bake directional` reads a file).
@@ -83,8 +85,39 @@ void register_directional(pyb::module_& m) {
       "terminator lit facets can exceed the coarse cosine. Shapes as directional_transport plus normal "
       "(..., 3).");
   m.def(
+      "directional_view_transport",
+      [](pyb::handle channels, pyb::handle l, pyb::handle v) {
+        const Broadcast b = broadcast({{channels, "channels", kViewCh}, {l, "light", 3}, {v, "view", 3}});
+        return map_scalar(b, [&](const auto& r, std::size_t i) {
+          double c[kViewCh];
+          read_channels(r, 0, i, c, kViewCh);
+          return dir::directional_view_transport(c, c + kCh, r.vec(1, i), r.vec(2, i));
+        });
+      },
+      "channels"_a, "light"_a, "view"_a,
+      "The view-corrected transport (occlusion/directional.h directional_view_transport): the footprint's "
+      "mean of lit * max(n_fine . l, 0) as a camera along `view` averages it, weighting each facet by its "
+      "projected area: max(0, T(l) + (G_x(l) v_x + G_y(l) v_y) / max(v_z, 0.1)). channels: shape (..., 27) "
+      "(bake_directional_channels(view=True): T's 9, then G_x's and G_y's 9, or any box mean of it); light "
+      "and view: shape (..., 3), unit, tangent space as directional_transport, view toward the camera. 0 for "
+      "l.z <= 0.");
+  m.def(
+      "directional_view_term",
+      [](pyb::handle channels, pyb::handle l, pyb::handle v, pyb::handle n) {
+        const Broadcast b =
+            broadcast({{channels, "channels", kViewCh}, {l, "light", 3}, {v, "view", 3}, {n, "normal", 3}});
+        return map_scalar(b, [&](const auto& r, std::size_t i) {
+          double c[kViewCh];
+          read_channels(r, 0, i, c, kViewCh);
+          return dir::directional_view_term(c, r.vec(1, i), r.vec(2, i), r.vec(3, i));
+        });
+      },
+      "channels"_a, "light"_a, "view"_a, "normal"_a,
+      "directional_view_transport as a factor on the engine's max(n . l, 0) (the renderer's "
+      "`directional-view` method): 0 where n . l <= 1e-4; not clamped to 1.");
+  m.def(
       "bake_directional_channels",
-      [](pyb::handle height, double depth_texels, int azimuths, double max_distance) {
+      [](pyb::handle height, double depth_texels, int azimuths, double max_distance, bool view) {
         if (!(depth_texels > 0 && depth_texels <= 1e4))
           throw InputError(fmt::format("depth must be in (0, 10000] texels, got {}", depth_texels));
         if (!std::isfinite(max_distance))
@@ -94,23 +127,29 @@ void register_directional(pyb::module_& m) {
         render::Texture ch;
         {
           pyb::gil_scoped_release release;
-          ch = render::bake_directional_channels(h, float(depth_texels), azimuths, float(max_distance));
+          ch = view
+                   ? render::bake_directional_view_channels(h, float(depth_texels), azimuths,
+                                                            float(max_distance))
+                   : render::bake_directional_channels(h, float(depth_texels), azimuths, float(max_distance));
         }
-        pyb::array_t<float> out({pyb::ssize_t(ch.height()), pyb::ssize_t(ch.width()), pyb::ssize_t(kCh)});
+        const int nc = ch.channels();
+        pyb::array_t<float> out({pyb::ssize_t(ch.height()), pyb::ssize_t(ch.width()), pyb::ssize_t(nc)});
         float* o = out.mutable_data();
         for (int j = 0; j < ch.height(); ++j)
           for (int i = 0; i < ch.width(); ++i)
-            for (int k = 0; k < kCh; ++k) *o++ = ch.at(i, j, k);
+            for (int k = 0; k < nc; ++k) *o++ = ch.at(i, j, k);
         return out;
       },
-      "height"_a, "depth_texels"_a, "azimuths"_a = 32, "max_distance"_a = 0.0,
+      "height"_a, "depth_texels"_a, "azimuths"_a = 32, "max_distance"_a = 0.0, "view"_a = false,
       "The 9 directional micro-occlusion channels of a height map, as `microshadow bake directional` bakes "
       "level 0: the weighted least-squares fit of degree <= 2 of lit * max(n . l, 0) over the upper "
       "hemisphere per texel (exact horizons along `azimuths` azimuths, ray length max_distance texels, <= 0 "
       "unlimited; n the central-difference normal). height: 2-D array (rows top to bottom) in [0, 1], each "
       "side in [8, 16384], wrapped at the edges; depth_texels: depth of the full [0, 1] range in texels. "
-      "Returns float32 of shape (height, width, 9); the box mean of k x k texels is the coarse texel's own "
-      "channels (mips). Runs with the GIL released on oneTBB threads (deterministic).");
+      "Returns float32 of shape (height, width, 9), or (height, width, 27) with view=True (the view "
+      "correction's 18 slope channels follow: what directional_view_transport reads); the box mean of k x k "
+      "texels is the coarse texel's own channels (mips). Runs with the GIL released on oneTBB threads "
+      "(deterministic).");
 }
 
 }  // namespace msh::py

@@ -227,9 +227,13 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
 }
 
 namespace {
-// The fits of bake_directional_channels (slopes false: 9 channels of f = lit · (n · l)⁺) or of
-// bake_directional_slope_channels (slopes true: 18 channels, f · n_x/n_z then f · n_y/n_z).
-Texture fit_directional(const Texture& height, float depth, int azimuths, float max_distance, bool slopes) {
+// Which functions of the fit: f = lit · (n · l)⁺ (9 channels), f · n_x/n_z then f · n_y/n_z (18), or both
+// (27, in that order).
+enum class FitOutput { Transport, Slopes, Both };
+// The fits of bake_directional_channels, bake_directional_slope_channels and bake_directional_view_channels:
+// one set of horizons, one pass.
+Texture fit_directional(const Texture& height, float depth, int azimuths, float max_distance,
+                        FitOutput what) {
   const DirectionalBakeAzimuths az = directional_bake_azimuths(azimuths);
   const auto& dirs = az.dirs;
   const LsqProjection proj(dir::kPoly2Terms, dirs, dir::kFitElevations, dir::kFitEpsilon, 0, az.weights);
@@ -253,12 +257,14 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
   std::vector<double> PT(std::size_t(nd) * nb);
   for (int d = 0; d < nd; ++d)
     for (int r = 0; r < nb; ++r) PT[std::size_t(d) * nb + r] = proj.P[std::size_t(r) * nd + d];
-  Texture out(w, h, slopes ? 2 * nb : nb);
+  const bool transport = what != FitOutput::Slopes, slopes = what != FitOutput::Transport;
+  const int t0 = transport ? nb : 0;  // where the slope sums start
+  Texture out(w, h, (transport ? nb : 0) + (slopes ? 2 * nb : 0));
   tbb::parallel_for(0, h, [&](int j) {
     for (int i = 0; i < w; ++i) {
       const std::size_t p = std::size_t(j) * w + i;
       // Σ_d P[r][d] f(d) in the order of d, the blocked directions (f = 0) left out.
-      double sum[2 * nb] = {};
+      double sum[3 * nb] = {};
       const double sx = double(n[p].x) / n[p].z, sy = double(n[p].y) / n[p].z;
       for (int a = 0; a < na; ++a) {
         const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
@@ -269,11 +275,11 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
           const int d = a * ne + e;
           const float f = std::max(dot(n[p], proj.dirs[std::size_t(d)]), 0.0f);
           const double* pd = &PT[std::size_t(d) * nb];
-          if (slopes) {
-            for (int r = 0; r < nb; ++r) sum[r] += pd[r] * (f * sx), sum[nb + r] += pd[r] * (f * sy);
-          } else {
+          if (transport)
             for (int r = 0; r < nb; ++r) sum[r] += pd[r] * f;
-          }
+          if (slopes)
+            for (int r = 0; r < nb; ++r)
+              sum[t0 + r] += pd[r] * (f * sx), sum[t0 + nb + r] += pd[r] * (f * sy);
         }
       }
       for (int r = 0; r < out.channels(); ++r) out.at(i, j, r) = float(sum[r]);
@@ -285,13 +291,18 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
 
 Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
   check_azimuths("bake_directional_channels", azimuths);
-  return fit_directional(height, depth, azimuths, max_distance, false);
+  return fit_directional(height, depth, azimuths, max_distance, FitOutput::Transport);
 }
 
 Texture bake_directional_slope_channels(const Texture& height, float depth, int azimuths,
                                         float max_distance) {
   check_azimuths("bake_directional_slope_channels", azimuths);
-  return fit_directional(height, depth, azimuths, max_distance, true);
+  return fit_directional(height, depth, azimuths, max_distance, FitOutput::Slopes);
+}
+
+Texture bake_directional_view_channels(const Texture& height, float depth, int azimuths, float max_distance) {
+  check_azimuths("bake_directional_view_channels", azimuths);
+  return fit_directional(height, depth, azimuths, max_distance, FitOutput::Both);
 }
 
 Texture bake_horizon_moment_channels(const Texture& height, float depth, int azimuths, float max_distance) {

@@ -52,6 +52,7 @@ class MicroShadowingTerm {
         return Vec3f(dot(w, sp.frame_u), dot(w, sp.frame_v), dot(w, sp.n_smooth));
       };
       in.l_tangent = tangent_space(wi), in.n_tangent = tangent_space(sp.n_shading);
+      in.v_tangent = tangent_space(wo);
     }
     const occlusion::MicroShadowingLobes t = method_->shade(in);
     return {t.diffuse, t.specular};

@@ -295,7 +295,10 @@ void finish_set(TextureSet& s, const GenOptions& opt) {
   s.normal = normal_map_from_height(s.height, s.depth_texels);
   s.visibility = bake_visibility(s.height, s.depth_texels, opt.ao_rays, maxd);
   if (opt.directional_azimuths > 0)
-    s.directional = bake_directional_channels(s.height, s.depth_texels, opt.directional_azimuths, 0.0f);
+    s.directional =
+        opt.directional_view
+            ? bake_directional_view_channels(s.height, s.depth_texels, opt.directional_azimuths, 0.0f)
+            : bake_directional_channels(s.height, s.depth_texels, opt.directional_azimuths, 0.0f);
 }
 
 // The test roughness of Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2": rough on the
@@ -471,10 +474,12 @@ io::Volume texture_volume(const Texture& t) {
 
 Texture load_directional_channels(const std::filesystem::path& path) {
   const io::Volume v = io::read_volume(path);
-  if (v.depth != 1 || v.channels != directional::kDirectionalChannels)
-    throw InputError(fmt::format("{}: expected {} channels per texel (h, w, {}), got {} x {} x {} x {}",
-                                 path.string(), directional::kDirectionalChannels,
-                                 directional::kDirectionalChannels, v.depth, v.height, v.width, v.channels));
+  if (v.depth != 1 ||
+      (v.channels != directional::kDirectionalChannels && v.channels != directional::kViewChannels))
+    throw InputError(fmt::format(
+        "{}: expected {} or {} channels per texel (1, h, w, {} or {}), got {} x {} x {} x {}", path.string(),
+        directional::kDirectionalChannels, directional::kViewChannels, directional::kDirectionalChannels,
+        directional::kViewChannels, v.depth, v.height, v.width, v.channels));
   Texture t(v.width, v.height, v.channels);
   for (int y = 0; y < v.height; ++y)
     for (int x = 0; x < v.width; ++x)
@@ -507,7 +512,7 @@ void write_texture_set(const std::filesystem::path& dir, const TextureSet& s) {
   write_tex(dir / "metallic.png", s.metallic, false, 8);
   write_tex(dir / "micro_occlusion.png", s.visibility, false, 8);
   write_tex(dir / "height.png", s.height, false, 16);
-  // The directional channels (float32, (1, h, w, 9)): the renderer takes them from material.json.
+  // The directional channels (float32, (1, h, w, 9 or 27)): the renderer takes them from material.json.
   if (!s.directional.empty()) {
     io::write_volume(dir / "directional.npy", texture_volume(s.directional), io::FileFormat::Npy);
   }

@@ -72,11 +72,14 @@ uint64_t height_hash(const Texture& t) {
 // user_height: a user's map (go.kind = its name), made by texture_set_from_height with the same options.
 TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& cache, const Log& log,
                             const Texture* user_height = nullptr, float user_depth = 0) {
+  const bool with_view = go.directional_azimuths > 0 && go.directional_view;
+  const char* view = with_view ? "v" : "";
   const std::string key =
       user_height
-          ? fmt::format("user-{}_{}_z{:.9g}_h{:016x}_a{}_d{}", go.kind, user_height->width(), user_depth,
-                        height_hash(*user_height), go.ao_rays, go.directional_azimuths)
-          : fmt::format("{}_{}_a{}_d{}_s{}", go.kind, go.size, go.ao_rays, go.directional_azimuths, go.seed);
+          ? fmt::format("user-{}_{}_z{:.9g}_h{:016x}_a{}_d{}{}", go.kind, user_height->width(), user_depth,
+                        height_hash(*user_height), go.ao_rays, go.directional_azimuths, view)
+          : fmt::format("{}_{}_a{}_d{}{}_s{}", go.kind, go.size, go.ao_rays, go.directional_azimuths, view,
+                        go.seed);
   const auto dir = cache.empty() ? cache : cache / key;
   struct Slot {
     const char* name;
@@ -89,7 +92,8 @@ TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& c
                         {"metallic", &TextureSet::metallic, 1},
                         {"base_color", &TextureSet::base_color, 3},
                         {"visibility", &TextureSet::visibility, 1},
-                        {"directional", &TextureSet::directional, directional::kDirectionalChannels}};
+                        {"directional", &TextureSet::directional,
+                         with_view ? directional::kViewChannels : directional::kDirectionalChannels}};
   if (!dir.empty() && std::filesystem::exists(dir / "depth.txt")) {
     TextureSet s;
     for (const Slot& sl : slots)
@@ -314,9 +318,11 @@ GenOptions gen_options(const StudyConfig& c, const std::string& kind) {
   go.ao_rays = c.ao_rays;
   go.directional_azimuths = 0;
   for (const auto* list : {&c.terms, &c.area_terms})
-    for (const std::string& t : *list)
-      if (occlusion::find_micro_shadowing_method(t)->needs_texel)
-        go.directional_azimuths = c.directional_azimuths;
+    for (const std::string& t : *list) {
+      const auto* info = occlusion::find_micro_shadowing_method(t);
+      if (info->needs_texel) go.directional_azimuths = c.directional_azimuths;
+      if (info->texel_channels > directional::kDirectionalChannels) go.directional_view = true;
+    }
   return go;
 }
 

@@ -83,8 +83,8 @@ bool safe_relative_path(const std::string& p) {
 
 // The built-in plaster, generated once into cache/viewer-plaster-512 (written beside it, then renamed).
 fs::path ensure_plaster(const fs::path& cache) {
-  // "-d": with the directional channels (a cache written before they were baked lacks them).
-  const fs::path dir = cache / fmt::format("viewer-plaster-{}-d", kPlasterSize);
+  // "-dv": with the directional channels and the view correction's (a cache written before lacks them).
+  const fs::path dir = cache / fmt::format("viewer-plaster-{}-dv", kPlasterSize);
   if (fs::exists(dir / "material.json")) return dir;
   std::error_code ec;
   fs::create_directories(cache, ec);
@@ -95,8 +95,9 @@ fs::path ensure_plaster(const fs::path& cache) {
   render::GenOptions g;
   g.kind = "plaster";
   g.size = kPlasterSize;
+  g.directional_view = true;
   const render::TextureSet set = render::generate_texture_set(g);
-  const fs::path tmp = cache / fmt::format("viewer-plaster-{}-d.tmp-{}", kPlasterSize, ::getpid());
+  const fs::path tmp = cache / fmt::format("viewer-plaster-{}-dv.tmp-{}", kPlasterSize, ::getpid());
   fs::remove_all(tmp, ec);
   render::write_texture_set(tmp, set);
   fs::rename(tmp, dir, ec);
@@ -110,31 +111,36 @@ fs::path ensure_plaster(const fs::path& cache) {
 
 uint16_t half_bits(float f) { return Imath::half(f).bits(); }
 
-// The directional channels (occlusion/directional.h) as the page samples them: a 2D array texture of three
-// RGBA16F layers (channels 0–3, 4–7, then 8 in R), with its box mip chain (render::box_mip_chain: the mean of
-// a channel is the coarse texel's own channel, so the GPU's trilinear fetch is right at every scale). One
-// blob: level after level, each layer after layer, rows of RGBA half floats (little-endian).
+// The directional channels (occlusion/directional.h) as the page samples them: a 2D array texture of
+// RGBA16F layers, channels 4k..4k+3 in layer k (9 channels: three layers, the third holding channel 8 in R;
+// 27 with the view correction: seven, the last alpha 0), with its box mip chain (render::box_mip_chain: the
+// mean of a channel is the coarse texel's own channel, so the GPU's trilinear fetch is right at every
+// scale). One blob: level after level, each layer after layer, rows of RGBA half floats (little-endian).
 nlohmann::json add_directional(const fs::path& file, std::map<std::string, Blob>& data) {
   const render::Texture fine = render::load_directional_channels(file);  // InputError naming the file
   const std::vector<render::Texture> chain = render::box_mip_chain(fine);
-  constexpr int kLayers = 3;
+  const int channels = fine.channels(), layers = (channels + 3) / 4;
   std::string bytes;
   nlohmann::json levels = nlohmann::json::array();
   for (const render::Texture& t : chain) {
     levels.push_back({t.width(), t.height()});
-    for (int layer = 0; layer < kLayers; ++layer)
+    for (int layer = 0; layer < layers; ++layer)
       for (int y = 0; y < t.height(); ++y)
         for (int x = 0; x < t.width(); ++x)
           for (int c = 0; c < 4; ++c) {
             const int k = 4 * layer + c;
-            const uint16_t b = half_bits(k < directional::kDirectionalChannels ? t.at(x, y, k) : 0.0f);
+            const uint16_t b = half_bits(k < channels ? t.at(x, y, k) : 0.0f);
             bytes.push_back(char(b & 0xff));
             bytes.push_back(char(b >> 8));
           }
   }
   const std::string url = "data/material/directional.f16";
   data[url] = {std::move(bytes), "application/octet-stream"};
-  return {{"url", url}, {"layers", kLayers}, {"levels", levels}, {"encoding", "float16-le"}};
+  return {{"url", url},
+          {"layers", layers},
+          {"channels", channels},
+          {"levels", levels},
+          {"encoding", "float16-le"}};
 }
 
 // The texture set's PNG files, validated (each decodes; the browser reads PNG only).
@@ -174,8 +180,11 @@ void add_material(const fs::path& dir, bool builtin, std::map<std::string, Blob>
     m[key] = url;
   }
   if (j.contains("height_texels") && j["height_texels"].is_number()) m["height_texels"] = j["height_texels"];
-  if (j.contains("directional") && j["directional"].is_string())
+  if (j.contains("directional") && j["directional"].is_string()) {
     m["directional"] = add_directional(dir / j["directional"].get<std::string>(), data);
+    // The view correction's channels too: what the directional-view forms (texel "directional_view") read.
+    if (m["directional"]["channels"] == directional::kViewChannels) m["directional_view"] = true;
+  }
   man["material"] = m;
 }
 
@@ -332,6 +341,10 @@ bool is_allowed_host_header(const std::string& host_header, int port) {
 
 std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& methods) {
   using J = nlohmann::ordered_json;
+  // The manifest's material key a texel form needs: the 9 channels, or the view correction's 27.
+  const auto texel_key = [](const occlusion::MicroShadowingMethodInfo& m) {
+    return m.texel_channels > directional::kDirectionalChannels ? "directional_view" : "directional";
+  };
   const auto cpp = [](const std::string& method, const occlusion::MicroShadowingGlsl& g) {
     J c = {{"method", method}};
     if (g.phi) c["phi"] = true;
@@ -358,12 +371,13 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
       "//   lut      the table it samples (manifest \"luts\" key; left out when the server has none)\n"
       "//   texel    \"directional\": reads the texture set's directional channels (dir_c0, dir_c1, dir_c8, "
       "l_t,\n"
-      "//            n_t; left out when the texture set has none)\n"
+      "//            n_t; left out when the texture set has none); \"directional_view\": the 27 of the view\n"
+      "//            correction (dir_v[7], l_t, view_t, n_t; left out when the set has only 9)\n"
       "//   cpp      what the browser test compares with: the registry method, and phi (at the pixel's "
       "azimuth),\n"
       "//            samples (with the page's N), frame (at the pixel's own v and l), two_stage (pixel + "
       "light),\n"
-      "//            texel (at the probed channels, l_t and n_t)\n"
+      "//            texel (at the probed channels, l_t, n_t and view_t)\n"
       "// Pairs (the registry's D+S): { id, label, glsl_diffuse, glsl_specular, requires, lut, cpp } with "
       "each\n"
       "// lobe's expression the first GLSL form of its term, requires and lut lists, and cpp.diffuse,\n"
@@ -380,7 +394,7 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
         J e = {{"id", m.name + g.id_suffix}, {"label", m.label + g.label_suffix}, {"glsl", g.expr}};
         if (!g.requires_fn.empty()) e["requires"] = g.requires_fn;
         if (!g.lut.empty()) e["lut"] = g.lut;
-        if (g.texel) e["texel"] = "directional";
+        if (g.texel) e["texel"] = texel_key(m);
         e["cpp"] = cpp(m.name, g);
         out += "  " + e.dump() + ",\n";
       }
@@ -396,7 +410,7 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
       if (!g->lut.empty()) lut.push_back(g->lut);
     }
     e["requires"] = req, e["lut"] = lut;
-    if (gd.texel || gs.texel) e["texel"] = "directional";
+    if (gd.texel || gs.texel) e["texel"] = texel_key(m);
     e["cpp"] = {{"method", m.name}, {"diffuse", cpp(d->name, gd)}, {"specular", cpp(s->name, gs)}};
     out += "  " + e.dump() + ",\n";
   }

@@ -54,9 +54,10 @@ struct MicroShadowingOptions {
 // fit); phi/samples/frame/two_stage tell the browser test how to evaluate the C++ side (at the pixel's
 // azimuth, with the page's sample count, at the pixel's own v and l, per pixel + per light). texel: the form
 // reads the per-texel directional channels, which the page fetches once per pixel into dir_c0, dir_c1 (vec4)
-// and dir_c8 (float), with the light l_t and the shading normal n_t in the normal map's tangent frame (the
-// viewer offers it only for a texture set baked with them; the browser test evaluates the C++ term at the
-// probed channels).
+// and dir_c8 (float), and all 27 of the view correction into dir_v[7] (vec4, channels 4k..4k+3), with the
+// light l_t, the view view_t and the shading normal n_t in the normal map's tangent frame (the viewer offers
+// it only for a texture set baked with as many channels as the method reads; the browser test evaluates the
+// C++ term at the probed channels).
 struct MicroShadowingGlsl {
   std::string expr, requires_fn, lut, id_suffix, label_suffix;
   bool phi = false, samples = false, frame = false, two_stage = false, texel = false;
@@ -93,11 +94,12 @@ struct MicroShadowingShadeInput {
   float visibility = 1, roughness = 0.5f;
   Vec3f v{0, 0, 1}, l{0, 0, 1};
   uint32_t seed = 1;
-  // Methods with needs_texel: the per-texel channels (occlusion/directional.h), with l and the shading normal
-  // in the texture's tangent space (x = +u, y = +v as the normal map, z = the unperturbed surface normal).
+  // Methods with needs_texel: the per-texel channels (occlusion/directional.h), with l, v (towards the eye)
+  // and the shading normal in the texture's tangent space (x = +u, y = +v as the normal map, z = the
+  // unperturbed surface normal).
   const float* texel = nullptr;
   int texel_channels = 0;
-  Vec3f l_tangent{0, 0, 1}, n_tangent{0, 0, 1};
+  Vec3f l_tangent{0, 0, 1}, n_tangent{0, 0, 1}, v_tangent{0, 0, 1};
 };
 // The term of each lobe (equal for a single term).
 struct MicroShadowingLobes {
