@@ -288,44 +288,44 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<De
       max_baked_t, max_baked_rel_t, max_baked_term, decs.size(), max_dec);
 }
 
-// ---- The view correction (27 channels packed in 7 vec4, msh_dir_view_transport / msh_dir_view_term) ----
+// ---- The view correction (21 channels packed in 6 vec4, msh_dir_view_transport / msh_dir_view_term) ----
 
-// One record: the 7 packed vec4 (c[6].w = origin: 0 random, 1 flat, 2 baked; the shader never reads it),
+// One record: the 6 packed vec4 (c[5].w = origin: 0 random, 1 flat, 2 baked; the shader never reads it),
 // the light l, the view v and the coarse normal n → (transport, term, 0, 0).
 const vk::Kernel kViewKernel = vk::framed_kernel({"directional"}, {{"in VRec rec", "out vec4 res"}, {}, ""},
-                                                 "struct VRec { vec4 c[7]; vec4 l; vec4 v; vec4 n; };\n",
+                                                 "struct VRec { vec4 c[6]; vec4 l; vec4 v; vec4 n; };\n",
                                                  R"(
   if (i < pc.n) {
     VRec r = rec[i];
-    vec4 c[7] = r.c;
+    vec4 c[6] = r.c;
     res[i] = vec4(msh_dir_view_transport(c, r.l.xyz, r.v.xyz), msh_dir_view_term(c, r.l.xyz, r.v.xyz, r.n.xyz),
                   0.0, 0.0);
   }
 )");
 
 struct VRec {
-  std::array<float, 28> c;
+  std::array<float, 24> c;
   std::array<float, 4> l, v, n;
 };
-static_assert(sizeof(VRec) == 40 * sizeof(float));
+static_assert(sizeof(VRec) == 36 * sizeof(float));
 
-// Channel sets of 27: random (magnitudes 0.01–10), the flat surface's (T = z, G = 0) and perturbations, and
-// every texel of the one-pass bake of the same three 32² fields with their box mips; origin in c[27].
-std::vector<std::array<float, 28>> view_channel_sets() {
-  std::vector<std::array<float, 28>> sets;
+// Channel sets of 21: random (magnitudes 0.01–10), the flat surface's (T = z, G = 0) and perturbations, and
+// every texel of the one-pass bake of two of the same 32² fields with their box mips; origin in c[23].
+std::vector<std::array<float, 24>> view_channel_sets() {
+  std::vector<std::array<float, 24>> sets;
   Pcg32 rng(2027);
   for (int k = 0; k < 256; ++k) {
-    std::array<float, 28> c{};
+    std::array<float, 24> c{};
     const double scale = std::pow(10.0, rng.next_double() * 3 - 2);
-    for (int i = 0; i < 27; ++i) c[std::size_t(i)] = float((rng.next_double() * 2 - 1) * scale);
+    for (int i = 0; i < 21; ++i) c[std::size_t(i)] = float((rng.next_double() * 2 - 1) * scale);
     sets.push_back(c);
   }
-  std::array<float, 28> flat{};
-  flat[3] = 1, flat[27] = 1;
+  std::array<float, 24> flat{};
+  flat[3] = 1, flat[23] = 1;
   sets.push_back(flat);
   for (int k = 0; k < 32; ++k) {
-    std::array<float, 28> c = flat;
-    for (int i = 0; i < 27; ++i) c[std::size_t(i)] += float((rng.next_double() * 2 - 1) * 0.05);
+    std::array<float, 24> c = flat;
+    for (int i = 0; i < 21; ++i) c[std::size_t(i)] += float((rng.next_double() * 2 - 1) * 0.05);
     sets.push_back(c);
   }
   const int n = 32;
@@ -344,9 +344,9 @@ std::vector<std::array<float, 28>> view_channel_sets() {
       const render::Texture t = k == 1 ? ch : render::box_downsample(ch, k);
       for (int y = 0; y < t.height(); y += k == 1 ? 3 : 1)
         for (int x = 0; x < t.width(); x += k == 1 ? 3 : 1) {
-          std::array<float, 28> c{};
-          for (int i = 0; i < 27; ++i) c[std::size_t(i)] = t.at(x, y, i);
-          c[27] = 2;
+          std::array<float, 24> c{};
+          for (int i = 0; i < 21; ++i) c[std::size_t(i)] = t.at(x, y, i);
+          c[23] = 2;
           sets.push_back(c);
         }
     }
@@ -405,10 +405,10 @@ double view_sum_scale(const VRec& r) {
                        std::abs(l.x * l.y),
                        l.z * l.z};
   double st = 0, sx = 0, sy = 0;
-  for (int i = 0; i < 9; ++i)
-    st += std::abs(double(r.c[std::size_t(i)])) * b[i],
-        sx += std::abs(double(r.c[std::size_t(9 + i)])) * b[i],
-        sy += std::abs(double(r.c[std::size_t(18 + i)])) * b[i];
+  for (int i = 0; i < 9; ++i) st += std::abs(double(r.c[std::size_t(i)])) * b[i];
+  for (int i = 0; i < dir::kSlopeTerms; ++i)
+    sx += std::abs(double(r.c[std::size_t(9 + i)])) * b[i],
+        sy += std::abs(double(r.c[std::size_t(15 + i)])) * b[i];
   return st + (sx * std::abs(r.v[0]) + sy * std::abs(r.v[1])) / std::max(double(r.v[2]), dir::kMinViewZ);
 }
 
@@ -436,7 +436,7 @@ void check_view(const char* label, const std::vector<VRec>& recs,
     const double d = std::abs(double(res[i][0]) - t_cpp);
     ASSERT_LE(d, kSumTol * s) << "transport: shader " << res[i][0] << " C++ " << t_cpp;
     max_t = std::max(max_t, d / s);
-    if (r.c[27] == 2 && t_cpp > 0.01) max_baked_rel = std::max(max_baked_rel, d / t_cpp);
+    if (r.c[23] == 2 && t_cpp > 0.01) max_baked_rel = std::max(max_baked_rel, d / t_cpp);
     positive += t_cpp > 0;
     const double nl = double(n.x) * l.x + double(n.y) * l.y + double(n.z) * l.z;
     const double nl_abs =
@@ -493,7 +493,7 @@ TEST(ShadersDirectional, RunsOnVulkanAndMatchesCpp) {
 }
 
 TEST(ShadersDirectional, ViewCompiles) {
-  vk::expect_compiles(kViewKernel, {"gy += c[6].z * z2;", "gy += c[6].z * z2"});
+  vk::expect_compiles(kViewKernel, {"gy += c[5].x * h.y;", "gy += c[5].x * h.y"});
 }
 
 TEST(ShadersDirectional, ViewRunsOnVulkanAndMatchesCpp) {
@@ -515,8 +515,8 @@ TEST(ShadersDirectional, SpirvCost) {
   const std::string lib = vk::read_source("shaders/glsl/directional.glsl");
   const std::map<std::string, std::string> calls = {
       {"term", "msh_dir_term(a, b, c.w, c.xyz, d.xyz)"},
-      {"view term (27 channels)",
-       "msh_dir_view_term(vec4[7](a, b, c, d, a.yzwx, b.yzwx, c.yzwx), c.xyz, d.xyz, a.xyz)"},
+      {"view term (21 channels)",
+       "msh_dir_view_term(vec4[6](a, b, c, d, a.yzwx, b.yzwx), c.xyz, d.xyz, a.xyz)"},
       {"term, array", "msh_dir_term(float[9](a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w, c.w), c.xyz, d.xyz)"},
       {"transport", "msh_dir_transport(a, b, c.w, c.xyz)"},
       {"decode 9 channels",

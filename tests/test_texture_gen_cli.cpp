@@ -145,24 +145,24 @@ TEST_F(GenMaterialCli, WritesMipChains) {
   EXPECT_EQ(run("gen-material --kind bark --size 16 --directional-azimuths 2 --out " + bare.string()).code,
             2);
 
-  // --directional-view: 27 channels in directional.npy (the 9 as without it, then the 18 slope channels),
-  // seven 4-channel mip files, a renderer material that the directional-view method accepts.
+  // --directional-view: 21 channels in directional.npy (the 9 as without it, then the 12 slope channels),
+  // six mip files (the last one R8), a renderer material that the directional-view method accepts.
   const fs::path view = dir / "view";
   r = run(
       "gen-material --kind bark --size 16 --ao-rays 4 --directional-azimuths 8 --directional-view --out " +
       view.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const render::Texture d9 = render::load_directional_channels(out / "directional.npy");
-  const render::Texture d27 = render::load_directional_channels(view / "directional.npy");
-  ASSERT_EQ(d27.channels(), 27);
+  const render::Texture d21 = render::load_directional_channels(view / "directional.npy");
+  ASSERT_EQ(d21.channels(), 21);
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 16; ++x)
-      for (int k = 0; k < 9; ++k) ASSERT_EQ(d27.at(x, y, k), d9.at(x, y, k));
+      for (int k = 0; k < 9; ++k) ASSERT_EQ(d21.at(x, y, k), d9.at(x, y, k));
   const nlohmann::json jv = nlohmann::json::parse(slurp(view / "mips" / "mips.json"));
-  EXPECT_EQ(jv["directional"]["lo"].size(), 27u);
-  for (int f = 0; f < 7; ++f)
+  EXPECT_EQ(jv["directional"]["lo"].size(), 21u);
+  for (int f = 0; f < 6; ++f)
     EXPECT_TRUE(fs::exists(view / "mips" / fmt::format("directional_{}.ktx2", f))) << f;
-  EXPECT_FALSE(fs::exists(view / "mips" / "directional_7.ktx2"));
+  EXPECT_FALSE(fs::exists(view / "mips" / "directional_6.ktx2"));
   const auto write_scene = [&](const fs::path& set, const std::string& name) {
     const std::string f = (dir / name).string();
     std::ofstream(f) << R"({"materials": {"m": {"height": ")" << (set / "height.png").string()
@@ -174,9 +174,9 @@ TEST_F(GenMaterialCli, WritesMipChains) {
   r = run("render " + write_scene(view, "view.json") + " --method directional-view --out " +
           (dir / "v.png").string());
   EXPECT_EQ(r.code, 0) << r.err;
-  // The 9-channel set is refused by the method that reads 27, naming the count.
+  // The 9-channel set is refused by the method that reads 21.
   r = run("render " + write_scene(out, "nine.json") + " --method directional-view --out " +
           (dir / "v9.png").string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("27"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("21"), std::string::npos) << r.err;
 }

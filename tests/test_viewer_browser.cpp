@@ -535,7 +535,7 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
             // S = sum |c_i b_i(l)|), the 8-bit display clamped to 1 (the term may exceed 1 near the coarse
             // terminator).
             ASSERT_TRUE(p.contains("directional")) << "a texel method without probed channels (" << id << ")";
-            // The view correction's forms read all 27 channels and the tangent-space view (directional.h).
+            // The view correction's forms read all 21 channels and the tangent-space view (directional.h).
             const int nch = occlusion::find_micro_shadowing_method(form["method"])->texel_channels;
             ASSERT_GE(int(p["directional"].size()), nch) << id;
             float ch[directional::kViewChannels], b[directional::kDirectionalChannels];
@@ -549,8 +549,9 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
             double S = 0, nl_abs = std::abs(nt.x * lt.x) + std::abs(nt.y * lt.y) + std::abs(nt.z * lt.z);
             const double vz = std::max(double(vt.z), directional::kMinViewZ);
             for (int k = 0; k < nch; ++k) {
-              const double w = k < 9 ? 1.0 : k < 18 ? std::abs(vt.x) / vz : std::abs(vt.y) / vz;
-              S += std::abs(double(ch[k]) * b[k % 9]) * w;
+              const int ns = directional::kSlopeTerms;
+              const double w = k < 9 ? 1.0 : k < 9 + ns ? std::abs(vt.x) / vz : std::abs(vt.y) / vz;
+              S += std::abs(double(ch[k]) * b[k < 9 ? k : (k - 9) % ns]) * w;
             }
             want = nch == directional::kViewChannels
                        ? directional::directional_view_term<float>(ch, lt, vt, nt)

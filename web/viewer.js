@@ -114,11 +114,11 @@ out vec4 o_color;
 uniform sampler2D u_base, u_normal, u_rough_tex, u_metal, u_vis_tex;
 uniform sampler3D u_lut3d, u_lut2d, u_lut_az;
 uniform sampler2DArray u_dir;  // directional channels: layer k = channels 4k..4k+3 (docs/directional-occlusion.md)
-uniform int u_dir_layers;      // 3 (9 channels), 7 (27: the view correction) or 0
+uniform int u_dir_layers;      // 3 (9 channels), 6 (21: the view correction) or 0
 // Read by the texel forms (registry "texel"): the pixel's directional channels (dir_v: all layers; dir_c0,
 // dir_c1, dir_c8: the 9), and the light, the view and the shading normal in the normal map's tangent frame
 // (x = +u, y = +v, z = the geometric normal).
-vec4 dir_c0, dir_c1; float dir_c8; vec4 dir_v[7]; vec3 l_t, n_t, view_t;
+vec4 dir_c0, dir_c1; float dir_c8; vec4 dir_v[6]; vec3 l_t, n_t, view_t;
 uniform int u_lut3d_slabs, u_lut2d_slabs, u_lut_az_slabs, u_lut_az_harmonics;
 uniform vec3 u_eye, u_light_dir, u_light_pos;
 uniform bool u_point, u_bump_hemi;
@@ -160,7 +160,7 @@ void main() {
     E = u_intensity / dist2;
   }
   vec3 v = msh_ms_to_shading_frame(wo, ts, bs, ns), l = msh_ms_to_shading_frame(wl, ts, bs, ns);
-  for (int k = 0; k < 7; ++k) dir_v[k] = k < u_dir_layers ? texture(u_dir, vec3(v_uv, float(k))) : vec4(0.0);
+  for (int k = 0; k < 6; ++k) dir_v[k] = k < u_dir_layers ? texture(u_dir, vec3(v_uv, float(k))) : vec4(0.0);
   dir_c0 = dir_v[0]; dir_c1 = dir_v[1]; dir_c8 = dir_v[2].r;
   l_t = vec3(dot(wl, t), dot(wl, b), dot(wl, ng)); n_t = normalize(tn); view_t = vec3(dot(wo, t), dot(wo, b), dot(wo, ng));
   float nl = clamp(l.z, 0.0, 1.0), nv = clamp(v.z, 0.0, 1.0);
@@ -185,7 +185,7 @@ void main() {
   if (u_mode == 12) { o_color = dir_v[2]; return; }
   if (u_mode == 13) { o_color = vec4(l_t, 1.0); return; }
   if (u_mode == 14) { o_color = vec4(n_t, 1.0); return; }
-  if (u_mode >= 15 && u_mode <= 18) { o_color = dir_v[u_mode - 12]; return; }  // layers 3..6 (27 channels)
+  if (u_mode >= 15 && u_mode <= 17) { o_color = dir_v[u_mode - 12]; return; }  // layers 3..5 (21 channels)
   if (u_mode == 19) { o_color = vec4(view_t, 1.0); return; }
   if (u_mode == 1) { o_color = vec4(vec3(term), 1.0); return; }  // the term, linear grey
   // Lambert + GGX (height-correlated Smith, Schlick Fresnel), Real-Time Rendering 4th ed., eqs. 9.41, 9.42, 9.16.
@@ -516,9 +516,9 @@ class Viewer {
     const per8 = term8 ? this.methods.map((m, k) => this.readPoints(pts, { mode: 1, method: k, component: 'both' }, false)) : null;
     const isPair = (m) => m.glsl_diffuse !== undefined;
     const perS = this.methods.map((m, k) => (isPair(m) ? this.readPoints(pts, { mode: 9, method: k }, true) : null));
-    // The directional channels' layers (modes 10–12, then 15–18 for the view correction's), l_t, n_t, view_t.
+    // The directional channels' layers (modes 10–12, then 15–17 for the view correction's), l_t, n_t, view_t.
     const layers = this.tex.dir ? this.manifest.material.directional.layers : 0;
-    const layerModes = [10, 11, 12, 15, 16, 17, 18].slice(0, layers);
+    const layerModes = [10, 11, 12, 15, 16, 17].slice(0, layers);
     const dirs = this.tex.dir ? [...layerModes, 13, 14, 19].map((mode) => this.readPoints(pts, { mode, method: 0 }, true)) : null;
     const nch = this.tex.dir ? this.manifest.material.directional.channels : 0;
     const perS8 = this.methods.map((m, k) => (isPair(m) && term8 ? this.readPoints(pts, { mode: 1, method: k, component: 'specular' }, false) : null));
@@ -592,17 +592,17 @@ function formatProbe(p, viewer) {
   if (p.directional) {
     // The 9 channels as fetched (filtered), and the transport they give: the mean lit · N·L over the footprint.
     const l = p.l_tangent, b = [1, l[0], l[1], l[2], l[0] * l[2], l[1] * l[2], l[0] * l[0] - l[1] * l[1], l[0] * l[1], l[2] * l[2]];
-    const sum = (o) => b.reduce((s, bk, k) => s + p.directional[o + k] * bk, 0);
+    const sum = (o, n = 9) => b.slice(0, n).reduce((s, bk, k) => s + p.directional[o + k] * bk, 0);
     const tr = l[2] > 0 ? Math.max(0, sum(0)) : 0;
     lines.push('', `directional channels: ${p.directional.slice(0, 9).map((c) => c.toFixed(3)).join(' ')}`,
       `light (tangent) ${l.map(f).join(' ')}  normal (tangent) ${p.n_tangent.map(f).join(' ')}`,
       `transport (mean lit·N·L over the footprint) ${f(tr)}`);
-    if (p.directional.length === 27) {
+    if (p.directional.length === 21) {
       // The view correction: T + (G_x v_x + G_y v_y) / max(v_z, 0.1), what a camera along v averages.
-      const v = p.v_tangent, gx = sum(9), gy = sum(18);
+      const v = p.v_tangent, gx = sum(9, 6), gy = sum(15, 6);
       const tv = l[2] > 0 ? Math.max(0, sum(0) + (gx * v[0] + gy * v[1]) / Math.max(v[2], 0.1)) : 0;
-      lines.push(`slope channels G_x: ${p.directional.slice(9, 18).map((c) => c.toFixed(3)).join(' ')}`,
-        `slope channels G_y: ${p.directional.slice(18).map((c) => c.toFixed(3)).join(' ')}`,
+      lines.push(`slope channels G_x: ${p.directional.slice(9, 15).map((c) => c.toFixed(3)).join(' ')}`,
+        `slope channels G_y: ${p.directional.slice(15).map((c) => c.toFixed(3)).join(' ')}`,
         `view (tangent) ${v.map(f).join(' ')}  G_x(l) ${f(gx)}  G_y(l) ${f(gy)}  view-corrected transport ${f(tv)}`);
     }
   }

@@ -1,4 +1,4 @@
-// microshadow: directional micro-occlusion (9 or 27 linear channels per texel), the GLSL entry point.
+// microshadow: directional micro-occlusion (9 or 21 linear channels per texel), the GLSL entry point.
 // GLSL 4.50 / GLSL ES 3.20 and GLSL ES 3.00 (WebGL2); OpenGL, Vulkan.
 // No #version line. Use: after your #version, `#extension GL_GOOGLE_include_directive : require` then
 // `#include "<share>/shaders/glsl/directional.glsl"` (glslang; glslc/shaderc enable the directive

@@ -1,4 +1,4 @@
-// microshadow: directional micro-occlusion (9 or 27 linear channels per texel), the HLSL entry point.
+// microshadow: directional micro-occlusion (9 or 21 linear channels per texel), the HLSL entry point.
 // SM 5.0+: DXC, FXC, glslang's HLSL front end.
 // Use: `#include "<share>/shaders/hlsl/directional.hlsl"` (the compiler resolves the includes inside,
 // relative to this file).

@@ -81,27 +81,25 @@ float msh_dir_term(float c[9], float3 l, float3 n) {
   return msh_dir_transport(c, l) / nl;
 }
 
-// ---- The view correction (27 channels) ----
+// ---- The view correction (21 channels) ----
 // Port of msh::directional::directional_view_transport / directional_view_term (docs/directional-occlusion.md,
 // "The view-light correlation floor"): a camera along v sees each facet with its projected area
 // (n . v)+ / n_z, so the footprint's mean it averages is T(l) + (G_x(l) v_x + G_y(l) v_y) / v_z, G_x, G_y
-// the same degree-2 fits of lit * max(n . l, 0) * n_x / n_z and * n_y / n_z. v: unit, toward the camera,
-// tangent space; v_z taken >= 0.1.
-// Data: 27 linear channels per texel, channels 0-8 the transport, 9-17 G_x, 18-26 G_y (each in the basis
-// order above), packed in 7 float4 as gen-material writes them (mips/directional_0 .. directional_6):
-// c[k] = channels 4k .. 4k+3, c[6].w unused. Fetch with ordinary trilinear/anisotropic filtering.
+// the same kind of weighted least-squares fits of lit * max(n . l, 0) * n_x / n_z and * n_y / n_z, on the
+// first 6 basis functions (1, x, y, z, xz, yz). v: unit, toward the camera, tangent space; v_z taken >= 0.1.
+// Data: 21 linear channels per texel, channels 0-8 the transport, 9-14 G_x, 15-20 G_y, packed in 6 float4 as
+// gen-material writes them (mips/directional_0 .. directional_5): c[k] = channels 4k .. 4k+3 (c[5] holds
+// channel 20 in x; the rest unused). Fetch with ordinary trilinear/anisotropic filtering.
 // Precision vs C++ float (tests/test_shaders_directional.cpp on lavapipe, random, flat and baked channel sets
 // with their mips, views down to grazing): within 1e-6 * S_v, S_v = S_T + (S_x |v_x| + S_y |v_y|) / max(v_z,
-// 0.1), S_* = sum_i |c_i| |b_i(l)| of each group; the term within that / (n . l) plus the n . l rounding as
+// 0.1), S_* = sum_i |c_i| |b_i(l)| of each sum; the term within that / (n . l) plus the n . l rounding as
 // msh_dir_term. Both early-outs return exactly 0 as in C++.
 
 // Mean diffuse transport over the texel's footprint as a camera along v averages it: max(0, T + (G_x v_x +
-// G_y v_y) / max(v_z, 0.1)), 0 for l.z <= 0; each 9-term sum in the C++ order. float32, within 1e-6 * S_v
-// of C++.
-float msh_dir_view_transport(float4 c[7], float3 l, float3 v) {
+// G_y v_y) / max(v_z, 0.1)), 0 for l.z <= 0; each sum in the C++ order. float32, within 1e-6 * S_v of C++.
+float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
   if (!(l.z > 0.0)) return 0.0;
   float4 h = msh_dir_basis_hi(l);
-  float z2 = l.z * l.z;
   float t = c[0].x;  // channels 0-8: T
   t += c[0].y * l.x;
   t += c[0].z * l.y;
@@ -110,25 +108,19 @@ float msh_dir_view_transport(float4 c[7], float3 l, float3 v) {
   t += c[1].y * h.y;
   t += c[1].z * h.z;
   t += c[1].w * h.w;
-  t += c[2].x * z2;
-  float gx = c[2].y;  // channels 9-17: G_x
+  t += c[2].x * (l.z * l.z);
+  float gx = c[2].y;  // channels 9-14: G_x on (1, x, y, z, xz, yz)
   gx += c[2].z * l.x;
   gx += c[2].w * l.y;
   gx += c[3].x * l.z;
   gx += c[3].y * h.x;
   gx += c[3].z * h.y;
-  gx += c[3].w * h.z;
-  gx += c[4].x * h.w;
-  gx += c[4].y * z2;
-  float gy = c[4].z;  // channels 18-26: G_y
-  gy += c[4].w * l.x;
-  gy += c[5].x * l.y;
-  gy += c[5].y * l.z;
-  gy += c[5].z * h.x;
-  gy += c[5].w * h.y;
-  gy += c[6].x * h.z;
-  gy += c[6].y * h.w;
-  gy += c[6].z * z2;
+  float gy = c[3].w;  // channels 15-20: G_y
+  gy += c[4].x * l.x;
+  gy += c[4].y * l.y;
+  gy += c[4].z * l.z;
+  gy += c[4].w * h.x;
+  gy += c[5].x * h.y;
   float vz = max(v.z, 0.1);
   return max(t + (gx * v.x + gy * v.y) / vz, 0.0);
 }
@@ -136,7 +128,7 @@ float msh_dir_view_transport(float4 c[7], float3 l, float3 v) {
 // The same as a factor on the engine's max(n . l, 0): msh_dir_view_transport / (n . l), 0 where n . l <=
 // 1e-4; not clamped to 1. Port of msh::directional::directional_view_term. float32, within 1e-6 * S_v /
 // (n . l) plus the n . l rounding (as msh_dir_term); exactly 0 at both early-outs.
-float msh_dir_view_term(float4 c[7], float3 l, float3 v, float3 n) {
+float msh_dir_view_term(float4 c[6], float3 l, float3 v, float3 n) {
   float nl = dot(n, l);
   if (!(nl > 1e-4)) return 0.0;
   return msh_dir_view_transport(c, l, v) / nl;

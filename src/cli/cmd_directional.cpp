@@ -5,9 +5,9 @@
 //       [--threads N] [--out FILE.md] [--json]
 //   microshadow bake directional HEIGHT.png|.exr --depth D --out DIR [--azimuths 32] [--distance 0] [--view]
 // The first measures every representation against the exact texture-space diffuse transport; the second
-// writes the 9 directional channels of a height map (27 with --view: the view correction's slope channels
+// writes the 9 directional channels of a height map (21 with --view: the view correction's slope channels
 // follow) and their box-filtered mip chain as float32 NPY (one file per level, directional_mip<L>.npy, shape
-// (1, h, w, 9 or 27), io/texture.h's NPY layout) and directional.json (8-bit ranges).
+// (1, h, w, 9 or 21), io/texture.h's NPY layout) and directional.json (8-bit ranges).
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
@@ -139,7 +139,7 @@ void add_directional(Groups& g) {
 
   const auto [b, ba] = add_command<BakeArgs>(
       g.bake, "directional",
-      "Directional-occlusion channels (9, or 27 with --view; docs/directional-occlusion.md) of a height map "
+      "Directional-occlusion channels (9, or 21 with --view; docs/directional-occlusion.md) of a height map "
       "and their box-filtered mip chain (float32 NPY per level) with directional.json (8-bit ranges, "
       "conventions)",
       run_bake);
@@ -153,7 +153,7 @@ void add_directional(Groups& g) {
       ->capture_default_str();
   b->add_option("--distance", ba->distance, "Ray length, texels (0 = unlimited)")->capture_default_str();
   b->add_flag("--view", ba->view,
-              "Also the view correction's 18 slope channels G_x, G_y (27 channels: what the directional-view "
+              "Also the view correction's 12 slope channels G_x, G_y (21 channels: what the directional-view "
               "method reads)");
   b->add_option("--threads", ba->threads, "Worker threads (0 = all)");
 }

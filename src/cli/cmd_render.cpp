@@ -221,7 +221,7 @@ void add_render(Groups& g) {
                  "texel; 0 = not baked")
       ->capture_default_str();
   gm->add_flag("--directional-view", m->directional_view,
-               "Bake the view correction's 18 slope channels too (27 channels in directional.npy), what the "
+               "Bake the view correction's 12 slope channels too (21 channels in directional.npy), what the "
                "directional-view method reads");
   gm->add_flag("--no-mips", *mno_mips,
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");

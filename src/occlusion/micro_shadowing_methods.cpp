@@ -534,12 +534,12 @@ const std::vector<Entry>& entries() {
            };
            return i;
          }},
-        // The same with the view correction (directional_view_term): 27 channels, the 9 and the 18 slope
+        // The same with the view correction (directional_view_term): 21 channels, the 9 and the 12 slope
         // channels G_x, G_y that weight each facet by its projected area toward the camera.
         {[] {
            MicroShadowingMethodInfo i =
-               info("directional-view", "directional, view-corrected (27 linear channels)",
-                    "directional micro-occlusion with the view correction: the 9 channels plus 18 slope "
+               info("directional-view", "directional, view-corrected (21 linear channels)",
+                    "directional micro-occlusion with the view correction: the 9 channels plus 12 slope "
                     "channels that weight each facet by its projected area toward the camera (renderer, "
                     "study and viewer)",
                     kNoNdotl | kStudy | kTexel, {[] {

@@ -1,6 +1,6 @@
 // microshadow.directional_transport / directional_term / directional_view_transport / directional_view_term /
 // bake_directional_channels: the directional micro-occlusion run time of include/microshadow/occlusion/
-// directional.h (9 linear channels per texel, 27 with the view correction; tangent space of the normal map),
+// directional.h (9 linear channels per texel, 21 with the view correction; tangent space of the normal map),
 // vectorized, and the bake of render/directional_bake.h.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
@@ -97,8 +97,9 @@ void register_directional(pyb::module_& m) {
       "channels"_a, "light"_a, "view"_a,
       "The view-corrected transport (occlusion/directional.h directional_view_transport): the footprint's "
       "mean of lit * max(n_fine . l, 0) as a camera along `view` averages it, weighting each facet by its "
-      "projected area: max(0, T(l) + (G_x(l) v_x + G_y(l) v_y) / max(v_z, 0.1)). channels: shape (..., 27) "
-      "(bake_directional_channels(view=True): T's 9, then G_x's and G_y's 9, or any box mean of it); light "
+      "projected area: max(0, T(l) + (G_x(l) v_x + G_y(l) v_y) / max(v_z, 0.1)). channels: shape (..., 21) "
+      "(bake_directional_channels(view=True): T's 9, then G_x's and G_y's 6 on (1, x, y, z, xz, yz), or any "
+      "box mean of it); light "
       "and view: shape (..., 3), unit, tangent space as directional_transport, view toward the camera. 0 for "
       "l.z <= 0.");
   m.def(
@@ -146,8 +147,8 @@ void register_directional(pyb::module_& m) {
       "hemisphere per texel (exact horizons along `azimuths` azimuths, ray length max_distance texels, <= 0 "
       "unlimited; n the central-difference normal). height: 2-D array (rows top to bottom) in [0, 1], each "
       "side in [8, 16384], wrapped at the edges; depth_texels: depth of the full [0, 1] range in texels. "
-      "Returns float32 of shape (height, width, 9), or (height, width, 27) with view=True (the view "
-      "correction's 18 slope channels follow: what directional_view_transport reads); the box mean of k x k "
+      "Returns float32 of shape (height, width, 9), or (height, width, 21) with view=True (the view "
+      "correction's 12 slope channels follow: what directional_view_transport reads); the box mean of k x k "
       "texels is the coarse texel's own channels (mips). Runs with the GIL released on oneTBB threads "
       "(deterministic).");
 }

@@ -227,8 +227,8 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
 }
 
 namespace {
-// Which functions of the fit: f = lit · (n · l)⁺ (9 channels), f · n_x/n_z then f · n_y/n_z (18), or both
-// (27, in that order).
+// Which functions of the fit: f = lit · (n · l)⁺ (9 channels), f · n_x/n_z then f · n_y/n_z (6 each, 12),
+// or both (21, in that order).
 enum class FitOutput { Transport, Slopes, Both };
 // The fits of bake_directional_channels, bake_directional_slope_channels and bake_directional_view_channels:
 // one set of horizons, one pass.
@@ -252,19 +252,27 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
                          ? bake_horizon_tangents_lattice(height, depth, az.steps)
                          : bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
   const auto n = fine_normals(height, depth);
-  // P transposed (direction-major, the 9 rows of a direction side by side), widened once.
-  constexpr int nb = dir::kPoly2Terms;
-  std::vector<double> PT(std::size_t(nd) * nb);
-  for (int d = 0; d < nd; ++d)
-    for (int r = 0; r < nb; ++r) PT[std::size_t(d) * nb + r] = proj.P[std::size_t(r) * nd + d];
+  // P transposed (direction-major, the rows of a direction side by side), widened once: the 9 functions of
+  // T, and the kSlopeTerms of the slope fits (their own least squares, not a subset of T's rows).
+  constexpr int nb = dir::kPoly2Terms, ns = dir::kSlopeTerms;
+  const auto transposed = [&](const LsqProjection& pr, int rows) {
+    std::vector<double> t(std::size_t(nd) * rows);
+    for (int d = 0; d < nd; ++d)
+      for (int r = 0; r < rows; ++r) t[std::size_t(d) * rows + r] = pr.P[std::size_t(r) * nd + d];
+    return t;
+  };
+  const std::vector<double> PT = transposed(proj, nb);
   const bool transport = what != FitOutput::Slopes, slopes = what != FitOutput::Transport;
+  const std::vector<double> PS =
+      slopes ? transposed(LsqProjection(ns, dirs, dir::kFitElevations, dir::kFitEpsilon, 0, az.weights), ns)
+             : std::vector<double>();
   const int t0 = transport ? nb : 0;  // where the slope sums start
-  Texture out(w, h, (transport ? nb : 0) + (slopes ? 2 * nb : 0));
+  Texture out(w, h, (transport ? nb : 0) + (slopes ? 2 * ns : 0));
   tbb::parallel_for(0, h, [&](int j) {
     for (int i = 0; i < w; ++i) {
       const std::size_t p = std::size_t(j) * w + i;
       // Σ_d P[r][d] f(d) in the order of d, the blocked directions (f = 0) left out.
-      double sum[3 * nb] = {};
+      double sum[nb + 2 * ns] = {};
       const double sx = double(n[p].x) / n[p].z, sy = double(n[p].y) / n[p].z;
       for (int a = 0; a < na; ++a) {
         const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
@@ -274,12 +282,15 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
         for (; e < ne; ++e) {
           const int d = a * ne + e;
           const float f = std::max(dot(n[p], proj.dirs[std::size_t(d)]), 0.0f);
-          const double* pd = &PT[std::size_t(d) * nb];
-          if (transport)
+          if (transport) {
+            const double* pd = &PT[std::size_t(d) * nb];
             for (int r = 0; r < nb; ++r) sum[r] += pd[r] * f;
-          if (slopes)
-            for (int r = 0; r < nb; ++r)
-              sum[t0 + r] += pd[r] * (f * sx), sum[t0 + nb + r] += pd[r] * (f * sy);
+          }
+          if (slopes) {
+            const double* ps = &PS[std::size_t(d) * ns];
+            for (int r = 0; r < ns; ++r)
+              sum[t0 + r] += ps[r] * (f * sx), sum[t0 + ns + r] += ps[r] * (f * sy);
+          }
         }
       }
       for (int r = 0; r < out.channels(); ++r) out.at(i, j, r) = float(sum[r]);

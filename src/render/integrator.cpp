@@ -123,7 +123,7 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
     const Vec3f bt = fr.t * h.tangent_sign;
     sp.frame_u = fr.s, sp.frame_v = bt;
     if (!m.directional.empty()) {
-      // Only what the method reads (the view correction's 18 slope channels cost 3× the fetches).
+      // Only what the method reads (the view correction's 12 slope channels more than double the fetches).
       sp.texel_channels = std::min({m.directional.channels(), int(sp.texel.size()), ms.texel_channels()});
       for (int c = 0; c < sp.texel_channels; ++c) sp.texel[std::size_t(c)] = m.directional.sample(u, v, c);
     }

@@ -512,7 +512,7 @@ void write_texture_set(const std::filesystem::path& dir, const TextureSet& s) {
   write_tex(dir / "metallic.png", s.metallic, false, 8);
   write_tex(dir / "micro_occlusion.png", s.visibility, false, 8);
   write_tex(dir / "height.png", s.height, false, 16);
-  // The directional channels (float32, (1, h, w, 9 or 27)): the renderer takes them from material.json.
+  // The directional channels (float32, (1, h, w, 9 or 21)): the renderer takes them from material.json.
   if (!s.directional.empty()) {
     io::write_volume(dir / "directional.npy", texture_volume(s.directional), io::FileFormat::Npy);
   }

@@ -75,8 +75,8 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
     const auto unorm = [&](float x, int c) {
       return (x - lo[std::size_t(c)]) / (hi[std::size_t(c)] - lo[std::size_t(c)]);
     };
-    // Four channels per file (the 9: 0–3, 4–7, then 8 alone as R8; the 27 of the view correction: seven
-    // RGBA8 files, the last one's alpha 0), the packing the shaders take.
+    // Four channels per file (the 9: 0–3, 4–7, then 8 alone as R8; the 21 of the view correction: five
+    // RGBA8 files, then 20 alone as R8), the packing the shaders take.
     for (int f = 0; 4 * f < d.channels(); ++f) {
       const bool single = d.channels() - 4 * f == 1;
       write(fmt::format("directional_{}", f), &TextureSet::directional, 4 * f, single ? 1 : 4,

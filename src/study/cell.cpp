@@ -73,7 +73,7 @@ uint64_t height_hash(const Texture& t) {
 TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& cache, const Log& log,
                             const Texture* user_height = nullptr, float user_depth = 0) {
   const bool with_view = go.directional_azimuths > 0 && go.directional_view;
-  const char* view = with_view ? "v" : "";
+  const char* view = with_view ? "v21" : "";  // the 21 channels of the view correction
   const std::string key =
       user_height
           ? fmt::format("user-{}_{}_z{:.9g}_h{:016x}_a{}_d{}{}", go.kind, user_height->width(), user_depth,

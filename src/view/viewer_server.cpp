@@ -83,8 +83,8 @@ bool safe_relative_path(const std::string& p) {
 
 // The built-in plaster, generated once into cache/viewer-plaster-512 (written beside it, then renamed).
 fs::path ensure_plaster(const fs::path& cache) {
-  // "-dv": with the directional channels and the view correction's (a cache written before lacks them).
-  const fs::path dir = cache / fmt::format("viewer-plaster-{}-dv", kPlasterSize);
+  // "-d21": with the 21 directional channels of the view correction (a cache written before lacks them).
+  const fs::path dir = cache / fmt::format("viewer-plaster-{}-d21", kPlasterSize);
   if (fs::exists(dir / "material.json")) return dir;
   std::error_code ec;
   fs::create_directories(cache, ec);
@@ -97,7 +97,7 @@ fs::path ensure_plaster(const fs::path& cache) {
   g.size = kPlasterSize;
   g.directional_view = true;
   const render::TextureSet set = render::generate_texture_set(g);
-  const fs::path tmp = cache / fmt::format("viewer-plaster-{}-dv.tmp-{}", kPlasterSize, ::getpid());
+  const fs::path tmp = cache / fmt::format("viewer-plaster-{}-d21.tmp-{}", kPlasterSize, ::getpid());
   fs::remove_all(tmp, ec);
   render::write_texture_set(tmp, set);
   fs::rename(tmp, dir, ec);
@@ -113,9 +113,10 @@ uint16_t half_bits(float f) { return Imath::half(f).bits(); }
 
 // The directional channels (occlusion/directional.h) as the page samples them: a 2D array texture of
 // RGBA16F layers, channels 4k..4k+3 in layer k (9 channels: three layers, the third holding channel 8 in R;
-// 27 with the view correction: seven, the last alpha 0), with its box mip chain (render::box_mip_chain: the
-// mean of a channel is the coarse texel's own channel, so the GPU's trilinear fetch is right at every
-// scale). One blob: level after level, each layer after layer, rows of RGBA half floats (little-endian).
+// 21 with the view correction: six, the last holding channel 20 in R), with its box mip chain
+// (render::box_mip_chain: the mean of a channel is the coarse texel's own channel, so the GPU's trilinear
+// fetch is right at every scale). One blob: level after level, each layer after layer, rows of RGBA half
+// floats (little-endian).
 nlohmann::json add_directional(const fs::path& file, std::map<std::string, Blob>& data) {
   const render::Texture fine = render::load_directional_channels(file);  // InputError naming the file
   const std::vector<render::Texture> chain = render::box_mip_chain(fine);
@@ -341,7 +342,7 @@ bool is_allowed_host_header(const std::string& host_header, int port) {
 
 std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& methods) {
   using J = nlohmann::ordered_json;
-  // The manifest's material key a texel form needs: the 9 channels, or the view correction's 27.
+  // The manifest's material key a texel form needs: the 9 channels, or the view correction's 21.
   const auto texel_key = [](const occlusion::MicroShadowingMethodInfo& m) {
     return m.texel_channels > directional::kDirectionalChannels ? "directional_view" : "directional";
   };
@@ -371,8 +372,8 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
       "//   lut      the table it samples (manifest \"luts\" key; left out when the server has none)\n"
       "//   texel    \"directional\": reads the texture set's directional channels (dir_c0, dir_c1, dir_c8, "
       "l_t,\n"
-      "//            n_t; left out when the texture set has none); \"directional_view\": the 27 of the view\n"
-      "//            correction (dir_v[7], l_t, view_t, n_t; left out when the set has only 9)\n"
+      "//            n_t; left out when the texture set has none); \"directional_view\": the 21 of the view\n"
+      "//            correction (dir_v[6], l_t, view_t, n_t; left out when the set has only 9)\n"
       "//   cpp      what the browser test compares with: the registry method, and phi (at the pixel's "
       "azimuth),\n"
       "//            samples (with the page's N), frame (at the pixel's own v and l), two_stage (pixel + "

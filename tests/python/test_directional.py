@@ -165,9 +165,12 @@ def test_bake_equals_cli(cli, tmp_path):
 
 
 def ref_view_transport(c, l, v):
-    """T + (G_x v_x + G_y v_y) / max(v_z, 0.1), clamped at 0, 0 for l.z <= 0 (occlusion/directional.h)."""
+    """T + (G_x v_x + G_y v_y) / max(v_z, 0.1), clamped at 0, 0 for l.z <= 0 (occlusion/directional.h): T on
+    the 9 functions, G_x and G_y on the first 6 (1, x, y, z, xz, yz)."""
     b = basis(l)
-    t, gx, gy = (np.sum(c[..., 9 * k:9 * k + 9] * b, axis=-1) for k in range(3))
+    t = np.sum(c[..., :9] * b, axis=-1)
+    gx = np.sum(c[..., 9:15] * b[..., :6], axis=-1)
+    gy = np.sum(c[..., 15:21] * b[..., :6], axis=-1)
     vz = np.maximum(v[..., 2], 0.1)
     s = t + (gx * v[..., 0] + gy * v[..., 1]) / vz
     return np.where(l[..., 2] > 0, np.maximum(s, 0.0), 0.0)
@@ -176,7 +179,7 @@ def ref_view_transport(c, l, v):
 def test_view_transport_and_term_match_numpy():
     g = np.random.default_rng(3)
     n = 5000
-    c = g.uniform(-1, 1, (n, 27))
+    c = g.uniform(-1, 1, (n, 21))
     c[:, 3] += 1.5
     l = unit(g.normal(size=(n, 3)))
     v = unit(g.normal(size=(n, 3)) * [1, 1, 0.5] + [0, 0, 0.3])  # some below v_z = 0.1 (the clamp)
@@ -195,16 +198,16 @@ def test_view_transport_and_term_match_numpy():
     c0 = c.copy()
     c0[:, 9:] = 0
     assert np.array_equal(msh.directional_view_transport(c0, l, v), msh.directional_transport(c[:, :9], l))
-    with pytest.raises(ValueError, match="last axis of length 27"):
+    with pytest.raises(ValueError, match="last axis of length 21"):
         msh.directional_view_transport(np.zeros((4, 9)), [0, 0, 1], [0, 0, 1])
 
 
 def test_bake_view_channels_and_cli(cli, tmp_path):
     h = write_png16(tmp_path / "h.png", bumpy())
-    ch27 = msh.bake_directional_channels(h.astype(np.float32), 3.0, azimuths=16, view=True)
-    assert ch27.shape == (32, 32, 27) and ch27.dtype == np.float32
+    ch21 = msh.bake_directional_channels(h.astype(np.float32), 3.0, azimuths=16, view=True)
+    assert ch21.shape == (32, 32, 21) and ch21.dtype == np.float32
     ch9 = msh.bake_directional_channels(h.astype(np.float32), 3.0, azimuths=16)
-    assert np.array_equal(ch27[..., :9], ch9)
+    assert np.array_equal(ch21[..., :9], ch9)
     # G = E[f n_x / n_z], E[f n_y / n_z] per texel; at the zenith nothing is shadowed, so f = n_z and G is
     # the texel's own slope -dz/dx, -dz/dy (central differences, as the bake's normal): the fit is least
     # squares, so compare texture-wide (the mean slope of a wrapping field is 0) and the correlation.
@@ -212,12 +215,12 @@ def test_bake_view_channels_and_cli(cli, tmp_path):
     dzdy = (np.roll(h, -1, 0) - np.roll(h, 1, 0)) * 3.0 / 2
     nz = 1 / np.sqrt(1 + dzdx**2 + dzdy**2)
     up = np.array([0.0, 0.0, 1.0])
-    gx = np.sum(ch27[..., 9:18] * basis(up), -1)
-    gy = np.sum(ch27[..., 18:27] * basis(up), -1)
+    gx = np.sum(ch21[..., 9:15] * basis(up)[:6], -1)
+    gy = np.sum(ch21[..., 15:21] * basis(up)[:6], -1)
     assert abs(gx.mean()) < 0.02 and abs(gy.mean()) < 0.02
     assert np.corrcoef(gx.ravel(), (-dzdx * nz).ravel())[0, 1] > 0.95
     assert np.corrcoef(gy.ravel(), (-dzdy * nz).ravel())[0, 1] > 0.95
     rc, _, err = cli("bake", "directional", tmp_path / "h.png", "--depth", 3, "--azimuths", 16, "--view",
                      "--out", tmp_path / "out")
     assert rc == 0, err
-    assert np.array_equal(np.load(tmp_path / "out" / "directional_mip0.npy")[0], ch27)
+    assert np.array_equal(np.load(tmp_path / "out" / "directional_mip0.npy")[0], ch21)

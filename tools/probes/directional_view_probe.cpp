@@ -47,8 +47,9 @@ struct Row {
   std::string kind;
   double elev, az, gt, a, b, c;
   // With --fits: the same a and b from the fitted functions (the fit grid of the bake): a9 = T by the 9
-  // channels; b94 / b99 = a9 plus G_x, G_y each fitted with 4 (band 1) / 9 (degree 2) functions.
-  double a9 = 0, b94 = 0, b99 = 0;
+  // channels; b94 / b96 / b99 = a9 plus G_x, G_y each fitted with 4 (band 1: 1, x, y, z) / 6 (band 1 + xz,
+  // yz) / 9 (degree 2) functions.
+  double a9 = 0, b94 = 0, b96 = 0, b99 = 0;
 };
 
 // Weighted least squares on the bake's direction grid: the coefficients of the first nb poly2 functions
@@ -118,7 +119,8 @@ void add_fits(const Texture& height, float depth, const std::vector<Vec3f>& n, d
       ft.push_back(st / double(N)), fx.push_back(sx / double(N)), fy.push_back(sy / double(N));
     }
   const auto ct = fit_poly2(dirs, wts, ft, 9), cx4 = fit_poly2(dirs, wts, fx, 4),
-             cy4 = fit_poly2(dirs, wts, fy, 4), cx9 = fit_poly2(dirs, wts, fx, 9),
+             cy4 = fit_poly2(dirs, wts, fy, 4), cx6 = fit_poly2(dirs, wts, fx, 6),
+             cy6 = fit_poly2(dirs, wts, fy, 6), cx9 = fit_poly2(dirs, wts, fx, 9),
              cy9 = fit_poly2(dirs, wts, fy, 9);
   const double ve = view_elev * kDeg, vx = 0, vy = -std::cos(ve), vz = std::sin(ve);
   for (std::size_t i = first; i < rows.size(); ++i) {
@@ -127,19 +129,17 @@ void add_fits(const Texture& height, float depth, const std::vector<Vec3f>& n, d
     const Vec3d l(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
     r.a9 = eval_poly2(ct, l);
     r.b94 = r.a9 + (eval_poly2(cx4, l) * vx + eval_poly2(cy4, l) * vy) / vz;
+    r.b96 = r.a9 + (eval_poly2(cx6, l) * vx + eval_poly2(cy6, l) * vy) / vz;
     r.b99 = r.a9 + (eval_poly2(cx9, l) * vx + eval_poly2(cy9, l) * vy) / vz;
   }
 }
 
-// Horizontal unit step of an axis azimuth (0, 90, 180, 270 degrees).
+// The lattice step of an azimuth that is a multiple of 45 degrees (axes and diagonals: exact horizons).
 LatticeStep axis_step(double az) {
-  const int q = int(std::lround(az / 90.0)) & 3;
-  if (std::abs(az - 90.0 * std::lround(az / 90.0)) > 1e-9)
-    throw InputError("azimuths must be multiples of 90");
-  return q == 0   ? LatticeStep{1, 0}
-         : q == 1 ? LatticeStep{0, 1}
-         : q == 2 ? LatticeStep{-1, 0}
-                  : LatticeStep{0, -1};
+  if (std::abs(az - 45.0 * std::lround(az / 45.0)) > 1e-9)
+    throw InputError("azimuths must be multiples of 45");
+  static const LatticeStep steps[8] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+  return steps[std::lround(az / 45.0) & 7];
 }
 
 std::vector<Row> measure(const Texture& height, float depth, const std::string& kind,
@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
   app.add_option("--kinds", kinds, "Comma-separated material kinds")->capture_default_str();
   app.add_option("--size", size, "Texels per side")->check(CLI::Range(8, 8192))->capture_default_str();
   app.add_option("--elevations", elevations, "Light elevations, degrees")->capture_default_str();
-  app.add_option("--azimuths", azimuths, "Light azimuths, multiples of 90 degrees")->capture_default_str();
+  app.add_option("--azimuths", azimuths, "Light azimuths, multiples of 45 degrees")->capture_default_str();
   app.add_option("--view-elevation", view_elev, "Camera elevation, degrees, looking along +v")
       ->check(CLI::Range(1.0, 89.0))
       ->capture_default_str();
@@ -259,6 +259,7 @@ int main(int argc, char** argv) {
                              {"no_masking", r.gt > 0 ? r.c / r.gt : 0},
                              {"fit9", r.gt > 0 ? r.a9 / r.gt : 0},
                              {"fit9_slope4", r.gt > 0 ? r.b94 / r.gt : 0},
+                             {"fit9_slope6", r.gt > 0 ? r.b96 / r.gt : 0},
                              {"fit9_slope9", r.gt > 0 ? r.b99 / r.gt : 0}});
       std::cout << j.dump(1) << "\n";
       return 0;
@@ -273,6 +274,7 @@ int main(int argc, char** argv) {
     if (fits) {
       cols.push_back({"9-channel fit", &Row::a9});
       cols.push_back({"fit + slope band 1 (+8)", &Row::b94});
+      cols.push_back({"fit + slope 6 functions (+12)", &Row::b96});
       cols.push_back({"fit + slope degree 2 (+18)", &Row::b99});
     }
     std::string head = "| material | light (elev/az) |", rule = "|---|---|";

@@ -79,10 +79,12 @@ T directional_term(const T* channels, Vec3<T> l_local, Vec3<T> n_coarse_local) {
 // The view correction (docs/directional-occlusion.md, "The view–light correlation floor"; the renderer's
 // `directional-view` method). A camera along v sees each facet with its projected area (n · v)⁺/n_z; without
 // masking, the mean it averages is E[f (n · v)/(n_z v_z)] = T(l) + (G_x(l) v_x + G_y(l) v_y)/v_z, G = E[f
-// n_x/n_z], E[f n_y/n_z] (render::bake_directional_slope_channels: 18 channels, x then y, the same fit as
-// T). v: unit, tangent space, toward the camera; v_z is taken ≥ kMinViewZ (at grazing views masking, which
-// this leaves out, dominates). 0 for l.z ≤ 0; ≥ 0.
-inline constexpr int kSlopeChannels = 2 * kPoly2Terms;
+// n_x/n_z], E[f n_y/n_z] (render::bake_directional_slope_channels: 12 channels, x then y, each the same
+// weighted least-squares fit as T with the first kSlopeTerms = 6 functions of b, (1, x, y, z, xz, yz): the
+// measured choice, as close as all 9 and 6 channels fewer). v: unit, tangent space, toward the camera; v_z
+// is taken ≥ kMinViewZ (at grazing views masking, which this leaves out, dominates). 0 for l.z ≤ 0; ≥ 0.
+inline constexpr int kSlopeTerms = 6;
+inline constexpr int kSlopeChannels = 2 * kSlopeTerms;
 inline constexpr double kMinViewZ = 0.1;
 template <class T>
 T directional_view_transport(const T* channels, const T* slope_channels, Vec3<T> l_local, Vec3<T> v_local) {
@@ -90,23 +92,24 @@ T directional_view_transport(const T* channels, const T* slope_channels, Vec3<T>
   T b[kPoly2Terms];
   poly2_basis(l_local, b);
   T t = 0, gx = 0, gy = 0;
-  for (int i = 0; i < kPoly2Terms; ++i)
-    t += channels[i] * b[i], gx += slope_channels[i] * b[i], gy += slope_channels[kPoly2Terms + i] * b[i];
+  for (int i = 0; i < kPoly2Terms; ++i) t += channels[i] * b[i];
+  for (int i = 0; i < kSlopeTerms; ++i)
+    gx += slope_channels[i] * b[i], gy += slope_channels[kSlopeTerms + i] * b[i];
   const T vz = std::max(v_local.z, T(kMinViewZ));
   return std::max(t + (gx * v_local.x + gy * v_local.y) / vz, T(0));
 }
 
-// The view-corrected data as one texel: the 9 transport channels, then the 18 slope channels
-// (render::bake_directional_view_channels).
+// The view-corrected data as one texel: the 9 transport channels, then the 12 slope channels (21;
+// render::bake_directional_view_channels).
 inline constexpr int kViewChannels = kDirectionalChannels + kSlopeChannels;
 
-// directional_view_transport from the 27 channels as a factor on the engine's (n_coarse · l)⁺, as
+// directional_view_transport from the 21 channels as a factor on the engine's (n_coarse · l)⁺, as
 // directional_term: 0 where n_c · l ≤ 1e-4; not clamped to 1.
 template <class T>
-T directional_view_term(const T* channels27, Vec3<T> l_local, Vec3<T> v_local, Vec3<T> n_coarse_local) {
+T directional_view_term(const T* channels21, Vec3<T> l_local, Vec3<T> v_local, Vec3<T> n_coarse_local) {
   const T nl = dot(n_coarse_local, l_local);
   if (!(nl > T(1e-4))) return T(0);
-  return directional_view_transport(channels27, channels27 + kDirectionalChannels, l_local, v_local) / nl;
+  return directional_view_transport(channels21, channels21 + kDirectionalChannels, l_local, v_local) / nl;
 }
 
 // 8-bit storage: channel i as UNORM between a per-material range [lo_i, hi_i] (the fine level's min and max,

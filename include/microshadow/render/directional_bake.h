@@ -38,15 +38,16 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths);
 Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
                                   float max_distance);
 
-// The view correction's 18 channels (docs/directional-occlusion.md, "The view–light correlation floor"):
-// the same fit, grid, horizons and normals applied to f · n_x/n_z
-// (channels 0–8) and f · n_y/n_z (channels 9–17), f = lit · (n · l)⁺. Linear, so box means are the coarse
+// The view correction's 12 channels (docs/directional-occlusion.md, "The view–light correlation floor"):
+// the same weighted least squares, grid, horizons and normals with the first directional::kSlopeTerms = 6
+// functions (1, x, y, z, xz, yz) applied to f · n_x/n_z (channels 0–5) and f · n_y/n_z (channels 6–11),
+// f = lit · (n · l)⁺. Linear, so box means are the coarse
 // texel's own fit. directional::directional_view_transport reads them. Errors as bake_directional_channels.
 Texture bake_directional_slope_channels(const Texture& height, float depth_texels, int azimuths,
                                         float max_distance);
 
-// Both in one pass (one set of horizons): directional::kViewChannels = 27 channels, the 9 of
-// bake_directional_channels then the 18 of bake_directional_slope_channels, each equal to its own bake.
+// Both in one pass (one set of horizons): directional::kViewChannels = 21 channels, the 9 of
+// bake_directional_channels then the 12 of bake_directional_slope_channels, each equal to its own bake.
 // What the `directional-view` method reads (directional::directional_view_term). Errors as above.
 Texture bake_directional_view_channels(const Texture& height, float depth_texels, int azimuths,
                                        float max_distance);

@@ -36,9 +36,9 @@ std::vector<TextureSet> texture_set_mip_chain(const TextureSet& fine);
 // Writes dir/mips/: for every map its whole chain as KTX2 and DDS (<map>.ktx2, <map>.dds; engine formats:
 // normal RGBA8 (n·0.5 + 0.5), roughness, metallic, micro_occlusion R8, base colour RGBA16F linear, height
 // R16F; directional as three files directional_{0,1,2} holding channels 0–3, 4–7 (RGBA8) and 8 (R8), or
-// with the view correction's 27 channels seven RGBA8 files directional_0..6 (channels 4f..4f+3, the last
-// alpha 0), as 8-bit UNORM between per-channel ranges [lo, hi] of the fine level), each level also as float32
-// NPY
+// with the view correction's 21 channels five RGBA8 files directional_0..4 (channels 4f..4f+3) and
+// directional_5 (channel 20, R8), as 8-bit UNORM between per-channel ranges [lo, hi] of the fine level), each
+// level also as float32 NPY
 // (<map>_mip<L>.npy, the exact values the study shades), and mips.json (levels, sizes, formats, the
 // directional ranges). Atomic files; InputError on an unwritable directory.
 void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine);

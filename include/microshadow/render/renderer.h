@@ -29,7 +29,7 @@ struct ShadePoint {
   // The surface's tangent frame (x = +u, y = +v as the normal map, z = n_smooth) and the material's
   // per-texel micro-occlusion channels sampled at the hit (Material::directional; texel_channels = 0: none).
   Vec3f frame_u{1, 0, 0}, frame_v{0, 1, 0};
-  std::array<float, 27> texel{};  // up to directional::kViewChannels
+  std::array<float, 21> texel{};  // up to directional::kViewChannels
   int texel_channels = 0;
 };
 

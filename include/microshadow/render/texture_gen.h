@@ -19,7 +19,7 @@ namespace msh::render {
 struct TextureSet {
   Texture height, normal, roughness, metallic, base_color, visibility;
   // Directional micro-occlusion (occlusion/directional.h, render/directional_bake.h): 9 linear channels per
-  // texel, or 27 with the view correction (GenOptions::directional_view: the 9, then the 18 slope
+  // texel, or 21 with the view correction (GenOptions::directional_view: the 9, then the 12 slope
   // channels); empty when not baked (GenOptions::directional_azimuths = 0).
   Texture directional;
   float depth_texels = 0;  // depth of the full height range in texel units (normal map and bake use it)
@@ -37,7 +37,7 @@ struct GenOptions {
   // Directional micro-occlusion bake (bake_directional_channels, unlimited ray length): azimuths per texel;
   // 0 = not baked.
   int directional_azimuths = 32;
-  // Bake the view correction's 18 slope channels too (bake_directional_view_channels: 27 channels), what
+  // Bake the view correction's 12 slope channels too (bake_directional_view_channels: 21 channels), what
   // the `directional-view` method reads.
   bool directional_view = false;
   uint32_t seed = 7;
@@ -124,13 +124,13 @@ std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float de
 io::Volume texture_volume(const Texture& t);
 
 // Reads directional channels as write_texture_set writes them (directional.npy: float32 NPY of shape
-// (1, h, w, 9), or (1, h, w, 27) with the view correction; or any volume reader's format with depth 1 and 9
-// or 27 channels). InputError naming the file if it is unreadable, has another shape or holds a non-finite
+// (1, h, w, 9), or (1, h, w, 21) with the view correction; or any volume reader's format with depth 1 and 9
+// or 21 channels). InputError naming the file if it is unreadable, has another shape or holds a non-finite
 // value.
 Texture load_directional_channels(const std::filesystem::path& path);
 
 // Writes basecolor.png (sRGB), normal.png, roughness.png, metallic.png, micro_occlusion.png, height.png
-// (16-bit), directional.npy (the 9 or 27 directional channels, float32 (1, h, w, 9 or 27), when baked) and
+// (16-bit), directional.npy (the 9 or 21 directional channels, float32 (1, h, w, 9 or 21), when baked) and
 // material.json (the scene-material snippet with height_texels and directional; a scene that names height.png
 // takes both from it) into dir (created if missing).
 void write_texture_set(const std::filesystem::path& dir, const TextureSet& set);

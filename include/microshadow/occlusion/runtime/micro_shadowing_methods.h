@@ -54,7 +54,7 @@ struct MicroShadowingOptions {
 // fit); phi/samples/frame/two_stage tell the browser test how to evaluate the C++ side (at the pixel's
 // azimuth, with the page's sample count, at the pixel's own v and l, per pixel + per light). texel: the form
 // reads the per-texel directional channels, which the page fetches once per pixel into dir_c0, dir_c1 (vec4)
-// and dir_c8 (float), and all 27 of the view correction into dir_v[7] (vec4, channels 4k..4k+3), with the
+// and dir_c8 (float), and all 21 of the view correction into dir_v[6] (vec4, channels 4k..4k+3), with the
 // light l_t, the view view_t and the shading normal n_t in the normal map's tangent frame (the viewer offers
 // it only for a texture set baked with as many channels as the method reads; the browser test evaluates the
 // C++ term at the probed channels).
