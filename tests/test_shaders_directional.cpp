@@ -70,6 +70,20 @@ const float* channels(const Rec& r) { return r.c.data(); }
 Vec3f light(const Rec& r) { return {r.l[0], r.l[1], r.l[2]}; }
 Vec3f normal(const Rec& r) { return {r.n[0], r.n[1], r.n[2]}; }
 
+// The baked channel sets' height fields, n²: 0 flat, 1 a sum of sines, 2 a deep crater field.
+render::Texture test_field(int field, int n) {
+  render::Texture h(n, n, 1);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const double u = 2 * kPi<double> * x / n, v = 2 * kPi<double> * y / n;
+      double z = 0.5;
+      if (field == 1) z = 0.5 + 0.25 * std::sin(2 * u) * std::cos(3 * v) + 0.2 * std::sin(5 * u + v);
+      if (field == 2) z = 0.5 + 0.5 * std::cos(2 * u) * std::cos(2 * v) * std::sin(7 * u - 3 * v);
+      h.at(x, y, 0) = float(std::clamp(z, 0.0, 1.0));
+    }
+  return h;
+}
+
 // Channel sets: random (signed, magnitudes 0.01–10), the flat surface's exact channels (transport = z) and
 // perturbations of them, and every texel of the bake of two small height fields with their box mips.
 // Each set with its origin in c[9]: 0 random, 1 flat (exact or perturbed), 2 baked.
@@ -92,15 +106,7 @@ std::vector<std::array<float, 10>> channel_sets() {
   // Baked: a flat field, and two bumpy ones (sum of sines; a deep crater field), 32², 32 azimuths.
   const int n = 32;
   for (int field = 0; field < 3; ++field) {
-    render::Texture h(n, n, 1);
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const double u = 2 * kPi<double> * x / n, v = 2 * kPi<double> * y / n;
-        double z = 0.5;
-        if (field == 1) z = 0.5 + 0.25 * std::sin(2 * u) * std::cos(3 * v) + 0.2 * std::sin(5 * u + v);
-        if (field == 2) z = 0.5 + 0.5 * std::cos(2 * u) * std::cos(2 * v) * std::sin(7 * u - 3 * v);
-        h.at(x, y, 0) = float(std::clamp(z, 0.0, 1.0));
-      }
+    const render::Texture h = test_field(field, n);
     const render::Texture ch = render::bake_directional_channels(h, field == 2 ? 6.0f : 3.0f, 32, 0.0f);
     for (int k : {1, 2, 4, 16}) {
       const render::Texture t = k == 1 ? ch : render::box_downsample(ch, k);
@@ -330,15 +336,7 @@ std::vector<std::array<float, 24>> view_channel_sets() {
   }
   const int n = 32;
   for (int field = 1; field < 3; ++field) {
-    render::Texture h(n, n, 1);
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const double u = 2 * kPi<double> * x / n, v = 2 * kPi<double> * y / n;
-        const double z = field == 1
-                             ? 0.5 + 0.25 * std::sin(2 * u) * std::cos(3 * v) + 0.2 * std::sin(5 * u + v)
-                             : 0.5 + 0.5 * std::cos(2 * u) * std::cos(2 * v) * std::sin(7 * u - 3 * v);
-        h.at(x, y, 0) = float(std::clamp(z, 0.0, 1.0));
-      }
+    const render::Texture h = test_field(field, n);
     const render::Texture ch = render::bake_directional_view_channels(h, field == 2 ? 6.0f : 3.0f, 32, 0.0f);
     for (int k : {1, 4, 16}) {
       const render::Texture t = k == 1 ? ch : render::box_downsample(ch, k);
