@@ -32,7 +32,7 @@ TEST_F(ViewProbe, UsageAndBadArguments) {
   const test::CliResult help = run("--help");
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.out.find("--view-elevation"), std::string::npos);
-  for (const char* args : {"--size 4", "--elevations 0", "--elevations 5,x", "--azimuths 45",
+  for (const char* args : {"--size 4", "--elevations 0", "--elevations 5,x", "--azimuths 30",
                            "--view-elevation 90", "--kinds granite", "--bogus"}) {
     const test::CliResult r = run(std::string(args) + " --size 16");
     EXPECT_EQ(r.code, 2) << args;
