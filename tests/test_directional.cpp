@@ -439,6 +439,60 @@ TEST(DirectionalView, SlopeChannelsCorrectTheViewOnRelief) {
   EXPECT_LT(max_b, 0.1);
 }
 
+// The run-time storage of the channels (store_directional_channels): float untouched; 8-bit UNORM the
+// rounding of (x − lo)/(hi − lo) to 1/255 decoded by decode_unorm8; BC4 within its per-block bound
+// (io/bc4.h: ≤ 4 b, b = max(0.5, (255 · block span + 1) / 14) / 255 of the range) and, on average, within the
+// mean of b (a rounding to a grid of step 2 b errs by b/2 on average); ranges are per channel.
+TEST(DirectionalStorage, FloatUnorm8AndBc4AsAnEngineReadsThem) {
+  GenOptions g;
+  g.kind = "gravel", g.size = 64, g.ao_rays = 1;
+  const TextureSet s = generate_texture_set(g);
+  const Texture fine = bake_directional_view_channels(s.height, s.depth_texels, 32, 0);
+  const ChannelRanges r = channel_ranges(fine);
+  const Texture coarse = box_downsample(fine, 4);  // 16², every value inside the fine ranges
+  Texture f = coarse, u8 = coarse, bc = coarse;
+  store_directional_channels(f, r, DirectionalEncoding::Float);
+  store_directional_channels(u8, r, DirectionalEncoding::Unorm8);
+  store_directional_channels(bc, r, DirectionalEncoding::Bc4);
+  double e8 = 0, ebc = 0, eb = 0;
+  for (int c = 0; c < coarse.channels(); ++c) {
+    const double lo = r.lo[std::size_t(c)], span = r.hi[std::size_t(c)] - lo;
+    for (int by = 0; by < 4; ++by)
+      for (int bx = 0; bx < 4; ++bx) {
+        double bmin = 1e30, bmax = -1e30;
+        for (int j = 0; j < 4; ++j)
+          for (int i = 0; i < 4; ++i) {
+            const double x = coarse.at(4 * bx + i, 4 * by + j, c);
+            bmin = std::min(bmin, x), bmax = std::max(bmax, x);
+          }
+        const double b = std::max(0.5, (255 * (bmax - bmin) / span + 1) / 14) / 255 * span;
+        for (int j = 0; j < 4; ++j)
+          for (int i = 0; i < 4; ++i) {
+            const int x = 4 * bx + i, y = 4 * by + j;
+            const double v = coarse.at(x, y, c);
+            ASSERT_EQ(f.at(x, y, c), coarse.at(x, y, c));
+            const double q = std::round((v - lo) / span * 255) / 255;
+            ASSERT_NEAR(u8.at(x, y, c), lo + span * q, 1e-6 * span) << c;
+            ASSERT_LE(std::abs(bc.at(x, y, c) - v), 4 * b + 1e-6 * span) << c << " " << x << "," << y;
+            e8 += std::abs(u8.at(x, y, c) - v) / span, ebc += std::abs(bc.at(x, y, c) - v) / span;
+            eb += b / span;
+          }
+      }
+  }
+  const double n = double(coarse.channels()) * 256;
+  std::printf(
+      "gravel 64² → 16², 21 channels: mean |error| / range: unorm8 %.5f, bc4 %.5f (mean bound %.5f)\n",
+      e8 / n, ebc / n, eb / n);
+  EXPECT_LT(e8 / n, 0.5 / 255 * 1.01);  // rounding: at most half a step, about a quarter on average
+  EXPECT_LT(ebc, eb);
+  Texture bad = coarse;
+  EXPECT_THROW(store_directional_channels(bad, ChannelRanges{{0.f}, {1.f}}, DirectionalEncoding::Bc4),
+               InputError);
+  EXPECT_THROW(directional_encoding_from_name("bc7"), InputError);
+  for (auto e : {DirectionalEncoding::Float, DirectionalEncoding::Unorm8, DirectionalEncoding::Bc4})
+    EXPECT_EQ(directional_encoding_from_name(directional_encoding_name(e)), e);
+}
+
 // Linearity, the point of the representation: the reconstruction (before its clamp) of the box-mean
 // channels is the box mean of the per-texel reconstructions, at any direction; and the mip chain is the box
 // means.

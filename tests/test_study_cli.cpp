@@ -59,6 +59,7 @@ TEST_F(StudyCli, BadUserMapsAreOneErrorLineExit2) {
       "--height " + a + " --depth 4 --scales 1,8",       // 16 px × 8 texels > 64
       "--material " + (dir / "nojson").string(),         // no material.json
       "--material " + (dir / "nowhere").string(),
+      "--height " + a + " --depth 4 --directional-encoding bc7",  // not a storage
   };
   for (const std::string& args : cases) {
     std::string full = "study " + args + " --image-size 16 --quiet --out " + (dir / "out").string();

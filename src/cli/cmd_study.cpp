@@ -15,7 +15,7 @@ namespace msh::cli {
 namespace {
 
 struct StudyArgs {
-  std::string out, materials, cache, shapes, area_ms, scales, methods, heights, depths;
+  std::string out, materials, cache, shapes, area_ms, scales, methods, heights, depths, encoding = "float";
   std::vector<std::string> folders;
   bool quick = false, quiet = false, area = false;
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
@@ -83,6 +83,10 @@ void add_study(Groups& g) {
   s->add_option("--methods", a->methods,
                 "Comma-separated micro-shadowing methods (`microshadow methods`; default: the methods marked "
                 "for the study; with --area-lights, the area section's terms)");
+  s->add_option("--directional-encoding", a->encoding,
+                "Storage of the directional channels on the coarse sets: float, unorm8 (gen-material's 8-bit "
+                "mips) or bc4 (4 bits per channel); each channel between the fine level's range")
+      ->capture_default_str();
   s->add_option("--scales", a->scales, "Comma-separated scales k (default: the study's list)");
   s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
   s->add_option("--fine-size", a->fine_size, "Fine height field size in texels (default 2048, quick 1024)")
@@ -121,6 +125,7 @@ void add_study(Groups& g) {
     if (a->image_size) c.image_size = a->image_size;
     if (a->gt_max_spp) c.gt_max_spp = a->gt_max_spp;
     c.material_cache = a->cache;
+    c.directional_encoding = render::directional_encoding_from_name(a->encoding);
     const bool quiet = a->quiet;
     const auto res = study::run_study(c, a->out, [quiet](const std::string& line) {
       if (!quiet) std::cerr << line << std::endl;

@@ -1,5 +1,6 @@
 // Directional micro-occlusion bake and its texture-space measurement (render/directional_bake.h).
 #include <fmt/format.h>
+#include <microshadow/io/bc4.h>
 #include <microshadow/io/error.h>
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_bake.h>
@@ -183,6 +184,41 @@ ChannelRanges channel_ranges(const Texture& t) {
   for (int c = 0; c < t.channels(); ++c)
     if (!(r.hi[std::size_t(c)] > r.lo[std::size_t(c)])) r.hi[std::size_t(c)] = r.lo[std::size_t(c)] + 1;
   return r;
+}
+
+DirectionalEncoding directional_encoding_from_name(const std::string& name) {
+  if (name == "float") return DirectionalEncoding::Float;
+  if (name == "unorm8") return DirectionalEncoding::Unorm8;
+  if (name == "bc4") return DirectionalEncoding::Bc4;
+  throw InputError(fmt::format("directional encoding must be float, unorm8 or bc4, got '{}'", name));
+}
+
+std::string directional_encoding_name(DirectionalEncoding e) {
+  return e == DirectionalEncoding::Float ? "float" : e == DirectionalEncoding::Unorm8 ? "unorm8" : "bc4";
+}
+
+void store_directional_channels(Texture& t, const ChannelRanges& r, DirectionalEncoding e) {
+  if (e == DirectionalEncoding::Float || t.empty()) return;
+  if (r.lo.size() != std::size_t(t.channels()) || r.hi.size() != std::size_t(t.channels()))
+    throw InputError(
+        fmt::format("store_directional_channels: {} ranges for {} channels", r.lo.size(), t.channels()));
+  const int w = t.width(), h = t.height(), nc = t.channels();
+  std::vector<float> u(std::size_t(w) * std::size_t(h));
+  for (int c = 0; c < nc; ++c) {
+    const float lo = r.lo[std::size_t(c)], hi = r.hi[std::size_t(c)];
+    if (e == DirectionalEncoding::Unorm8) {
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) t.at(i, j, c) = quantize8(t.at(i, j, c), lo, hi);
+      continue;
+    }
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        u[std::size_t(j) * std::size_t(w) + std::size_t(i)] = (t.at(i, j, c) - lo) / (hi - lo);
+    io::bc4_decode(io::bc4_encode(u.data(), w, h, 1), w, h, u.data(), 1);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        t.at(i, j, c) = dir::decode_unorm8(u[std::size_t(j) * std::size_t(w) + std::size_t(i)], lo, hi);
+  }
 }
 
 std::vector<Texture> box_mip_chain(const Texture& t) {

@@ -423,12 +423,19 @@ struct CellRunner::State {
       const Camera cam = camera_for(cfg, frame_of(shape), k);
       gt_scene->camera = cam;
       regions = make_regions(cfg, shape, cam, k);
-      coarse[0] = make_scene(
-          cfg, make_material(mat.name, downsample_texture_set(fine, k, CoarseRoughness::Base), false), shape);
+      // The coarse set at k is mip level log2 k, its directional channels stored as an engine would read
+      // them.
+      const auto coarse_set = [&](CoarseRoughness mode) {
+        TextureSet s = downsample_texture_set(fine, k, mode);
+        if (!s.directional.empty())
+          store_directional_channels(s.directional, channel_ranges(fine.directional),
+                                     cfg.directional_encoding);
+        return s;
+      };
+      coarse[0] = make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Base), false), shape);
       if (cfg.widened && k > 1)
-        coarse[1] = make_scene(
-            cfg, make_material(mat.name, downsample_texture_set(fine, k, CoarseRoughness::Widened), false),
-            shape);
+        coarse[1] =
+            make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Widened), false), shape);
       coarse[0].camera = coarse[1].camera = cam;
       scale = k;
     }

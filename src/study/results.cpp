@@ -79,6 +79,7 @@ json config_json(const StudyConfig& c) {
           {"delta_rmse", c.delta_rmse},
           {"widened", c.widened},
           {"normal_ablation", c.normal_ablation},
+          {"directional_encoding", render::directional_encoding_name(c.directional_encoding)},
           {"terms", c.terms},
           {"seed", c.seed}};
 }

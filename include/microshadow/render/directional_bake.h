@@ -72,6 +72,17 @@ struct ChannelRanges {
 };
 ChannelRanges channel_ranges(const Texture& t);
 
+// How the channels are stored for the run time, each channel between the fine level's range (channel_ranges):
+// Float (exact), Unorm8 (8-bit UNORM, 1 byte per channel, what gen-material's mips hold) or Bc4 (BC4 blocks,
+// io/bc4.h: 4 bits per channel, 4 × 4 texels per block). directional_encoding_from_name: "float", "unorm8",
+// "bc4"; InputError otherwise.
+enum class DirectionalEncoding { Float, Unorm8, Bc4 };
+DirectionalEncoding directional_encoding_from_name(const std::string& name);
+std::string directional_encoding_name(DirectionalEncoding e);
+// Replaces every channel of t by what an engine reads back from that storage (decoded to float before any
+// filtering, as texture units do): values outside [lo, hi] are clamped. Float leaves t as it is.
+void store_directional_channels(Texture& t, const ChannelRanges& ranges, DirectionalEncoding e);
+
 // The exact diffuse transport per fine texel (vertex) of a directional light l (grid/tangent space, unit,
 // l.z > 0): lit(x, l) · (n(x) · l)⁺, lit = the ray toward l leaves the surface (tan e > tan H along the
 // light's azimuth, exact horizon: bake_horizon_tangents classified against tan e, ray length max_distance,

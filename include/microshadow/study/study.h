@@ -5,6 +5,7 @@
 #pragma once
 
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/multiscale.h>
 #include <microshadow/render/scene.h>
@@ -68,6 +69,10 @@ struct StudyConfig {
   bool normal_ablation = true;  // also render the N·L terms with the unperturbed normal
   std::vector<std::string> featured_lights{"dir-el10-az0", "dir-el45-az0"};  // lights shown as images
   std::string lut_path;  // lut3d / lut2d table (empty: the LUT module's default)
+  // How the coarse sets store the directional channels (render::store_directional_channels, between the fine
+  // level's ranges): Float, or Unorm8 / Bc4 to rank what an engine samples from gen-material's 8-bit or BC4
+  // mips. The ground truth does not read them.
+  render::DirectionalEncoding directional_encoding = render::DirectionalEncoding::Float;
   // Area-light section (docs/area-lights.md §8; `microshadow study --area-lights`): sphere lights of
   // angular radius area_radii_deg at each elevation of area_elevations (a sphere whose cone would reach below
   // 5° above the tangent plane is skipped), disk and rect lights of angular radius area_planar_radii_deg at
