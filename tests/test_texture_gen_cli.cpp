@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/texture_gen.h>
 #include <support/cli_test_util.h>
 #include <sys/wait.h>
@@ -174,6 +175,40 @@ TEST_F(GenMaterialCli, WritesMipChains) {
   r = run("render " + write_scene(view, "view.json") + " --method directional-view --out " +
           (dir / "v.png").string());
   EXPECT_EQ(r.code, 0) << r.err;
+  // --directional-bc: the 21 channels also as BC5 pairs and a last BC4 (11 files, 10.5 bytes per texel),
+  // whose every level decodes to what the study's --directional-encoding bc4 shades at that level.
+  const fs::path bc = dir / "bc";
+  r =
+      run("gen-material --kind bark --size 16 --ao-rays 4 --directional-azimuths 8 --directional-view "
+          "--directional-bc --out " +
+          bc.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json jb = nlohmann::json::parse(slurp(bc / "mips" / "mips.json"));
+  const render::Texture fine_bc = render::load_directional_channels(bc / "directional.npy");
+  const render::ChannelRanges ranges = render::channel_ranges(fine_bc);
+  const std::vector<render::Texture> mips = render::box_mip_chain(fine_bc);
+  for (int f = 0; f < 11; ++f) {
+    const std::string name = fmt::format("directional_bc_{}", f);
+    EXPECT_EQ(jb["maps"][name]["format"], f < 10 ? "bc5" : "bc4") << f;
+    for (const char* ext : {".ktx2", ".dds"})
+      for (int L : {0, 1, 4}) {
+        const io::Volume v = io::read_texture_level(bc / "mips" / (name + ext), L);
+        render::Texture want = mips[std::size_t(L)];
+        render::store_directional_channels(want, ranges, render::DirectionalEncoding::Bc4);
+        for (int y = 0; y < v.height; ++y)
+          for (int x = 0; x < v.width; ++x)
+            for (int c = 0; c < v.channels; ++c) {
+              const std::size_t k = std::size_t(2 * f + c);
+              ASSERT_NEAR(ranges.lo[k] + (ranges.hi[k] - ranges.lo[k]) * v.at(x, y, 0, c),
+                          want.at(x, y, int(k)), 1e-5f * (ranges.hi[k] - ranges.lo[k]))
+                  << name << ext << " level " << L;
+            }
+      }
+  }
+  EXPECT_FALSE(fs::exists(bc / "mips" / "directional_bc_11.ktx2"));
+  EXPECT_EQ(run("gen-material --kind bark --size 16 --directional-bc --no-mips --out " + bc.string()).code,
+            2);
+
   // The 9-channel set is refused by the method that reads 21.
   r = run("render " + write_scene(out, "nine.json") + " --method directional-view --out " +
           (dir / "v9.png").string());

@@ -144,7 +144,8 @@ struct BakeArgs {
 io::PixelFormat checked_pixel_format(const std::string& name, const std::string& def) {
   const io::PixelFormat pf = io::pixel_format_from_name(name.empty() ? def : name);
   const int c = io::pixel_format_channels(pf);
-  if (pf == io::PixelFormat::RGBA8Unorm || pf == io::PixelFormat::R8Unorm || pf == io::PixelFormat::RG8Unorm)
+  if (pf == io::PixelFormat::RGBA8Unorm || pf == io::PixelFormat::R8Unorm ||
+      pf == io::PixelFormat::RG8Unorm || pf == io::PixelFormat::BC4Unorm || pf == io::PixelFormat::BC5Unorm)
     throw UsageError("BRDF tables need a float pixel format (r16f, rg16f, rgba16f, r32f, rg32f, rgba32f)");
   if (c != 1 && c != 2 && c != 4) throw UsageError("unsupported channel count");
   return pf;

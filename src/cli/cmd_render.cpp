@@ -191,6 +191,7 @@ void add_render(Groups& g) {
   auto mheight = std::make_shared<std::string>();
   auto mthreads = std::make_shared<int>(0);
   auto mno_mips = std::make_shared<bool>(false);
+  auto mbc = std::make_shared<bool>(false);
   CLI::App* gm = g.root->add_subcommand("gen-material",
                                         "Generate a texture set (height, normal, roughness, metallic, base "
                                         "colour, baked micro-occlusion), procedural or from a height map");
@@ -223,16 +224,24 @@ void add_render(Groups& g) {
   gm->add_flag("--directional-view", m->directional_view,
                "Bake the view correction's 12 slope channels too (21 channels in directional.npy), what the "
                "directional-view method reads");
+  gm->add_flag(
+      "--directional-bc", *mbc,
+      "Also write the directional channels block-compressed in mips/ (directional_bc_<f>: BC5 pairs, "
+      "an odd last channel BC4; 4 bits per channel, the same ranges)");
   gm->add_flag("--no-mips", *mno_mips,
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
   gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
       ->check(CLI::Range(0, 1024));
-  gm->callback([m, mdir, mheight, mthreads, mno_mips, kind_opt, size_opt] {
+  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, kind_opt, size_opt] {
     auto limit = thread_limit(*mthreads);
+    if (*mbc && (*mno_mips || m->directional_azimuths == 0))
+      throw UsageError(
+          "--directional-bc writes mips of the directional channels: not with --no-mips or "
+          "--directional-azimuths 0");
     if (mheight->empty()) {
       const auto set = render::generate_texture_set(*m);
       render::write_texture_set(*mdir, set);
-      if (!*mno_mips) render::write_texture_set_mips(*mdir, set);
+      if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc);
       print_json({{"dir", *mdir},
                   {"kind", m->kind},
                   {"size", m->size},
@@ -247,7 +256,7 @@ void add_render(Groups& g) {
     const render::Texture h = render::load_height_map(*mheight);
     const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
     render::write_texture_set(*mdir, set);
-    if (!*mno_mips) render::write_texture_set_mips(*mdir, set);
+    if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc);
     print_json({{"dir", *mdir},
                 {"height", *mheight},
                 {"size", {h.width(), h.height()}},

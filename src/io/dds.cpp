@@ -16,7 +16,8 @@ namespace fs = std::filesystem;
 namespace {
 // DDS_HEADER.dwFlags
 constexpr std::uint32_t DDSD_CAPS = 0x1, DDSD_HEIGHT = 0x2, DDSD_WIDTH = 0x4, DDSD_PITCH = 0x8,
-                        DDSD_PIXELFORMAT = 0x1000, DDSD_MIPMAPCOUNT = 0x20000, DDSD_DEPTH = 0x800000;
+                        DDSD_PIXELFORMAT = 0x1000, DDSD_MIPMAPCOUNT = 0x20000, DDSD_LINEARSIZE = 0x80000,
+                        DDSD_DEPTH = 0x800000;
 constexpr std::uint32_t DDPF_FOURCC = 0x4;
 constexpr std::uint32_t DDSCAPS_TEXTURE = 0x1000, DDSCAPS_COMPLEX = 0x8, DDSCAPS_MIPMAP = 0x400000;
 constexpr std::uint32_t DDSCAPS2_VOLUME = 0x200000;
@@ -42,14 +43,16 @@ void write_dds(const fs::path& path, const std::vector<Volume>& levels, PixelFor
   put_u32(out, 0x20534444);  // "DDS "
   // DDS_HEADER
   put_u32(out, 124);  // dwSize
-  put_u32(out, DDSD_CAPS | DDSD_HEIGHT | DDSD_WIDTH | DDSD_PITCH | DDSD_PIXELFORMAT | DDSD_MIPMAPCOUNT |
-                   (volume ? DDSD_DEPTH : 0u));
+  put_u32(out, DDSD_CAPS | DDSD_HEIGHT | DDSD_WIDTH | (pi.block_bytes ? DDSD_LINEARSIZE : DDSD_PITCH) |
+                   DDSD_PIXELFORMAT | DDSD_MIPMAPCOUNT | (volume ? DDSD_DEPTH : 0u));
   put_u32(out, std::uint32_t(v.height));
   put_u32(out, std::uint32_t(v.width));
-  put_u32(out, std::uint32_t(v.width * pi.texel_bytes()));  // dwPitchOrLinearSize: row pitch (uncompressed)
-  put_u32(out, volume ? std::uint32_t(v.depth) : 0u);       // dwDepth
-  put_u32(out, n_levels);                                   // dwMipMapCount
-  for (int i = 0; i < 11; ++i) put_u32(out, 0);             // dwReserved1
+  // dwPitchOrLinearSize: the row pitch, or for a block-compressed format the top level's size in bytes.
+  put_u32(out, std::uint32_t(pi.block_bytes ? pi.image_bytes(std::size_t(v.width), std::size_t(v.height), 1)
+                                            : std::size_t(v.width * pi.texel_bytes())));
+  put_u32(out, volume ? std::uint32_t(v.depth) : 0u);  // dwDepth
+  put_u32(out, n_levels);                              // dwMipMapCount
+  for (int i = 0; i < 11; ++i) put_u32(out, 0);        // dwReserved1
   // DDS_PIXELFORMAT: the real format is in the DX10 header.
   put_u32(out, 32);
   put_u32(out, DDPF_FOURCC);
@@ -98,6 +101,7 @@ Volume read_dds(const fs::path& path, int level) {
   }
   const PixelInfo pi = pixel_info(pf);
   check_dimensions(path, width, height, depth, pi.channels);
+  if (pi.block_bytes && depth != 1) fail(path, "3D block-compressed DDS files are not supported");
   // Level `level`: the levels before it are packed after the header, level 0 first.
   const std::uint32_t n_levels = (flags & DDSD_MIPMAPCOUNT) && r.u32(28) > 0 ? r.u32(28) : 1;
   if (std::uint32_t(level) >= n_levels)
@@ -106,10 +110,10 @@ Volume read_dds(const fs::path& path, int level) {
   std::size_t offset = kHeaderBytes;
   std::uint32_t w = width, h = height;
   for (int i = 0; i < level; ++i) {
-    offset += std::size_t(w) * h * pi.texel_bytes();
+    offset += pi.image_bytes(w, h, 1);
     w = std::max(1u, w / 2), h = std::max(1u, h / 2);
   }
-  const std::size_t n = std::size_t(w) * h * depth * pi.texel_bytes();
+  const std::size_t n = pi.image_bytes(w, h, std::size_t(depth));
   r.require(offset, n);  // further levels after it are not read
   return decode_texels(std::span(bytes).subspan(offset, n), pf, int(w), int(h), int(depth));
 }

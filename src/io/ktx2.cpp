@@ -16,9 +16,33 @@ namespace {
 constexpr unsigned char kIdentifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32,
                                            0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
 
+// Basic DFD of BC4 / BC5 (KDFS 1.3 §5 and §D.4): colour model BC4 (131) / BC5 (132), 4 × 4 texel blocks
+// of 8 / 16 bytes, one 64-bit sample per channel (BC4_DATA, or BC5 RED then GREEN at bit 64), UNORM.
+std::vector<std::byte> block_dfd(const PixelInfo& pi) {
+  const std::uint32_t block_size = 24 + 16 * std::uint32_t(pi.channels);
+  std::vector<std::byte> d;
+  put_u32(d, 4 + block_size);           // dfdTotalSize
+  put_u32(d, 0);                        // vendorId KHRONOS, descriptorType BASICFORMAT
+  put_u32(d, 2u | (block_size << 16));  // versionNumber 1.3, descriptorBlockSize
+  const std::uint32_t model = pi.channels == 1 ? 131u : 132u;
+  put_u32(d, model | (1u << 8) | (1u << 16));  // colorPrimaries BT709, transferFunction LINEAR, flags 0
+  put_u32(d, 3u | (3u << 8));                  // texelBlockDimension0..1 = 4 × 4 (stored minus one)
+  put_u32(d, std::uint32_t(pi.block_bytes));   // bytesPlane0
+  put_u32(d, 0);                               // bytesPlane4..7
+  for (int c = 0; c < pi.channels; ++c) {
+    put_u32(d,
+            std::uint32_t(64 * c) | (63u << 16) | (std::uint32_t(c) << 24));  // offset, length − 1, channel
+    put_u32(d, 0);                                                            // samplePosition0..3
+    put_u32(d, 0);                                                            // sampleLower
+    put_u32(d, 0xFFFFFFFFu);                                                  // sampleUpper
+  }
+  return d;
+}
+
 // Basic DFD for an unpacked little-endian RGBA-ordered format (KDFS 1.3 §5; one sample per channel).
 std::vector<std::byte> basic_dfd(PixelFormat pf) {
   const PixelInfo pi = pixel_info(pf);
+  if (pi.block_bytes) return block_dfd(pi);
   const std::uint32_t block_size = 24 + 16 * pi.channels;
   std::vector<std::byte> d;
   put_u32(d, 4 + block_size);  // dfdTotalSize
@@ -74,7 +98,9 @@ void write_ktx2(const fs::path& path, const std::vector<Volume>& levels, PixelFo
   const std::size_t index_end = 12 + 36 + 32 + 24 * n_levels;  // identifier, header, index, level entries
   const std::size_t dfd_offset = index_end;
   const std::size_t kvd_offset = dfd_offset + dfd.size();
-  const std::size_t alignment = std::lcm(std::size_t(pi.texel_bytes()), std::size_t(4));
+  // mipPadding: lcm(texel block size, 4) (KTX 2.0 §3.9.7).
+  const std::size_t alignment =
+      std::lcm(std::size_t(pi.block_bytes ? pi.block_bytes : pi.texel_bytes()), std::size_t(4));
   const auto align = [&](std::size_t o) { return (o + alignment - 1) / alignment * alignment; };
   // Level data smallest first (KTX 2.0 §3.9 "Mip Level Array"), each level aligned (mipPadding).
   std::vector<std::size_t> level_offset(n_levels);
@@ -88,7 +114,7 @@ void write_ktx2(const fs::path& path, const std::vector<Volume>& levels, PixelFo
   out.reserve(end);
   for (unsigned char c : kIdentifier) out.push_back(std::byte(c));
   put_u32(out, pixel_format_entry(pf).vk);
-  put_u32(out, std::uint32_t(pi.bytes_per_channel));  // typeSize
+  put_u32(out, std::uint32_t(pi.block_bytes ? 1 : pi.bytes_per_channel));  // typeSize (1 for block formats)
   put_u32(out, std::uint32_t(v.width));
   put_u32(out, std::uint32_t(v.height));
   put_u32(out, v.depth > 1 ? std::uint32_t(v.depth) : 0u);  // pixelDepth: 0 for 2D
@@ -132,6 +158,7 @@ Volume read_ktx2(const fs::path& path, int level) {
   const PixelInfo pi = pixel_info(pf);
   const long long d = depth == 0 ? 1 : depth;
   check_dimensions(path, width, height, d, pi.channels);
+  if (pi.block_bytes && d != 1) fail(path, "3D block-compressed KTX2 files are not supported");
   // levelCount 0 means "generate mips at load": level 0 only is stored.
   if (std::uint32_t(level) >= std::max(levels, 1u))
     fail(path, fmt::format("mip level {} requested, the file has {}", level, std::max(levels, 1u)));
@@ -140,7 +167,7 @@ Volume read_ktx2(const fs::path& path, int level) {
   r.require(entry, 24);
   const std::uint64_t offset = r.u64(entry), length = r.u64(entry + 8);
   const std::uint32_t w = std::max(1u, width >> level), h = std::max(1u, height >> level);
-  const std::size_t n = std::size_t(w) * h * d * pi.texel_bytes();
+  const std::size_t n = pi.image_bytes(w, h, std::size_t(d));
   if (length != n) fail(path, fmt::format("level {} holds {} bytes, expected {}", level, length, n));
   if (offset > bytes.size())
     fail(path, fmt::format("truncated or corrupt file (level {} offset past the end)", level));

@@ -1,6 +1,7 @@
 // Format/pixel-format names, validation, texel packing and the write_volume/read_volume dispatch.
 #include <Imath/half.h>
 #include <fmt/format.h>
+#include <microshadow/io/bc4.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
 
@@ -231,6 +232,18 @@ std::vector<std::byte> encode_texels(const Volume& v, PixelFormat pf, const fs::
   if (v.channels != pi.channels)
     fail(path, fmt::format("pixel format {} needs {} channels, the volume has {}", pixel_format_name(pf),
                            pi.channels, v.channels));
+  if (pi.block_bytes) {
+    if (v.depth != 1) fail(path, fmt::format("pixel format {} is 2D only", pixel_format_name(pf)));
+    std::vector<std::vector<Bc4Block>> ch;
+    for (int c = 0; c < v.channels; ++c)
+      ch.push_back(bc4_encode(v.data.data() + c, v.width, v.height, std::size_t(v.channels)));
+    std::vector<std::byte> out;
+    out.reserve(pi.image_bytes(std::size_t(v.width), std::size_t(v.height), 1));
+    for (std::size_t b = 0; b < ch[0].size(); ++b)
+      for (const auto& blocks : ch)
+        for (std::uint8_t x : blocks[b]) out.push_back(std::byte(x));
+    return out;
+  }
   std::vector<std::byte> out(v.data.size() * std::size_t(pi.bytes_per_channel));
   for (std::size_t i = 0; i < v.data.size(); ++i) {
     const float x = v.data[i];
@@ -254,6 +267,16 @@ std::vector<std::byte> encode_texels(const Volume& v, PixelFormat pf, const fs::
 Volume decode_texels(std::span<const std::byte> bytes, PixelFormat pf, int w, int h, int d) {
   const PixelInfo pi = pixel_info(pf);
   Volume v(w, h, d, pi.channels);
+  if (pi.block_bytes) {  // d = 1 (the readers refuse 3D block-compressed files)
+    const std::size_t n = pi.image_bytes(std::size_t(w), std::size_t(h), 1) / std::size_t(pi.block_bytes);
+    for (int c = 0; c < pi.channels; ++c) {
+      std::vector<Bc4Block> blocks(n);
+      for (std::size_t b = 0; b < n; ++b)
+        std::memcpy(blocks[b].data(), bytes.data() + b * std::size_t(pi.block_bytes) + 8 * std::size_t(c), 8);
+      bc4_decode(blocks, w, h, v.data.data() + c, std::size_t(pi.channels));
+    }
+    return v;
+  }
   for (std::size_t i = 0; i < v.data.size(); ++i) {
     const std::byte* src = bytes.data() + i * pi.bytes_per_channel;
     if (pi.bytes_per_channel == 1) {

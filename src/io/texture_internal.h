@@ -24,7 +24,13 @@ struct PixelInfo {
   int channels;
   int bytes_per_channel;  // 1 (UNORM8), 2 (half), 4 (float)
   bool is_float;
+  int block_bytes = 0;  // block-compressed: bytes per 4 × 4 block (BC4 8, BC5 16); 0 = one texel at a time
   int texel_bytes() const { return channels * bytes_per_channel; }
+  // Bytes of a w × h × d image (whole 4 × 4 blocks for the block-compressed formats).
+  std::size_t image_bytes(std::size_t w, std::size_t h, std::size_t d) const {
+    return block_bytes ? (w + 3) / 4 * ((h + 3) / 4) * d * std::size_t(block_bytes)
+                       : w * h * d * std::size_t(texel_bytes());
+  }
 };
 PixelInfo pixel_info(PixelFormat pf);  // pixel_format_entry(pf).info
 
@@ -47,7 +53,9 @@ inline constexpr PixelFormatEntry kPixelFormats[] = {
     {PixelFormat::R16Float, "r16f", {1, 2, true}, 54, 76},        // R16_FLOAT / _SFLOAT
     {PixelFormat::R32Float, "r32f", {1, 4, true}, 41, 100},       // R32_FLOAT / _SFLOAT
     {PixelFormat::R8Unorm, "r8", {1, 1, false}, 61, 9},           // R8_UNORM
-    {PixelFormat::RG8Unorm, "rg8", {2, 1, false}, 49, 16}};       // R8G8_UNORM
+    {PixelFormat::RG8Unorm, "rg8", {2, 1, false}, 49, 16},        // R8G8_UNORM
+    {PixelFormat::BC4Unorm, "bc4", {1, 1, false, 8}, 80, 139},    // BC4_UNORM / BC4_UNORM_BLOCK
+    {PixelFormat::BC5Unorm, "bc5", {2, 1, false, 16}, 83, 141}};  // BC5_UNORM / BC5_UNORM_BLOCK
 
 // The table's row of `pf` (InputError for a value outside the enum).
 const PixelFormatEntry& pixel_format_entry(PixelFormat pf);
@@ -70,7 +78,8 @@ void check_dimensions(const std::filesystem::path& path, long long w, long long 
 // Packs the volume into little-endian texels of `pf` (channel count must match: InputError). Half: round to
 // nearest even, overflow to infinity is an InputError. UNORM8: floor(saturate(x)*255 + 0.5).
 std::vector<std::byte> encode_texels(const Volume& v, PixelFormat pf, const std::filesystem::path& path);
-// The inverse: `bytes` must hold exactly w*h*d texels of `pf`.
+// BC4/BC5: the blocks of each channel (io/bc4.h), BC5's red block before its green one; 2D only (InputError).
+// The inverse: `bytes` must hold exactly pixel_info(pf).image_bytes(w, h, d) bytes.
 Volume decode_texels(std::span<const std::byte> bytes, PixelFormat pf, int w, int h, int d);
 
 std::uint8_t to_unorm8(float x);

@@ -33,7 +33,7 @@ io::Volume channels(const Texture& t, int c0, int n, F f) {
 }
 }  // namespace
 
-void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine) {
+void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine, bool directional_bc) {
   const std::filesystem::path m = dir / "mips";
   std::error_code ec;
   std::filesystem::create_directories(m, ec);
@@ -44,21 +44,22 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
   const auto identity = [](float x, int) { return x; };
   // One map: its chain in both containers (engine format) and each level exact as NPY.
   const auto write = [&](const std::string& name, Texture TextureSet::*map, int c0, int n, io::PixelFormat pf,
-                         const auto& encode) {
+                         const auto& encode, bool npy = true) {
     std::vector<io::Volume> levels;
     for (std::size_t L = 0; L < chain.size(); ++L) {
       const Texture& t = chain[L].*map;
       levels.push_back(channels(t, c0, n, encode));
-      io::write_volume(m / fmt::format("{}_mip{}.npy", name, L), channels(t, c0, n, identity),
-                       io::FileFormat::Npy);
+      if (npy)
+        io::write_volume(m / fmt::format("{}_mip{}.npy", name, L), channels(t, c0, n, identity),
+                         io::FileFormat::Npy);
     }
     io::write_texture_mips(m / (name + ".ktx2"), levels, pf);
     io::write_texture_mips(m / (name + ".dds"), levels, pf);
     j["maps"][name] = {{"ktx2", name + ".ktx2"},
                        {"dds", name + ".dds"},
                        {"format", io::pixel_format_name(pf)},
-                       {"npy", fmt::format("{}_mip<L>.npy", name)},
                        {"channels", n}};
+    if (npy) j["maps"][name]["npy"] = fmt::format("{}_mip<L>.npy", name);
   };
   write("normal", &TextureSet::normal, 0, 4, io::PixelFormat::RGBA8Unorm, identity);
   write("roughness", &TextureSet::roughness, 0, 1, io::PixelFormat::R8Unorm, identity);
@@ -82,6 +83,13 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
       write(fmt::format("directional_{}", f), &TextureSet::directional, 4 * f, single ? 1 : 4,
             single ? io::PixelFormat::R8Unorm : io::PixelFormat::RGBA8Unorm, unorm);
     }
+    // Block-compressed: BC5 pairs, an odd last channel as BC4 (the same ranges; NPY levels already written).
+    if (directional_bc)
+      for (int f = 0; 2 * f < d.channels(); ++f) {
+        const bool single = d.channels() - 2 * f == 1;
+        write(fmt::format("directional_bc_{}", f), &TextureSet::directional, 2 * f, single ? 1 : 2,
+              single ? io::PixelFormat::BC4Unorm : io::PixelFormat::BC5Unorm, unorm, false);
+      }
     j["directional"] = {{"channels", d.channels()},
                         {"lo", lo},
                         {"hi", hi},

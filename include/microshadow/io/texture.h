@@ -34,23 +34,27 @@ enum class PixelFormat {
   R16Float,
   R32Float,
   R8Unorm,
-  RG8Unorm
+  RG8Unorm,
+  BC4Unorm,  // block-compressed (io/bc4.h): 1 channel, 8 bytes per 4 × 4 texels; DDS and KTX2, 2D only
+  BC5Unorm   // two BC4 blocks (red, then green): 2 channels, 16 bytes per 4 × 4 texels
 };
 
 // By extension (.dds .ktx2 .exr .npy .h/.hpp .png, case-insensitive); InputError otherwise.
 FileFormat file_format_from_path(const std::filesystem::path& path);
 // "dds", "ktx2", "exr", "npy", "h", "png"; InputError otherwise.
 FileFormat file_format_from_name(const std::string& name);
-// "rgba8", "rgba16f", "rgba32f", "rg16f", "rg32f", "r16f", "r32f", "r8", "rg8"; InputError otherwise.
+// "rgba8", "rgba16f", "rgba32f", "rg16f", "rg32f", "r16f", "r32f", "r8", "rg8", "bc4", "bc5"; InputError
+// otherwise.
 PixelFormat pixel_format_from_name(const std::string& name);
 std::string pixel_format_name(PixelFormat pf);
 int pixel_format_channels(PixelFormat pf);
 
 // Writes atomically (io::AtomicPath/write_file_atomic). Channel count must match the PixelFormat
 // (InputError). Non-finite values are an error (InputError), never written. UNORM: round-to-nearest of
-// saturate(x)*255. The PixelFormat applies to DDS and KTX2; EXR stores half for *16Float and float otherwise;
-// NPY and C header always store float32 (the exact values); PNG stores 8 bits for *8Unorm and 16 bits
-// otherwise. `symbol` is the C identifier used by the C header writer.
+// saturate(x)*255. BC4/BC5: io::bc4_encode per channel (partial 4 × 4 blocks repeat the edge texels; 3D
+// volumes are an InputError); read back decoded to floats. The PixelFormat applies to DDS and KTX2; EXR
+// stores half for *16Float and float otherwise; NPY and C header always store float32 (the exact values); PNG
+// stores 8 bits for *8Unorm and 16 bits otherwise. `symbol` is the C identifier used by the C header writer.
 void write_volume(const std::filesystem::path& path, const Volume& v, FileFormat ff,
                   PixelFormat pf = PixelFormat::RGBA16Float, const std::string& symbol = "lut");
 // Reads DDS, KTX2, EXR, NPY, PNG written by us (format by extension) → floats. InputError on any failure.

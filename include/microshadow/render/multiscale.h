@@ -40,7 +40,12 @@ std::vector<TextureSet> texture_set_mip_chain(const TextureSet& fine);
 // directional_5 (channel 20, R8), as 8-bit UNORM between per-channel ranges [lo, hi] of the fine level), each
 // level also as float32 NPY
 // (<map>_mip<L>.npy, the exact values the study shades), and mips.json (levels, sizes, formats, the
-// directional ranges). Atomic files; InputError on an unwritable directory.
-void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine);
+// directional ranges). With directional_bc, the directional channels also block-compressed between the same
+// ranges (io/bc4.h; 4 bits per channel): directional_bc_{f} holds channels 2f, 2f + 1 as BC5 and an odd last
+// channel alone as BC4 (9 channels: 4 BC5 + 1 BC4 = 4.5 bytes per texel; 21: 10 BC5 + 1 BC4 = 10.5 bytes),
+// KTX2 and DDS only (the NPY levels are the exact values). Atomic files; InputError on an unwritable
+// directory.
+void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine,
+                            bool directional_bc = false);
 
 }  // namespace msh::render
