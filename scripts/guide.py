@@ -12,7 +12,7 @@ MEAS = os.path.join(ROOT, "docs", "measurements")
 BEGIN, END = "<!-- guide:begin (scripts/guide.py writes this table; do not edit) -->", "<!-- guide:end -->"
 # The cases of the first screen: (case, method).
 CASES = [
-    ("your texture set has a height map (relief: rock, brick, bark, gravel)", "directional"),
+    ("your texture set has a height map (relief: rock, brick, bark, gravel)", "directional-view"),
     ("only a micro-occlusion / AO map, no extra table", "diffuse-aware-alu+generic-vndf-alu"),
     ("only a micro-occlusion / AO map, one 3D table allowed", "diffuse-aware-alu+lut3d"),
 ]
@@ -41,7 +41,7 @@ def exact_error(name):
         return f"{a['rms_255']:.2f} / {a['max_255']:.1f}", "aware_alu_vs_exact.json"
     if name in ("none", "ao", "generic-vndf"):
         return "exact", ""
-    if name == "directional":
+    if name in ("directional", "directional-view"):
         return "fit (docs/directional-occlusion.md)", ""
     return "–", ""
 
@@ -68,7 +68,8 @@ def build(msh):
         for m in table:
             if m["name"] not in facts:
                 errors.append(f"docs/measurements/methods.json has no entry for the study method {m['name']}")
-    methods = [m for m in st["config"]["terms"] if m in facts]
+    # Methods measured by a later run on the same configuration ("added": its shared cells equal the file's).
+    methods = [m for m in st["config"]["terms"] + st.get("added", {}).get("methods", []) if m in facts]
 
     def instr(m):
         f = facts[m]
@@ -90,7 +91,7 @@ def build(msh):
               "|---|---|---|---|---|---|"]
     for case, m in CASES:
         f = facts[m]
-        readme.append(f"| {case} | `{m}` | {f['data']} ({f['bytes']} B) | {instr(m)} SPIR-V instr., "
+        readme.append(f"| {case} | `{m}` | {f['data']} ({f['bytes']} B at 8 bits) | {instr(m)} SPIR-V instr., "
                       f"{f['fetches_light']} fetches | {study(cells, m, 'total')} | `{f['call']}` |")
     readme += ["", "For comparison, the best older term on the same cells: " +
                "; ".join(f"`{m}` {study(cells, m, 'total')}" for m in ("chan-2018", "lut3d") if m in methods) + ".",
@@ -121,7 +122,9 @@ def build(msh):
     doc += ["", "## Where the numbers come from", "",
             "| file | command |", "|---|---|",
             "| `study_targets.json` | `microshadow study --fine-size 1024 --out DIR --threads 2` (22 min 34 s wall, 1631 s CPU on the 2-core machine, shared), then "
-            "`scripts/study_targets.py DIR/results.json --json 1` |",
+            "`scripts/study_targets.py DIR/results.json --json 1` |"] + \
+        ([f"| `study_targets.json` (`added`: {', '.join(st['added']['methods'])}) | {st['added']['from']} |"]
+         if "added" in st else []) + [
             "| `terms_vs_exact.json` | `microshadow verify micro-shadowing-term --method all --samples 10000 --json` |",
             "| `lut3d_vs_exact.json`, `lut2d_vs_exact.json` | `microshadow verify micro-shadowing-lut "
             "share/microshadow/tables/micro_shadowing{,_2d}.ktx2 --samples 10000 --json` |",

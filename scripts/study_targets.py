@@ -5,6 +5,8 @@ roughness, shading normal) and the mean footprint RMSE / GT mean; and per materi
 carrying under 10 % of the total are left out per cell (as the study's ranking leaves out < 2 %).
 Usage: /usr/bin/python3 scripts/study_targets.py DIR/results.json [--methods a,b] [--component total,diffuse]
        [--json 1] (one JSON object instead of the tables: docs/measurements/study_targets.json)
+       /usr/bin/python3 scripts/study_targets.py docs/measurements/study_targets_2048.json [--methods a,b]
+       [--component ...] (the same tables from a stored --json file)
 """
 import json
 import sys
@@ -15,13 +17,16 @@ def main():
     path = sys.argv[1]
     args = dict(zip(sys.argv[2::2], sys.argv[3::2]))
     res = json.load(open(path))
+    if "cells" in res:
+        return print_stored(res, args)
     rows = res["rows"]
     methods = args.get("--methods", ",".join(res["config"]["terms"])).split(",")
     comps = args.get("--component", "total,diffuse,specular").split(",")
     total = {}
     for r in rows:
-        if r["component"] == "total" and r["method"] == "none" and r["ms_normal"] == "shading" and r["roughness"] == "base":
-            total[(r["material"], r["shape"], r["scale"], r["light"])] = r["gt_mean"]["whole"]
+        # The ground truth is the same for every method (a run need not include `none`).
+        if r["component"] == "total" and r["ms_normal"] == "shading" and r["roughness"] == "base":
+            total.setdefault((r["material"], r["shape"], r["scale"], r["light"]), r["gt_mean"]["whole"])
     acc = defaultdict(list)
     for r in rows:
         if r.get("light_type") != "directional" or r["ms_normal"] != "shading" or r["roughness"] != "base":
@@ -64,6 +69,28 @@ def main():
                     fr = [x[1] for x in v if x[1] is not None]
                     cells.append(f"{sum(d)/len(d):.3f} / {max(d):.3f} / {sum(fr)/max(1,len(fr)):.3f}")
                 print(f"| {m} | " + " | ".join(cells) + " |")
+
+
+def print_stored(res, args):
+    """The tables of a stored --json output (its cells are already the per-light aggregates)."""
+    cells = {(c["material"], c["component"], c["scale"], c["method"]): c for c in res["cells"]}
+    methods = args.get("--methods", ",".join(res["config"]["terms"] + res.get("added", {}).get("methods", [])))
+    methods = methods.split(",")
+    comps = args.get("--component", "total,diffuse,specular").split(",")
+    mats = sorted({k[0] for k in cells})
+    scales = sorted({k[2] for k in cells})
+    for comp in comps:
+        for mat in mats:
+            print(f"\n{comp}, {mat}: mean |bias-1| / max |bias-1| / mean footprint RMSE rel, per k")
+            print("| method | " + " | ".join(f"k = {k}" for k in scales) + " |")
+            print("|---|" + "---:|" * len(scales))
+            for m in methods:
+                row = []
+                for k in scales:
+                    c = cells.get((mat, comp, k, m))
+                    row.append("–" if c is None else
+                               f"{c['mean_abs_dev']:.3f} / {c['max_abs_dev']:.3f} / {c['rmse_footprint_rel']:.3f}")
+                print(f"| {m} | " + " | ".join(row) + " |")
 
 
 main()
