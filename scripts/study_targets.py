@@ -13,22 +13,16 @@ import sys
 from collections import defaultdict
 
 
-def main():
-    path = sys.argv[1]
-    args = dict(zip(sys.argv[2::2], sys.argv[3::2]))
-    res = json.load(open(path))
-    if "cells" in res:
-        return print_stored(res, args)
-    rows = res["rows"]
-    methods = args.get("--methods", ",".join(res["config"]["terms"])).split(",")
-    comps = args.get("--component", "total,diffuse,specular").split(",")
+def aggregate(res, methods, comps):
+    """One cell per (material or "all", component, k, method) of a results.json: mean and max |bias - 1| over
+    the directional lights and the mean footprint RMSE / GT mean, unrounded."""
     total = {}
-    for r in rows:
+    for r in res["rows"]:
         # The ground truth is the same for every method (a run need not include `none`).
         if r["component"] == "total" and r["ms_normal"] == "shading" and r["roughness"] == "base":
             total.setdefault((r["material"], r["shape"], r["scale"], r["light"]), r["gt_mean"]["whole"])
     acc = defaultdict(list)
-    for r in rows:
+    for r in res["rows"]:
         if r.get("light_type") != "directional" or r["ms_normal"] != "shading" or r["roughness"] != "base":
             continue
         if r["method"] not in methods or r["component"] not in comps:
@@ -39,46 +33,21 @@ def main():
             continue
         for mat in ("all", r["material"]):
             acc[(mat, r["component"], r["scale"], r["method"])].append((abs(b - 1), f / g if f is not None else None))
-    mats = sorted({k[0] for k in acc})
-    scales = sorted({k[2] for k in acc})
-    if args.get("--json"):
-        out = {"source": path, "config": {k: res["config"][k] for k in ("name", "materials", "fine_size", "scales",
-                                                                        "elevations", "azimuths", "terms")},
-               "cells": []}
-        for (mat, comp, k, m), v in sorted(acc.items(), key=lambda kv: (kv[0][0], kv[0][1], kv[0][2], kv[0][3])):
-            d = [x[0] for x in v]
-            fr = [x[1] for x in v if x[1] is not None]
-            out["cells"].append({"material": mat, "component": comp, "scale": k, "method": m, "lights": len(d),
-                                 "mean_abs_dev": round(sum(d) / len(d), 4), "max_abs_dev": round(max(d), 4),
-                                 "rmse_footprint_rel": round(sum(fr) / max(1, len(fr)), 4)})
-        print(json.dumps(out, indent=1))
-        return
-    for comp in comps:
-        for mat in mats:
-            print(f"\n{comp}, {mat}: mean |bias-1| / max |bias-1| / mean footprint RMSE rel, per k")
-            print("| method | " + " | ".join(f"k = {k}" for k in scales) + " |")
-            print("|---|" + "---:|" * len(scales))
-            for m in methods:
-                cells = []
-                for k in scales:
-                    v = acc.get((mat, comp, k, m))
-                    if not v:
-                        cells.append("–")
-                        continue
-                    d = [x[0] for x in v]
-                    fr = [x[1] for x in v if x[1] is not None]
-                    cells.append(f"{sum(d)/len(d):.3f} / {max(d):.3f} / {sum(fr)/max(1,len(fr)):.3f}")
-                print(f"| {m} | " + " | ".join(cells) + " |")
+    cells = []
+    for (mat, comp, k, m), v in sorted(acc.items()):
+        d = [x[0] for x in v]
+        fr = [x[1] for x in v if x[1] is not None]
+        cells.append({"material": mat, "component": comp, "scale": k, "method": m, "lights": len(d),
+                      "mean_abs_dev": sum(d) / len(d), "max_abs_dev": max(d),
+                      "rmse_footprint_rel": sum(fr) / max(1, len(fr))})
+    return cells
 
 
-def print_stored(res, args):
-    """The tables of a stored --json output (its cells are already the per-light aggregates)."""
-    cells = {(c["material"], c["component"], c["scale"], c["method"]): c for c in res["cells"]}
-    methods = args.get("--methods", ",".join(res["config"]["terms"] + res.get("added", {}).get("methods", [])))
-    methods = methods.split(",")
-    comps = args.get("--component", "total,diffuse,specular").split(",")
-    mats = sorted({k[0] for k in cells})
-    scales = sorted({k[2] for k in cells})
+def print_tables(cells, methods, comps):
+    """Per component and material, one row per method: mean / max |bias - 1| / footprint RMSE per k."""
+    by = {(c["material"], c["component"], c["scale"], c["method"]): c for c in cells}
+    mats = sorted({k[0] for k in by})
+    scales = sorted({k[2] for k in by})
     for comp in comps:
         for mat in mats:
             print(f"\n{comp}, {mat}: mean |bias-1| / max |bias-1| / mean footprint RMSE rel, per k")
@@ -87,10 +56,33 @@ def print_stored(res, args):
             for m in methods:
                 row = []
                 for k in scales:
-                    c = cells.get((mat, comp, k, m))
+                    c = by.get((mat, comp, k, m))
                     row.append("–" if c is None else
                                f"{c['mean_abs_dev']:.3f} / {c['max_abs_dev']:.3f} / {c['rmse_footprint_rel']:.3f}")
                 print(f"| {m} | " + " | ".join(row) + " |")
+
+
+def main():
+    path = sys.argv[1]
+    args = dict(zip(sys.argv[2::2], sys.argv[3::2]))
+    res = json.load(open(path))
+    comps = args.get("--component", "total,diffuse,specular").split(",")
+    if "cells" in res:  # a stored --json output: its cells are already the aggregates
+        default = res["config"]["terms"] + res.get("added", {}).get("methods", [])
+        methods = args.get("--methods", ",".join(default)).split(",")
+        return print_tables(res["cells"], methods, comps)
+    methods = args.get("--methods", ",".join(res["config"]["terms"])).split(",")
+    cells = aggregate(res, methods, comps)
+    if args.get("--json"):
+        for c in cells:
+            for key in ("mean_abs_dev", "max_abs_dev", "rmse_footprint_rel"):
+                c[key] = round(c[key], 4)
+        out = {"source": path, "config": {k: res["config"][k] for k in ("name", "materials", "fine_size", "scales",
+                                                                        "elevations", "azimuths", "terms")},
+               "cells": cells}
+        print(json.dumps(out, indent=1))
+        return
+    print_tables(cells, methods, comps)
 
 
 main()
