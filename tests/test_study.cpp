@@ -214,11 +214,29 @@ TEST(Study, BadConfigurations) {
   c.shapes = {"torus"};
   EXPECT_THROW(run_study(c, d), msh::InputError);
   c = tiny();
-  c.scales = {16};  // 16 pixels × 16 texels = 256 > 64: the view is wider than the texture
+  c.scales = {32};  // 64 / 32 = 2 coarse texels: narrower than one 4-pixel footprint
   EXPECT_THROW(run_study(c, d), msh::InputError);
   c = tiny();
   c.elevations = {90};
   EXPECT_THROW(run_study(c, d), msh::InputError);
+  c = tiny();
+  c.views = {95};
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  c = tiny();
+  c.views = {};
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  c = tiny();
+  c.view_azimuths = {std::nan("")};
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  c = tiny();
+  c.sweep_views = {60};
+  c.sweep_elevations = {10}, c.sweep_azimuths = {45}, c.sweep_scales = {4};
+  c.sweep_terms = {"directional-view"};  // not one of the study's terms
+  c.terms = {"none"};
+  EXPECT_THROW(run_study(c, d), msh::InputError);
+  c.sweep_scales = {};
+  c.sweep_terms = {"none"};
+  EXPECT_THROW(run_study(c, d), msh::InputError);  // a sweep without scales
   EXPECT_FALSE(fs::exists(d / "results.json"));
 }
 
@@ -288,7 +306,7 @@ TEST(Study, UserHeightMaps) {
   expect_bad({"my_bumps", d / "my_bumps.png", std::nanf("")});
   expect_bad({"wide", write_map("wide.png", 64, 32), 4});  // not square
   expect_bad({"my_bumps", d / "my_bumps.png", 4}, {3});    // 3 does not divide 64
-  expect_bad({"my_bumps", d / "my_bumps.png", 4}, {16});   // 16 pixels × 16 texels > 64: wider than the map
+  expect_bad({"my_bumps", d / "my_bumps.png", 4}, {32});   // 2 coarse texels: narrower than a footprint
   StudyConfig twice = good;
   twice.user_materials.push_back(good.user_materials[0]);
   EXPECT_THROW(run_study(twice, bad_out), msh::InputError);
@@ -408,5 +426,129 @@ TEST(Study, GrazingLightOnReliefAoIsBrighterThanGroundTruth) {
   EXPECT_GT(ao, 1 + 10 * ao_se);
   EXPECT_GT(ao, 1.5);
   EXPECT_GT(none, ao + 10 * std::hypot(ao_se, none_se));
+  fs::remove_all(d);
+}
+
+// The camera of a cell (StudyConfig's views and windows comments): the default view is the study's earlier
+// one; grazing views keep the texture area with fewer rows; where the view covers a small part of the
+// texture it is split into windows spread over it.
+TEST(StudyViews, GeometryPerViewAndScale) {
+  const StudyConfig c = full_config();
+  const StudyView v30 = study_view(c, "plane", 2048, 30, 270, 16);
+  EXPECT_EQ(v30.windows, 1);
+  EXPECT_EQ(v30.width, 64);
+  EXPECT_EQ(v30.height, 64);
+  // Along the view (azimuth 270: along v) it reaches 32 rows × 16 texels / cos 30° of the 2048 of a tile.
+  EXPECT_NEAR(v30.extent, 32.0 * 16 / std::cos(M_PI / 6) / 2048, 1e-9);
+  // k = 1 at 2048²: the view is 64 of 2048 texels, so 4 × 4 windows of 16 × 16 pixels; k = 2: 2 × 2.
+  const StudyView k1 = study_view(c, "plane", 2048, 30, 270, 1);
+  EXPECT_EQ(k1.windows, 4);
+  EXPECT_EQ(k1.width, 16);
+  EXPECT_EQ(k1.height, 16);
+  EXPECT_EQ(k1.image_width(), 64);
+  EXPECT_EQ(study_view(c, "plane", 2048, 30, 270, 2).windows, 2);
+  EXPECT_EQ(study_view(c, "plane", 2048, 30, 270, 4).windows, 1);
+  EXPECT_EQ(study_view(c, "plane", 1024, 30, 270, 1).windows, 2);
+  EXPECT_EQ(study_view(c, "cylinder", 2048, 30, 270, 1).windows, 1);  // windows on planes only
+  // 60° off the normal: 64 cos 60° / cos 30° = 36.9 rows, a whole number of 4-pixel footprints: 36.
+  const StudyView v60 = study_view(c, "plane", 2048, 60, 270, 16);
+  EXPECT_EQ(v60.width, 64);
+  EXPECT_EQ(v60.height, 36);
+  // 85°: 6.4 rows -> 8; 0° (straight down): 64 rows, as at 30°.
+  EXPECT_EQ(study_view(c, "plane", 2048, 85, 270, 16).height, 8);
+  EXPECT_EQ(study_view(c, "plane", 2048, 0, 270, 16).height, 64);
+  // k = 64 at 2048²: 32 coarse texels across, so 32 pixels.
+  EXPECT_EQ(study_view(c, "plane", 2048, 30, 270, 64).width, 32);
+  // A view azimuth of 0 turns the view's long side onto u: the same extent.
+  EXPECT_NEAR(study_view(c, "plane", 2048, 30, 0, 16).extent, v30.extent, 1e-9);
+}
+
+// The full study's view sweep: views 30-85°, light azimuths 0-180°, k = 1-64 for the shipped terms; a
+// cell the main grid has is not rendered twice, and every cell is unique.
+TEST(StudyViews, FullPlanSweepAddsViewsWithoutRepeatingCells) {
+  StudyConfig c = full_config();
+  c.materials = {"plaster"};
+  const StudyPlan p = plan_study(c);
+  // Main grid: 3 scales × (10 directional + point, sphere, point-near, sphere-near). Sweep: 7 scales × 4
+  // views × 25 directional lights, less the 3 scales × 10 lights the main grid has at 30°.
+  EXPECT_EQ(p.cells.size(), std::size_t(3 * 14 + 7 * 4 * 25 - 3 * 10));
+  std::set<std::string> keys;
+  int sweep = 0;
+  for (const StudyCell& cell : p.cells) {
+    const std::string key = std::to_string(cell.scale) + "|" + std::to_string(cell.view.view) + "|" +
+                            std::to_string(cell.view.view_azimuth) + "|" + cell.light.name;
+    EXPECT_TRUE(keys.insert(key).second) << key;
+    if (cell.sweep) {
+      ++sweep;
+      EXPECT_EQ(p.variants_of(cell).size(), c.sweep_terms.size());
+      EXPECT_EQ(cell.light.type, "directional");
+    } else {
+      EXPECT_EQ(cell.view.view, 30);
+    }
+  }
+  EXPECT_EQ(sweep, 7 * 4 * 25 - 3 * 10);
+  // The near lights sit near_light_footprints footprints from the view's centre at each scale.
+  for (const StudyCell& cell : p.cells)
+    if (cell.light.name == "point-near") {
+      const double fp = c.footprint * cell.scale * 2.0 / c.fine_size;  // world units (a tile is 2)
+      EXPECT_NEAR(msh::length(cell.light.light.position), c.near_light_footprints * fp, 1e-5);
+      EXPECT_NEAR(cell.light.elevation, 30, 1e-3);
+    }
+}
+
+namespace {
+// A square 16-bit height map of low, smooth bumps.
+fs::path write_bumps(const fs::path& d, const std::string& name, int size, int period) {
+  msh::io::Volume v(size, size, 1, 1);
+  for (int j = 0; j < size; ++j)
+    for (int i = 0; i < size; ++i)
+      v.at(i, j, 0, 0) = float(0.5 + 0.5 * std::sin(2 * M_PI * i / period) * std::sin(2 * M_PI * j / period));
+  msh::io::write_png(d / name, v, 16);
+  return d / name;
+}
+}  // namespace
+
+// Every view, view azimuth and window layout renders the ground truth and the terms through the same
+// cameras and planes: on a nearly flat relief (0.02 texel deep) the term `none` IS the ground truth up to
+// sampling noise, at every view up to 85°, with windows at k = 1 and under the lights near the surface.
+TEST(StudyViews, NearlyFlatReliefMatchesTheGroundTruthAtEveryView) {
+  const fs::path d = fs::temp_directory_path() / ("msh_test_study_views." + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  StudyConfig c = tiny();
+  c.materials = {};
+  c.user_materials = {{"flat", write_bumps(d, "flat.png", 128, 32), 0.02f}};
+  c.shapes = {"plane"};
+  c.image_size = 8;
+  c.scales = {1, 2};  // k = 1: 128 / 8 / 8 = 2 windows per side
+  c.views = {0, 60, 85};
+  c.view_azimuths = {270, 45};
+  c.elevations = {25};
+  c.azimuths = {135};
+  c.point_light = c.sphere_light = false;
+  c.near_lights = true;
+  c.terms = {"none"};
+  c.widened = c.normal_ablation = false;
+  c.featured_lights = {};
+  c.gt_spp = 32;
+  c.gt_max_spp = 64;
+  c.method_spp = 16;
+  const nlohmann::json r = run_study(c, d / "out");
+  // 2 scales × 3 views × 2 view azimuths × 3 lights.
+  ASSERT_EQ(r["ground_truth"].size(), 36u);
+  for (const auto& g : r["ground_truth"]) {
+    const int n = g["scale"] == 1 ? 2 : 1;
+    EXPECT_EQ(g["windows"].get<int>(), n);
+    EXPECT_EQ(g["image"][0].get<int>(), 8);  // 8 pixels across: n windows of 8 / n
+  }
+  int checked = 0;
+  for (const auto& row : r["rows"]) {
+    if (row["component"] == "specular") continue;  // the specular alone can be a few pixels' highlight
+    ASSERT_TRUE(row["bias"]["whole"].is_number()) << row.dump();
+    // The noise of 32-64 ground-truth and 16 term samples per pixel over 32-64 pixels: a few 1e-3.
+    EXPECT_NEAR(row["bias"]["whole"].get<double>(), 1.0, 0.02) << row.dump();
+    ++checked;
+  }
+  EXPECT_EQ(checked, 36 * 2);
   fs::remove_all(d);
 }

@@ -1,8 +1,8 @@
 // CLI tests of `microshadow study --height FILE[,FILE…] --depth D[,D…]` and `--material DIR`: rows named
 // by the file's stem or the folder, gen-material's relief kinds (rock, brick, cobble) studied from their
 // folders, and every bad input (missing or unreadable file, 8-bit map, wrong depth count, non-positive depth,
-// a size the scales do not divide or narrower than the view, a folder without material.json) is one error
-// line, exit 2, before any work (no output directory).
+// a size the scales do not divide or narrower than a footprint, a view or azimuth out of its range, a folder
+// without material.json) is one error line, exit 2, before any work (no output directory).
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
 #include <support/cli_test_util.h>
@@ -56,8 +56,14 @@ TEST_F(StudyCli, BadUserMapsAreOneErrorLineExit2) {
       "--depth 4",                                       // no map
       "--height " + a + "," + a + " --depth 4",          // the same name twice
       "--height " + small + " --depth 4 --scales 1,32",  // 32 does not divide 48
-      "--height " + a + " --depth 4 --scales 1,8",       // 16 px × 8 texels > 64
-      "--material " + (dir / "nojson").string(),         // no material.json
+      "--height " + a + " --depth 4 --scales 1,32",      // 2 coarse texels: narrower than a footprint
+      "--height " + a + " --depth 4 --views 95",         // a view past grazing
+      "--height " + a + " --depth 4 --views 30,x",       // not a number
+      "--height " + a + " --depth 4 --view-azimuths 400",
+      "--height " + a + " --depth 4 --light-azimuths nan",
+      "--height " + a + " --depth 4 --light-elevations 0",
+      "--height " + a + " --depth 4 --sweep --no-sweep",
+      "--material " + (dir / "nojson").string(),  // no material.json
       "--material " + (dir / "nowhere").string(),
       "--height " + a + " --depth 4 --directional-encoding bc7",  // not a storage
   };
@@ -104,4 +110,26 @@ TEST_F(StudyCli, GenMaterialFoldersIntoTheStudy) {
   const auto j = nlohmann::json::parse(msh::test::slurp(dir / "out" / "results.json"));
   EXPECT_EQ(j["config"]["materials"], nlohmann::json::array({"rock", "brick", "cobble"}));
   EXPECT_EQ(j["config"]["user_materials"][0]["depth_texels"].get<double>(), 4.0);  // 16 × 64 / 256
+}
+
+// Views and azimuths from the command line: the rows carry them, and the summary has a table per view.
+TEST_F(StudyCli, ViewsAndAzimuthsReachTheRows) {
+  const std::string a = map("my_rock.png", 64);
+  const auto r = run(
+      "study --height " + a +
+      " --depth 4 --views 30,75 --view-azimuths 270,0 --light-azimuths 45 --light-elevations 20" + tiny());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(msh::test::slurp(dir / "out" / "results.json"));
+  std::set<std::pair<double, double>> views;
+  for (const auto& row : j["rows"]) {
+    views.insert({row["view"].get<double>(), row["view_azimuth"].get<double>()});
+    if (row["light_type"] != "directional") continue;  // --quick's sphere light
+    EXPECT_EQ(row["azimuth"].get<double>(), 45);
+    EXPECT_EQ(row["elevation"].get<double>(), 20);
+  }
+  EXPECT_EQ(views, (std::set<std::pair<double, double>>{{30, 270}, {30, 0}, {75, 270}, {75, 0}}));
+  const std::string md = msh::test::slurp(dir / "out" / "summary.md");
+  EXPECT_NE(md.find("By view"), std::string::npos);
+  EXPECT_NE(md.find("75° / 0°"), std::string::npos);
+  EXPECT_NE(msh::test::slurp(dir / "out" / "results.csv").find("view,view_azimuth"), std::string::npos);
 }

@@ -4,6 +4,7 @@
 #include <microshadow/io/error.h>
 #include <microshadow/study/study.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -16,10 +17,34 @@ namespace {
 
 struct StudyArgs {
   std::string out, materials, cache, shapes, area_ms, scales, methods, heights, depths, encoding = "float";
+  std::string views, view_azimuths, light_azimuths, light_elevations;
   std::vector<std::string> folders;
-  bool quick = false, quiet = false, area = false;
-  int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0;
+  bool quick = false, quiet = false, area = false, sweep = false, no_sweep = false, near = false,
+       no_near = false;
+  int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0, max_windows = 0;
 };
+
+// A comma-separated list of angles in degrees, each in [lo, hi]; bad input: one error line, exit 2.
+std::vector<double> angles(const std::string& text, const char* what, double lo, double hi) {
+  const std::vector<double> v = parse_list(text, what);
+  if (v.empty()) throw UsageError(fmt::format("{}: empty list", what));
+  for (double a : v)
+    if (!(a >= lo && a <= hi))
+      throw UsageError(fmt::format("{}: {} is not in [{}, {}] degrees", what, a, lo, hi));
+  return v;
+}
+
+// The small default set of a study of the user's own maps (docs/study.md, "Your own maps"): the terms the
+// guide ships and the ones they are judged against, the directional lights of the main grid and the near
+// point light, no ablations, no sweep.
+void user_map_defaults(study::StudyConfig& c) {
+  c.terms = {"none", "ao", "directional-view", "diffuse-aware-alu+lut3d"};
+  c.widened = c.normal_ablation = false;
+  c.point_light = c.sphere_light = false;
+  c.near_lights = true;
+  c.sweep_views.clear();
+  c.featured_lights = {"dir-el10-az0"};
+}
 
 // --height FILE[,FILE…] --depth D[,D…] and --material DIR[,DIR…]; bad lists: one error line, exit 2.
 std::vector<study::UserMaterial> user_materials(const StudyArgs& a) {
@@ -88,6 +113,30 @@ void add_study(Groups& g) {
                 "mips) or bc4 (4 bits per channel); each channel between the fine level's range")
       ->capture_default_str();
   s->add_option("--scales", a->scales, "Comma-separated scales k (default: the study's list)");
+  s->add_option(
+      "--views", a->views,
+      "Comma-separated view angles, degrees off the normal in [0, 89] (default 30; the full study's "
+      "sweep adds 60, 75, 85)");
+  s->add_option(
+      "--view-azimuths", a->view_azimuths,
+      "Comma-separated azimuths of the direction to the camera, degrees from +u towards +v (default "
+      "270: the camera at -v looking along +v)");
+  s->add_option(
+      "--light-azimuths", a->light_azimuths,
+      "Comma-separated azimuths of the directional lights, degrees from +u towards +v (default 0,90; "
+      "the full study's sweep adds 45, 135, 180)");
+  s->add_option("--light-elevations", a->light_elevations,
+                "Comma-separated elevations of the directional lights above the plane, degrees in (0, 90) "
+                "(default 5,10,25,45,70)");
+  s->add_flag("--sweep", a->sweep,
+              "Add the full study's view sweep (views 30-85, light azimuths 0-180, k = 1-64, the shipped "
+              "terms) to --quick or a study of your own maps");
+  s->add_flag("--no-sweep", a->no_sweep, "Leave the view sweep out of the full study");
+  s->add_flag("--near-lights", a->near, "Add the point and sphere lights near the surface (full study: on)");
+  s->add_flag("--no-near-lights", a->no_near, "Leave the lights near the surface out");
+  s->add_option("--max-windows", a->max_windows,
+                "Windows per side at most where the view covers a small part of the texture (default 4)")
+      ->check(CLI::Range(1, 16));
   s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
   s->add_option("--fine-size", a->fine_size, "Fine height field size in texels (default 2048, quick 1024)")
       ->check(CLI::Range(64, 8192));
@@ -107,9 +156,40 @@ void add_study(Groups& g) {
                                       : study::full_config();
     if (!a->materials.empty()) c.materials = split_list(a->materials);
     c.user_materials = user_materials(*a);
-    if (!c.user_materials.empty() && a->materials.empty()) c.materials.clear();
+    if (!c.user_materials.empty() && a->materials.empty()) {
+      c.materials.clear();
+      if (!a->area && !a->quick) user_map_defaults(c);
+    }
+    if (a->sweep && a->no_sweep) throw UsageError("--sweep and --no-sweep: give one");
+    if (a->near && a->no_near) throw UsageError("--near-lights and --no-near-lights: give one");
+    if (a->sweep) {
+      const study::StudyConfig full = study::full_config();
+      c.sweep_views = full.sweep_views, c.sweep_view_azimuths = full.sweep_view_azimuths;
+      c.sweep_elevations = full.sweep_elevations, c.sweep_azimuths = full.sweep_azimuths;
+      c.sweep_scales = full.sweep_scales, c.sweep_terms = full.sweep_terms;
+    }
+    if (a->no_sweep) c.sweep_views.clear();
+    if (a->near) c.near_lights = true;
+    if (a->no_near) c.near_lights = false;
+    if (!a->views.empty()) c.views = angles(a->views, "--views", 0, 89);
+    if (!a->view_azimuths.empty()) c.view_azimuths = angles(a->view_azimuths, "--view-azimuths", -360, 360);
+    if (!a->light_azimuths.empty()) c.azimuths = angles(a->light_azimuths, "--light-azimuths", -360, 360);
+    if (!a->light_elevations.empty()) {
+      c.elevations = angles(a->light_elevations, "--light-elevations", 0, 90);
+      for (double e : c.elevations)
+        if (!(e > 0 && e < 90)) throw UsageError(fmt::format("--light-elevations: {} is not in (0, 90)", e));
+    }
+    if (a->max_windows) c.max_windows = a->max_windows;
     if (!a->shapes.empty()) c.shapes = split_list(a->shapes);
-    if (!a->methods.empty()) (a->area ? c.area_terms : c.terms) = split_list(a->methods);
+    if (!a->methods.empty()) {
+      (a->area ? c.area_terms : c.terms) = split_list(a->methods);
+      // The sweep renders the chosen methods it has.
+      std::vector<std::string> sweep;
+      for (const std::string& t : c.sweep_terms)
+        if (std::find(c.terms.begin(), c.terms.end(), t) != c.terms.end()) sweep.push_back(t);
+      c.sweep_terms = sweep;
+      if (sweep.empty()) c.sweep_views.clear();
+    }
     if (!a->area_ms.empty()) c.area_ms_modes = split_list(a->area_ms);
     if (!a->scales.empty()) {
       c.scales.clear();

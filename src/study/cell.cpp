@@ -127,56 +127,92 @@ bool area_sampled(const Light& l) {
   return l.type == LightType::Sphere || l.type == LightType::Disk || l.type == LightType::Rect;
 }
 
-// Orthographic camera at view_elevation above the tangent plane at the view's centre, looking along +v: the
-// view is W = image_size · k fine texels wide, so a pixel covers k texels across and k / sin(view elevation)
-// along v there (more towards a cylinder's silhouettes).
-Camera camera_for(const StudyConfig& c, const Frame& fr, int k) {
-  const float W = float(c.image_size) * float(k) * kTileWorld / float(c.fine_size);
-  const float D = 4.0f * kTileWorld, el = float(c.view_elevation) * kPi<float> / 180;
+// cos and sin of an angle in degrees, exact at multiples of 90°.
+double cos_deg(double a) {
+  const double r = std::fmod(std::abs(a), 360.0);
+  if (r == 90 || r == 270) return 0;
+  if (r == 0) return 1;
+  if (r == 180) return -1;
+  return std::cos(a * kPi<double> / 180);
+}
+double sin_deg(double a) { return cos_deg(90 - a); }
+
+// One window of a cell's view (StudyConfig's views and windows comments): its orthographic camera, where it
+// sits in the cell's image, and the world offset of its centre from the view's centre (positional lights
+// move with it, so that every window sees the same light).
+struct Window {
   Camera cam;
-  cam.eye = fr.P0 + (fr.N * std::sin(el) - fr.B * std::cos(el)) * D;
-  cam.target = fr.P0;
-  cam.up = fr.N;
-  cam.orthographic = true;
-  cam.ortho_height = W;
-  return cam;
+  int x0 = 0, y0 = 0;
+  Vec3f offset{0, 0, 0};
+};
+
+// The windows of a view, row-major. Each camera looks at its window's centre on the mean surface from
+// `view` degrees off the normal at the view azimuth: a pixel covers k fine texels across and
+// k / cos(view) along the view.
+std::vector<Window> windows_of(const StudyView& v, const Frame& fr, int k, int fine_size) {
+  const float W = float(v.width) * float(k) * kTileWorld / float(fine_size);
+  const float D = 4.0f * kTileWorld, el = float(90 - v.view) * kPi<float> / 180;
+  const Vec3f h = fr.T * float(cos_deg(v.view_azimuth)) + fr.B * float(sin_deg(v.view_azimuth));
+  std::vector<Window> out;
+  const int n = v.windows;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      Window w;
+      if (n > 1)
+        w.offset = fr.T * ((float(i) + 0.5f) / float(n) - 0.5f) * kTileWorld +
+                   fr.B * ((float(j) + 0.5f) / float(n) - 0.5f) * kTileWorld;
+      w.cam.target = fr.P0 + w.offset;
+      w.cam.eye = w.cam.target + (fr.N * std::sin(el) + h * std::cos(el)) * D;
+      // Straight down, the image's up points away from the camera's azimuth, as it does just off the normal.
+      w.cam.up = v.view < 1e-3 ? -h : fr.N;
+      w.cam.orthographic = true;
+      w.cam.ortho_height = W * float(v.height) / float(v.width);
+      w.x0 = i * v.width, w.y0 = j * v.height;
+      out.push_back(w);
+    }
+  return out;
 }
 
 // The texture's rough half (u mod 1 < 0.5) and smooth half, from where each pixel centre's ray (the
-// renderer's orthographic camera) meets the mean surface; pixels within 1.5 footprints + 2 fine texels of a
-// boundary belong to neither half (they stay in the whole); pixels that miss the shape belong to no region.
-Regions make_regions(const StudyConfig& c, const std::string& shape, const Camera& cam, int k) {
-  const int n = c.image_size;
-  Regions r{Mask(n, n, 0), Mask(n, n, 0), Mask(n, n, 0)};
-  const double margin = (1.5 * k + 2.0) / double(c.fine_size);
-  const Vec3f f = normalize(cam.target - cam.eye), rt = normalize(cross(f, cam.up)), up = cross(rt, f);
-  const float th = 0.5f * cam.ortho_height;
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const float px = (2 * (float(x) + 0.5f) / float(n) - 1) * th,
-                  py = (1 - 2 * (float(y) + 0.5f) / float(n)) * th;
-      const Vec3d o(cam.eye + rt * px + up * py), d(f);
-      double u;
-      if (shape == "cylinder") {
-        // Nearest hit of the infinite cylinder x² + y² = R².
-        const double a = d.x * d.x + d.y * d.y, b = o.x * d.x + o.y * d.y,
-                     cc = o.x * o.x + o.y * o.y - double(kCylRadius) * kCylRadius;
-        const double disc = b * b - a * cc;
-        if (!(a > 0) || disc < 0) continue;
-        const double t = (-b - std::sqrt(disc)) / a;
-        const double phi = std::atan2(o.y + t * d.y, o.x + t * d.x) - kCylRotate;
-        u = phi / (2 * kPi<double>);
-      } else {
-        const double t = -o.z / d.z;
-        u = (o.x + t * d.x + 0.5 * kTiles * kTileWorld) / kTileWorld;  // in tiles
+// renderer's orthographic camera, window by window) meets the mean surface; pixels within 1.5 footprints + 2
+// fine texels of a boundary belong to neither half (they stay in the whole); pixels that miss the shape
+// belong to no region.
+Regions make_regions(const StudyView& v, const std::string& shape, const std::vector<Window>& windows, int k,
+                     int fine_size, int tiles) {
+  const int iw = v.image_width(), ih = v.image_height();
+  Regions r{Mask(iw, ih, 0), Mask(iw, ih, 0), Mask(iw, ih, 0)};
+  const double margin = (1.5 * k + 2.0) / double(fine_size);
+  for (const Window& win : windows) {
+    const Camera& cam = win.cam;
+    const Vec3f f = normalize(cam.target - cam.eye), rt = normalize(cross(f, cam.up)), up = cross(rt, f);
+    const float th = 0.5f * cam.ortho_height, aspect = float(v.width) / float(v.height);
+    for (int y = 0; y < v.height; ++y)
+      for (int x = 0; x < v.width; ++x) {
+        const float px = (2 * (float(x) + 0.5f) / float(v.width) - 1) * th * aspect,
+                    py = (1 - 2 * (float(y) + 0.5f) / float(v.height)) * th;
+        const Vec3d o(cam.eye + rt * px + up * py), d(f);
+        double u;
+        if (shape == "cylinder") {
+          // Nearest hit of the infinite cylinder x² + y² = R².
+          const double a = d.x * d.x + d.y * d.y, b = o.x * d.x + o.y * d.y,
+                       cc = o.x * o.x + o.y * o.y - double(kCylRadius) * kCylRadius;
+          const double disc = b * b - a * cc;
+          if (!(a > 0) || disc < 0) continue;
+          const double t = (-b - std::sqrt(disc)) / a;
+          const double phi = std::atan2(o.y + t * d.y, o.x + t * d.x) - kCylRotate;
+          u = phi / (2 * kPi<double>);
+        } else {
+          const double t = -o.z / d.z;
+          u = (o.x + t * d.x + 0.5 * tiles * kTileWorld) / kTileWorld;  // in tiles
+        }
+        const std::size_t i = std::size_t(win.y0 + y) * iw + std::size_t(win.x0 + x);
+        r.whole.in[i] = 1;
+        const double fu = u - std::floor(u);
+        const double dist = std::min({fu, std::abs(fu - 0.5), 1.0 - fu});
+        if (dist <= margin) continue;
+        (fu < 0.5 ? r.rough : r.smooth).in[i] = 1;
       }
-      const std::size_t i = std::size_t(y) * n + x;
-      r.whole.in[i] = 1;
-      const double fu = u - std::floor(u);
-      const double dist = std::min({fu, std::abs(fu - 0.5), 1.0 - fu});
-      if (dist <= margin) continue;
-      (fu < 0.5 ? r.rough : r.smooth).in[i] = 1;
-    }
+  }
   return r;
 }
 
@@ -198,9 +234,9 @@ Material make_material(const std::string& name, const TextureSet& s, bool ground
   return m;
 }
 
-Scene make_scene(const StudyConfig& c, Material m, const std::string& shape) {
+// tiles: the plane spans tiles × tiles texture tiles (odd), centred on the view.
+Scene make_scene(const StudyConfig& c, Material m, const std::string& shape, int tiles) {
   Scene s;
-  s.camera = camera_for(c, frame_of(shape), 1);
   Object o;
   if (shape == "cylinder") {
     // The smooth cylinder (what the approximations shade; the ground truth displaces it by the height map),
@@ -219,14 +255,13 @@ Scene make_scene(const StudyConfig& c, Material m, const std::string& shape) {
     m.uv_scale = 1.0f;
   } else {
     o.type = ShapeType::Plane;
-    o.half_size = {0.5f * kTiles * kTileWorld, 0.5f * kTiles * kTileWorld};
-    m.uv_scale = float(kTiles);
+    o.half_size = {0.5f * float(tiles) * kTileWorld, 0.5f * float(tiles) * kTileWorld};
+    m.uv_scale = float(tiles);
   }
   s.materials.push_back(std::move(m));
   s.objects.push_back(o);
   s.lights.resize(1);
   Settings& st = s.settings;
-  st.width = st.height = c.image_size;
   st.area_lights = true;
   st.area_samples = c.area_samples;
   st.vndf_samples = c.vndf_samples;
@@ -374,18 +409,33 @@ struct CellRunner::State {
   std::optional<std::size_t> material;
   StudyConfig cfg;
   TextureSet fine;
-  // Material × shape: the ground-truth scene and its renderer. The Renderer keeps a reference to the scene
-  // and reads the camera, lights, spp, seed and component at render time, so they are changed in the scene
-  // between renders.
+  // Material × shape: the plane's tiles, the ground-truth scene and its renderer. The Renderer keeps a
+  // reference to the scene and reads the camera, lights, image size, spp, seed and component at render time,
+  // so they are changed in the scene between renders.
   std::string shape;
+  int tiles = 3;
   std::unique_ptr<Scene> gt_scene;
   std::unique_ptr<Renderer> gt_renderer;
-  // Material × shape × scale: the coarse scenes (base roughness, and widened at k > 1), the view's regions.
+  // Material × shape × scale: the coarse scenes (base roughness, and widened at k > 1).
   int scale = 0;
   Scene coarse[2];
+  // ... × view: the windows and the regions.
+  std::optional<std::pair<double, double>> view;
+  std::vector<Window> windows;
   Regions regions;
 
   State(const StudyPlan& p, Log l) : plan(p), log(std::move(l)) {}
+
+  // The plane's tiles for every cell of the material × shape (the ground truth's geometry is built once):
+  // the farthest any of its views reaches, and a margin that a shadow ray 5° above the plane or a camera ray
+  // 85° off the normal crosses over the relief's depth (11.5 depths), at least 3/4 tile.
+  int plane_tiles(std::size_t material_index, const std::string& sh) const {
+    double extent = 0;
+    for (const StudyCell& c : plan.cells)
+      if (c.material == material_index && c.shape == sh) extent = std::max(extent, c.view.extent);
+    const double margin = std::max(0.75, 11.5 * double(fine.depth_texels) / double(cfg.fine_size));
+    return 2 * int(std::ceil(extent + margin - 0.5)) + 1;
+  }
 
   void prepare(const StudyCell& cell) {
     const StudyMaterial& mat = plan.materials.at(cell.material);
@@ -409,7 +459,9 @@ struct CellRunner::State {
     }
     if (shape != cell.shape) {
       clear_shape();
-      gt_scene = std::make_unique<Scene>(make_scene(cfg, make_material(mat.name, fine, true), cell.shape));
+      tiles = cell.shape == "plane" ? plane_tiles(cell.material, cell.shape) : 1;
+      gt_scene =
+          std::make_unique<Scene>(make_scene(cfg, make_material(mat.name, fine, true), cell.shape, tiles));
       gt_scene->settings.micro_shadowing = kGroundTruth;
       gt_scene->settings.error_batches = 8;
       const auto t_build = std::chrono::steady_clock::now();
@@ -420,9 +472,7 @@ struct CellRunner::State {
     if (scale != cell.scale) {
       const int k = cell.scale;
       coarse[0] = coarse[1] = Scene{};
-      const Camera cam = camera_for(cfg, frame_of(shape), k);
-      gt_scene->camera = cam;
-      regions = make_regions(cfg, shape, cam, k);
+      view.reset();
       // The coarse set at k is mip level log2 k, its directional channels stored as an engine would read
       // them.
       const auto coarse_set = [&](CoarseRoughness mode) {
@@ -432,12 +482,18 @@ struct CellRunner::State {
                                      cfg.directional_encoding);
         return s;
       };
-      coarse[0] = make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Base), false), shape);
+      coarse[0] =
+          make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Base), false), shape, tiles);
       if (cfg.widened && k > 1)
-        coarse[1] =
-            make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Widened), false), shape);
-      coarse[0].camera = coarse[1].camera = cam;
+        coarse[1] = make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Widened), false),
+                               shape, tiles);
       scale = k;
+    }
+    const std::pair<double, double> vk{cell.view.view, cell.view.view_azimuth};
+    if (view != vk) {
+      windows = windows_of(cell.view, frame_of(shape), cell.scale, cfg.fine_size);
+      regions = make_regions(cell.view, shape, windows, cell.scale, cfg.fine_size, tiles);
+      view = vk;
     }
   }
 
@@ -445,12 +501,40 @@ struct CellRunner::State {
   void clear_shape() {
     scale = 0;
     coarse[0] = coarse[1] = Scene{};
+    view.reset();
+    windows.clear();
     regions = Regions{};
     gt_renderer.reset();
     gt_scene.reset();
     shape.clear();
   }
 };
+
+namespace {
+
+// Renders the cell's image window by window into one mosaic: per window, the scene's camera, image size,
+// light (a positional light moved with the window) and seed (the first window's is the scene's own) are
+// set and render(seed) is called; blit(result, window) copies its pixels into place.
+template <class RenderFn, class BlitFn>
+void for_each_window(Scene& sc, const StudyView& v, const std::vector<Window>& windows, const Light& light,
+                     uint32_t seed, RenderFn&& render, BlitFn&& blit) {
+  sc.settings.width = v.width, sc.settings.height = v.height;
+  for (std::size_t wi = 0; wi < windows.size(); ++wi) {
+    const Window& w = windows[wi];
+    sc.camera = w.cam;
+    sc.lights[0] = light;
+    if (light.type != LightType::Directional) sc.lights[0].position = light.position + w.offset;
+    sc.settings.seed = seed + 104729u * uint32_t(wi);
+    blit(render(), w);
+  }
+}
+
+void blit_image(Image& dst, const Image& src, const Window& w) {
+  for (int y = 0; y < src.height; ++y)
+    for (int x = 0; x < src.width; ++x) dst.at(w.x0 + x, w.y0 + y) = src.at(x, y);
+}
+
+}  // namespace
 
 CellRunner::CellRunner(const StudyPlan& plan, Log log)
     : state_(std::make_unique<State>(plan, std::move(log))) {}
@@ -473,7 +557,8 @@ CellResult CellRunner::run(const StudyCell& cell) {
   // Ground truth: diffuse and specular rendered alone; rounds of independent estimates (new seed), doubling
   // the samples, until the floors are met or gt_max_spp.
   const auto t_light = std::chrono::steady_clock::now();
-  gt_scene.lights[0] = ls.light;
+  const StudyView& view = cell.view;
+  const int iw = view.image_width(), ih = view.image_height();
   RenderResult acc[2];
   int spp = 0, rounds = 0;
   GroundTruth G;
@@ -483,8 +568,18 @@ CellResult CellRunner::run(const StudyCell& cell) {
     for (int ci = 0; ci < 2; ++ci) {
       gt_scene.settings.component = ci == 0 ? Component::Diffuse : Component::Specular;
       gt_scene.settings.spp = n;
-      gt_scene.settings.seed = cfg.seed + 7919u * uint32_t(rounds);
-      RenderResult res = st.gt_renderer->render_with_error();
+      RenderResult res;
+      res.mean = Image(iw, ih), res.std_error = Image(iw, ih);
+      for_each_window(
+          gt_scene, view, st.windows, ls.light, cfg.seed + 7919u * uint32_t(rounds),
+          [&] { return st.gt_renderer->render_with_error(); },
+          [&](const RenderResult& r, const Window& w) {
+            blit_image(res.mean, r.mean, w);
+            blit_image(res.std_error, r.std_error, w);
+            res.spp = r.spp, res.batches = r.batches;
+            res.stats.camera_rays += r.stats.camera_rays, res.stats.shadow_rays += r.stats.shadow_rays;
+            res.stats.shaded_samples += r.stats.shaded_samples, res.stats.seconds += r.stats.seconds;
+          });
       if (spp == 0)
         acc[ci] = std::move(res);
       else
@@ -506,6 +601,11 @@ CellResult CellRunner::run(const StudyCell& cell) {
   out.ground_truth = {{"material", kind},
                       {"shape", shape},
                       {"scale", k},
+                      {"view", view.view},
+                      {"view_azimuth", view.view_azimuth},
+                      {"windows", view.windows},
+                      {"grid", cell.sweep ? "sweep" : "main"},
+                      {"image", {iw, ih}},
                       {"light", ls.name},
                       {"spp", spp},
                       {"rounds", rounds},
@@ -519,12 +619,22 @@ CellResult CellRunner::run(const StudyCell& cell) {
   const bool featured =
       std::find(cfg.featured_lights.begin(), cfg.featured_lights.end(), ls.name) != cfg.featured_lights.end();
   const float exposure = display_exposure(G.lum[0]);
-  const std::string stem = fmt::format("{}_{}_k{}_{}", kind, shape, k, ls.name);
+  // The default view keeps the earlier file names; others add the view.
+  const bool default_view = view.view == 30 && view.view_azimuth == 270;
+  const std::string stem = default_view ? fmt::format("{}_{}_k{}_{}", kind, shape, k, ls.name)
+                                        : fmt::format("{}_{}_k{}_v{:g}-az{:g}_{}", kind, shape, k, view.view,
+                                                      view.view_azimuth, ls.name);
   auto feature = [&](const std::string& method, const Image& img) {
     const std::string file = "images/" + stem + "_" + method + ".png";
     out.featured.push_back({file, img, exposure, false});
-    json e = {{"material", kind}, {"shape", shape},   {"scale", k},
-              {"light", ls.name}, {"method", method}, {"image", file}};
+    json e = {{"material", kind},
+              {"shape", shape},
+              {"scale", k},
+              {"view", view.view},
+              {"view_azimuth", view.view_azimuth},
+              {"light", ls.name},
+              {"method", method},
+              {"image", file}};
     if (method != "ground-truth") {
       const std::string diff = "images/" + stem + "_" + method + "_diff.png";
       out.featured.push_back({diff, difference_image(img, G.images.img[0], exposure), 0, true});
@@ -537,9 +647,8 @@ CellResult CellRunner::run(const StudyCell& cell) {
   // Every term on the coarse set, same camera.
   const auto t_m = std::chrono::steady_clock::now();
   std::map<std::string, std::array<Plane, 3>> area_lum;  // "method/area_ms" → luminance per component
-  for (const StudyVariant& v : st.plan.variants.at(k)) {
+  for (const StudyVariant& v : st.plan.variants_of(cell)) {
     Scene& sc = st.coarse[v.roughness == CoarseRoughness::Widened ? 1 : 0];
-    sc.lights[0] = ls.light;
     sc.settings.micro_shadowing = v.term;
     sc.settings.ms_smooth_normal = v.smooth_normal;
     sc.settings.area_ms = v.area_ms;
@@ -548,13 +657,15 @@ CellResult CellRunner::run(const StudyCell& cell) {
     sc.settings.vndf_samples = area_sampled(ls.light) && v.area_ms != AreaMs::Representative
                                    ? std::max(1, cfg.vndf_samples / cfg.area_samples)
                                    : cfg.vndf_samples;
-    sc.settings.seed = cfg.seed;
     ComponentImages M;
     const double cpu_v = cpu_seconds();
     for (int ci = 0; ci < 2; ++ci) {
       sc.settings.component = ci == 0 ? Component::Diffuse : Component::Specular;
       const Renderer r(sc);
-      M.img[ci + 1] = r.render();
+      M.img[ci + 1] = Image(iw, ih);
+      for_each_window(
+          sc, view, st.windows, ls.light, cfg.seed, [&] { return r.render(); },
+          [&](const Image& img, const Window& w) { blit_image(M.img[ci + 1], img, w); });
     }
     add_total(M);
     out.variant_cpu_seconds[variant_label(v) + (area_sampled(ls.light) ? " (area light)" : "")] +=
@@ -564,6 +675,9 @@ CellResult CellRunner::run(const StudyCell& cell) {
       json row = {{"material", kind},
                   {"shape", shape},
                   {"scale", k},
+                  {"view", view.view},
+                  {"view_azimuth", view.view_azimuth},
+                  {"grid", cell.sweep ? "sweep" : "main"},
                   {"light", ls.name},
                   {"light_type", ls.type},
                   {"elevation", ls.elevation},

@@ -39,11 +39,13 @@ struct MethodAcc {
   Acc bias, dev, fp, bias_floor, fp_floor;
 };
 
+// A row's fields joined (a field it lacks, as in rows from before views were added, counts as null).
 std::string key_of(const json& r, std::initializer_list<const char*> keys) {
   std::string k;
-  for (const char* s : keys) k += r[s].dump() + "|";
+  for (const char* s : keys) k += (r.contains(s) ? r[s].dump() : std::string("null")) + "|";
   return k;
 }
+json field(const json& r, const char* key) { return r.contains(key) ? r[key] : json(nullptr); }
 
 }  // namespace
 
@@ -53,10 +55,12 @@ json summarize(const json& rows, const StudyConfig& cfg) {
   for (const auto& r : rows)
     if (r["component"] == "total" && r["method"] == "none" && r["ms_normal"] == "shading" &&
         r["roughness"] == "base" && is_num(r["gt_mean"]["whole"]))
-      total_mean[key_of(r, {"material", "shape", "scale", "light"})] = r["gt_mean"]["whole"].get<double>();
+      total_mean[key_of(r, {"material", "shape", "scale", "view", "view_azimuth", "light"})] =
+          r["gt_mean"]["whole"].get<double>();
   auto usable = [&](const json& r) {
     if (!is_num(r["bias"]["whole"]) || !is_num(r["gt_mean"]["whole"])) return false;
-    const auto it = total_mean.find(key_of(r, {"material", "shape", "scale", "light"}));
+    const auto it =
+        total_mean.find(key_of(r, {"material", "shape", "scale", "view", "view_azimuth", "light"}));
     return it != total_mean.end() && r["gt_mean"]["whole"].get<double>() >= 0.02 * it->second;
   };
 
@@ -77,7 +81,7 @@ json summarize(const json& rows, const StudyConfig& cfg) {
                            ? r["rmse_footprint_floor"]["whole"].get<double>() / gm
                            : 0;
     const double bf = is_num(r["bias_stderr"]["whole"]) ? r["bias_stderr"]["whole"].get<double>() : 0;
-    const std::string ck = key_of(r, {"component", "scale", "light"});
+    const std::string ck = key_of(r, {"component", "scale", "view", "view_azimuth", "light"});
     const std::string m = r["method"];
     if (r["ms_normal"] == "shading" && r["roughness"] == "base") {
       for (const std::string& mat : {std::string("all"), r["material"].get<std::string>()}) {
@@ -87,14 +91,17 @@ json summarize(const json& rows, const StudyConfig& cfg) {
         cell_info[k] = {{"material", mat},
                         {"component", r["component"]},
                         {"scale", r["scale"]},
+                        {"view", field(r, "view")},
+                        {"view_azimuth", field(r, "view_azimuth")},
+                        {"grid", r.contains("grid") ? r["grid"] : json("main")},
                         {"light", r["light"]},
+                        {"light_type", field(r, "light_type")},
                         {"elevation", r["elevation"]}};
       }
     }
-    abl_info[ck] = {{"component", r["component"]},
-                    {"scale", r["scale"]},
-                    {"light", r["light"]},
-                    {"elevation", r["elevation"]}};
+    abl_info[ck] = {{"component", r["component"]}, {"scale", r["scale"]},
+                    {"view", field(r, "view")},    {"view_azimuth", field(r, "view_azimuth")},
+                    {"light", r["light"]},         {"elevation", r["elevation"]}};
     if (r["roughness"] == "base" && m != "none" && m != "ao")
       (r["ms_normal"] == "smooth" ? ablation[ck][m].second : ablation[ck][m].first).add(dev);
     if (r["ms_normal"] == "shading" && r["scale"].get<int>() > 1)
@@ -125,6 +132,30 @@ json summarize(const json& rows, const StudyConfig& cfg) {
     jc.push_back(c);
   }
   out["cells"] = jc;
+  // Per view × component × scale × method, over the directional lights of every material (both grids):
+  // mean and largest |bias - 1| of the per-material cells.
+  std::map<std::string, std::pair<json, Acc>> by_view;
+  for (const json& c : jc) {
+    if (c["material"] == "all" || c["light_type"] != "directional") continue;
+    for (const auto& [m, e] : c["methods"].items()) {
+      const double d = e["abs_dev"].get<double>();
+      if (!std::isfinite(d)) continue;
+      auto& [info, acc] = by_view[key_of(c, {"view", "view_azimuth", "component", "scale"}) + m];
+      info = {{"view", c["view"]},
+              {"view_azimuth", c["view_azimuth"]},
+              {"component", c["component"]},
+              {"scale", c["scale"]},
+              {"method", m}};
+      acc.add(d);
+    }
+  }
+  json bv = json::array();
+  for (auto& [k, p] : by_view) {
+    json e = p.first;
+    e["mean_abs_dev"] = p.second.mean(), e["max_abs_dev"] = p.second.mx, e["n"] = p.second.n;
+    bv.push_back(e);
+  }
+  out["by_view"] = bv;
   // Per cell, each term's mean |bias - 1| in two conditions (first, second), for the terms measured in both;
   // `more` adds cell-level fields from the same pairs.
   auto paired = [&](const auto& by_cell, const char* first, const char* second, auto&& more) {
@@ -215,10 +246,21 @@ std::string html(const Table& t) {
 
 std::string f3(double x) { return std::isfinite(x) ? fmt::format("{:.3f}", x) : "–"; }
 
-const json* find_cell(const json& summary, const std::string& mat, const std::string& comp, int k,
+// The main view: the first of the main grid's views (the verdict tables are of it; "By view" has the rest).
+bool main_view(const json& results, const json& c) {
+  const json& cfg = results["config"];
+  const json v = c.contains("view") ? c["view"] : json(nullptr);
+  if (v.is_null() || !cfg.contains("views")) return true;  // results from before views were added
+  return v == cfg["views"][0] && c["view_azimuth"] == cfg["view_azimuths"][0] &&
+         (!c.contains("grid") || c["grid"] == "main");
+}
+
+const json* find_cell(const json& results, const std::string& mat, const std::string& comp, int k,
                       const std::string& light) {
-  for (const auto& c : summary["cells"])
-    if (c["material"] == mat && c["component"] == comp && c["scale"] == k && c["light"] == light) return &c;
+  for (const auto& c : results["summary"]["cells"])
+    if (c["material"] == mat && c["component"] == comp && c["scale"] == k && c["light"] == light &&
+        main_view(results, c))
+      return &c;
   return nullptr;
 }
 
@@ -231,6 +273,7 @@ bool contains(const json& arr, const std::string& s) {
 std::vector<std::string> light_names(const json& results) {
   std::vector<std::string> v;
   for (const auto& g : results["ground_truth"]) {
+    if (!main_view(results, g)) continue;
     const std::string l = g["light"];
     if (std::find(v.begin(), v.end(), l) == v.end()) v.push_back(l);
   }
@@ -241,7 +284,6 @@ std::vector<std::string> light_names(const json& results) {
 // the ranking resolution) in bold.
 Table method_table(const json& results, const std::string& mat, const std::string& comp, int k,
                    bool use_bias) {
-  const json& sum = results["summary"];
   Table t;
   t.title =
       fmt::format("{} — {}, k = {}, {}: {}", use_bias ? "Mean-radiance ratio" : "Footprint RMSE / GT mean",
@@ -255,7 +297,7 @@ Table method_table(const json& results, const std::string& mat, const std::strin
     std::vector<std::string> row{m};
     std::vector<bool> b{false};
     for (const auto& l : lights) {
-      const json* c = find_cell(sum, mat, comp, k, l);
+      const json* c = find_cell(results, mat, comp, k, l);
       if (!c || !c->at("methods").contains(m)) {
         row.push_back("–"), b.push_back(false);
         continue;
@@ -290,7 +332,7 @@ Table best_table(const json& results, bool use_bias) {
     for (const auto& l : light_names(results)) {
       std::vector<std::string> row{fmt::format("k = {}", k), l};
       for (const auto& comp : kComponents) {
-        const json* c = find_cell(results["summary"], "all", comp, k, l);
+        const json* c = find_cell(results, "all", comp, k, l);
         if (!c) {
           row.push_back("(negligible)");
           continue;
@@ -319,7 +361,7 @@ Table ablation_table(const json& results) {
     for (const auto& l : lights) {
       std::string s = "–";
       for (const auto& a : results["summary"]["normal_ablation"])
-        if (a["component"] == "total" && a["scale"] == k && a["light"] == l)
+        if (a["component"] == "total" && a["scale"] == k && a["light"] == l && main_view(results, a))
           s = fmt::format("{} / {} ({}↑ {}↓ of {})", f3(a["shading_abs_dev"].get<double>()),
                           f3(a["smooth_abs_dev"].get<double>()), a["smooth_closer"].get<int>(),
                           a["smooth_farther"].get<int>(), a["of"].get<int>());
@@ -337,7 +379,7 @@ Table widened_table(const json& results, const std::string& comp) {
   const auto methods = methods_of(results);
   for (const auto& m : methods) t.header.push_back(m);
   for (const auto& a : results["summary"]["widened_roughness"]) {
-    if (a["component"] != comp) continue;
+    if (a["component"] != comp || !main_view(results, a)) continue;
     std::vector<std::string> row{
         fmt::format("k = {}, {}", a["scale"].get<int>(), a["light"].get<std::string>())};
     for (const auto& m : methods)
@@ -349,9 +391,61 @@ Table widened_table(const json& results, const std::string& comp) {
   return t;
 }
 
+// Per view: each method's mean (largest) |ratio - 1| over the directional lights of every material, per
+// scale (summary "by_view").
+Table view_table(const json& results, const std::string& comp) {
+  Table t;
+  t.title = "By view: mean (largest) |ratio − 1| over the directional lights and materials, " + comp;
+  t.note = "View: degrees off the normal / azimuth of the direction to the camera. Both grids' cells.";
+  std::vector<int> scales;
+  std::vector<std::pair<double, double>> views;
+  std::vector<std::string> methods;
+  std::map<std::string, const json*> at;
+  const json empty = json::array();
+  const json& bv = results["summary"].contains("by_view") ? results["summary"]["by_view"] : empty;
+  for (const json& e : bv) {
+    if (e["component"] != comp || !e["view"].is_number()) continue;
+    const int k = e["scale"].get<int>();
+    const std::pair<double, double> vw{e["view"].get<double>(), e["view_azimuth"].get<double>()};
+    const std::string m = e["method"];
+    if (std::find(scales.begin(), scales.end(), k) == scales.end()) scales.push_back(k);
+    if (std::find(views.begin(), views.end(), vw) == views.end()) views.push_back(vw);
+    if (std::find(methods.begin(), methods.end(), m) == methods.end()) methods.push_back(m);
+    at[fmt::format("{}|{}|{}|{}", vw.first, vw.second, k, m)] = &e;
+  }
+  std::sort(scales.begin(), scales.end());
+  std::sort(views.begin(), views.end());
+  t.header = {"view", "method"};
+  for (int k : scales) t.header.push_back(fmt::format("k = {}", k));
+  for (const auto& vw : views)
+    for (const auto& m : methods) {
+      std::vector<std::string> row{fmt::format("{:g}° / {:g}°", vw.first, vw.second), m};
+      bool any = false;
+      for (int k : scales) {
+        const auto it = at.find(fmt::format("{}|{}|{}|{}", vw.first, vw.second, k, m));
+        if (it == at.end()) {
+          row.push_back("–");
+          continue;
+        }
+        any = true;
+        row.push_back(f3((*it->second)["mean_abs_dev"].get<double>()) + " (" +
+                      f3((*it->second)["max_abs_dev"].get<double>()) + ")");
+      }
+      if (any) t.rows.push_back(row), t.bold.push_back(std::vector<bool>(row.size(), false));
+    }
+  return t;
+}
+
 std::vector<Table> all_tables(const json& results) {
   std::vector<Table> v;
   const auto scales = results["config"]["scales"].get<std::vector<int>>();
+  if (results["summary"].contains("by_view") && results["config"].contains("views")) {
+    const json& c = results["config"];
+    const bool several = c["views"].size() > 1 || c["view_azimuths"].size() > 1 ||
+                         (c.contains("sweep") && !c["sweep"]["views"].empty());
+    if (several)
+      for (const char* comp : {"total", "diffuse"}) v.push_back(view_table(results, comp));
+  }
   for (int k : scales) v.push_back(method_table(results, "all", "total", k, true));
   for (int k : scales) v.push_back(method_table(results, "all", "total", k, false));
   v.push_back(best_table(results, true));
@@ -380,7 +474,7 @@ std::string plot_svg(const json& results, bool use_bias) {
       int n = 0;
       for (const auto& c : results["summary"]["cells"])
         if (c["material"] == "all" && c["component"] == "total" && c["scale"] == k &&
-            c["methods"].contains(m)) {
+            c["methods"].contains(m) && main_view(results, c)) {
           s += c["methods"][m][use_bias ? "abs_dev" : "rmse_footprint_rel"].get<double>(), ++n;
         }
       const double y = n ? s / n : 0;

@@ -17,8 +17,8 @@ namespace {
 
 std::string csv_header() {
   std::string h =
-      "material,shape,scale,light,light_type,elevation,azimuth,method,ms_normal,roughness,component,gt_mean_"
-      "whole";
+      "material,shape,scale,view,view_azimuth,light,light_type,elevation,azimuth,method,ms_normal,roughness,"
+      "component,gt_mean_whole";
   for (const char* m :
        {"bias", "bias_stderr", "rmse_footprint", "rmse_footprint_floor", "rmse", "rmse_stderr"})
     for (const char* r : kRegionName) h += fmt::format(",{}_{}", m, r);
@@ -32,8 +32,8 @@ std::string csv_value(const json& v) {
 }
 std::string csv_line(const json& r) {
   std::string s;
-  for (const char* k : {"material", "shape", "scale", "light", "light_type", "elevation", "azimuth", "method",
-                        "ms_normal", "roughness", "component"})
+  for (const char* k : {"material", "shape", "scale", "view", "view_azimuth", "light", "light_type",
+                        "elevation", "azimuth", "method", "ms_normal", "roughness", "component"})
     s += csv_value(r[k]) + ",";
   s += csv_value(r["gt_mean"]["whole"]);
   for (const char* m :
@@ -67,8 +67,19 @@ json config_json(const StudyConfig& c) {
           {"azimuths", c.azimuths},
           {"point_light", c.point_light},
           {"sphere_light", c.sphere_light},
+          {"near_lights", c.near_lights},
+          {"near_light_footprints", c.near_light_footprints},
           {"image_size", c.image_size},
-          {"view_elevation", c.view_elevation},
+          {"views", c.views},
+          {"view_azimuths", c.view_azimuths},
+          {"max_windows", c.max_windows},
+          {"sweep",
+           {{"views", c.sweep_views},
+            {"view_azimuths", c.sweep_view_azimuths},
+            {"elevations", c.sweep_elevations},
+            {"azimuths", c.sweep_azimuths},
+            {"scales", c.sweep_scales},
+            {"terms", c.sweep_terms}}},
           {"method_spp", c.method_spp},
           {"vndf_samples", c.vndf_samples},
           {"area_samples", c.area_samples},

@@ -7,8 +7,10 @@
 #include <microshadow/render/texture_gen.h>
 #include <microshadow/study/study.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 
 #include "study_internal.h"
 
@@ -18,7 +20,18 @@ using namespace msh::render;
 using namespace msh::study::detail;
 using json = nlohmann::json;
 
-StudyConfig full_config() { return StudyConfig{}; }
+StudyConfig full_config() {
+  StudyConfig c;
+  c.near_lights = true;
+  // The view sweep (docs/study.md, "Views, azimuths and scales"): the shipped relief term and the terms it
+  // is judged against, at grazing views, every light azimuth and every scale.
+  c.sweep_views = {30, 60, 75, 85};
+  c.sweep_elevations = {5, 10, 25, 45, 70};
+  c.sweep_azimuths = {0, 45, 90, 135, 180};
+  c.sweep_scales = {1, 2, 4, 8, 16, 32, 64};
+  c.sweep_terms = {"none", "ao", "directional-view", "directional", "diffuse-aware-alu+lut3d"};
+  return c;
+}
 
 StudyConfig quick_config() {
   StudyConfig c;
@@ -64,10 +77,11 @@ Vec3f local_dir(const Frame& f, double el_deg, double az_deg) {
   return f.T * d.x + f.B * d.y + f.N * d.z;
 }
 
-std::vector<StudyLight> make_lights(const StudyConfig& c, const Frame& fr) {
-  std::vector<StudyLight> out;
-  for (double el : c.elevations)
-    for (double az : c.azimuths) {
+// Directional lights at every elevation × azimuth.
+void add_directional(std::vector<StudyLight>& out, const Frame& fr, const std::vector<double>& elevations,
+                     const std::vector<double>& azimuths) {
+  for (double el : elevations)
+    for (double az : azimuths) {
       StudyLight s;
       s.name = "dir-el" + num(el) + "-az" + num(az);
       s.type = "directional";
@@ -77,11 +91,17 @@ std::vector<StudyLight> make_lights(const StudyConfig& c, const Frame& fr) {
       s.elevation = el, s.azimuth = az;
       out.push_back(s);
     }
+}
+
+// The lights of the main grid at scale k (a fine texel is texel_world world units).
+std::vector<StudyLight> make_lights(const StudyConfig& c, const Frame& fr, int k, float texel_world) {
+  std::vector<StudyLight> out;
+  add_directional(out, fr, c.elevations, c.azimuths);
   // Point and sphere lights at fixed positions in the frame (about 2.7 tile widths away), irradiance about 3
   // at normal incidence at the centre, like the directional lights.
   auto positional = [&](const char* name, LightType t, Vec3f p, float radius) {
     StudyLight s;
-    s.name = name, s.type = name;
+    s.name = name, s.type = t == LightType::Point ? "point" : "sphere";
     s.light.type = t;
     s.light.position = fr.P0 + fr.T * p.x + fr.B * p.y + fr.N * p.z;
     s.light.radius = radius;
@@ -92,6 +112,14 @@ std::vector<StudyLight> make_lights(const StudyConfig& c, const Frame& fr) {
   };
   if (c.point_light) positional("point", LightType::Point, {-2.0f, -1.0f, 1.5f}, 0.0f);
   if (c.sphere_light) positional("sphere", LightType::Sphere, {1.5f, 1.0f, 2.0f}, 0.5f);
+  if (c.near_lights) {
+    // near_light_footprints footprints from the view's centre at elevation 30°, azimuth 45°; the sphere's
+    // radius is one footprint (angular radius asin(1 / near_light_footprints)).
+    const float fp = float(c.footprint) * float(k) * texel_world;
+    const Vec3f p = direction_from_angles(30.0f, 45.0f) * (float(c.near_light_footprints) * fp);
+    positional("point-near", LightType::Point, p, 0.0f);
+    positional("sphere-near", LightType::Sphere, p, fp);
+  }
   // Area-light section: at the sphere light's distance from the view's centre, intensity 3 d² (irradiance
   // about 3 at normal incidence, as the directional lights). A sphere's cone must stay 5° above the tangent
   // plane (the height field's slab is open below it).
@@ -160,15 +188,24 @@ std::vector<StudyVariant> make_variants(const StudyConfig& c, int k) {
   return v;
 }
 
+// The main grid's scales, then the sweep's that it lacks.
+std::vector<int> all_scales(const StudyConfig& c) {
+  std::vector<int> v = c.scales;
+  if (!c.sweep_views.empty())
+    for (int k : c.sweep_scales)
+      if (std::find(v.begin(), v.end(), k) == v.end()) v.push_back(k);
+  return v;
+}
+
 void validate(const StudyConfig& c) {
   auto bad = [](const std::string& what) { throw InputError("study: " + what); };
   if (c.materials.empty() && c.user_materials.empty()) bad("no materials");
   if (c.scales.empty()) bad("no scales");
   // The procedural kinds' fine size (a user map's side is checked when it is loaded).
-  for (int k : c.scales)
+  for (int k : all_scales(c))
     if (!c.materials.empty() && (k < 1 || c.fine_size % k != 0))
       bad(fmt::format("scale {} does not divide the fine size {}", k, c.fine_size));
-  for (int k : c.scales)
+  for (int k : all_scales(c))
     if (k < 1) bad(fmt::format("scale {} must be >= 1", k));
   std::vector<std::string> names = c.materials;
   for (const UserMaterial& u : c.user_materials) {
@@ -203,19 +240,39 @@ void validate(const StudyConfig& c) {
   for (const auto* list : {&c.terms, &c.area_terms})
     for (const auto& t : *list)
       if (t == kGroundTruth) bad("ground-truth is the reference, not a term");
-  if (area_section(c) && make_lights(c, frame_of("plane")).empty())
+  if (area_section(c) && make_lights(c, frame_of("plane"), 1, 1.0f).empty())
     bad("no area light keeps its cone 5 degrees above the horizon");
-  for (double e : c.elevations)
-    if (!(e > 0 && e < 90)) bad(fmt::format("light elevation must be in (0, 90), got {}", e));
+  for (const auto* list : {&c.elevations, &c.sweep_elevations})
+    for (double e : *list)
+      if (!(e > 0 && e < 90)) bad(fmt::format("light elevation must be in (0, 90), got {}", e));
+  for (const auto* list : {&c.azimuths, &c.sweep_azimuths, &c.view_azimuths, &c.sweep_view_azimuths})
+    for (double a : *list)
+      if (!(a >= -360 && a <= 360)) bad(fmt::format("azimuth must be in [-360, 360] degrees, got {}", a));
+  if (c.views.empty() || c.view_azimuths.empty()) bad("no views");
+  for (const auto* list : {&c.views, &c.sweep_views})
+    for (double v : *list)
+      if (!(v >= 0 && v <= 89))
+        bad(fmt::format("view angle must be in [0, 89] degrees off the normal, got {}", v));
+  if (!c.sweep_views.empty()) {
+    if (c.sweep_view_azimuths.empty() || c.sweep_elevations.empty() || c.sweep_azimuths.empty() ||
+        c.sweep_scales.empty() || c.sweep_terms.empty())
+      bad("the view sweep needs view azimuths, light elevations and azimuths, scales and terms");
+    for (const auto& t : c.sweep_terms)
+      if (std::find(c.terms.begin(), c.terms.end(), t) == c.terms.end())
+        bad(fmt::format("sweep term '{}' is not one of the study's terms", t));
+  }
+  if (!(c.near_light_footprints >= 1.5 && c.near_light_footprints <= 1000))
+    bad("near_light_footprints must be in [1.5, 1000]");
+  if (c.max_windows < 1 || c.max_windows > 16) bad("max_windows must be in [1, 16]");
   if (c.image_size < 8 || c.image_size > 4096) bad("image size must be in [8, 4096]");
-  if (c.footprint < 1 || c.footprint > c.image_size) bad("footprint must be in [1, image size]");
+  if (c.footprint < 1 || c.footprint > 8) bad("footprint must be in [1, 8]");
   if (c.gt_spp < 8 || c.gt_spp % 8 != 0) bad("gt_spp must be a multiple of 8");
   if (c.gt_max_spp < c.gt_spp) bad("gt_max_spp must be >= gt_spp");
   if (c.method_spp < 1) bad("method_spp must be >= 1");
-  for (int k : c.scales)
-    if (!c.materials.empty() && double(c.image_size) * k * kTileWorld / c.fine_size > kTileWorld * 1.01)
-      bad(fmt::format("at scale {} the view ({} pixels x {} texels) is wider than the texture ({} texels)", k,
-                      c.image_size, k, c.fine_size));
+  for (int k : all_scales(c))
+    if (!c.materials.empty() && c.fine_size / k < c.footprint)
+      bad(fmt::format("at scale {} the texture ({} texels) is narrower than one footprint ({} pixels)", k,
+                      c.fine_size, c.footprint));
 }
 
 // The user's height maps, loaded and checked (square, side divisible by every scale, at least the view's
@@ -228,14 +285,14 @@ std::vector<Texture> load_user_maps(const StudyConfig& c) {
     if (h.width() != h.height())
       throw InputError(fmt::format("study: {}: height map is {}x{}; the study needs a square map", f,
                                    h.width(), h.height()));
-    for (int k : c.scales) {
+    for (int k : all_scales(c)) {
       if (h.width() % k != 0)
         throw InputError(
             fmt::format("study: {}: scale {} does not divide the map's size {}", f, k, h.width()));
-      if (double(c.image_size) * k * kTileWorld / h.width() > kTileWorld * 1.01)
+      if (h.width() / k < c.footprint)
         throw InputError(fmt::format(
-            "study: {}: at scale {} the view ({} pixels x {} texels) is wider than the map ({} texels)", f, k,
-            c.image_size, k, h.width()));
+            "study: {}: at scale {} the map ({} texels) is narrower than one footprint ({} pixels)", f, k,
+            h.width(), c.footprint));
     }
     maps.push_back(std::move(h));
   }
@@ -243,6 +300,30 @@ std::vector<Texture> load_user_maps(const StudyConfig& c) {
 }
 
 }  // namespace
+
+StudyView study_view(const StudyConfig& c, const std::string& shape, int fine_size, double view,
+                     double view_azimuth, int k) {
+  StudyView v;
+  v.view = view, v.view_azimuth = view_azimuth;
+  const int fp = c.footprint;
+  const int across = std::min(c.image_size, fine_size / k);  // at most one texture width
+  const double cos30 = std::cos(kPi<double> / 6), cv = std::cos(view * kPi<double> / 180);
+  // Rows: the same texture area as at 30° (cv / cos30 rounded to a whole number of footprints).
+  const double rows = double(across) * std::min(1.0, cv / cos30);
+  v.windows = shape == "plane" ? std::clamp(fine_size / (c.image_size * k) / 8, 1, c.max_windows) : 1;
+  const int n = v.windows;
+  v.width = std::max(fp, across / n / fp * fp);
+  v.height = std::max(fp, int(std::lround(rows / n / fp)) * fp);
+  // How far the view reaches on the plane, in tiles from its centre along u or v: the windows' centres
+  // (spread over the middle tile: up to 1/2 - 1/(2n) tile along u and v) and each window's rectangle (k fine
+  // texels across a pixel, k / cos(view) along, turned by the view azimuth).
+  const double tile_px = double(fine_size) / k;  // pixels across one tile
+  const double a = 0.5 * v.width, b = 0.5 * v.height / std::max(cv, 1e-3);
+  const double phi = view_azimuth * kPi<double> / 180, cs = std::abs(std::cos(phi)),
+               sn = std::abs(std::sin(phi));
+  v.extent = 0.5 - 0.5 / n + std::max(a * sn + b * cs, a * cs + b * sn) / tile_px;
+  return v;
+}
 
 UserMaterial user_material_from_folder(const std::filesystem::path& dir) {
   const std::string d = dir.string();
@@ -281,11 +362,40 @@ StudyPlan plan_study(const StudyConfig& cfg) {
         {cfg.user_materials[i].name, side, std::move(user_maps[i]), cfg.user_materials[i].depth_texels});
   }
   for (int k : cfg.scales) plan.variants[k] = make_variants(cfg, k);
+  if (!cfg.sweep_views.empty())
+    for (int k : cfg.sweep_scales)
+      for (const std::string& t : cfg.sweep_terms) plan.sweep_variants[k].push_back({t});
   for (std::size_t m = 0; m < plan.materials.size(); ++m)
     for (const std::string& shape : cfg.shapes) {
-      const std::vector<StudyLight> lights = make_lights(cfg, frame_of(shape));
-      for (int k : cfg.scales)
-        for (const StudyLight& light : lights) plan.cells.push_back({m, shape, k, light});
+      const Frame fr = frame_of(shape);
+      const int fine = plan.materials[m].fine_size;
+      const float texel_world = kTileWorld / float(fine);
+      // The cells of a material × shape: scale → view → light, the main grid's first at each scale.
+      std::vector<StudyLight> sweep_lights;
+      add_directional(sweep_lights, fr, cfg.sweep_elevations, cfg.sweep_azimuths);
+      for (int k : all_scales(cfg)) {
+        const bool main_k = std::find(cfg.scales.begin(), cfg.scales.end(), k) != cfg.scales.end();
+        std::set<std::string> main_keys;  // view|view azimuth|light of the main grid at k
+        if (main_k)
+          for (double v : cfg.views)
+            for (double va : cfg.view_azimuths) {
+              const StudyView view = study_view(cfg, shape, fine, v, va, k);
+              for (const StudyLight& light : make_lights(cfg, fr, k, texel_world)) {
+                plan.cells.push_back({m, shape, k, view, light, false});
+                main_keys.insert(fmt::format("{}|{}|{}", num(v), num(va), light.name));
+              }
+            }
+        const bool sweep_k =
+            std::find(cfg.sweep_scales.begin(), cfg.sweep_scales.end(), k) != cfg.sweep_scales.end();
+        if (!cfg.sweep_views.empty() && sweep_k)
+          for (double v : cfg.sweep_views)
+            for (double va : cfg.sweep_view_azimuths) {
+              const StudyView view = study_view(cfg, shape, fine, v, va, k);
+              for (const StudyLight& light : sweep_lights)
+                if (!main_keys.count(fmt::format("{}|{}|{}", num(v), num(va), light.name)))
+                  plan.cells.push_back({m, shape, k, view, light, true});
+            }
+      }
     }
   return plan;
 }
@@ -308,11 +418,13 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
     CellResult r = runner.run(cell);
     write_featured_images(r, out);
     r.featured.clear();  // written: a full study would otherwise hold every featured image until the end
-    log(fmt::format("study: [{}/{}] {} {} k={} {}: ground truth {} spp ({}), {} terms; {:.1f} s + {:.1f} s",
-                    cells.size() + 1, plan.cells.size(), plan.materials[cell.material].name, cell.shape,
-                    cell.scale, cell.light.name, r.ground_truth["spp"].get<int>(),
-                    r.ground_truth["floors_met"].get<bool>() ? "floors met" : "floors NOT met",
-                    plan.variants.at(cell.scale).size(), r.ground_truth_seconds, r.methods_seconds));
+    log(fmt::format(
+        "study: [{}/{}] {} {} k={} view {:g}/{:g} {}: ground truth {} spp ({}), {} terms; {:.1f} s "
+        "+ {:.1f} s",
+        cells.size() + 1, plan.cells.size(), plan.materials[cell.material].name, cell.shape, cell.scale,
+        cell.view.view, cell.view.view_azimuth, cell.light.name, r.ground_truth["spp"].get<int>(),
+        r.ground_truth["floors_met"].get<bool>() ? "floors met" : "floors NOT met",
+        plan.variants_of(cell).size(), r.ground_truth_seconds, r.methods_seconds));
     cells.push_back(std::move(r));
   }
 

@@ -13,7 +13,6 @@
 namespace msh::study::detail {
 
 inline constexpr float kTileWorld = 2.0f;  // world size of one texture tile
-inline constexpr int kTiles = 3;  // the plane spans kTiles × kTiles tiles: the view never reaches its edge
 inline constexpr float kCylRadius = kTileWorld / (2 * kPi<float>), kCylRotate = 0.5f * kPi<float>;
 
 inline constexpr const char* kComponentName[3] = {"total", "diffuse", "specular"};
@@ -21,7 +20,8 @@ inline constexpr const char* kRegionName[3] = {"rough", "smooth", "whole"};
 
 // The shape's frame at the view's centre: P0 on the mean surface, T = ∂P/∂u, B = ∂P/∂v, N the normal. Lights
 // and the camera are placed in this frame, so "elevation" is above the tangent plane at the view's centre.
-// plane: z = 0, spanning kTiles × kTiles tiles, centred at u = 1.5 tiles (the rough/smooth boundary).
+// plane: z = 0, spanning an odd number of tiles each way (3 unless a view reaches further), its centre at u =
+// half a tile (the rough/smooth boundary).
 // cylinder: axis +z, circumference and length one tile (texels square), rotated so that u = 0.5 (the
 // rough/smooth boundary) faces the camera at -y; B = ∂P/∂v points down the axis.
 struct Frame {

@@ -50,13 +50,34 @@ struct StudyConfig {
   std::vector<int> scales{1, 4, 16};         // k: coarse set = fine / k
   std::vector<std::string> shapes{"plane"};  // plane, cylinder (displaced; its ground truth uses Embree)
   std::vector<double> elevations{5, 10, 25, 45, 70};  // directional lights (degrees above the plane)
-  std::vector<double> azimuths{0, 90};                // degrees from +u (the texture's x axis)
+  std::vector<double> azimuths{0, 90};  // light azimuths, degrees from +u (the texture's x axis) towards +v
   bool point_light = true, sphere_light = true;
-  int image_size = 64;         // pixels per side at every scale; a pixel covers k × k fine texels (across)
-  double view_elevation = 60;  // camera elevation above the plane, degrees (looking along +v)
-  int method_spp = 4;          // samples per pixel of the approximations
-  int vndf_samples = 64;       // generic-vndf samples per light
-  int area_samples = 16;       // sphere light: area samples per shading point (ground truth and terms)
+  // Lights near the surface, per scale k: a point light and a sphere light (radius one footprint) at
+  // near_light_footprints footprints (footprint · k fine texels each) from the view's centre, elevation 30°,
+  // azimuth 45°, so that the direction to the light turns across the view (rows: point-near, sphere-near).
+  bool near_lights = false;
+  double near_light_footprints = 4;
+  // The camera (orthographic): each view angle off the mean surface's normal (degrees, [0, 89]) at each view
+  // azimuth (degrees from +u towards +v, of the direction to the camera; 270 = the camera at -v looking
+  // along +v). A pixel covers k fine texels across and k / cos(view) along the view; the image is
+  // image_size pixels across (at most the texture's fine_size / k) and, to measure the same texture area at
+  // every view, image_size · min(1, cos(view) / cos 30°) rows (a multiple of footprint, at least one).
+  std::vector<double> views{30};
+  std::vector<double> view_azimuths{270};
+  int image_size = 64;  // pixels across at every scale
+  // Windows: where the view covers a small part of the texture (fine_size / (image_size · k) >= 8, e.g.
+  // k = 1, 2 at 2048²), the image is split into n × n windows of equal size spread evenly over the texture
+  // (n = that ratio / 8, at most max_windows; planes only), so that no cell is measured inside one shadow.
+  int max_windows = 4;
+  // The view sweep: a second grid of cells (views × view azimuths × light elevations × light azimuths ×
+  // scales) rendered with sweep_terms only (no ablations); cells that the main grid already has are not
+  // repeated (their rows come from the main grid). Empty sweep_views: no sweep.
+  std::vector<double> sweep_views, sweep_view_azimuths{270}, sweep_elevations, sweep_azimuths;
+  std::vector<int> sweep_scales;
+  std::vector<std::string> sweep_terms;
+  int method_spp = 4;        // samples per pixel of the approximations
+  int vndf_samples = 64;     // generic-vndf samples per light
+  int area_samples = 16;     // sphere light: area samples per shading point (ground truth and terms)
   int gt_spp = 64;           // ground truth: first round's samples per pixel (doubled until the floor is met)
   int gt_max_spp = 512;      // ... or until this many
   int footprint = 4;         // rmse_footprint block: footprint × footprint pixels
@@ -142,12 +163,24 @@ struct StudyMaterial {
   bool user() const { return !user_height.empty(); }
 };
 
+// A cell's camera: its direction and the windows of its image (StudyConfig's views and windows comments).
+struct StudyView {
+  double view = 30, view_azimuth = 270;  // degrees off the normal; azimuth of the direction to the camera
+  int windows = 1;                       // per side
+  int width = 64, height = 64;           // pixels of one window (the image: windows × windows of them)
+  double extent = 0;  // how far the windows reach on the plane: tiles from the view's centre along u or v
+  int image_width() const { return windows * width; }
+  int image_height() const { return windows * height; }
+};
+
 // One cell: a ground truth and every variant of its scale, measured against it.
 struct StudyCell {
   std::size_t material = 0;  // index into StudyPlan::materials
   std::string shape;         // plane, cylinder
   int scale = 1;             // k
+  StudyView view;
   StudyLight light;
+  bool sweep = false;  // a cell of the view sweep: StudyPlan::sweep_variants
 };
 
 struct StudyPlan {
@@ -157,7 +190,16 @@ struct StudyPlan {
   // builds each shared state once).
   std::vector<StudyCell> cells;
   std::map<int, std::vector<StudyVariant>> variants;  // per scale: what every cell of that scale renders
+  std::map<int, std::vector<StudyVariant>> sweep_variants;  // per scale, the sweep's cells
+  const std::vector<StudyVariant>& variants_of(const StudyCell& c) const {
+    return (c.sweep ? sweep_variants : variants).at(c.scale);
+  }
 };
+
+// The camera of a cell of `shape` at view angle `view` (degrees off the normal), view azimuth and scale k
+// for a fine texture of fine_size texels (StudyConfig's views and windows comments).
+StudyView study_view(const StudyConfig& c, const std::string& shape, int fine_size, double view,
+                     double view_azimuth, int k);
 
 // Validates the configuration and loads and checks the user's height maps (the InputErrors of run_study,
 // before any work), then enumerates the cells and the variants.
