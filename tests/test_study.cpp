@@ -552,3 +552,36 @@ TEST(StudyViews, NearlyFlatReliefMatchesTheGroundTruthAtEveryView) {
   EXPECT_EQ(checked, 36 * 2);
   fs::remove_all(d);
 }
+
+// The Bias stopping rule (the view sweep, the user's maps' small set) stops once the bias floors of the total
+// and the diffuse are under a quarter of the ranking resolution: never later than the Full rule, and where it
+// stops before the cap those floors are met.
+TEST(StudyViews, BiasRuleStopsOnTheBiasFloors) {
+  StudyConfig c = tiny();
+  c.shapes = {"plane"};
+  c.terms = {"none"};
+  c.widened = c.normal_ablation = false;
+  c.featured_lights = {};
+  c.gt_spp = 8;
+  c.gt_max_spp = 256;
+  const fs::path d = fs::temp_directory_path() / ("msh_test_study_rule." + std::to_string(::getpid()));
+  const nlohmann::json full = run_study(c, d / "full");
+  c.gt_rule = StudyConfig::GtRule::Bias;
+  const nlohmann::json bias = run_study(c, d / "bias");
+  ASSERT_EQ(full["ground_truth"].size(), bias["ground_truth"].size());
+  int earlier = 0;
+  for (std::size_t i = 0; i < bias["ground_truth"].size(); ++i) {
+    const auto &b = bias["ground_truth"][i], &f = full["ground_truth"][i];
+    EXPECT_EQ(b["rule"], "bias");
+    EXPECT_EQ(f["rule"], "full");
+    EXPECT_LE(b["spp"].get<int>(), f["spp"].get<int>());
+    earlier += b["spp"].get<int>() < f["spp"].get<int>();
+    if (b["spp"].get<int>() * 2 <= 256) {
+      for (const char* comp : {"total", "diffuse"}) {
+        EXPECT_LT(b["components"][comp]["bias_floor"].get<double>(), 0.0025) << b.dump();
+      }
+    }
+  }
+  EXPECT_GT(earlier, 0);
+  fs::remove_all(d);
+}

@@ -133,3 +133,22 @@ TEST_F(StudyCli, ViewsAndAzimuthsReachTheRows) {
   EXPECT_NE(md.find("75° / 0°"), std::string::npos);
   EXPECT_NE(msh::test::slurp(dir / "out" / "results.csv").find("view,view_azimuth"), std::string::npos);
 }
+
+// A study of the user's own maps without --quick uses the small default set: the shipped terms and those
+// they are judged against, the directional lights and the near point light, the Bias stopping rule.
+TEST_F(StudyCli, UserMapsGetTheSmallDefaultSet) {
+  const std::string a = map("my_rock.png", 64);
+  const auto r = run("study --height " + a + " --depth 4 --scales 1,4 --image-size 16 --threads 2 --out " +
+                     (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("ETA"), std::string::npos) << r.err;  // progress with an ETA on stderr
+  const auto j = nlohmann::json::parse(msh::test::slurp(dir / "out" / "results.json"));
+  EXPECT_EQ(j["config"]["name"], "user");
+  EXPECT_EQ(j["config"]["terms"],
+            nlohmann::json::array({"none", "ao", "directional-view", "diffuse-aware-alu+lut3d"}));
+  EXPECT_EQ(j["config"]["gt_rule"], "bias");
+  std::set<std::string> lights;
+  for (const auto& g : j["ground_truth"]) lights.insert(g["light"].get<std::string>());
+  EXPECT_EQ(lights.size(), 12u);  // 5 elevations × 2 azimuths, point-near, sphere-near
+  EXPECT_TRUE(lights.count("point-near"));
+}

@@ -300,9 +300,11 @@ struct GtFloors {
   json j = json::object();
 };
 
-// The stopping rule: for every component whose mean is at least 2% of the total's, the whole-image bias floor
-// below delta_bias / 4 and the rmse_footprint floor below delta_rmse / 4 of the mean.
-GtFloors check_floors(const StudyConfig& c, const Plane (&G)[3], const Plane (&S)[3], const Regions& r) {
+// The stopping rule (StudyConfig::GtRule): Full = for every component whose mean is at least 2% of the
+// total's, the whole-image bias floor below delta_bias / 4 and the rmse_footprint floor below delta_rmse / 4
+// of the mean; Bias = the bias floor of the total and the diffuse (unless negligible) alone.
+GtFloors check_floors(const StudyConfig& c, StudyConfig::GtRule rule, const Plane (&G)[3],
+                      const Plane (&S)[3], const Regions& r) {
   GtFloors f;
   const double total_mean = region_mean(G[0], S[0], r.whole).value;
   for (int ci = 0; ci < 3; ++ci) {
@@ -310,7 +312,9 @@ GtFloors check_floors(const StudyConfig& c, const Plane (&G)[3], const Plane (&S
     const double bf = bias(G[ci], G[ci], S[ci], r.whole).floor;
     const double ff = rmse_footprint(G[ci], G[ci], S[ci], r.whole, c.footprint).floor / mean;
     const bool negligible = !(mean >= 0.02 * total_mean) || !(mean > 0);
-    const bool ok = negligible || (bf < 0.25 * c.delta_bias && ff < 0.25 * c.delta_rmse);
+    const bool ok = rule == StudyConfig::GtRule::Bias
+                        ? ci == 2 || negligible || bf < 0.25 * c.delta_bias
+                        : negligible || (bf < 0.25 * c.delta_bias && ff < 0.25 * c.delta_rmse);
     f.met = f.met && ok;
     f.j[kComponentName[ci]] = {{"mean", mean},
                                {"bias_floor", bf},
@@ -558,13 +562,16 @@ CellResult CellRunner::run(const StudyCell& cell) {
   // the samples, until the floors are met or gt_max_spp.
   const auto t_light = std::chrono::steady_clock::now();
   const StudyView& view = cell.view;
+  const StudyConfig::GtRule rule = cell.sweep ? StudyConfig::GtRule::Bias : cfg.gt_rule;
+  const int first_spp = cell.sweep ? cfg.sweep_gt_spp : cfg.gt_spp;
+  const int max_spp = cell.sweep ? cfg.sweep_gt_max_spp : cfg.gt_max_spp;
   const int iw = view.image_width(), ih = view.image_height();
   RenderResult acc[2];
   int spp = 0, rounds = 0;
   GroundTruth G;
   GtFloors floors;
   while (true) {
-    const int n = spp == 0 ? cfg.gt_spp : spp;
+    const int n = spp == 0 ? first_spp : spp;
     for (int ci = 0; ci < 2; ++ci) {
       gt_scene.settings.component = ci == 0 ? Component::Diffuse : Component::Specular;
       gt_scene.settings.spp = n;
@@ -590,8 +597,8 @@ CellResult CellRunner::run(const StudyCell& cell) {
     for (int ci = 0; ci < 2; ++ci) gi.img[ci + 1] = acc[ci].mean, gi.se[ci + 1] = acc[ci].std_error;
     add_total(gi);
     G = make_ground_truth(std::move(gi));
-    floors = check_floors(cfg, G.lum, G.lum_se, reg);
-    if (floors.met || spp * 2 > cfg.gt_max_spp) break;
+    floors = check_floors(cfg, rule, G.lum, G.lum_se, reg);
+    if (floors.met || spp * 2 > max_spp) break;
   }
   out.ground_truth_seconds = secs_since(t_light);
   for (int ci = 0; ci < 2; ++ci) {
@@ -609,6 +616,7 @@ CellResult CellRunner::run(const StudyCell& cell) {
                       {"light", ls.name},
                       {"spp", spp},
                       {"rounds", rounds},
+                      {"rule", rule == StudyConfig::GtRule::Bias ? "bias" : "full"},
                       {"floors_met", floors.met},
                       {"components", floors.j},
                       {"camera_rays", acc[0].stats.camera_rays + acc[1].stats.camera_rays},

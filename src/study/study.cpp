@@ -268,6 +268,9 @@ void validate(const StudyConfig& c) {
   if (c.footprint < 1 || c.footprint > 8) bad("footprint must be in [1, 8]");
   if (c.gt_spp < 8 || c.gt_spp % 8 != 0) bad("gt_spp must be a multiple of 8");
   if (c.gt_max_spp < c.gt_spp) bad("gt_max_spp must be >= gt_spp");
+  if (!c.sweep_views.empty() &&
+      (c.sweep_gt_spp < 8 || c.sweep_gt_spp % 8 != 0 || c.sweep_gt_max_spp < c.sweep_gt_spp))
+    bad("sweep_gt_spp must be a multiple of 8 and at most sweep_gt_max_spp");
   if (c.method_spp < 1) bad("method_spp must be >= 1");
   for (int k : all_scales(c))
     if (!c.materials.empty() && c.fine_size / k < c.footprint)
@@ -418,13 +421,18 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
     CellResult r = runner.run(cell);
     write_featured_images(r, out);
     r.featured.clear();  // written: a full study would otherwise hold every featured image until the end
+    // ETA: the cells' mean wall time so far (texture generation included) times the cells left.
+    const std::size_t done = cells.size() + 1, left = plan.cells.size() - done;
+    const double eta = secs_since(t_start) / double(done) * double(left);
     log(fmt::format(
         "study: [{}/{}] {} {} k={} view {:g}/{:g} {}: ground truth {} spp ({}), {} terms; {:.1f} s "
-        "+ {:.1f} s",
-        cells.size() + 1, plan.cells.size(), plan.materials[cell.material].name, cell.shape, cell.scale,
-        cell.view.view, cell.view.view_azimuth, cell.light.name, r.ground_truth["spp"].get<int>(),
+        "+ {:.1f} s; ETA {}",
+        done, plan.cells.size(), plan.materials[cell.material].name, cell.shape, cell.scale, cell.view.view,
+        cell.view.view_azimuth, cell.light.name, r.ground_truth["spp"].get<int>(),
         r.ground_truth["floors_met"].get<bool>() ? "floors met" : "floors NOT met",
-        plan.variants_of(cell).size(), r.ground_truth_seconds, r.methods_seconds));
+        plan.variants_of(cell).size(), r.ground_truth_seconds, r.methods_seconds,
+        eta >= 60 ? fmt::format("{} min {:02d} s", int(eta) / 60, int(eta) % 60)
+                  : fmt::format("{:.0f} s", eta)));
     cells.push_back(std::move(r));
   }
 

@@ -75,11 +75,19 @@ struct StudyConfig {
   std::vector<double> sweep_views, sweep_view_azimuths{270}, sweep_elevations, sweep_azimuths;
   std::vector<int> sweep_scales;
   std::vector<std::string> sweep_terms;
-  int method_spp = 4;        // samples per pixel of the approximations
-  int vndf_samples = 64;     // generic-vndf samples per light
-  int area_samples = 16;     // sphere light: area samples per shading point (ground truth and terms)
-  int gt_spp = 64;           // ground truth: first round's samples per pixel (doubled until the floor is met)
-  int gt_max_spp = 512;      // ... or until this many
+  int method_spp = 4;     // samples per pixel of the approximations
+  int vndf_samples = 64;  // generic-vndf samples per light
+  int area_samples = 16;  // sphere light: area samples per shading point (ground truth and terms)
+  int gt_spp = 64;        // ground truth: first round's samples per pixel (doubled until the floor is met)
+  int gt_max_spp = 512;   // ... or until this many
+  // The ground truth's stopping rule: Full = for every component carrying at least 2 % of the total, the
+  // whole view's bias floor below delta_bias / 4 and its footprint-RMSE floor below delta_rmse / 4 of the
+  // mean; Bias = the bias floors of the total and the diffuse only (what the view sweep and the small
+  // default set of the user's maps report: their footprint RMSE keeps its floor in the rows).
+  enum class GtRule { Full, Bias };
+  GtRule gt_rule = GtRule::Full;
+  // The view sweep's cells: the Bias rule from sweep_gt_spp up to sweep_gt_max_spp.
+  int sweep_gt_spp = 32, sweep_gt_max_spp = 256;
   int footprint = 4;         // rmse_footprint block: footprint × footprint pixels
   double delta_bias = 0.01;  // smallest bias difference the ranking resolves
   double delta_rmse = 0.01;  // smallest rmse_footprint difference it resolves, relative to the GT mean
