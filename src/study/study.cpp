@@ -421,9 +421,14 @@ json run_study(const StudyConfig& cfg, const std::filesystem::path& out, const L
     CellResult r = runner.run(cell);
     write_featured_images(r, out);
     r.featured.clear();  // written: a full study would otherwise hold every featured image until the end
-    // ETA: the cells' mean wall time so far (texture generation included) times the cells left.
+    // ETA: the cells' mean wall time so far times the cells left, plus the mean texture generation so far
+    // for each material not generated yet.
     const std::size_t done = cells.size() + 1, left = plan.cells.size() - done;
-    const double eta = secs_since(t_start) / double(done) * double(left);
+    const double gen = runner.preparation_timing()["generate_seconds"].get<double>();
+    const std::size_t gen_done = runner.preparation_timing()["materials"].size();
+    const std::size_t gen_left = plan.materials.size() - cell.material - 1;  // cells go material by material
+    const double eta = std::max(0.0, secs_since(t_start) - gen) / double(done) * double(left) +
+                       gen / double(std::max<std::size_t>(1, gen_done)) * double(gen_left);
     log(fmt::format(
         "study: [{}/{}] {} {} k={} view {:g}/{:g} {}: ground truth {} spp ({}), {} terms; {:.1f} s "
         "+ {:.1f} s; ETA {}",
