@@ -390,7 +390,7 @@ std::vector<VRec> make_view_records() {
   return recs;
 }
 
-// S_v = S_T + (S_x |v_x| + S_y |v_y|) / max(v_z, 0.1) (the bound of shaders/portable/directional.h).
+// S_v = S_T + (S_x |v_x| + S_y |v_y|) / max(v_z, 0.5) (the bound of shaders/portable/directional.h).
 double view_sum_scale(const VRec& r) {
   const Vec3d l(r.l[0], r.l[1], r.l[2]);
   const double b[9] = {1,
@@ -413,7 +413,7 @@ double view_sum_scale(const VRec& r) {
 void check_view(const char* label, const std::vector<VRec>& recs,
                 const std::vector<std::array<float, 4>>& res) {
   double max_t = 0, max_term = 0, max_baked_rel = 0;
-  int below = 0, nl_early = 0, boundary_skipped = 0, positive = 0, clamped_view = 0;
+  int below = 0, nl_early = 0, boundary_skipped = 0, positive = 0, clamped_view = 0, free_view = 0;
   for (std::size_t i = 0; i < recs.size(); ++i) {
     const VRec& r = recs[i];
     SCOPED_TRACE(testing::Message() << label << " view record " << i);
@@ -430,6 +430,7 @@ void check_view(const char* label, const std::vector<VRec>& recs,
       continue;
     }
     clamped_view += v.z < dir::kMinViewZ;
+    free_view += v.z > dir::kMinViewZ;
     const double s = view_sum_scale(r);
     const double d = std::abs(double(res[i][0]) - t_cpp);
     ASSERT_LE(d, kSumTol * s) << "transport: shader " << res[i][0] << " C++ " << t_cpp;
@@ -458,6 +459,7 @@ void check_view(const char* label, const std::vector<VRec>& recs,
   EXPECT_GT(nl_early, 200) << label;
   EXPECT_GT(positive, 2000) << label;
   EXPECT_GT(clamped_view, 200) << label;
+  EXPECT_GT(free_view, 200) << label;  // both sides of the view clamp
   EXPECT_LT(boundary_skipped, 16) << label;
   std::printf(
       "[ %s ] view correction: %zu records (%d below the horizon, %d n.l early-outs, exactly 0; %d with v_z "

@@ -598,9 +598,9 @@ function formatProbe(p, viewer) {
       `light (tangent) ${l.map(f).join(' ')}  normal (tangent) ${p.n_tangent.map(f).join(' ')}`,
       `transport (mean lit·N·L over the footprint) ${f(tr)}`);
     if (p.directional.length === 21) {
-      // The view correction: T + (G_x v_x + G_y v_y) / max(v_z, 0.1), what a camera along v averages.
+      // The view correction: T + (G_x v_x + G_y v_y) / max(v_z, 0.5), what a camera along v averages.
       const v = p.v_tangent, gx = sum(9, 6), gy = sum(15, 6);
-      const tv = l[2] > 0 ? Math.max(0, sum(0) + (gx * v[0] + gy * v[1]) / Math.max(v[2], 0.1)) : 0;
+      const tv = l[2] > 0 ? Math.max(0, sum(0) + (gx * v[0] + gy * v[1]) / Math.max(v[2], 0.5)) : 0;
       lines.push(`slope channels G_x: ${p.directional.slice(9, 15).map((c) => c.toFixed(3)).join(' ')}`,
         `slope channels G_y: ${p.directional.slice(15).map((c) => c.toFixed(3)).join(' ')}`,
         `view (tangent) ${v.map(f).join(' ')}  G_x(l) ${f(gx)}  G_y(l) ${f(gy)}  view-corrected transport ${f(tv)}`);

@@ -92,11 +92,13 @@ float msh_dir_term(float c[9], float3 l, float3 n) {
 // channel 20 in x; the rest unused). Fetch with ordinary trilinear/anisotropic filtering.
 // Precision vs C++ float (tests/test_shaders_directional.cpp on lavapipe, random, flat and baked channel sets
 // with their mips, views down to grazing): within 1e-6 * S_v, S_v = S_T + (S_x |v_x| + S_y |v_y|) / max(v_z,
-// 0.1), S_* = sum_i |c_i| |b_i(l)| of each sum; the term within that / (n . l) plus the n . l rounding as
+// 0.5), S_* = sum_i |c_i| |b_i(l)| of each sum; the term within that / (n . l) plus the n . l rounding as
 // msh_dir_term. Both early-outs return exactly 0 as in C++.
 
 // Mean diffuse transport over the texel's footprint as a camera along v averages it: max(0, T + (G_x v_x +
-// G_y v_y) / max(v_z, 0.1)), 0 for l.z <= 0; each sum in the C++ order. float32, within 1e-6 * S_v of C++.
+// G_y v_y) / max(v_z, 0.5)), 0 for l.z <= 0 (v_z at least 0.5: beyond 60 deg off the normal the linear
+// correction, which leaves masking out, would overshoot); each sum in the C++ order. float32, within 1e-6 *
+// S_v of C++.
 float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
   if (!(l.z > 0.0)) return 0.0;
   float4 h = msh_dir_basis_hi(l);
@@ -121,7 +123,7 @@ float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
   gy += c[4].z * l.z;
   gy += c[4].w * h.x;
   gy += c[5].x * h.y;
-  float vz = max(v.z, 0.1);
+  float vz = max(v.z, 0.5);
   return max(t + (gx * v.x + gy * v.y) / vz, 0.0);
 }
 

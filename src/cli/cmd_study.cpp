@@ -17,7 +17,7 @@ namespace {
 
 struct StudyArgs {
   std::string out, materials, cache, shapes, area_ms, scales, methods, heights, depths, encoding = "float";
-  std::string views, view_azimuths, light_azimuths, light_elevations;
+  std::string views, view_azimuths, light_azimuths, light_elevations, gt_rule;
   std::vector<std::string> folders;
   bool quick = false, quiet = false, area = false, sweep = false, no_sweep = false, near = false,
        no_near = false;
@@ -151,6 +151,11 @@ void add_study(Groups& g) {
       ->check(CLI::Range(8, 4096));
   s->add_option("--gt-max-spp", a->gt_max_spp, "Cap on ground-truth samples per pixel")
       ->check(CLI::Range(8, 1 << 20));
+  s->add_option(
+       "--gt-rule", a->gt_rule,
+       "The ground truth's stopping rule: full (bias and footprint-RMSE floors of every component; the "
+       "default) or bias (the bias floors of the total and the diffuse; the default for your own maps)")
+      ->check(CLI::IsMember({"full", "bias"}));
   s->add_option("--material-cache", a->cache,
                 "Cache the fine texture sets in DIR (float NPY) and reuse them on later runs");
   s->add_option("--threads", a->threads, "Worker threads (0 = all cores); results do not depend on it")
@@ -187,6 +192,8 @@ void add_study(Groups& g) {
         if (!(e > 0 && e < 90)) throw UsageError(fmt::format("--light-elevations: {} is not in (0, 90)", e));
     }
     if (a->max_windows) c.max_windows = a->max_windows;
+    if (!a->gt_rule.empty())
+      c.gt_rule = a->gt_rule == "bias" ? study::StudyConfig::GtRule::Bias : study::StudyConfig::GtRule::Full;
     if (!a->shapes.empty()) c.shapes = split_list(a->shapes);
     if (!a->methods.empty()) {
       (a->area ? c.area_terms : c.terms) = split_list(a->methods);

@@ -97,7 +97,7 @@ void register_directional(pyb::module_& m) {
       "channels"_a, "light"_a, "view"_a,
       "The view-corrected transport (occlusion/directional.h directional_view_transport): the footprint's "
       "mean of lit * max(n_fine . l, 0) as a camera along `view` averages it, weighting each facet by its "
-      "projected area: max(0, T(l) + (G_x(l) v_x + G_y(l) v_y) / max(v_z, 0.1)). channels: shape (..., 21) "
+      "projected area: max(0, T(l) + (G_x(l) v_x + G_y(l) v_y) / max(v_z, 0.5)). channels: shape (..., 21) "
       "(bake_directional_channels(view=True): T's 9, then G_x's and G_y's 6 on (1, x, y, z, xz, yz), or any "
       "box mean of it); light "
       "and view: shape (..., 3), unit, tangent space as directional_transport, view toward the camera. 0 for "
