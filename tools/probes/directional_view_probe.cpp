@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -45,11 +46,18 @@ constexpr double kDeg = 3.14159265358979323846 / 180;
 
 struct Row {
   std::string kind;
-  double elev, az, gt, a, b, c;
+  double elev = 0, az = 0, gt = 0, a = 0, b = 0, c = 0;
   // With --fits: the same a and b from the fitted functions (the fit grid of the bake): a9 = T by the 9
   // channels; b94 / b96 / b99 = a9 plus G_x, G_y each fitted with 4 (band 1: 1, x, y, z) / 6 (band 1 + xz,
   // yz) / 9 (degree 2) functions.
   double a9 = 0, b94 = 0, b96 = 0, b99 = 0;
+  // Grazing-view candidates (see candidates()): the inputs. Exact: the slope covariance of the field
+  // (s = (n_x, n_y)/n_z; what a LEAN-style second-moment map holds), sxx, sxy, syy. Fitted (with --fits): the
+  // 9-channel T (= a9), g6 = G_x v_x + G_y v_y from the 6-function slope channels (the shipped data) and the
+  // slope covariance read off those channels: cxx = G_x's x coefficient, cyy = G_y's y coefficient, cxy =
+  // the mean of G_x's y and G_y's x coefficients (≈ E[n_z s sᵀ]; no new data).
+  double sxx = 0, sxy = 0, syy = 0, nxx = 0, nxy = 0, nyy = 0, g6 = 0, cxx = 0, cxy = 0, cyy = 0;
+  std::vector<std::pair<std::string, double>> cand;  // name, value (ratio to GT taken when printed)
 };
 
 // Weighted least squares on the bake's direction grid: the coefficients of the first nb poly2 functions
@@ -131,6 +139,8 @@ void add_fits(const Texture& height, float depth, const std::vector<Vec3f>& n, d
     r.b94 = r.a9 + (eval_poly2(cx4, l) * vx + eval_poly2(cy4, l) * vy) / vz;
     r.b96 = r.a9 + (eval_poly2(cx6, l) * vx + eval_poly2(cy6, l) * vy) / vz;
     r.b99 = r.a9 + (eval_poly2(cx9, l) * vx + eval_poly2(cy9, l) * vy) / vz;
+    r.g6 = eval_poly2(cx6, l) * vx + eval_poly2(cy6, l) * vy;
+    r.cxx = cx6[1], r.cyy = cy6[2], r.cxy = 0.5 * (cx6[2] + cy6[1]);
   }
 }
 
@@ -166,18 +176,101 @@ std::vector<Row> measure(const Texture& height, float depth, const std::string& 
       const Vec3f l(float(std::cos(er) * std::cos(az)), float(std::cos(er) * std::sin(az)),
                     float(std::sin(er)));
       const double tan_l = std::tan(er);
-      double sf = 0, sfw = 0, sw = 0, sb = 0, sfc = 0, swc = 0;
+      double sf = 0, sfw = 0, sw = 0, sb = 0, sfc = 0, swc = 0, qxx = 0, qxy = 0, qyy = 0, mxx = 0, mxy = 0, myy = 0, mzz = 0;
       for (std::size_t p = 0; p < N; ++p) {
         const double f = tan_l > T[p * ns + ai] ? std::max(double(dot(n[p], l)), 0.0) : 0.0;
         const double nv = dot(n[p], v), nz = n[p].z;
         const double wc = std::max(nv, 0.0) / nz, wm = tan_v > T[p * ns + iv] ? wc : 0.0;
         sf += f, sfw += f * wm, sw += wm, sb += f * nv / (nz * v.z), sfc += f * wc, swc += wc;
+        const double px = n[p].x / nz, py = n[p].y / nz;
+        qxx += px * px, qxy += px * py, qyy += py * py;
+        mxx += double(n[p].x) * n[p].x, mxy += double(n[p].x) * n[p].y, myy += double(n[p].y) * n[p].y,
+            mzz += nz * nz;
       }
       const double gt = sw > 0 ? sfw / sw : 0;
-      rows.push_back({kind, e, azimuths[ai], gt, sf / double(N), sb / double(N), swc > 0 ? sfc / swc : 0});
+      Row r;
+      r.kind = kind, r.elev = e, r.az = azimuths[ai], r.gt = gt, r.a = sf / double(N), r.b = sb / double(N);
+      r.c = swc > 0 ? sfc / swc : 0;
+      r.sxx = qxx / double(N), r.sxy = qxy / double(N), r.syy = qyy / double(N);
+      // normal-based slope covariance E[n_h n_hᵀ]/E[n_z²] (what a Toksvig/LEAN-style normal variance gives)
+      r.nxx = mxx / mzz, r.nxy = mxy / mzz, r.nyy = myy / mzz;
+      rows.push_back(r);
     }
   if (fits) add_fits(height, depth, n, view_elev, rows, 0);
   return rows;
+}
+
+// The standard normal pdf and cdf, and R(m, s) = E[(m + s Z)⁺] for Z ~ N(0, 1) (= max(m, 0) at s = 0).
+double npdf(double x) { return 0.3989422804014327 * std::exp(-0.5 * x * x); }
+double ncdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+double ramp_mean(double m, double s) {
+  if (!(s > 1e-12)) return std::max(m, 0.0);
+  return m * ncdf(m / s) + s * npdf(m / s);
+}
+// Smith's Λ for Gaussian slopes (Beckmann) of std σ along the direction's azimuth, from cos θ = z:
+// R(z, σ sin θ)/z − 1 (Heitz 2014, eq. 72-73 with α = √2 σ).
+double smith_lambda(double z, double sigma) {
+  const double st = std::sqrt(std::max(1 - z * z, 0.0));
+  return ramp_mean(z, sigma * st) / z - 1;
+}
+
+// Grazing-view candidates, all from the fitted data the run time has (T by the 9 channels, G by the 6 + 6)
+// unless named "exact" (exact whole-texture T and G, to separate the model from the fit). v = the view as in
+// measure(): azimuth -90°, elevation view_elev. g = G_x v_x + G_y v_y. Shipped: max(0, T + g / max(v_z, 0.1)).
+void candidates(std::vector<Row>& rows, double view_elev) {
+  const double ve = view_elev * kDeg, vz = std::sin(ve), sv = std::cos(ve);  // sin θ_v = cos(elevation)
+  for (Row& r : rows) {
+    const double t = r.a9, g = r.g6, te = r.a, ge = (r.b - r.a) * vz;
+    const double la = r.az * kDeg, lc = std::cos(la), ls = std::sin(la), lz = std::sin(r.elev * kDeg);
+    auto var_along = [](double xx, double xy, double yy, double c, double s) {
+      return std::max(xx * c * c + 2 * xy * c * s + yy * s * s, 0.0);
+    };
+    // view azimuth (0, -1): σ_v² = Σ_yy
+    const double sig_v_exact = std::sqrt(r.syy), sig_v_chan = std::sqrt(std::max(r.cyy, 0.0));
+    const double sig_l_exact = std::sqrt(var_along(r.sxx, r.sxy, r.syy, lc, ls)),
+                 sig_l_chan = std::sqrt(var_along(r.cxx, r.cxy, r.cyy, lc, ls));
+    auto& c = r.cand;
+    c.clear();
+    auto clamp_form = [&](double vmin) { return std::max(t + g / std::max(vz, vmin), 0.0); };
+    c.push_back({"shipped (v_z>=0.1)", clamp_form(0.1)});
+    c.push_back({"T alone", std::max(t, 0.0)});
+    c.push_back({"clamp 0.2", clamp_form(0.2)});
+    c.push_back({"clamp 0.3", clamp_form(0.3)});
+    c.push_back({"clamp 0.5", clamp_form(0.5)});
+    // fade: T + g v_z / max(v_z, v0)²: 1/v_z above v0, → 0 linearly below
+    for (double v0 : {0.3, 0.5}) {
+      const double m = std::max(vz, v0);
+      c.push_back({fmt::format("fade {:g}", v0), std::max(t + g * vz / (m * m), 0.0)});
+    }
+    // Smith: R(T v_z + g, T σ_v sin θ_v) / R(v_z, σ_v sin θ_v)
+    auto smith = [&](double tt, double gg, double sig) {
+      return ramp_mean(tt * vz + gg, std::max(tt, 0.0) * sig * sv) / ramp_mean(vz, sig * sv);
+    };
+    // height-correlated masking-shadowing (Heitz 2014 eq. 99 over the separable form):
+    // κ = (1 + Λ_v)(1 + Λ_l) / (1 + Λ_v + Λ_l)
+    auto kappa = [&](double sig_v, double sig_l) {
+      const double lv = smith_lambda(vz, sig_v), ll = smith_lambda(lz, sig_l);
+      return (1 + lv) * (1 + ll) / (1 + lv + ll);
+    };
+    (void)sig_l_exact, (void)sig_l_chan;
+    c.push_back({"smith sigma E[s2]", smith(t, g, sig_v_exact)});
+    c.push_back({"smith sigma exact T,G", smith(te, ge, std::sqrt(r.nyy))});
+    c.push_back({"smith sigma chan", smith(t, g, sig_v_chan)});
+    const double sig_v_n = std::sqrt(r.nyy), sig_l_n = std::sqrt(var_along(r.nxx, r.nxy, r.nyy, lc, ls));
+    c.push_back({"smith sigma normals (view az)", smith(t, g, sig_v_n)});
+    c.push_back({"smith+hc sigma normals", smith(t, g, sig_v_n) * kappa(sig_v_n, sig_l_n)});
+    // the same with a logistic ramp (softplus) instead of the Gaussian one: R ≈ (s/k) ln(1 + exp(k m/s)),
+    // k = ln 2/φ(0) (equal at m = 0): one exp and one log per ramp in a shader
+    auto soft = [](double m, double sd) {
+      if (!(sd > 1e-12)) return std::max(m, 0.0);
+      const double k = 1.7374, x = k * m / sd;
+      return sd / k * (x > 30 ? x : std::log1p(std::exp(x)));
+    };
+    c.push_back({"softplus sigma normals (view az)",
+                 soft(t * vz + g, std::max(t, 0.0) * sig_v_n * sv) / soft(vz, sig_v_n * sv)});
+    c.push_back({"smith sigma normals iso", smith(t, g, std::sqrt(0.5 * (r.nxx + r.nyy)))});
+    for (double sg : {0.25, 0.35, 0.5}) c.push_back({fmt::format("smith sigma={:g}", sg), smith(t, g, sg)});
+  }
 }
 
 std::vector<double> parse_list(const std::string& s, const char* what) {
@@ -209,7 +302,7 @@ int main(int argc, char** argv) {
               azimuths = "0,90";
   int size = 512;
   double view_elev = 60;
-  bool json = false, flat = false, fits = false;
+  bool json = false, flat = false, fits = false, cand_only = false, summary = false;
   app.add_option("--kinds", kinds, "Comma-separated material kinds")->capture_default_str();
   app.add_option("--size", size, "Texels per side")->check(CLI::Range(8, 8192))->capture_default_str();
   app.add_option("--elevations", elevations, "Light elevations, degrees")->capture_default_str();
@@ -222,6 +315,10 @@ int main(int argc, char** argv) {
       "--fits", fits,
       "Also the fitted forms: T by the 9 channels, and T plus the slope-weighted G_x, G_y fitted with 4 "
       "or 9 functions each");
+  app.add_flag("--candidates", cand_only,
+               "Grazing-view candidate forms only (implies --fits): the shipped form, T alone, v_z clamps, fades, "
+               "Smith-normalised forms");
+  app.add_flag("--summary", summary, "Only the mean (max) table");
   app.add_flag("--json", json, "Print the rows as JSON");
   try {
     app.parse(argc, argv);
@@ -229,6 +326,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
+    if (cand_only) fits = true;
     const auto el = parse_list(elevations, "--elevations"), az = parse_list(azimuths, "--azimuths");
     for (double e : el)
       if (!(e > 0 && e < 90)) throw InputError(fmt::format("--elevations: {} is not in (0, 90)", e));
@@ -246,6 +344,7 @@ int main(int argc, char** argv) {
         rows.insert(rows.end(), r.begin(), r.end());
       }
     }
+    if (fits) candidates(rows, view_elev);
     if (json) {
       nlohmann::json j;
       j["size"] = size, j["view_elevation"] = view_elev;
@@ -261,46 +360,78 @@ int main(int argc, char** argv) {
                              {"fit9_slope4", r.gt > 0 ? r.b94 / r.gt : 0},
                              {"fit9_slope6", r.gt > 0 ? r.b96 / r.gt : 0},
                              {"fit9_slope9", r.gt > 0 ? r.b99 / r.gt : 0}});
+      if (fits)
+        for (std::size_t i = 0; i < rows.size(); ++i)
+          for (const auto& [name, value] : rows[i].cand)
+            j["rows"][i]["candidates"][name] = rows[i].gt > 0 ? value / rows[i].gt : 0;
       std::cout << j.dump(1) << "\n";
       return 0;
     }
     // Columns: ratio to GT of each form.
     struct Col {
-      const char* name;
-      double Row::*v;
+      std::string name;
+      std::function<double(const Row&)> v;
     };
-    std::vector<Col> cols = {
-        {"view-independent a", &Row::a}, {"slope-corrected b", &Row::b}, {"unmasked c", &Row::c}};
-    if (fits) {
-      cols.push_back({"9-channel fit", &Row::a9});
-      cols.push_back({"fit + slope band 1 (+8)", &Row::b94});
-      cols.push_back({"fit + slope 6 functions (+12)", &Row::b96});
-      cols.push_back({"fit + slope degree 2 (+18)", &Row::b99});
+    std::vector<Col> cols;
+    auto member = [](double Row::*m) { return [m](const Row& r) { return r.*m; }; };
+    if (!cand_only) {
+      cols = {{"view-independent a", member(&Row::a)},
+              {"slope-corrected b", member(&Row::b)},
+              {"unmasked c", member(&Row::c)}};
+      if (fits) {
+        cols.push_back({"9-channel fit", member(&Row::a9)});
+        cols.push_back({"fit + slope band 1 (+8)", member(&Row::b94)});
+        cols.push_back({"fit + slope 6 functions (+12)", member(&Row::b96)});
+        cols.push_back({"fit + slope degree 2 (+18)", member(&Row::b99)});
+      }
+    } else {
+      cols.push_back({"unmasked c (exact)", member(&Row::c)});
+      for (std::size_t q = 0; q < rows.front().cand.size(); ++q)
+        cols.push_back({rows.front().cand[q].first, [q](const Row& r) { return r.cand[q].second; }});
     }
     std::string head = "| material | light (elev/az) |", rule = "|---|---|";
     for (const Col& c : cols) head += fmt::format(" {} / GT |", c.name), rule += "---|";
-    std::cout << head << "\n" << rule << "\n";
-    for (const Row& r : rows) {
-      std::cout << fmt::format("| {} | {:g}/{:g} |", r.kind, r.elev, r.az);
-      for (const Col& c : cols) std::cout << fmt::format(" {:.3f} |", r.*(c.v) / r.gt);
+    if (!summary) {
+      std::cout << head << "\n" << rule << "\n";
+      for (const Row& r : rows) {
+        std::cout << fmt::format("| {} | {:g}/{:g} (GT {:.4f}) |", r.kind, r.elev, r.az, r.gt);
+        for (const Col& c : cols) std::cout << fmt::format(" {:.3f} |", c.v(r) / r.gt);
+        std::cout << "\n";
+      }
       std::cout << "\n";
     }
-    std::cout << "\nmean (max) |ratio - 1| over the lights\n\n| material |";
+    std::cout << "mean (max) |ratio - 1| over the lights, view elevation " << view_elev << "\n\n| material |";
     for (const Col& c : cols) std::cout << " " << c.name << " |";
     std::cout << "\n" << rule.substr(4) << "\n";
+    std::vector<double> am(cols.size()), ax(cols.size());
+    std::size_t nk = 0;
     for (std::size_t i = 0; i < rows.size();) {
       std::size_t j = i;
       std::vector<double> m(cols.size()), x(cols.size());
       for (; j < rows.size() && rows[j].kind == rows[i].kind; ++j)
         for (std::size_t q = 0; q < cols.size(); ++q) {
-          const double d = std::abs(rows[j].*(cols[q].v) / rows[j].gt - 1);
+          const double d = std::abs(cols[q].v(rows[j]) / rows[j].gt - 1);
           m[q] += d, x[q] = std::max(x[q], d);
         }
       std::cout << "| " << rows[i].kind << " |";
-      for (std::size_t q = 0; q < cols.size(); ++q)
+      for (std::size_t q = 0; q < cols.size(); ++q) {
         std::cout << fmt::format(" {:.3f} ({:.3f}) |", m[q] / double(j - i), x[q]);
+        am[q] += m[q] / double(j - i), ax[q] = std::max(ax[q], x[q]);
+      }
       std::cout << "\n";
+      ++nk;
       i = j;
+    }
+    std::cout << "| **all** |";
+    for (std::size_t q = 0; q < cols.size(); ++q) std::cout << fmt::format(" {:.3f} ({:.3f}) |", am[q] / double(nk), ax[q]);
+    std::cout << "\n";
+    if (fits) {
+      std::cout << "\nslope covariance, exact (E[s sT]) and read off the slope channels (xx, xy, yy)\n";
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        if (i == 0 || rows[i].kind != rows[i - 1].kind)
+          std::cout << fmt::format("{}: exact {:.4f} {:.4f} {:.4f}; normals {:.4f} {:.4f} {:.4f}; channels {:.4f} {:.4f} {:.4f}\n",
+                                   rows[i].kind, rows[i].sxx, rows[i].sxy, rows[i].syy, rows[i].nxx, rows[i].nxy,
+                                   rows[i].nyy, rows[i].cxx, rows[i].cxy, rows[i].cyy);
     }
   } catch (const std::exception& e) {
     std::cerr << "directional_view_probe: " << e.what() << "\n";
