@@ -470,8 +470,9 @@ TEST(StudyViews, FullPlanSweepAddsViewsWithoutRepeatingCells) {
   c.materials = {"plaster"};
   const StudyPlan p = plan_study(c);
   // Main grid: 3 scales × (10 directional + point, sphere, point-near, sphere-near). Sweep: 7 scales × 4
-  // views × 25 directional lights, less the 3 scales × 10 lights the main grid has at 30°.
-  EXPECT_EQ(p.cells.size(), std::size_t(3 * 14 + 7 * 4 * 25 - 3 * 10));
+  // views × 10 directional lights (elevations 10, 45 × 5 azimuths), less the 3 scales × 4 lights (10, 45 ×
+  // 0, 90) the main grid has at 30°.
+  EXPECT_EQ(p.cells.size(), std::size_t(3 * 14 + 7 * 4 * 10 - 3 * 4));
   std::set<std::string> keys;
   int sweep = 0;
   for (const StudyCell& cell : p.cells) {
@@ -486,7 +487,7 @@ TEST(StudyViews, FullPlanSweepAddsViewsWithoutRepeatingCells) {
       EXPECT_EQ(cell.view.view, 30);
     }
   }
-  EXPECT_EQ(sweep, 7 * 4 * 25 - 3 * 10);
+  EXPECT_EQ(sweep, 7 * 4 * 10 - 3 * 4);
   // The near lights sit near_light_footprints footprints from the view's centre at each scale.
   for (const StudyCell& cell : p.cells)
     if (cell.light.name == "point-near") {

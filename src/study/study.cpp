@@ -24,9 +24,10 @@ StudyConfig full_config() {
   StudyConfig c;
   c.near_lights = true;
   // The view sweep (docs/study.md, "Views, azimuths and scales"): the shipped relief term and the terms it
-  // is judged against, at grazing views, every light azimuth and every scale.
+  // is judged against, at grazing views, every light azimuth and every scale; two light elevations (a low
+  // and a high sun) keep it to 280 cells per material.
   c.sweep_views = {30, 60, 75, 85};
-  c.sweep_elevations = {5, 10, 25, 45, 70};
+  c.sweep_elevations = {10, 45};
   c.sweep_azimuths = {0, 45, 90, 135, 180};
   c.sweep_scales = {1, 2, 4, 8, 16, 32, 64};
   c.sweep_terms = {"none", "ao", "directional-view", "directional", "diffuse-aware-alu+lut3d"};
