@@ -55,6 +55,55 @@ def study(cells, method, comp):
     return " · ".join(out)
 
 
+def view_cells(sv):
+    """The view sweep's cells (docs/measurements/study_views.json) by (view, component, scale, method), all
+    materials."""
+    return {(c["view"], c["component"], c["scale"], c["method"]): c for c in sv["cells"] if c["material"] == "all"}
+
+
+def views_of(sv):
+    return sorted({c["view"] for c in sv["cells"]}, key=lambda v: tuple(float(x) for x in v.split("/")))
+
+
+def view_study(by, view, method, comp, scales):
+    """'mean (max)' per scale at one view, joined by ' · '."""
+    out = []
+    for k in scales:
+        c = by.get((view, comp, k, method))
+        out.append(f"{c['mean_abs_dev']:.2f} ({c['max_abs_dev']:.2f})" if c else "–")
+    return " · ".join(out)
+
+
+def views_text(sv):
+    """The per-view lines of the README block and the per-view tables of docs/choosing.md."""
+    by = view_cells(sv)
+    scales = sorted({c["scale"] for c in sv["cells"]})
+    views = views_of(sv)
+    cfg = sv["config"]
+    sweep = cfg["sweep"]
+    what = (f"the full study's view sweep: {', '.join(cfg['materials'])} at {cfg['fine_size']}²; lights at "
+            f"{' and '.join(f'{e:g}' for e in sweep['elevations'])}° × azimuths "
+            f"{', '.join(f'{a:g}' for a in sweep['azimuths'])}°; k = {' · '.join(str(k) for k in scales)}")
+    readme = [f"**By view** ({what}; `directional-view`, total, mean (max) |term / ground truth − 1| per k; "
+              "view = degrees off the normal): " +
+              "; ".join(f"{v.split('/')[0]}°: {view_study(by, v, 'directional-view', 'total', scales)}"
+                        for v in views) + "."]
+    doc = ["## By view", "",
+           f"Study error per view ({what}); mean (max) |term / ground truth − 1| over the lights and materials "
+           "per k; view = degrees off the normal / azimuth of the direction to the camera "
+           "([study.md](study.md#views-azimuths-and-scales)).", ""]
+    methods = [m for m in sweep["terms"] if any(k[3] == m for k in by)]
+    for comp in ("total", "diffuse"):
+        doc += [f"{comp}:", "", "| view | method | " + " | ".join(f"k = {k}" for k in scales) + " |",
+                "|---|---|" + "---|" * len(scales)]
+        for v in views:
+            for m in methods:
+                doc.append(f"| {v.replace('/', '° / ')}° | `{m}` | " +
+                           " | ".join(view_study(by, v, m, comp, [k]) for k in scales) + " |")
+        doc.append("")
+    return readme, doc
+
+
 def build(msh):
     facts = load("methods.json")["methods"]
     costs = load("spirv_costs.json")["methods"]
@@ -93,6 +142,9 @@ def build(msh):
         f = facts[m]
         readme.append(f"| {case} | `{m}` | {f['data']} ({f['bytes']} B at 8 bits) | {instr(m)} SPIR-V instr., "
                       f"{f['fetches_light']} fetches | {study(cells, m, 'total')} | `{f['call']}` |")
+    views_path = os.path.join(MEAS, "study_views.json")
+    v_readme, v_doc = views_text(load("study_views.json")) if os.path.exists(views_path) else ([], [])
+    readme += ([""] + v_readme if v_readme else [])
     readme += ["", "For comparison, the best older term on the same cells: " +
                "; ".join(f"`{m}` {study(cells, m, 'total')}" for m in ("chan-2018", "lut3d") if m in methods) + ".",
                "", END]
@@ -119,6 +171,7 @@ def build(msh):
         err, _ = exact_error(m)
         doc.append(f"| `{m}` | {f['data']} | {f['bytes']} | {f['fetches_pixel']} / {f['fetches_light']} | "
                    f"{instr(m)} | {err} | {study(cells, m, 'total')} | {study(cells, m, 'diffuse')} | {f['use']} |")
+    doc += [""] + v_doc if v_doc else []
     doc += ["", "## Where the numbers come from", "",
             "| file | command |", "|---|---|",
             "| `study_targets.json` | `microshadow study --fine-size 1024 --out DIR --threads 2` (22 min 34 s wall, 1631 s CPU on the 2-core machine, shared), then "
@@ -130,7 +183,10 @@ def build(msh):
             "share/microshadow/tables/micro_shadowing{,_2d}.ktx2 --samples 10000 --json` |",
             "| `aware_alu_vs_exact.json` | `microshadow verify micro-shadowing-aware --method diffuse-aware-alu "
             "--samples 2000 --json` |",
-            "| `spirv_costs.json` | `scripts/method_costs.py build/bin/microshadow` |",
+            "| `spirv_costs.json` | `scripts/method_costs.py build/bin/microshadow` |"] + \
+        (["| `study_views.json` | `microshadow study --out DIR --threads 2` (the full study, with its view sweep), "
+          "then `scripts/study_targets.py DIR/results.json --sweep-lights 1 --methods none,ao,directional-view,"
+          "directional,diffuse-aware-alu+lut3d --json 1` |"] if v_doc else []) + [
             "| `methods.json` | kept by hand: data, bytes, fetches, calls, use |", ""]
     return "\n".join(readme) + "\n", "\n".join(doc), errors
 

@@ -6,7 +6,8 @@ the same. Components carrying under 10 % of the total are left out per cell (as 
 out < 2 %). A view is "angle/azimuth" in degrees ("30/270": the study's main camera; rows from before views
 were added count as that).
 Usage: /usr/bin/python3 scripts/study_targets.py DIR/results.json [--methods a,b] [--component total,diffuse]
-       [--views 30/270,75/270] [--json 1] (one JSON object instead of the tables: docs/measurements/study_targets.json)
+       [--views 30/270,75/270] [--sweep-lights 1] [--json 1]
+       (--sweep-lights: only the view sweep's lights at every view and scale, so that views compare alike) (one JSON object instead of the tables: docs/measurements/study_targets.json)
        /usr/bin/python3 scripts/study_targets.py docs/measurements/study_targets_2048.json [--methods a,b]
        [--component ...] (the same tables from a stored --json file)
 """
@@ -22,7 +23,7 @@ def view_of(r):
     return f"{r.get('view', 30):g}/{r.get('view_azimuth', 270):g}"
 
 
-def aggregate(res, methods, comps):
+def aggregate(res, methods, comps, sweep_lights=False):
     """One cell per (material or "all", component, k, method) of a results.json: mean and max |bias - 1| over
     the directional lights and the mean footprint RMSE / GT mean, unrounded."""
     total = {}
@@ -31,10 +32,13 @@ def aggregate(res, methods, comps):
         if r["component"] == "total" and r["ms_normal"] == "shading" and r["roughness"] == "base":
             total.setdefault((r["material"], r["shape"], r["scale"], view_of(r), r["light"]), r["gt_mean"]["whole"])
     acc = defaultdict(list)
+    sweep = res["config"].get("sweep", {})
     for r in res["rows"]:
         if r.get("light_type") != "directional" or r["ms_normal"] != "shading" or r["roughness"] != "base":
             continue
         if r["method"] not in methods or r["component"] not in comps:
+            continue
+        if sweep_lights and (r["elevation"] not in sweep["elevations"] or r["azimuth"] not in sweep["azimuths"]):
             continue
         b, f, g = r["bias"]["whole"], r["rmse_footprint"]["whole"], r["gt_mean"]["whole"]
         t = total.get((r["material"], r["shape"], r["scale"], view_of(r), r["light"]))
@@ -87,7 +91,10 @@ def main():
         methods = args.get("--methods", ",".join(default)).split(",")
         return print_tables(res["cells"], methods, comps, views)
     methods = args.get("--methods", ",".join(res["config"]["terms"])).split(",")
-    cells = aggregate(res, methods, comps)
+    sweep_lights = bool(args.get("--sweep-lights"))
+    if sweep_lights and not res["config"].get("sweep", {}).get("views"):
+        sys.exit("study_targets: --sweep-lights needs a run with the view sweep")
+    cells = aggregate(res, methods, comps, sweep_lights)
     if args.get("--json"):
         for c in cells:
             for key in ("mean_abs_dev", "max_abs_dev", "rmse_footprint_rel"):
@@ -95,6 +102,7 @@ def main():
         keys = ("name", "materials", "fine_size", "scales", "elevations", "azimuths", "terms", "views", "view_azimuths",
                 "sweep")
         out = {"source": path, "config": {k: res["config"][k] for k in keys if k in res["config"]},
+               "sweep_lights": sweep_lights,
                "cells": cells}
         print(json.dumps(out, indent=1))
         return

@@ -250,10 +250,18 @@ heightfield_detail::BlockExit heightfield_detail::leave_block(float tx, float ty
   return e;
 }
 
-bool HeightField::intersect_dda(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Vec2f lo, Vec2f hi,
-                                float* t_hit, Vec3f* ng) const {
-  if (w_ == 0) return false;
-  // Clip to the slab [zmin, zmax] and the xy extent.
+namespace {
+// The ray clipped to the slab [zlo, zhi] and the xy extent [lo, hi] (t0, t1), and the DDA's start
+// (Amanatides & Woo 1987): the cell holding the entry point, the steps, the crossing times of the next x and
+// y grid lines and their increments. false: the ray misses. Shared by both traversals, so that they start
+// from the same bits.
+struct DdaStart {
+  float t0, t1;
+  int i, j, si, sj;
+  float dtx, dty, tx, ty;
+};
+bool dda_start(const Vec3f& o, const Vec3f& d, float tmin, float tmax, float zlo, float zhi, Vec2f lo,
+               Vec2f hi, DdaStart& s) {
   float t0 = tmin, t1 = tmax;
   auto clip = [&](float oc, float dc, float a, float b) {
     if (dc == 0.0f) return oc >= a && oc <= b;
@@ -262,17 +270,29 @@ bool HeightField::intersect_dda(const Vec3f& o, const Vec3f& d, float tmin, floa
     t0 = std::max(t0, ta), t1 = std::min(t1, tb);
     return t0 <= t1;
   };
-  if (!clip(o.z, d.z, zmin_ - 1e-4f, zmax_ + 1e-4f) || !clip(o.x, d.x, lo.x, hi.x) ||
-      !clip(o.y, d.y, lo.y, hi.y))
-    return false;
+  if (!clip(o.z, d.z, zlo, zhi) || !clip(o.x, d.x, lo.x, hi.x) || !clip(o.y, d.y, lo.y, hi.y)) return false;
+  const float inf = kInf;
   const Vec3f p0 = o + d * t0;
-  int i = int(std::floor(p0.x)), j = int(std::floor(p0.y));
-  const int si = d.x > 0 ? 1 : -1, sj = d.y > 0 ? 1 : -1;
-  const float inf = std::numeric_limits<float>::infinity();
-  const float dtx = d.x != 0 ? std::abs(1.0f / d.x) : inf, dty = d.y != 0 ? std::abs(1.0f / d.y) : inf;
-  float tx = d.x != 0 ? ((d.x > 0 ? float(i + 1) : float(i)) - o.x) / d.x : inf;
-  float ty = d.y != 0 ? ((d.y > 0 ? float(j + 1) : float(j)) - o.y) / d.y : inf;
-  float tcell = t0;
+  s.t0 = t0, s.t1 = t1;
+  s.i = int(std::floor(p0.x)), s.j = int(std::floor(p0.y));
+  s.si = d.x > 0 ? 1 : -1, s.sj = d.y > 0 ? 1 : -1;
+  s.dtx = d.x != 0 ? std::abs(1.0f / d.x) : inf, s.dty = d.y != 0 ? std::abs(1.0f / d.y) : inf;
+  s.tx = d.x != 0 ? ((d.x > 0 ? float(s.i + 1) : float(s.i)) - o.x) / d.x : inf;
+  s.ty = d.y != 0 ? ((d.y > 0 ? float(s.j + 1) : float(s.j)) - o.y) / d.y : inf;
+  return true;
+}
+
+}  // namespace
+
+bool HeightField::intersect_dda(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Vec2f lo, Vec2f hi,
+                                float* t_hit, Vec3f* ng) const {
+  if (w_ == 0) return false;
+  DdaStart st;
+  if (!dda_start(o, d, tmin, tmax, zmin_ - 1e-4f, zmax_ + 1e-4f, lo, hi, st)) return false;
+  const float t1 = st.t1, dtx = st.dtx, dty = st.dty;
+  const int si = st.si, sj = st.sj;
+  int i = st.i, j = st.j;
+  float tx = st.tx, ty = st.ty, tcell = st.t0;
   for (uint32_t guard = 0; guard < kGuard; ++guard) {
     const float tnext = std::min(std::min(tx, ty), t1);
     const float z00 = z(i, j), z10 = z(i + 1, j), z01 = z(i, j + 1), z11 = z(i + 1, j + 1);
@@ -295,25 +315,12 @@ bool HeightField::intersect_dda(const Vec3f& o, const Vec3f& d, float tmin, floa
 bool HeightField::intersect(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Vec2f lo, Vec2f hi,
                             float* t_hit, Vec3f* ng, HeightFieldTraversal* trace) const {
   if (w_ == 0) return false;
-  // Clip and DDA set-up: as intersect_dda.
-  float t0 = tmin, t1 = tmax;
-  auto clip = [&](float oc, float dc, float a, float b) {
-    if (dc == 0.0f) return oc >= a && oc <= b;
-    float ta = (a - oc) / dc, tb = (b - oc) / dc;
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-    return t0 <= t1;
-  };
-  if (!clip(o.z, d.z, zmin_ - 1e-4f, zmax_ + 1e-4f) || !clip(o.x, d.x, lo.x, hi.x) ||
-      !clip(o.y, d.y, lo.y, hi.y))
-    return false;
-  const Vec3f p0 = o + d * t0;
-  int i = int(std::floor(p0.x)), j = int(std::floor(p0.y));
-  const int si = d.x > 0 ? 1 : -1, sj = d.y > 0 ? 1 : -1;
-  const float dtx = d.x != 0 ? std::abs(1.0f / d.x) : kInf, dty = d.y != 0 ? std::abs(1.0f / d.y) : kInf;
-  float tx = d.x != 0 ? ((d.x > 0 ? float(i + 1) : float(i)) - o.x) / d.x : kInf;
-  float ty = d.y != 0 ? ((d.y > 0 ? float(j + 1) : float(j)) - o.y) / d.y : kInf;
-  float tcell = t0;
+  DdaStart st;
+  if (!dda_start(o, d, tmin, tmax, zmin_ - 1e-4f, zmax_ + 1e-4f, lo, hi, st)) return false;
+  const float t1 = st.t1, dtx = st.dtx, dty = st.dty;
+  const int si = st.si, sj = st.sj;
+  int i = st.i, j = st.j;
+  float tx = st.tx, ty = st.ty, tcell = st.t0;
 
   const int top = levels() - 1;
   // Wrapped cell index (the remainder of a block's index is then the wrapped index >> level: every level's
