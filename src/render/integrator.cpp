@@ -104,6 +104,16 @@ Rgbf brdf_cos(const ShadePoint& sp, const Vec3f& wo, const Vec3f& wi, float spec
 }
 
 Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st) const {
+  Rgbf L;
+  shade(h, wo, seed, st, Components{1, {scene.settings.component, Component::Total}}, &L);
+  return L;
+}
+
+// Every component's radiance is accumulated as the single-component render accumulates it (the same
+// operations in the same order, a lobe a component does not want contributing nothing, not a zero): what
+// makes each output bit-identical to that render.
+void Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st,
+                           const Components& cs, Rgbf* out) const {
   const Object& ob = scene.objects[h.obj];
   const Material& m = scene.materials[ob.material];
   const Settings& set = scene.settings;
@@ -134,8 +144,14 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
     }
   }
   ++st.shaded_samples;
-  const bool want_d = set.component != Component::Specular, want_s = set.component != Component::Diffuse;
-  Rgbf L = want_d ? set.ambient * sp.base_color : Rgbf(0.0f);
+  // Per component: its lobes; any_d / any_s: some component wants the lobe.
+  bool want_d[2], want_s[2], any_d = false, any_s = false;
+  for (int c = 0; c < cs.n; ++c) {
+    want_d[c] = cs.comp[std::size_t(c)] != Component::Specular;
+    want_s[c] = cs.comp[std::size_t(c)] != Component::Diffuse;
+    any_d = any_d || want_d[c], any_s = any_s || want_s[c];
+    out[c] = want_d[c] ? set.ambient * sp.base_color : Rgbf(0.0f);
+  }
   // Shadow-ray origin (policy in docs/renderer.md): analytic shapes and meshes push the hit point (or
   // Hanika's offset point) off the surface along the facet normal by 2e-4 · max(1, |p|∞); the height field
   // starts at the hit point itself, no offset: it counts front faces only and a light must be above the
@@ -187,7 +203,7 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
       const LobeTerms k = term(wi, ls);
       if (!k.any()) continue;
       if (shadow(wi, dist * (1 - 1e-4f))) continue;
-      L += shade(wi, 1.0f, want_d, want_s, k, E);
+      for (int c = 0; c < cs.n; ++c) out[c] += shade(wi, 1.0f, want_d[c], want_s[c], k, E);
     } else if (light.type == LightType::Sphere && !set.area_lights) {
       // Representative point (Karis 2013): diffuse toward the centre, specular toward the point of the
       // sphere closest to the reflection ray, with the (α / α')² energy normalization.
@@ -198,12 +214,17 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
       const Vec3f wc = rd.wc, ws = rd.ws;
       const Rgbf E = light.color / (dist * dist);
       if (shadow(wc, dist - light.radius)) continue;
-      if (want_d && above(wc) && dot(sp.n_shading, wc) > 0)
-        L += brdf_cos(sp, wo, wc, 1.0f, true, false) * E * term(wc, ls).diffuse;
-      if (want_s && above(ws) && dot(sp.n_shading, ws) > 0) {
+      if (any_d && above(wc) && dot(sp.n_shading, wc) > 0) {
+        const Rgbf Ld = brdf_cos(sp, wo, wc, 1.0f, true, false) * E * term(wc, ls).diffuse;
+        for (int c = 0; c < cs.n; ++c)
+          if (want_d[c]) out[c] += Ld;
+      }
+      if (any_s && above(ws) && dot(sp.n_shading, ws) > 0) {
         const float a = roughness_to_alpha(std::max(sp.roughness, 0.02f));
         const float a2 = saturate(a + light.radius / (2 * dist));
-        L += brdf_cos(sp, wo, ws, sqr(a / a2), false, true) * E * term(ws, ls).specular;
+        const Rgbf Ls = brdf_cos(sp, wo, ws, sqr(a / a2), false, true) * E * term(ws, ls).specular;
+        for (int c = 0; c < cs.n; ++c)
+          if (want_s[c]) out[c] += Ls;
       }
     } else {
       // Area sampling (the reference): a sphere uniformly in its subtended cone (radiance I / (π r²)), a disk
@@ -215,7 +236,7 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
                                                       : light.color / light_area(light);
       // AreaMs::Sampled: the term per sample; otherwise one term per lobe after the loop (docs/renderer.md).
       const bool per_sample = set.area_ms == AreaMs::Sampled;
-      Rgbf acc(0.0f), acc_d(0.0f), acc_s(0.0f);
+      Rgbf acc[2] = {Rgbf(0.0f), Rgbf(0.0f)}, acc_d(0.0f), acc_s(0.0f);
       for (int k = 0; k < set.area_samples; ++k) {
         const AreaSample smp = sample_area_light(light, h.p, sobol_2d<float>(uint32_t(k), ls + 1));
         if (!smp.valid) continue;
@@ -225,38 +246,43 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
           const LobeTerms t = term(wi, hash_combine(ls, uint32_t(k)));
           if (!t.any()) continue;
           if (shadow(wi, smp.dist * (1 - 1e-4f))) continue;
-          acc += ms.per_lobe() ? shade(wi, 1.0f, want_d, want_s, t, Le * smp.inv_pdf)
-                               : brdf_cos(sp, wo, wi, 1.0f, want_d, want_s) * Le * (t.diffuse * smp.inv_pdf);
+          for (int c = 0; c < cs.n; ++c)
+            acc[c] += ms.per_lobe()
+                          ? shade(wi, 1.0f, want_d[c], want_s[c], t, Le * smp.inv_pdf)
+                          : brdf_cos(sp, wo, wi, 1.0f, want_d[c], want_s[c]) * Le * (t.diffuse * smp.inv_pdf);
         } else {
           if (shadow(wi, smp.dist * (1 - 1e-4f))) continue;
-          if (want_d) acc_d += brdf_cos(sp, wo, wi, 1.0f, true, false) * Le * smp.inv_pdf;
-          if (want_s) acc_s += brdf_cos(sp, wo, wi, 1.0f, false, true) * Le * smp.inv_pdf;
+          if (any_d) acc_d += brdf_cos(sp, wo, wi, 1.0f, true, false) * Le * smp.inv_pdf;
+          if (any_s) acc_s += brdf_cos(sp, wo, wi, 1.0f, false, true) * Le * smp.inv_pdf;
         }
       }
       if (per_sample) {
-        L += acc / float(set.area_samples);
+        for (int c = 0; c < cs.n; ++c) out[c] += acc[c] / float(set.area_samples);
         continue;
       }
       const uint32_t ts = hash_combine(ls, 0x52455052u);  // the one term's random stream (generic-vndf)
       float m_d = 0.0f, m_s = 0.0f;
       if (set.area_ms == AreaMs::Representative) {
         const RepresentativeDirs rd = representative_dirs(light, h.p, reflect(wo, sp.n_shading));
-        if (want_d) m_d = term(rd.wc, ts).diffuse;
-        if (want_s) m_s = term(rd.ws, ts).specular;
+        if (any_d) m_d = term(rd.wc, ts).diffuse;
+        if (any_s) m_s = term(rd.ws, ts).specular;
       } else {
         const std::function<float(const Vec3f&)> bump = [&](const Vec3f& wi) {
           return bt.eval(sp.n_smooth, sp.n_shading, wi);
         };
         const bool no_bump = set.bump_terminator == BumpTerminator::Off;
-        if (want_d && acc_d.r + acc_d.g + acc_d.b > 0)
+        if (any_d && acc_d.r + acc_d.g + acc_d.b > 0)
           m_d = ms.eval_area(sp, wo, h.tangent, light, h.p, false, bump, no_bump, ts);
-        if (want_s && acc_s.r + acc_s.g + acc_s.b > 0)
+        if (any_s && acc_s.r + acc_s.g + acc_s.b > 0)
           m_s = ms.eval_area(sp, wo, h.tangent, light, h.p, true, bump, no_bump, ts);
       }
-      L += (acc_d * m_d + acc_s * m_s) / float(set.area_samples);
+      // A lobe the component does not want: its sum and term stay at zero, as in its own render.
+      for (int c = 0; c < cs.n; ++c)
+        out[c] += ((want_d[c] ? acc_d : Rgbf(0.0f)) * (want_d[c] ? m_d : 0.0f) +
+                   (want_s[c] ? acc_s : Rgbf(0.0f)) * (want_s[c] ? m_s : 0.0f)) /
+                  float(set.area_samples);
     }
   }
-  return L;
 }
 
 // Hanika 2021 (RTG II ch. 4): shadow-ray origin on the smooth surface implied by the vertex normals.

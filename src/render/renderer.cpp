@@ -25,6 +25,13 @@ uint32_t pixel_seed(uint32_t seed, int x, int y) {
 // samples (batch 0 uses the pixel's own scramble, so batches = 1 is the plain render). With se, stores the
 // standard error of the mean from the spread of the batch means.
 Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se, int spp) const {
+  Rgbf mean;
+  pixel(x, y, st, batches, spp, Components{1, {scene.settings.component, Component::Total}}, &mean, se);
+  return mean;
+}
+
+void Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, int spp, const Components& cs,
+                           Rgbf* mean, Rgbf* se) const {
   const Settings& s = scene.settings;
   const Camera& cam = scene.camera;
   const Vec3f f = normalize(cam.target - cam.eye);
@@ -35,12 +42,12 @@ Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se,
               aspect = float(s.width) / float(s.height);
   const uint32_t ps = pixel_seed(s.seed, x, y);
   if (spp == 0) spp = s.spp;
-  const int per = spp / batches;
-  Rgbf sum(0.0f);
-  double bm[3] = {0, 0, 0}, bm2[3] = {0, 0, 0};
+  const int per = spp / batches, n = cs.n;
+  Rgbf sum[2] = {Rgbf(0.0f), Rgbf(0.0f)};
+  double bm[2][3] = {}, bm2[2][3] = {};
   for (int b = 0; b < batches; ++b) {
     const uint32_t bs = b == 0 ? ps : hash_combine(ps, 0x5bd1e995u + uint32_t(b));
-    Rgbf bsum(0.0f);
+    Rgbf bsum[2] = {Rgbf(0.0f), Rgbf(0.0f)};
     for (int k = 0; k < per; ++k) {
       const int i = b * per + k;
       const Vec2f u = spp == 1 ? Vec2f(0.5f, 0.5f) : sobol_2d<float>(uint32_t(k), bs);
@@ -51,27 +58,33 @@ Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se,
       ++st.camera_rays;
       Hit h;
       if (!intersect(o, d, 0.0f, kInf, h)) {
-        bsum += s.background;
+        for (int c = 0; c < n; ++c) bsum[c] += s.background;
         continue;
       }
-      bsum += shade(h, -d, hash_combine(ps, uint32_t(i)), st);
+      Rgbf L[2];
+      shade(h, -d, hash_combine(ps, uint32_t(i)), st, cs, L);
+      for (int c = 0; c < n; ++c) bsum[c] += L[c];
     }
-    sum += bsum;
-    for (int c = 0; c < 3; ++c) {
-      const double m = double(bsum[c]) / per;
-      bm[c] += m, bm2[c] += m * m;
+    for (int c = 0; c < n; ++c) {
+      sum[c] += bsum[c];
+      for (int ch = 0; ch < 3; ++ch) {
+        const double m = double(bsum[c][ch]) / per;
+        bm[c][ch] += m, bm2[c][ch] += m * m;
+      }
     }
   }
-  if (se) {
-    float e[3];
-    for (int c = 0; c < 3; ++c) {
-      const double mean = bm[c] / batches;
-      const double var = batches > 1 ? std::max(0.0, bm2[c] - batches * mean * mean) / (batches - 1) : 0.0;
-      e[c] = float(std::sqrt(var / batches));
+  for (int c = 0; c < n; ++c) {
+    if (se) {
+      float e[3];
+      for (int ch = 0; ch < 3; ++ch) {
+        const double m = bm[c][ch] / batches;
+        const double var = batches > 1 ? std::max(0.0, bm2[c][ch] - batches * m * m) / (batches - 1) : 0.0;
+        e[ch] = float(std::sqrt(var / batches));
+      }
+      se[c] = Rgbf(e[0], e[1], e[2]);
     }
-    *se = Rgbf(e[0], e[1], e[2]);
+    mean[c] = sum[c] / float(spp);
   }
-  return sum / float(spp);
 }
 
 Renderer::Renderer(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
@@ -130,13 +143,41 @@ RenderResult Renderer::render_batches(int spp, int batches,
   return res;
 }
 
-RenderResult Renderer::render_with_error(const std::function<void(double)>& progress) const {
-  const Settings& s = impl_->scene.settings;
+namespace {
+// The batches of render_with_error: min(error_batches, spp), which must divide spp.
+int error_batches(const Scene& scene) {
+  const Settings& s = scene.settings;
   const int batches = std::max(1, std::min(s.error_batches, s.spp));
   if (s.spp % batches != 0)
     throw InputError(fmt::format("{}: spp = {} is not a multiple of the {} error batches",
-                                 impl_->scene.source.string(), s.spp, batches));
-  return render_batches(s.spp, batches, progress);
+                                 scene.source.string(), s.spp, batches));
+  return batches;
+}
+}  // namespace
+
+RenderResult Renderer::render_with_error(const std::function<void(double)>& progress) const {
+  return render_batches(impl_->scene.settings.spp, error_batches(impl_->scene), progress);
+}
+
+std::array<RenderResult, 2> Renderer::render_components_with_error(
+    const std::function<void(double)>& progress) const {
+  const Settings& s = impl_->scene.settings;
+  const int batches = error_batches(impl_->scene);
+  const Impl& impl = *impl_;
+  const Impl::Components cs{2, {Component::Diffuse, Component::Specular}};
+  std::array<RenderResult, 2> res;
+  for (RenderResult& r : res) {
+    r.batches = batches, r.spp = s.spp;
+    r.mean = Image(s.width, s.height);
+    r.std_error = Image(s.width, s.height);
+  }
+  for_each_pixel(s, progress, &res[0].stats, [&](int x, int y, RenderStats& st) {
+    Rgbf mean[2], se[2];
+    impl.pixel(x, y, st, batches, s.spp, cs, mean, se);
+    for (int c = 0; c < 2; ++c) res[c].mean.at(x, y) = mean[c], res[c].std_error.at(x, y) = se[c];
+  });
+  res[1].stats = res[0].stats;
+  return res;
 }
 
 double rms_std_error(const Image& std_error) {

@@ -7,6 +7,7 @@
 #include <microshadow/render/heightfield.h>
 #include <microshadow/render/renderer.h>
 
+#include <array>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -109,8 +110,17 @@ struct Renderer::Impl {
   bool intersect(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Hit& h) const;
   // Any hit along o + t d, t ∈ (tmin, tmax).
   bool occluded(const Vec3f& o, const Vec3f& d, float tmin, float tmax) const;
-  // Direct light from every light at a hit, seen from wo.
+  // The components one pass renders: out[c] is what a render with Settings::component = comp[c] gives.
+  struct Components {
+    int n = 1;
+    std::array<Component, 2> comp{Component::Total, Component::Total};
+  };
+  // Direct light from every light at a hit, seen from wo, for Settings::component.
   Rgbf shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st) const;
+  // The same for each of cs's components from the same shadow rays and terms (out[0 … cs.n)): each bit for
+  // bit what shade() gives with Settings::component = that component.
+  void shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st, const Components& cs,
+             Rgbf* out) const;
   // Hanika 2021 (RTG II ch. 4): shadow-ray origin on the smooth surface implied by the vertex normals.
   static Vec3f hanika_offset(const Mesh& m, const Hit& h);
   // Mean of the pixel's spp samples, taken as `batches` independently scrambled Sobol batches of spp/batches
@@ -118,6 +128,9 @@ struct Renderer::Impl {
   // standard error of the mean from the spread of the batch means.
   // spp = 0: settings.spp.
   Rgbf pixel(int x, int y, RenderStats& st, int batches = 1, Rgbf* se = nullptr, int spp = 0) const;
+  // The same for each of cs's components from the same samples: mean[c] and, with se, se[c].
+  void pixel(int x, int y, RenderStats& st, int batches, int spp, const Components& cs, Rgbf* mean,
+             Rgbf* se) const;
 };
 
 }  // namespace msh::render

@@ -70,6 +70,13 @@ class Renderer {
   // Mean and standard error (Settings::error_batches batches; the mean equals render() when it is 1).
   // InputError when spp is not a multiple of min(error_batches, spp).
   RenderResult render_with_error(const std::function<void(double)>& progress = {}) const;
+  // Diffuse ([0]) and specular ([1]) in one pass: each bit-identical — mean and standard error — to
+  // render_with_error() with Settings::component = Diffuse, respectively Specular (the same seed, spp and
+  // batches, so the same samples), from one set of camera rays, shadow rays and term evaluations shared by
+  // both (Settings::component is not read). Both elements carry the pass's stats (rays traced once).
+  // InputError as render_with_error.
+  std::array<RenderResult, 2> render_components_with_error(
+      const std::function<void(double)>& progress = {}) const;
   // Supersampling to a stated noise floor: render_with_error at spp = settings.spp (rounded up to a multiple
   // of error_batches), doubling spp until rms_std_error(std_error) <= target or the next step would exceed
   // max_spp; returns the last render (its spp in RenderResult::spp, stats summed over every pass).
