@@ -572,25 +572,30 @@ CellResult CellRunner::run(const StudyCell& cell) {
   GtFloors floors;
   while (true) {
     const int n = spp == 0 ? first_spp : spp;
+    gt_scene.settings.spp = n;
+    // Diffuse and specular from one pass (each bit-identical to its own render), window by window.
+    RenderResult res[2];
+    for (RenderResult& r : res) r.mean = Image(iw, ih), r.std_error = Image(iw, ih);
+    for_each_window(
+        gt_scene, view, st.windows, ls.light, cfg.seed + 7919u * uint32_t(rounds),
+        [&] { return st.gt_renderer->render_components_with_error(); },
+        [&](const std::array<RenderResult, 2>& rc, const Window& w) {
+          for (int ci = 0; ci < 2; ++ci) {
+            const RenderResult& r = rc[std::size_t(ci)];
+            blit_image(res[ci].mean, r.mean, w);
+            blit_image(res[ci].std_error, r.std_error, w);
+            res[ci].spp = r.spp, res[ci].batches = r.batches;
+          }
+          // Both carry the pass's rays: count them once (on the diffuse).
+          const RenderStats& s0 = rc[0].stats;
+          res[0].stats.camera_rays += s0.camera_rays, res[0].stats.shadow_rays += s0.shadow_rays;
+          res[0].stats.shaded_samples += s0.shaded_samples, res[0].stats.seconds += s0.seconds;
+        });
     for (int ci = 0; ci < 2; ++ci) {
-      gt_scene.settings.component = ci == 0 ? Component::Diffuse : Component::Specular;
-      gt_scene.settings.spp = n;
-      RenderResult res;
-      res.mean = Image(iw, ih), res.std_error = Image(iw, ih);
-      for_each_window(
-          gt_scene, view, st.windows, ls.light, cfg.seed + 7919u * uint32_t(rounds),
-          [&] { return st.gt_renderer->render_with_error(); },
-          [&](const RenderResult& r, const Window& w) {
-            blit_image(res.mean, r.mean, w);
-            blit_image(res.std_error, r.std_error, w);
-            res.spp = r.spp, res.batches = r.batches;
-            res.stats.camera_rays += r.stats.camera_rays, res.stats.shadow_rays += r.stats.shadow_rays;
-            res.stats.shaded_samples += r.stats.shaded_samples, res.stats.seconds += r.stats.seconds;
-          });
       if (spp == 0)
-        acc[ci] = std::move(res);
+        acc[ci] = std::move(res[ci]);
       else
-        merge(acc[ci], spp, res, n);
+        merge(acc[ci], spp, res[ci], n);
     }
     spp += n, ++rounds;
     ComponentImages gi;
