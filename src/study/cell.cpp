@@ -158,9 +158,15 @@ std::vector<Window> windows_of(const StudyView& v, const Frame& fr, int k, int f
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       Window w;
-      if (n > 1)
-        w.offset = fr.T * ((float(i) + 0.5f) / float(n) - 0.5f) * kTileWorld +
-                   fr.B * ((float(j) + 0.5f) / float(n) - 0.5f) * kTileWorld;
+      if (n > 1) {
+        // Window centres from the R2 sequence (Roberts 2018, "The unreasonable effectiveness of quasirandom
+        // sequences"): spread over the tile and at no common phase of a periodic texture (a regular grid of
+        // centres 512 texels apart put all 16 windows of brick at 2048² in its mortar).
+        const double q = double(j * n + i);
+        const float du = float(std::fmod(0.5 + q * 0.7548776662466927, 1.0)) - 0.5f;
+        const float dv = float(std::fmod(0.5 + q * 0.5698402909980532, 1.0)) - 0.5f;
+        w.offset = fr.T * (du * kTileWorld) + fr.B * (dv * kTileWorld);
+      }
       w.cam.target = fr.P0 + w.offset;
       w.cam.eye = w.cam.target + (fr.N * std::sin(el) + h * std::cos(el)) * D;
       // Straight down, the image's up points away from the camera's azimuth, as it does just off the normal.

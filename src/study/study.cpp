@@ -319,13 +319,13 @@ StudyView study_view(const StudyConfig& c, const std::string& shape, int fine_si
   v.width = std::max(fp, across / n / fp * fp);
   v.height = std::max(fp, int(std::lround(rows / n / fp)) * fp);
   // How far the view reaches on the plane, in tiles from its centre along u or v: the windows' centres
-  // (spread over the middle tile: up to 1/2 - 1/(2n) tile along u and v) and each window's rectangle (k fine
-  // texels across a pixel, k / cos(view) along, turned by the view azimuth).
+  // (spread over the middle tile: up to 1/2 tile along u and v) and each window's rectangle (k fine texels
+  // across a pixel, k / cos(view) along, turned by the view azimuth).
   const double tile_px = double(fine_size) / k;  // pixels across one tile
   const double a = 0.5 * v.width, b = 0.5 * v.height / std::max(cv, 1e-3);
   const double phi = view_azimuth * kPi<double> / 180, cs = std::abs(std::cos(phi)),
                sn = std::abs(std::sin(phi));
-  v.extent = 0.5 - 0.5 / n + std::max(a * sn + b * cs, a * cs + b * sn) / tile_px;
+  v.extent = (n > 1 ? 0.5 : 0.0) + std::max(a * sn + b * cs, a * cs + b * sn) / tile_px;
   return v;
 }
 

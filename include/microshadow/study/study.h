@@ -66,8 +66,9 @@ struct StudyConfig {
   std::vector<double> view_azimuths{270};
   int image_size = 64;  // pixels across at every scale
   // Windows: where the view covers a small part of the texture (fine_size / (image_size · k) >= 8, e.g.
-  // k = 1, 2 at 2048²), the image is split into n × n windows of equal size spread evenly over the texture
-  // (n = that ratio / 8, at most max_windows; planes only), so that no cell is measured inside one shadow.
+  // k = 1, 2 at 2048²), the image is split into n × n windows of equal size spread over the texture by a
+  // quasirandom sequence (n = that ratio / 8, at most max_windows; planes only), so that no cell is measured
+  // inside one shadow or at one phase of a periodic pattern.
   int max_windows = 4;
   // The view sweep: a second grid of cells (views × view azimuths × light elevations × light azimuths ×
   // scales) rendered with sweep_terms only (no ablations); cells that the main grid already has are not
