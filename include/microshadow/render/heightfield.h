@@ -76,9 +76,9 @@ float repeat_add(float v, float b, uint32_t k);
 
 // The DDA leaving a block: from the next crossing times tx, ty (steps dtx, dty > 0, inf along an axis the ray
 // does not cross), nx x steps and ny y steps (>= 1) from the block's far sides, and the ray's end t1 — the
-// steps taken kx, ky, the crossing times then, and the time it leaves (tend: the last cell's tnext) — or, when
-// the ray ends first (ended), t1 and the steps taken before it ends. leave_block_walk takes the DDA's steps one
-// by one; leave_block computes the same state bit for bit with repeat_add.
+// steps taken kx, ky, the crossing times then, and the time it leaves (tend: the last cell's tnext) — or,
+// when the ray ends first (ended), t1 and the steps taken before it ends. leave_block_walk takes the DDA's
+// steps one by one; leave_block computes the same state bit for bit with repeat_add.
 struct BlockExit {
   uint32_t kx, ky;
   float tx, ty, tend;
