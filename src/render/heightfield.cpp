@@ -260,10 +260,10 @@ heightfield_detail::BlockExit heightfield_detail::leave_block(float tx, float ty
 }
 
 namespace {
-// The ray clipped to the slab [zlo, zhi] and the xy extent [lo, hi] (t0, t1), and the DDA's start
-// (Amanatides & Woo 1987): the cell holding the entry point, the steps, the crossing times of the next x and
-// y grid lines and their increments. false: the ray misses. Shared by both traversals, so that they start
-// from the same bits.
+// The ray clipped to the slab [zlo, zhi] (widened by 1e-4) and the xy extent [lo, hi] (t0, t1), and the DDA's
+// start (Amanatides & Woo 1987): the cell holding the entry point, the steps, the crossing times of the next
+// x and y grid lines and their increments. false: the ray misses. Shared by both traversals, so that they
+// start from the same bits.
 struct DdaStart {
   float t0, t1;
   int i, j, si, sj;
@@ -279,7 +279,8 @@ bool dda_start(const Vec3f& o, const Vec3f& d, float tmin, float tmax, float zlo
     t0 = std::max(t0, ta), t1 = std::min(t1, tb);
     return t0 <= t1;
   };
-  if (!clip(o.z, d.z, zlo, zhi) || !clip(o.x, d.x, lo.x, hi.x) || !clip(o.y, d.y, lo.y, hi.y)) return false;
+  if (!clip(o.z, d.z, zlo - 1e-4f, zhi + 1e-4f) || !clip(o.x, d.x, lo.x, hi.x) || !clip(o.y, d.y, lo.y, hi.y))
+    return false;
   const float inf = kInf;
   const Vec3f p0 = o + d * t0;
   s.t0 = t0, s.t1 = t1;
@@ -295,13 +296,9 @@ bool dda_start(const Vec3f& o, const Vec3f& d, float tmin, float tmax, float zlo
 
 bool HeightField::intersect_dda(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Vec2f lo, Vec2f hi,
                                 float* t_hit, Vec3f* ng) const {
-  if (w_ == 0) return false;
   DdaStart st;
-  if (!dda_start(o, d, tmin, tmax, zmin_ - 1e-4f, zmax_ + 1e-4f, lo, hi, st)) return false;
-  const float t1 = st.t1, dtx = st.dtx, dty = st.dty;
-  const int si = st.si, sj = st.sj;
-  int i = st.i, j = st.j;
-  float tx = st.tx, ty = st.ty, tcell = st.t0;
+  if (w_ == 0 || !dda_start(o, d, tmin, tmax, zmin_, zmax_, lo, hi, st)) return false;
+  auto [tcell, t1, i, j, si, sj, dtx, dty, tx, ty] = st;
   for (uint32_t guard = 0; guard < kGuard; ++guard) {
     const float tnext = std::min(std::min(tx, ty), t1);
     const float z00 = z(i, j), z10 = z(i + 1, j), z01 = z(i, j + 1), z11 = z(i + 1, j + 1);
@@ -323,13 +320,9 @@ bool HeightField::intersect_dda(const Vec3f& o, const Vec3f& d, float tmin, floa
 
 bool HeightField::intersect(const Vec3f& o, const Vec3f& d, float tmin, float tmax, Vec2f lo, Vec2f hi,
                             float* t_hit, Vec3f* ng, HeightFieldTraversal* trace) const {
-  if (w_ == 0) return false;
   DdaStart st;
-  if (!dda_start(o, d, tmin, tmax, zmin_ - 1e-4f, zmax_ + 1e-4f, lo, hi, st)) return false;
-  const float t1 = st.t1, dtx = st.dtx, dty = st.dty;
-  const int si = st.si, sj = st.sj;
-  int i = st.i, j = st.j;
-  float tx = st.tx, ty = st.ty, tcell = st.t0;
+  if (w_ == 0 || !dda_start(o, d, tmin, tmax, zmin_, zmax_, lo, hi, st)) return false;
+  auto [tcell, t1, i, j, si, sj, dtx, dty, tx, ty] = st;
 
   const int top = levels() - 1;
   // Wrapped cell index (the remainder of a block's index is then the wrapped index >> level: every level's

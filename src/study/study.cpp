@@ -380,11 +380,13 @@ StudyPlan plan_study(const StudyConfig& cfg) {
       for (int k : all_scales(cfg)) {
         const bool main_k = std::find(cfg.scales.begin(), cfg.scales.end(), k) != cfg.scales.end();
         std::set<std::string> main_keys;  // view|view azimuth|light of the main grid at k
+        const std::vector<StudyLight> lights =
+            main_k ? make_lights(cfg, fr, k, texel_world) : std::vector<StudyLight>{};
         if (main_k)
           for (double v : cfg.views)
             for (double va : cfg.view_azimuths) {
               const StudyView view = study_view(cfg, shape, fine, v, va, k);
-              for (const StudyLight& light : make_lights(cfg, fr, k, texel_world)) {
+              for (const StudyLight& light : lights) {
                 plan.cells.push_back({m, shape, k, view, light, false});
                 main_keys.insert(fmt::format("{}|{}|{}", num(v), num(va), light.name));
               }
