@@ -7,8 +7,10 @@
 #include <microshadow/render/multiscale.h>
 #include <microshadow/render/texture_gen.h>
 
+#include <cmath>
 #include <map>
 #include <string>
+#include <vector>
 
 using namespace msh::render;
 
@@ -60,6 +62,33 @@ void BM_BakeVisibility(benchmark::State& state) {
 }
 BENCHMARK(BM_BakeVisibility)
     ->ArgsProduct({{0, 1, 2}, {1024}, {8}})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// Finite-ray horizons, 8 uniform azimuths, ray length 8 % of the size (the bake's default): arg 1 = 0 the
+// walks (bake_horizon_tangents: cell DDA, 1e-4 tolerance; what bake_visibility ran before the profile
+// scans), 1 the profile scans (bake_horizon_tangents_profiles: what bake_visibility runs). Counter: walks/s.
+void BM_FiniteHorizons(benchmark::State& state) {
+  const int kind = int(state.range(0)), path = int(state.range(1)), size = 1024;
+  const TextureSet& s = fine_set(kind, size);
+  std::vector<msh::Vec2f> dirs;
+  for (int k = 0; k < 8; ++k) {
+    const double a = 2 * 3.14159265358979323846 * (k + 0.5) / 8;
+    dirs.emplace_back(float(std::cos(a)), float(std::sin(a)));
+  }
+  const float R = 0.08f * size;
+  for (auto _ : state) {
+    if (path == 0) benchmark::DoNotOptimize(bake_horizon_tangents(s.height, s.depth_texels, dirs, R));
+    if (path == 1)
+      benchmark::DoNotOptimize(bake_horizon_tangents_profiles(s.height, s.depth_texels, dirs, R));
+  }
+  state.counters["walks/s"] =
+      benchmark::Counter(double(size) * size * 8, benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel(std::string(kKinds[kind]) + (path == 0 ? " walks" : " profile scans"));
+}
+BENCHMARK(BM_FiniteHorizons)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);

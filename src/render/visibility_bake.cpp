@@ -12,10 +12,14 @@
 // direction enters the solid at the start point, so convex points are not darkened by the triangles they
 // sit on.
 //
-// Speed: cells are skipped when none of their vertices rises above the current horizon (by more than a
-// tolerance of 1e-4 on tan² H, so on V), and the walk stops where nothing of the field can (s > (z_max −
-// z_ij) / tan H) or the ray length ends. (A maximum mip pyramid, Tevs et al. 2008, was measured slower here:
-// the cells near the horizon line dominate, and its block tests skip nothing more.)
+// Speed: with a finite ray length (the bake's default, 8 % of the map) the breakpoints a walk meets along a
+// direction are the same from every vertex, so they are listed once per direction (a ray profile) and
+// vertices scan their heights there, 8 neighbours of a row in lockstep ("Profile scans" below; exact, no
+// tolerance). The walks remain for unlimited rays: cells are skipped when none of their vertices rises above
+// the current horizon (by more than a tolerance of 1e-4 on tan² H, so on V), and the walk stops where
+// nothing of the field can (s > (z_max − z_ij) / tan H) or the ray length ends. (A maximum mip pyramid, Tevs
+// et al. 2008, was measured slower for the walks: the cells near the horizon line dominate, and its block
+// tests skip nothing more.)
 //
 // On lattice azimuths (bake_horizon_tangents_lattice) the same exact horizons come from one convex-hull sweep
 // per line of vertices, at a cost independent of the walk length (see "Lattice sweeps" below).
@@ -28,6 +32,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <vector>
@@ -66,6 +72,39 @@ struct Heights {
   }
   const float* vertex(int i, int j) const { return &z[std::size_t(j) * (w + 1) + i]; }  // i, j in range
 };
+
+// A linear piece of the profile from (s_l, z_l) to (s_r, z_r) against the horizon so far, tan H = T: the
+// larger of T and the piece's largest min(Δz, √(R² − s²))/s (R = the ray length, limited; unlimited: Δz/s).
+// Only the right end can raise T (the left end was the previous piece's right end, or lies on a skipped
+// block, already below the gate), except at the start, where Δz/s → the piece's slope, and where the piece
+// leaves the disc of radius R between its ends. The walks and the profile scans read pieces through this one
+// rule.
+inline float piece_raise(float T, float s_l, float z_l, float s_r, float z_r, float R, bool limited) {
+  if (!(s_r > s_l)) return T;
+  const bool start = s_l < 1e-6f;
+  if (!(z_r > s_r * T) && !start) return T;
+  if (limited && s_r > R) {  // clip at the ray length
+    if (s_l >= R) return T;
+    z_r = z_l + (z_r - z_l) * ((R - s_l) / (s_r - s_l));
+    s_r = R;
+  }
+  const float slope = (z_r - z_l) / (s_r - s_l);
+  if (start) T = std::max(T, slope);
+  if (!limited) return std::max(T, z_r / s_r);
+  const float cr = std::sqrt(std::max(R * R - s_r * s_r, 0.0f));
+  T = std::max(T, std::min(z_r, cr) / s_r);
+  if (z_r > cr && (z_l < 0 || z_l * z_l < R * R - s_l * s_l)) {
+    // The piece leaves the disc between its ends: max at the crossing a + m s = √(R² − s²).
+    const double m = slope, a0 = double(z_l) - m * s_l, R2 = double(R) * R;
+    const double disc = R2 * (1 + m * m) - a0 * a0;
+    if (disc >= 0) {
+      const double r = std::sqrt(disc);
+      for (double s : {(-a0 * m + r) / (1 + m * m), (-a0 * m - r) / (1 + m * m)})
+        if (s >= s_l && s <= s_r && s > 0) T = std::max(T, float((a0 + m * s) / s));
+    }
+  }
+  return T;
+}
 
 // One horizon walk along azimuth (cx, sy) from vertex (i0, j0): a 2D DDA over the cells the line crosses
 // (Amanatides & Woo 1987). Local coordinates: the origin vertex at (0, 0), so positions near the start are
@@ -174,36 +213,9 @@ class HorizonWalk {
     if (t > T_) T_ = t, update();
   }
 
-  // A linear piece of the profile from (s_l, z_l) to (s_r, z_r). Only the right end can raise T (the left end
-  // was the previous piece's right end, or lies on a skipped block, already below the gate), except at the
-  // start, where Δz/s → the piece's slope.
+  // A linear piece of the profile (piece_raise).
   void segment(float s_l, float z_l, float s_r, float z_r) {
-    if (!(s_r > s_l)) return;
-    const bool start = s_l < 1e-6f;
-    if (!(z_r > s_r * T_) && !start) return;
-    if (limited_ && s_r > R_) {  // clip at the ray length
-      if (s_l >= R_) return;
-      z_r = z_l + (z_r - z_l) * ((R_ - s_l) / (s_r - s_l));
-      s_r = R_;
-    }
-    const float slope = (z_r - z_l) / (s_r - s_l);
-    if (start) raise(slope);
-    if (!limited_) {
-      raise(z_r / s_r);
-      return;
-    }
-    const float cr = std::sqrt(std::max(R_ * R_ - s_r * s_r, 0.0f));
-    raise(std::min(z_r, cr) / s_r);
-    if (z_r > cr && (z_l < 0 || z_l * z_l < R_ * R_ - s_l * s_l)) {
-      // The piece leaves the disc of radius R between its ends: max at the crossing a + m s = √(R² − s²).
-      const double m = slope, a0 = double(z_l) - m * s_l, R2 = double(R_) * R_;
-      const double disc = R2 * (1 + m * m) - a0 * a0;
-      if (disc >= 0) {
-        const double r = std::sqrt(disc);
-        for (double s : {(-a0 * m + r) / (1 + m * m), (-a0 * m - r) / (1 + m * m)})
-          if (s >= s_l && s <= s_r && s > 0) raise(float((a0 + m * s) / s));
-      }
-    }
+    raise(piece_raise(T_, s_l, z_l, s_r, z_r, R_, limited_));
   }
 
   const double* thresholds_;
@@ -215,6 +227,160 @@ class HorizonWalk {
   float rise_, T_ = 0, gate_ = 0, limit_ = 0;
 };
 
+// ---- Profile scans (finite ray length) ----
+//
+// Every walk starts on a vertex, so the breakpoints a walk along a given direction meets (where its line
+// crosses x = integer, y = integer or a cell diagonal x − y = integer) are at the same distances and the same
+// offsets from its start vertex, whatever the vertex. A ray profile lists them once per direction; a vertex's
+// horizon is then a scan of its heights at those offsets through piece_raise, with no cell traversal and no
+// wrap logic (the heights are padded by the ray length). Same pieces, same rule as the walk, but exact: the
+// scan stops only where nothing can raise T any more (s > (z_max − z_0)/T, or the disc), no tolerance.
+
+// Heights in texel units padded by P texels on every side (wrapped), so every profile offset from every
+// vertex of the map is in range.
+// Vertices scanned together: consecutive in a row, one profile, lane by lane in lockstep (vectorised).
+constexpr int kLanes = 8;
+
+struct PaddedHeights {
+  int w = 0, h = 0, P = 0, PW = 0;
+  float zmax = 0;
+  std::vector<float> z;  // (w + 2P) × (h + 2P)
+
+  PaddedHeights(const Texture& height, float depth, int pad) : w(height.width()), h(height.height()), P(pad) {
+    PW = w + 2 * P;
+    // kLanes of slack: a row's last block of lanes reads up to kLanes − 1 texels past the map (discarded).
+    z.resize(std::size_t(PW) * std::size_t(h + 2 * P) + kLanes);
+    zmax = -std::numeric_limits<float>::max();
+    for (int j = 0; j < h + 2 * P; ++j)
+      for (int i = 0; i < PW; ++i) {
+        const int si = ((i - P) % w + w) % w, sj = ((j - P) % h + h) % h;
+        const float v = (height.at(si, sj, 0) - 1.0f) * depth;
+        z[std::size_t(j) * PW + i] = v;
+        zmax = std::max(zmax, v);
+      }
+  }
+  std::size_t base(int i, int j) const { return std::size_t(j + P) * PW + std::size_t(i + P); }
+};
+
+// One breakpoint of a ray profile: distance s from the start vertex, its height the interpolation of the
+// vertices at offsets a and b (relative to the start, in the padded array) with weight t on b.
+struct ProfilePoint {
+  float s;
+  int32_t a, b;
+  float t;
+  float inv_s;  // 1/s
+  float cr;     // √(R² − s²), 0 beyond R (the disc's height there, as piece_raise computes it)
+};
+
+// The padding a ray of length R needs: the last breakpoint lies at most one cell diagonal beyond R.
+int profile_padding(float R) { return int(std::ceil(R)) + 3; }
+
+// The profile scans pad the map by the ray length; above this many padded texels (4× the map, at least
+// 4 M) the walks run instead, which wrap in place.
+double max_profile_length(int w, int h) {
+  const double cap = std::max(4.0 * w * h, double(1 << 22));
+  // (w + 2P)(h + 2P) ≤ cap, P = ⌈R⌉ + 3: the largest R.
+  const double P = (-(w + h) + std::sqrt(double(w + h) * (w + h) - 4.0 * (double(w) * h - cap))) / 4;
+  return std::floor(P) - 4;
+}
+bool profiles_fit(int w, int h, float R) {
+  return std::isfinite(R) && R > 0 && R <= max_profile_length(w, h);
+}
+
+// bake_visibility's directions: azimuths × M, M = max(1, kRotatedDirections / azimuths) rotations.
+constexpr int kRotatedDirections = 256;
+
+// The breakpoints along (c, sn) (unit) up to and including the first at s ≥ R, ascending, coincident ones
+// merged.
+std::vector<ProfilePoint> ray_profile(double c, double sn, double R, int PW) {
+  struct Cross {
+    double s;
+    int kind;  // 0: x = X, 1: y = Y, 2: x − y = D
+    int n;     // X, Y or D
+  };
+  std::vector<Cross> cs;
+  const double rates[3] = {c, sn, c - sn};
+  double first_beyond = std::numeric_limits<double>::infinity();
+  for (int kind = 0; kind < 3; ++kind) {
+    const double r = std::abs(rates[kind]);
+    if (r < 1e-12) continue;
+    const int sign = rates[kind] > 0 ? 1 : -1;
+    for (int n = 1;; ++n) {
+      const double s = n / r;
+      cs.push_back({s, kind, sign * n});
+      if (s >= R) {
+        first_beyond = std::min(first_beyond, s);
+        break;
+      }
+    }
+  }
+  std::sort(cs.begin(), cs.end(), [](const Cross& x, const Cross& y) { return x.s < y.s; });
+  std::vector<ProfilePoint> out;
+  double last = -1;
+  for (const Cross& x : cs) {
+    if (x.s > first_beyond) break;
+    if (x.s - last < 1e-9 * std::max(1.0, x.s)) continue;  // the same point reached by two crossings
+    last = x.s;
+    const double px = c * x.s, py = sn * x.s;
+    int ax, ay, bx, by;
+    double t;
+    if (x.kind == 0) {  // on the vertical edge x = X: between (X, ⌊y⌋) and (X, ⌊y⌋ + 1)
+      ax = bx = x.n, ay = int(std::floor(py)), by = ay + 1, t = py - ay;
+    } else if (x.kind == 1) {  // on the horizontal edge y = Y
+      ay = by = x.n, ax = int(std::floor(px)), bx = ax + 1, t = px - ax;
+    } else {  // on the diagonal of cell (X0, X0 − D) from its corner (0, 0) to (1, 1)
+      ax = int(std::floor(px)), ay = ax - x.n, bx = ax + 1, by = ay + 1, t = px - ax;
+    }
+    const float sf = float(x.s), Rf = float(R);
+    out.push_back({sf, int32_t(ay * PW + ax), int32_t(by * PW + bx), float(std::clamp(t, 0.0, 1.0)), 1 / sf,
+                   std::sqrt(std::max(Rf * Rf - sf * sf, 0.0f))});
+  }
+  return out;
+}
+
+// tan H at the kLanes consecutive vertices from padded index `base` along a profile, rays of length R
+// (finite), into T_out[kLanes]. Each lane is the scan of one vertex through piece_raise: the first piece (the
+// start slope) and pieces that reach the disc or the ray's end take it as it is; every other piece can only
+// raise T to its right end's Δz/s (inside the disc), which the lanes do together without branches. A lane
+// stops where nothing can raise its T any more: from s with s·T ≥ z_max − z_0 (no point rises higher) or
+// s²(1 + T²) ≥ R² (no point of the disc beyond passes T); the scan ends when every lane has stopped. So each
+// vertex gets its own scan's result, whatever its neighbours.
+void scan_profile(const PaddedHeights& f, std::size_t base, const std::vector<ProfilePoint>& prof, float R,
+                  float* T_out) {
+  const float* z = f.z.data() + base;
+  const float R2 = R * R;
+  float z0[kLanes], rise[kLanes], T[kLanes], z_l[kLanes], zr[kLanes];
+  int hard[kLanes];
+  for (int l = 0; l < kLanes; ++l) z0[l] = z[l], rise[l] = f.zmax - z0[l], T[l] = 0, z_l[l] = 0;
+  float s_l = 0;
+  for (std::size_t e = 0; e < prof.size(); ++e) {
+    const ProfilePoint& p = prof[e];
+    const float* za = z + p.a;
+    const float* zb = z + p.b;
+    const int first = e == 0;
+    int any_live = 0, any_hard = 0;
+    // Branch-free over the lanes (bitwise masks), so the compiler vectorises it.
+    for (int l = 0; l < kLanes; ++l) {
+      zr[l] = za[l] + p.t * (zb[l] - za[l]) - z0[l];
+      const int live = (s_l * T[l] < rise[l]) & (s_l * s_l * (1 + T[l] * T[l]) < R2);
+      const int pass = live & (zr[l] > p.s * T[l]);
+      // The first piece, the disc or the ray's end: the scalar rule below.
+      hard[l] = live & (first | (pass & (zr[l] > p.cr)));
+      const float raised = zr[l] * p.inv_s;
+      T[l] = (pass & (hard[l] ^ 1) & (raised > T[l])) ? raised : T[l];
+      any_live |= live;
+      any_hard |= hard[l];
+    }
+    if (!any_live) break;
+    if (any_hard)
+      for (int l = 0; l < kLanes; ++l)
+        if (hard[l]) T[l] = piece_raise(T[l], s_l, z_l[l], p.s, zr[l], R, true);
+    s_l = p.s;
+    std::copy(zr, zr + kLanes, z_l);
+  }
+  std::copy(T, T + kLanes, T_out);
+}
+
 }  // namespace
 
 Texture bake_visibility(const Texture& height, float depth, int azimuths, float max_distance) {
@@ -224,23 +390,83 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
   if (std::isnan(max_distance)) throw InputError("bake_visibility: max distance is NaN");
   if (height.empty()) throw InputError("bake_visibility: empty height map");
   const float R = max_distance > 0 ? max_distance : std::numeric_limits<float>::infinity();
-  const Heights f(height, depth);
   const int w = height.width(), h = height.height();
   Texture vis(w, h, 1);
+  // Stratified azimuths, rotated (Cranley–Patterson) by one of M offsets picked by a hash per run of kLanes
+  // texels in a row (they scan together), so the quadrature error is not a pattern and box means see
+  // M · azimuths directions.
+  const int M = std::max(1, kRotatedDirections / azimuths);
+  auto rotation = [&](int i, int j) {
+    const double u = double(hash_combine(hash_u32(uint32_t(i)), uint32_t(j))) * 0x1p-32;
+    return std::min(int(u * M), M - 1);
+  };
+  auto phi = [&](int k, int r) { return 2 * kPi<double> * (double(k) + (r + 0.5) / M) / double(azimuths); };
+  if (profiles_fit(w, h, R)) {
+    const PaddedHeights f(height, depth, profile_padding(R));
+    std::vector<std::vector<ProfilePoint>> prof(std::size_t(azimuths) * M);
+    tbb::parallel_for(0, azimuths * M, [&](int q) {
+      const double a = phi(q / M, q % M);
+      prof[std::size_t(q)] = ray_profile(std::cos(a), std::sin(a), R, f.PW);
+    });
+    tbb::parallel_for(0, h, [&](int j) {
+      double sum[kLanes];
+      float T[kLanes];
+      for (int i0 = 0; i0 < w; i0 += kLanes) {
+        // One rotation per block of kLanes texels in a row (they scan one profile together).
+        const int r = rotation(i0 / kLanes, j), n = std::min(kLanes, w - i0);
+        std::fill(sum, sum + kLanes, 0.0);
+        for (int k = 0; k < azimuths; ++k) {
+          scan_profile(f, f.base(i0, j), prof[std::size_t(k) * M + r], R, T);
+          for (int l = 0; l < n; ++l) sum[l] += 1.0 / (1.0 + double(T[l]) * double(T[l]));  // cos² H
+        }
+        for (int l = 0; l < n; ++l) vis.at(i0 + l, j, 0) = float(sum[l] / double(azimuths));
+      }
+    });
+    return vis;
+  }
+  const Heights f(height, depth);
   tbb::parallel_for(0, h, [&](int j) {
     for (int i = 0; i < w; ++i) {
-      // Stratified azimuths, rotated per texel (Cranley–Patterson) so the quadrature error is not a pattern.
-      const double rot = double(hash_combine(hash_u32(uint32_t(i)), uint32_t(j))) * 0x1p-32;
+      const int r = rotation(i / kLanes, j);
       double sum = 0;
       for (int k = 0; k < azimuths; ++k) {
-        const double phi = 2 * kPi<double> * (double(k) + rot) / double(azimuths);
-        const float T = HorizonWalk(f, i, j, float(std::cos(phi)), float(std::sin(phi)), R).run();
+        const double a = phi(k, r);
+        const float T = HorizonWalk(f, i, j, float(std::cos(a)), float(std::sin(a)), R).run();
         sum += 1.0 / (1.0 + double(T) * double(T));  // cos² H
       }
       vis.at(i, j, 0) = float(sum / double(azimuths));
     }
   });
   return vis;
+}
+
+std::vector<float> bake_horizon_tangents_profiles(const Texture& height, float depth,
+                                                  const std::vector<Vec2f>& dirs, float max_distance) {
+  if (!(depth >= 0) || !std::isfinite(depth))
+    throw InputError(
+        fmt::format("bake_horizon_tangents_profiles: depth must be finite and >= 0, got {}", depth));
+  if (height.empty()) throw InputError("bake_horizon_tangents_profiles: empty height map");
+  const int w = height.width(), h = height.height(), n = int(dirs.size());
+  if (!(max_distance > 0) || !profiles_fit(w, h, max_distance))
+    throw InputError(fmt::format(
+        "bake_horizon_tangents_profiles: the ray length must be > 0 and at most {} texels here, got {}",
+        max_profile_length(w, h), max_distance));
+  for (const Vec2f& d : dirs)
+    if (!(std::abs(d.x * d.x + d.y * d.y - 1) < 1e-4f))
+      throw InputError("bake_horizon_tangents_profiles: azimuth directions must be unit vectors");
+  const PaddedHeights f(height, depth, profile_padding(max_distance));
+  std::vector<std::vector<ProfilePoint>> prof;
+  for (const Vec2f& d : dirs) prof.push_back(ray_profile(d.x, d.y, max_distance, f.PW));
+  std::vector<float> out(std::size_t(w) * h * std::size_t(n));
+  tbb::parallel_for(0, h, [&](int j) {
+    float T[kLanes];
+    for (int i0 = 0; i0 < w; i0 += kLanes)
+      for (int k = 0; k < n; ++k) {
+        scan_profile(f, f.base(i0, j), prof[std::size_t(k)], max_distance, T);
+        for (int l = 0; l < std::min(kLanes, w - i0); ++l) out[(std::size_t(j) * w + i0 + l) * n + k] = T[l];
+      }
+  });
+  return out;
 }
 
 namespace {

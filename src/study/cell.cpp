@@ -74,12 +74,15 @@ TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& c
                             const Texture* user_height = nullptr, float user_depth = 0) {
   const bool with_view = go.directional_azimuths > 0 && go.directional_view;
   const char* view = with_view ? "v21" : "";  // the 21 channels of the view correction
-  const std::string key =
-      user_height
-          ? fmt::format("user-{}_{}_z{:.9g}_h{:016x}_a{}_d{}{}", go.kind, user_height->width(), user_depth,
-                        height_hash(*user_height), go.ao_rays, go.directional_azimuths, view)
-          : fmt::format("{}_{}_a{}_d{}{}_s{}", go.kind, go.size, go.ao_rays, go.directional_azimuths, view,
-                        go.seed);
+  // The bakes' version: raised whenever a bake's output changes, so no cache of an older bake is read (2: the
+  // visibility bake's profile scans and their rotations per 8 texels).
+  constexpr int kBakeVersion = 2;
+  const std::string key = user_height
+                              ? fmt::format("user-{}_{}_z{:.9g}_h{:016x}_a{}_d{}{}_b{}", go.kind,
+                                            user_height->width(), user_depth, height_hash(*user_height),
+                                            go.ao_rays, go.directional_azimuths, view, kBakeVersion)
+                              : fmt::format("{}_{}_a{}_d{}{}_s{}_b{}", go.kind, go.size, go.ao_rays,
+                                            go.directional_azimuths, view, go.seed, kBakeVersion);
   const auto dir = cache.empty() ? cache : cache / key;
   struct Slot {
     const char* name;

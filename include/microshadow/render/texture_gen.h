@@ -68,12 +68,15 @@ Texture normal_map_from_height(const Texture& height, float depth_texels);
 // projected-solid-angle visibility about the flat normal +z, V = (1/π) ∫ vis(ω) cos θ dω, where a direction
 // is visible if its ray of length max_distance texels leaves the surface without a hit (rays longer than that
 // count as unoccluded; max_distance ≤ 0 or +inf = unlimited). Computed by exact horizons (elevation integral
-// in closed form, see src/render/visibility_bake.cpp): `azimuths` stratified azimuths per texel, each
-// resolving every elevation, so the only error is the azimuthal quadrature (O(N⁻²) where the horizon varies
-// smoothly). A direction that enters the solid at the start point is blocked, one that leaves it is not: no
-// darkening of convex points, no leak at concave ones. Domain: azimuths ∈ [1, 65536], depth finite ≥ 0;
-// otherwise InputError. Deterministic, bit-identical whatever the thread count. Parts of the field that could
-// change a texel's V by at most 1e-4 are skipped (V is never lowered by that); this also ends unlimited rays.
+// in closed form, see src/render/visibility_bake.cpp): `azimuths` stratified azimuths per texel, rotated by
+// one of M = max(1, 256 / azimuths) offsets picked by a hash per run of 8 texels in a row (the box means
+// see M · azimuths directions), each resolving every elevation, so the only error is the azimuthal quadrature
+// (O(N⁻²) where the horizon varies smoothly). A direction that enters the solid at the start point is
+// blocked, one that leaves it is not: no darkening of convex points, no leak at concave ones. Domain:
+// azimuths ∈ [1, 65536], depth finite ≥ 0; otherwise InputError. Deterministic, bit-identical whatever the
+// thread count. Finite ray lengths (up to about the map's size) are exact: bake_horizon_tangents_profiles.
+// Unlimited rays (and longer ones) take the walks of bake_horizon_tangents, which skip parts of the field
+// that could change a texel's V by at most 1e-4 (V is never lowered by that); this also ends unlimited rays.
 Texture bake_visibility(const Texture& height, float depth_texels, int azimuths, float max_distance);
 
 // The exact-horizon walks of bake_visibility, kept: tan H ≥ 0 of the horizon at every vertex (i, j) along
@@ -83,6 +86,14 @@ Texture bake_visibility(const Texture& height, float depth_texels, int azimuths,
 // at elevation e reaches the vertex iff tan e > tan H. Deterministic whatever the thread count.
 std::vector<float> bake_horizon_tangents(const Texture& height, float depth_texels,
                                          const std::vector<Vec2f>& dirs, float max_distance);
+// The same horizons for a finite ray length by ray profiles: the breakpoints (cell edges and diagonals) a
+// walk from a vertex meets along dirs[k] are at the same distances and offsets from every vertex, so they are
+// listed once per direction and each vertex scans its heights there (src/render/visibility_bake.cpp). Exact:
+// no tolerance (tan H ≥ the walks' by at most their 1e-4 on tan² H, up to float rounding). Same layout.
+// InputError for max_distance ≤ 0 or above what the padding allows (about the map's size: 4× the map's
+// texels, at least 4 M, padded), and as bake_horizon_tangents.
+std::vector<float> bake_horizon_tangents_profiles(const Texture& height, float depth_texels,
+                                                  const std::vector<Vec2f>& dirs, float max_distance);
 // The same walks when only the comparison of tan H with given values matters: thresholds[k] (ascending, > 0)
 // for dirs[k]. The result t satisfies, for every threshold τ of its direction, t < τ ⟺ tan H < τ (tan H the
 // exact horizon, without the 1e-4 tolerance above); t itself is a lower bound of tan H. A walk stops as soon
