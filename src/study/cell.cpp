@@ -679,16 +679,18 @@ CellResult CellRunner::run(const StudyCell& cell) {
     sc.settings.vndf_samples = area_sampled(ls.light) && v.area_ms != AreaMs::Representative
                                    ? std::max(1, cfg.vndf_samples / cfg.area_samples)
                                    : cfg.vndf_samples;
+    // Diffuse and specular from one pass; with one batch each mean is bit-identical to render() of that
+    // component alone (Renderer::render_components_with_error).
+    sc.settings.error_batches = 1;
     ComponentImages M;
     const double cpu_v = cpu_seconds();
-    for (int ci = 0; ci < 2; ++ci) {
-      sc.settings.component = ci == 0 ? Component::Diffuse : Component::Specular;
-      const Renderer r(sc);
-      M.img[ci + 1] = Image(iw, ih);
-      for_each_window(
-          sc, view, st.windows, ls.light, cfg.seed, [&] { return r.render(); },
-          [&](const Image& img, const Window& w) { blit_image(M.img[ci + 1], img, w); });
-    }
+    const Renderer r(sc);
+    M.img[1] = Image(iw, ih), M.img[2] = Image(iw, ih);
+    for_each_window(
+        sc, view, st.windows, ls.light, cfg.seed, [&] { return r.render_components_with_error(); },
+        [&](const std::array<RenderResult, 2>& rc, const Window& w) {
+          for (int ci = 0; ci < 2; ++ci) blit_image(M.img[ci + 1], rc[std::size_t(ci)].mean, w);
+        });
     add_total(M);
     out.variant_cpu_seconds[variant_label(v) + (area_sampled(ls.light) ? " (area light)" : "")] +=
         cpu_seconds() - cpu_v;
