@@ -73,6 +73,19 @@ struct Heights {
   const float* vertex(int i, int j) const { return &z[std::size_t(j) * (w + 1) + i]; }  // i, j in range
 };
 
+// The input checks every horizon bake makes, with its name in the message.
+void check_depth(const char* fn, float depth) {
+  if (!(depth >= 0) || !std::isfinite(depth))
+    throw InputError(fmt::format("{}: depth must be finite and >= 0, got {}", fn, depth));
+}
+void check_unit_directions(const char* fn, const std::vector<Vec2f>& dirs) {
+  for (const Vec2f& d : dirs)
+    if (!(std::abs(d.x * d.x + d.y * d.y - 1) < 1e-4f))
+      throw InputError(fmt::format("{}: azimuth directions must be unit vectors", fn));
+}
+// The projected-solid-angle weight of one azimuth whose horizon has tangent T: cos² H.
+inline double cos2_horizon(float T) { return 1.0 / (1.0 + double(T) * double(T)); }
+
 // A linear piece of the profile from (s_l, z_l) to (s_r, z_r) against the horizon so far, tan H = T: the
 // larger of T and the piece's largest min(Δz, √(R² − s²))/s (R = the ray length, limited; unlimited: Δz/s).
 // Only the right end can raise T (the left end was the previous piece's right end, or lies on a skipped
@@ -385,8 +398,7 @@ void scan_profile(const PaddedHeights& f, std::size_t base, const std::vector<Pr
 
 Texture bake_visibility(const Texture& height, float depth, int azimuths, float max_distance) {
   if (azimuths < 1 || azimuths > 65536) throw InputError("bake_visibility: azimuths must be in [1, 65536]");
-  if (!(depth >= 0) || !std::isfinite(depth))
-    throw InputError(fmt::format("bake_visibility: depth must be finite and >= 0, got {}", depth));
+  check_depth("bake_visibility", depth);
   if (std::isnan(max_distance)) throw InputError("bake_visibility: max distance is NaN");
   if (height.empty()) throw InputError("bake_visibility: empty height map");
   const float R = max_distance > 0 ? max_distance : std::numeric_limits<float>::infinity();
@@ -417,7 +429,7 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
         std::fill(sum, sum + kLanes, 0.0);
         for (int k = 0; k < azimuths; ++k) {
           scan_profile(f, f.base(i0, j), prof[std::size_t(k) * M + r], R, T);
-          for (int l = 0; l < n; ++l) sum[l] += 1.0 / (1.0 + double(T[l]) * double(T[l]));  // cos² H
+          for (int l = 0; l < n; ++l) sum[l] += cos2_horizon(T[l]);
         }
         for (int l = 0; l < n; ++l) vis.at(i0 + l, j, 0) = float(sum[l] / double(azimuths));
       }
@@ -432,7 +444,7 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
       for (int k = 0; k < azimuths; ++k) {
         const double a = phi(k, r);
         const float T = HorizonWalk(f, i, j, float(std::cos(a)), float(std::sin(a)), R).run();
-        sum += 1.0 / (1.0 + double(T) * double(T));  // cos² H
+        sum += cos2_horizon(T);
       }
       vis.at(i, j, 0) = float(sum / double(azimuths));
     }
@@ -442,18 +454,14 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
 
 std::vector<float> bake_horizon_tangents_profiles(const Texture& height, float depth,
                                                   const std::vector<Vec2f>& dirs, float max_distance) {
-  if (!(depth >= 0) || !std::isfinite(depth))
-    throw InputError(
-        fmt::format("bake_horizon_tangents_profiles: depth must be finite and >= 0, got {}", depth));
+  check_depth("bake_horizon_tangents_profiles", depth);
   if (height.empty()) throw InputError("bake_horizon_tangents_profiles: empty height map");
   const int w = height.width(), h = height.height(), n = int(dirs.size());
   if (!(max_distance > 0) || !profiles_fit(w, h, max_distance))
     throw InputError(fmt::format(
         "bake_horizon_tangents_profiles: the ray length must be > 0 and at most {} texels here, got {}",
         max_profile_length(w, h), max_distance));
-  for (const Vec2f& d : dirs)
-    if (!(std::abs(d.x * d.x + d.y * d.y - 1) < 1e-4f))
-      throw InputError("bake_horizon_tangents_profiles: azimuth directions must be unit vectors");
+  check_unit_directions("bake_horizon_tangents_profiles", dirs);
   const PaddedHeights f(height, depth, profile_padding(max_distance));
   std::vector<std::vector<ProfilePoint>> prof;
   for (const Vec2f& d : dirs) prof.push_back(ray_profile(d.x, d.y, max_distance, f.PW));
@@ -473,13 +481,10 @@ namespace {
 // Both forms of bake_horizon_tangents: exact tangents (thresholds null) or classified against thresholds.
 std::vector<float> horizon_walks(const Texture& height, float depth, const std::vector<Vec2f>& dirs,
                                  float max_distance, const std::vector<std::vector<double>>* thresholds) {
-  if (!(depth >= 0) || !std::isfinite(depth))
-    throw InputError(fmt::format("bake_horizon_tangents: depth must be finite and >= 0, got {}", depth));
+  check_depth("bake_horizon_tangents", depth);
   if (std::isnan(max_distance)) throw InputError("bake_horizon_tangents: max distance is NaN");
   if (height.empty()) throw InputError("bake_horizon_tangents: empty height map");
-  for (const Vec2f& d : dirs)
-    if (!(std::abs(d.x * d.x + d.y * d.y - 1) < 1e-4f))
-      throw InputError("bake_horizon_tangents: azimuth directions must be unit vectors");
+  check_unit_directions("bake_horizon_tangents", dirs);
   if (thresholds) {
     if (thresholds->size() != dirs.size())
       throw InputError("bake_horizon_tangents: one threshold list per direction is needed");
@@ -589,9 +594,7 @@ std::vector<LatticeStep> lattice_azimuths(int n, double max_error_deg) {
 
 std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float depth,
                                                  const std::vector<LatticeStep>& steps) {
-  if (!(depth >= 0) || !std::isfinite(depth))
-    throw InputError(
-        fmt::format("bake_horizon_tangents_lattice: depth must be finite and >= 0, got {}", depth));
+  check_depth("bake_horizon_tangents_lattice", depth);
   if (height.empty()) throw InputError("bake_horizon_tangents_lattice: empty height map");
   for (const LatticeStep& st : steps)
     if (gcd_int(st.p, st.q) != 1)
