@@ -127,3 +127,10 @@ BENCHMARK_TEMPLATE(BM_Ndf, BlinnPhong<float>, kSampleNdf)->Arg(0);
 BENCHMARK_TEMPLATE(BM_Ndf, GTR<float>, kSampleNdf)->Arg(0);
 BENCHMARK(BM_GgxAlbedoQuadrature)->Arg(1)->Arg(30)->Arg(100)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GtrTableBuild)->Unit(benchmark::kMillisecond);
+
+// ns per point of the scrambled 2D Sobol sequence (the renderer's pixel and area-light samples).
+void BM_Sobol2dScrambled(benchmark::State& st) {
+  uint32_t i = 0;
+  for (auto _ : st) benchmark::DoNotOptimize(sobol_2d<float>(i++, 0x9e3779b9u));
+}
+BENCHMARK(BM_Sobol2dScrambled);

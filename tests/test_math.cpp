@@ -89,6 +89,12 @@ TEST(Sobol, FiveDimensionsJoeKuo) {
     ASSERT_EQ(sobol_u32(i, 0), sobol_dim0(i));
     ASSERT_EQ(sobol_u32(i, 1), sobol_dim1(i));
   }
+  // Scrambled indices use all 32 bits (sobol_dim1 reads byte tables there).
+  for (uint32_t i = 0; i < 200000; ++i) {
+    const uint32_t x = hash_u32(i);
+    ASSERT_EQ(sobol_u32(x, 0), sobol_dim0(x));
+    ASSERT_EQ(sobol_u32(x, 1), sobol_dim1(x));
+  }
   for (uint32_t seed : {0u, 7u}) {
     for (int k = 1; k <= 12; ++k) {
       const uint32_t n = 1u << k;

@@ -37,8 +37,10 @@ class Pcg32 {
   }
   template <class T>
   T next() {
-    if constexpr (sizeof(T) == sizeof(float)) return next_float();
-    else return T(next_double());
+    if constexpr (sizeof(T) == sizeof(float))
+      return next_float();
+    else
+      return T(next_double());
   }
 
  private:
@@ -62,19 +64,35 @@ constexpr uint32_t reverse_bits(uint32_t x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-  return (x >> 16) | (x << 16);
+  return (x >> 24) | ((x >> 8) & 0xff00u) | ((x << 8) & 0xff0000u) | (x << 24);  // the bytes (one bswap)
 }
 
 // First two dimensions of the Sobol sequence as 32-bit fixed point. Dimension 0 is the van der Corput
 // sequence; dimension 1 uses the direction numbers v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1) (Pascal's
 // triangle mod 2). Any 2^k-point prefix is a (0, k, 2)-net.
 constexpr uint32_t sobol_dim0(uint32_t index) { return reverse_bits(index); }
+// The sum (xor) is linear in the index bits, so it is read from four tables of 256 (one per index byte):
+// scrambled indices use all 32 bits, where a loop over the bits costs ~32 unpredictable branches.
+namespace sobol_tables {
+struct Dim1ByteTables {
+  uint32_t t[4][256];
+};
+constexpr Dim1ByteTables make_dim1_byte_tables() {
+  Dim1ByteTables d{};
+  uint32_t v[32] = {};
+  v[0] = 0x80000000u;
+  for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+  for (int b = 0; b < 4; ++b)
+    for (uint32_t x = 0; x < 256; ++x)
+      for (int k = 0; k < 8; ++k)
+        if ((x >> k) & 1u) d.t[b][x] ^= v[8 * b + k];
+  return d;
+}
+inline constexpr Dim1ByteTables kDim1ByteTables = make_dim1_byte_tables();
+}  // namespace sobol_tables
 constexpr uint32_t sobol_dim1(uint32_t index) {
-  uint32_t r = 0, v = 0x80000000u;
-  for (; index; index >>= 1, v ^= v >> 1)
-    if (index & 1u) r ^= v;
-  return r;
+  const auto& t = sobol_tables::kDim1ByteTables.t;
+  return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
 }
 
 // Owen scrambling by hashing (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)), with the
@@ -103,7 +121,8 @@ template <class T>
 Vec2<T> sobol_2d(uint32_t index, uint32_t seed = 0) {
   if (seed == 0) return {u32_to_unit<T>(sobol_dim0(index)), u32_to_unit<T>(sobol_dim1(index))};
   const uint32_t i = nested_uniform_scramble(index, seed);
-  return {u32_to_unit<T>(nested_uniform_scramble(sobol_dim0(i), hash_combine(seed, 0))),
+  // nested_uniform_scramble(sobol_dim0(i), s) with reverse_bits(reverse_bits(i)) = i.
+  return {u32_to_unit<T>(reverse_bits(laine_karras_permutation(i, hash_combine(seed, 0)))),
           u32_to_unit<T>(nested_uniform_scramble(sobol_dim1(i), hash_combine(seed, 1)))};
 }
 
