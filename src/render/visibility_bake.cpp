@@ -257,6 +257,9 @@ constexpr int kLanes = 8;
 struct PaddedHeights {
   int w = 0, h = 0, P = 0, PW = 0;
   float zmax = 0;
+  // Above the rounding of a height interpolated between two vertices minus another (a few ulps of the
+  // largest |z|): scan_profile's skip test.
+  float margin = 0;
   std::vector<float> z;  // (w + 2P) × (h + 2P)
 
   PaddedHeights(const Texture& height, float depth, int pad) : w(height.width()), h(height.height()), P(pad) {
@@ -270,10 +273,48 @@ struct PaddedHeights {
         const float v = (height.at(si, sj, 0) - 1.0f) * depth;
         z[std::size_t(j) * PW + i] = v;
         zmax = std::max(zmax, v);
+        margin = std::max(margin, std::abs(v));
       }
+    margin = margin * 1e-6f + std::numeric_limits<float>::min();
   }
   std::size_t base(int i, int j) const { return std::size_t(j + P) * PW + std::size_t(i + P); }
 };
+
+// The side of the squares of block_max (kSkipWindow): a profile block and its kLanes start vertices fit
+// in one.
+constexpr int kSkipWindow = 16;
+
+// out[i] = max(in[i·stride .. (min(i + k, n) − 1)·stride]) for i < n: the window clipped at the end.
+// A monotone queue: each input enters and leaves it once.
+void sliding_max(const float* in, std::ptrdiff_t stride, int n, int k, float* out, std::vector<int>& queue) {
+  queue.resize(std::size_t(n));
+  int head = 0, tail = 0, next = 0;  // queue[head, tail): indices of decreasing values
+  for (int i = 0; i < n; ++i) {
+    for (const int hi = std::min(i + k, n); next < hi; ++next) {
+      while (tail > head && in[queue[tail - 1] * stride] <= in[next * stride]) --tail;
+      queue[tail++] = next;
+    }
+    while (queue[head] < i) ++head;
+    out[i * stride] = in[queue[head] * stride];
+  }
+}
+
+// block_max[y·PW + x] = the highest padded height in [x, x + kSkipWindow) × [y, y + kSkipWindow) (clipped
+// at the array's end): the bound the scans skip profile blocks by.
+std::vector<float> block_max_heights(const PaddedHeights& f) {
+  const int rows = f.h + 2 * f.P;
+  std::vector<float> rowmax(f.z.size()), out(f.z.size());
+  tbb::parallel_for(0, rows, [&](int j) {
+    std::vector<int> q;
+    sliding_max(f.z.data() + std::size_t(j) * f.PW, 1, f.PW, kSkipWindow,
+                rowmax.data() + std::size_t(j) * f.PW, q);
+  });
+  tbb::parallel_for(0, f.PW, [&](int i) {
+    std::vector<int> q;
+    sliding_max(rowmax.data() + i, f.PW, rows, kSkipWindow, out.data() + i, q);
+  });
+  return out;
+}
 
 // One breakpoint of a ray profile: distance s from the start vertex, its height the interpolation of the
 // vertices at offsets a and b (relative to the start, in the padded array) with weight t on b.
@@ -303,9 +344,22 @@ bool profiles_fit(int w, int h, float R) {
 // bake_visibility's directions: azimuths × M, M = max(1, kRotatedDirections / azimuths) rotations.
 constexpr int kRotatedDirections = 256;
 
+// A run of breakpoints [e0, e1) (e0 ≥ 1) whose vertices, from any of kLanes consecutive start vertices,
+// lie in the kSkipWindow square at offset `box` from the first lane's start: if no live lane can pass its
+// horizon anywhere in the square, the scan skips the run (scan_profile).
+struct ProfileBlock {
+  int32_t e0, e1;
+  int32_t box;  // offset of the square's corner in the padded array
+};
+
+struct Profile {
+  std::vector<ProfilePoint> pts;
+  std::vector<ProfileBlock> blocks;  // covering [1, pts.size()), ascending
+};
+
 // The breakpoints along (c, sn) (unit) up to and including the first at s ≥ R, ascending, coincident ones
-// merged.
-std::vector<ProfilePoint> ray_profile(double c, double sn, double R, int PW) {
+// merged; and their blocks.
+Profile ray_profile(double c, double sn, double R, int PW) {
   struct Cross {
     double s;
     int kind;  // 0: x = X, 1: y = Y, 2: x − y = D
@@ -328,7 +382,12 @@ std::vector<ProfilePoint> ray_profile(double c, double sn, double R, int PW) {
     }
   }
   std::sort(cs.begin(), cs.end(), [](const Cross& x, const Cross& y) { return x.s < y.s; });
-  std::vector<ProfilePoint> out;
+  Profile prof;
+  std::vector<ProfilePoint>& out = prof.pts;
+  struct Cell {
+    int ax, ay, bx, by;
+  };
+  std::vector<Cell> cells;
   double last = -1;
   for (const Cross& x : cs) {
     if (x.s > first_beyond) break;
@@ -347,8 +406,25 @@ std::vector<ProfilePoint> ray_profile(double c, double sn, double R, int PW) {
     const float sf = float(x.s), Rf = float(R);
     out.push_back({sf, int32_t(ay * PW + ax), int32_t(by * PW + bx), float(std::clamp(t, 0.0, 1.0)), 1 / sf,
                    std::sqrt(std::max(Rf * Rf - sf * sf, 0.0f))});
+    cells.push_back({ax, ay, bx, by});
   }
-  return out;
+  // Blocks, greedily: extend while the vertices of the run, shifted by 0 … kLanes − 1 along x, fit in the
+  // square.
+  for (std::size_t e = 1; e < out.size();) {
+    int x0 = std::min(cells[e].ax, cells[e].bx), x1 = std::max(cells[e].ax, cells[e].bx);
+    int y0 = std::min(cells[e].ay, cells[e].by), y1 = std::max(cells[e].ay, cells[e].by);
+    std::size_t e1 = e + 1;
+    for (; e1 < out.size(); ++e1) {
+      const Cell& q = cells[e1];
+      const int nx0 = std::min({x0, q.ax, q.bx}), nx1 = std::max({x1, q.ax, q.bx});
+      const int ny0 = std::min({y0, q.ay, q.by}), ny1 = std::max({y1, q.ay, q.by});
+      if (nx1 + kLanes - 1 - nx0 >= kSkipWindow || ny1 - ny0 >= kSkipWindow) break;
+      x0 = nx0, x1 = nx1, y0 = ny0, y1 = ny1;
+    }
+    prof.blocks.push_back({int32_t(e), int32_t(e1), int32_t(y0 * PW + x0)});
+    e = e1;
+  }
+  return prof;
 }
 
 // tan H at the kLanes consecutive vertices from padded index `base` along a profile, rays of length R
@@ -358,16 +434,23 @@ std::vector<ProfilePoint> ray_profile(double c, double sn, double R, int PW) {
 // stops where nothing can raise its T any more: from s with s·T ≥ z_max − z_0 (no point rises higher) or
 // s²(1 + T²) ≥ R² (no point of the disc beyond passes T); the scan ends when every lane has stopped. So each
 // vertex gets its own scan's result, whatever its neighbours.
-void scan_profile(const PaddedHeights& f, std::size_t base, const std::vector<ProfilePoint>& prof, float R,
-                  float* T_out) {
+//
+// Blocks of breakpoints are skipped where, for every lane still live, the highest height in the block's
+// square (bmax: block_max_heights) lies below the lane's horizon line over the whole block, s·T at the
+// block's nearer end for T ≥ 0 (its farther end for T < 0), with `margin` for the rounding of the
+// interpolated heights: then no breakpoint of the block passes, and a piece whose right end does not pass
+// changes nothing (above), so skipping leaves every T as the full scan would.
+void scan_profile(const PaddedHeights& f, const std::vector<float>& bmax, float margin, std::size_t base,
+                  const Profile& prof, float R, float* T_out) {
   const float* z = f.z.data() + base;
   const float R2 = R * R;
   float z0[kLanes], rise[kLanes], T[kLanes], z_l[kLanes], zr[kLanes];
   int hard[kLanes];
   for (int l = 0; l < kLanes; ++l) z0[l] = z[l], rise[l] = f.zmax - z0[l], T[l] = 0, z_l[l] = 0;
   float s_l = 0;
-  for (std::size_t e = 0; e < prof.size(); ++e) {
-    const ProfilePoint& p = prof[e];
+  // One breakpoint for every lane; false when every lane has stopped.
+  const auto step = [&](std::size_t e) {
+    const ProfilePoint& p = prof.pts[e];
     const float* za = z + p.a;
     const float* zb = z + p.b;
     const int first = e == 0;
@@ -384,12 +467,36 @@ void scan_profile(const PaddedHeights& f, std::size_t base, const std::vector<Pr
       any_live |= live;
       any_hard |= hard[l];
     }
-    if (!any_live) break;
+    if (!any_live) return false;
     if (any_hard)
       for (int l = 0; l < kLanes; ++l)
         if (hard[l]) T[l] = piece_raise(T[l], s_l, z_l[l], p.s, zr[l], R, true);
     s_l = p.s;
     std::copy(zr, zr + kLanes, z_l);
+    return true;
+  };
+  if (!prof.pts.empty() && step(0)) {
+    for (const ProfileBlock& b : prof.blocks) {
+      const float top = bmax[base + std::size_t(std::ptrdiff_t(b.box))];
+      const float sa = prof.pts[std::size_t(b.e0)].s, sb = prof.pts[std::size_t(b.e1 - 1)].s;
+      int skip = 1;
+      for (int l = 0; l < kLanes; ++l) {
+        const int live = (s_l * T[l] < rise[l]) & (s_l * s_l * (1 + T[l] * T[l]) < R2);
+        skip &= (live ^ 1) | (top - z0[l] + margin <= std::min(sa * T[l], sb * T[l]));
+      }
+      if (skip) {
+        // The last breakpoint's heights: the next piece's left end.
+        const ProfilePoint& p = prof.pts[std::size_t(b.e1 - 1)];
+        const float* za = z + p.a;
+        const float* zb = z + p.b;
+        for (int l = 0; l < kLanes; ++l) z_l[l] = za[l] + p.t * (zb[l] - za[l]) - z0[l];
+        s_l = p.s;
+        continue;
+      }
+      bool live = true;
+      for (int e = b.e0; e < b.e1 && live; ++e) live = step(std::size_t(e));
+      if (!live) break;
+    }
   }
   std::copy(T, T + kLanes, T_out);
 }
@@ -415,7 +522,8 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
   auto phi = [&](int k, int r) { return 2 * kPi<double> * (double(k) + (r + 0.5) / M) / double(azimuths); };
   if (profiles_fit(w, h, R)) {
     const PaddedHeights f(height, depth, profile_padding(R));
-    std::vector<std::vector<ProfilePoint>> prof(std::size_t(azimuths) * M);
+    const std::vector<float> bmax = block_max_heights(f);
+    std::vector<Profile> prof(std::size_t(azimuths) * M);
     tbb::parallel_for(0, azimuths * M, [&](int q) {
       const double a = phi(q / M, q % M);
       prof[std::size_t(q)] = ray_profile(std::cos(a), std::sin(a), R, f.PW);
@@ -428,7 +536,7 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
         const int r = rotation(i0 / kLanes, j), n = std::min(kLanes, w - i0);
         std::fill(sum, sum + kLanes, 0.0);
         for (int k = 0; k < azimuths; ++k) {
-          scan_profile(f, f.base(i0, j), prof[std::size_t(k) * M + r], R, T);
+          scan_profile(f, bmax, f.margin, f.base(i0, j), prof[std::size_t(k) * M + r], R, T);
           for (int l = 0; l < n; ++l) sum[l] += cos2_horizon(T[l]);
         }
         for (int l = 0; l < n; ++l) vis.at(i0 + l, j, 0) = float(sum[l] / double(azimuths));
@@ -463,14 +571,15 @@ std::vector<float> bake_horizon_tangents_profiles(const Texture& height, float d
         max_profile_length(w, h), max_distance));
   check_unit_directions("bake_horizon_tangents_profiles", dirs);
   const PaddedHeights f(height, depth, profile_padding(max_distance));
-  std::vector<std::vector<ProfilePoint>> prof;
+  const std::vector<float> bmax = block_max_heights(f);
+  std::vector<Profile> prof;
   for (const Vec2f& d : dirs) prof.push_back(ray_profile(d.x, d.y, max_distance, f.PW));
   std::vector<float> out(std::size_t(w) * h * std::size_t(n));
   tbb::parallel_for(0, h, [&](int j) {
     float T[kLanes];
     for (int i0 = 0; i0 < w; i0 += kLanes)
       for (int k = 0; k < n; ++k) {
-        scan_profile(f, f.base(i0, j), prof[std::size_t(k)], max_distance, T);
+        scan_profile(f, bmax, f.margin, f.base(i0, j), prof[std::size_t(k)], max_distance, T);
         for (int l = 0; l < std::min(kLanes, w - i0); ++l) out[(std::size_t(j) * w + i0 + l) * n + k] = T[l];
       }
   });
