@@ -386,6 +386,35 @@ TEST(DirectionalPoly2, BakerMatchesIndependentFitOffTheGrid) {
   EXPECT_THROW(bake_directional_view_channels(s.height, s.depth_texels, 3, 0), InputError);
 }
 
+// The fewest azimuths: at 4 the 9-function fit is singular (x² − y² vanishes on all of 45°, 135°, …), which
+// gave all-NaN channels; every bake refuses it, and from kMinDirectionalAzimuths = 5 on the channels are
+// finite and fit a flat field exactly (T = l.z: c = e₃).
+TEST(DirectionalBake, FewestAzimuthsRefusedOrFinite) {
+  const Texture flat = field(8, 8, 4, [](int, int) { return -1.0; });
+  const Texture rough = generate_texture_set([] {
+                          GenOptions o;
+                          o.kind = "gravel", o.size = 16, o.ao_rays = 4, o.directional_azimuths = 0;
+                          return o;
+                        }())
+                            .height;
+  EXPECT_THROW(bake_directional_channels(rough, 4, 4, 0), InputError);
+  EXPECT_THROW(bake_directional_slope_channels(rough, 4, 4, 0), InputError);
+  EXPECT_THROW(bake_directional_view_channels(rough, 4, 4, 0), InputError);
+  EXPECT_THROW(directional_bake_azimuths(4), InputError);
+  GenOptions g;
+  g.kind = "gravel", g.size = 16, g.directional_azimuths = 4;
+  EXPECT_THROW(generate_texture_set(g), InputError);
+  for (int na : {5, 6, 7}) {
+    const Texture v = bake_directional_view_channels(rough, 4, na, 0);
+    for (int y = 0; y < v.height(); ++y)
+      for (int x = 0; x < v.width(); ++x)
+        for (int k = 0; k < v.channels(); ++k) ASSERT_TRUE(std::isfinite(v.at(x, y, k))) << na << " " << k;
+    const Texture f = bake_directional_channels(flat, 4, na, 0);
+    for (int k = 0; k < dir::kPoly2Terms; ++k)
+      EXPECT_NEAR(f.at(3, 3, k), k == 3 ? 1.0f : 0.0f, 1e-4f) << na << " " << k;
+  }
+}
+
 // The view correction on relief: whole-texture (the box mean of every texel), at the study's lights and
 // camera (60°, looking along +v), directional_view_transport on the mean channels against the exact
 // projected-area mean E[f (n · v)/(n_z v_z)] computed here from exact_diffuse_transport, and against the

@@ -145,6 +145,12 @@ TEST_F(GenMaterialCli, WritesMipChains) {
   EXPECT_FALSE(fs::exists(bare / "mips"));
   EXPECT_EQ(run("gen-material --kind bark --size 16 --directional-azimuths 2 --out " + bare.string()).code,
             2);
+  // 4 azimuths made NaN channels after writing six files; now refused before any work, nothing written.
+  const fs::path four = dir / "four";
+  r = run("gen-material --kind bark --size 16 --directional-azimuths 4 --out " + four.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("at least 5"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(four));
 
   // --directional-view: 21 channels in directional.npy (the 9 as without it, then the 12 slope channels),
   // six mip files (the last one R8), a renderer material that the directional-view method accepts.

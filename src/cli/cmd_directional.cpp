@@ -148,7 +148,7 @@ void add_directional(Groups& g) {
   b->add_option("--out", ba->out, "Output directory")->required();
   b->add_option(
        "--azimuths", ba->azimuths,
-       "Azimuths per texel, 4-4096 (up to 64: grid steps within 0.5 deg of uniform, horizons by exact "
+       "Azimuths per texel, 5-4096 (up to 64: grid steps within 0.5 deg of uniform, horizons by exact "
        "sweeps; above: uniform, by walks)")
       ->capture_default_str();
   b->add_option("--distance", ba->distance, "Ray length, texels (0 = unlimited)")->capture_default_str();

@@ -231,8 +231,11 @@ std::vector<Texture> box_mip_chain(const Texture& t) {
 
 namespace {
 void check_azimuths(const char* what, int azimuths) {
-  if (azimuths < 4 || azimuths > 4096)
-    throw InputError(fmt::format("{}: azimuths must be in [4, 4096], got {}", what, azimuths));
+  if (azimuths < kMinDirectionalAzimuths || azimuths > kMaxDirectionalAzimuths)
+    throw InputError(fmt::format(
+        "{}: azimuths must be in [{}, {}] (the fits' azimuthal harmonics up to order "
+        "2 need at least {}), got {}",
+        what, kMinDirectionalAzimuths, kMaxDirectionalAzimuths, kMinDirectionalAzimuths, azimuths));
 }
 }  // namespace
 

@@ -15,8 +15,13 @@ namespace msh::render {
 // The fit's azimuths for a given count: up to kMaxLatticeAzimuths, lattice steps (texture_gen.h
 // lattice_azimuths) within kLatticeAzimuthErrorDeg of the uniform φ_a = 2π(a + ½)/azimuths, each weighted by
 // its share of the circle (half the arcs to its neighbours, relative to 2π/azimuths); above, the uniform
-// azimuths themselves, weight 1, steps empty. InputError outside [4, 4096].
+// azimuths themselves, weight 1, steps empty. InputError outside [kMinDirectionalAzimuths, 4096].
 constexpr int kMaxLatticeAzimuths = 64;
+// The fewest azimuths the fits take: their functions carry azimuthal harmonics of orders 0, 1 and 2 (x² − y²
+// and x y are cos 2φ and sin 2φ), five unknowns in φ, which 4 azimuths cannot separate (at 45°, 135°, …
+// x² − y² is 0 on every direction: a singular fit, NaN channels).
+constexpr int kMinDirectionalAzimuths = 5;
+constexpr int kMaxDirectionalAzimuths = 4096;
 constexpr double kLatticeAzimuthErrorDeg = 0.5;
 struct DirectionalBakeAzimuths {
   std::vector<LatticeStep> steps;  // empty above kMaxLatticeAzimuths
@@ -34,7 +39,7 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths);
 // independent of the depth); otherwise the walks of bake_horizon_tangents classified against the fit
 // directions' elevations (lit is exact) with ray length max_distance texels. Float32, unencoded (8-bit: see
 // directional::decode_unorm8). Deterministic whatever the thread count. InputError on azimuths outside
-// [4, 4096] (and as bake_horizon_tangents).
+// [kMinDirectionalAzimuths, 4096] (and as bake_horizon_tangents).
 Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
                                   float max_distance);
 
