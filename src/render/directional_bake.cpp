@@ -229,18 +229,16 @@ std::vector<Texture> box_mip_chain(const Texture& t) {
   return chain;
 }
 
-namespace {
-void check_azimuths(const char* what, int azimuths) {
+void check_directional_azimuths(const char* what, int azimuths) {
   if (azimuths < kMinDirectionalAzimuths || azimuths > kMaxDirectionalAzimuths)
     throw InputError(fmt::format(
         "{}: azimuths must be in [{}, {}] (the fits' azimuthal harmonics up to order "
         "2 need at least {}), got {}",
         what, kMinDirectionalAzimuths, kMaxDirectionalAzimuths, kMinDirectionalAzimuths, azimuths));
 }
-}  // namespace
 
 DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
-  check_azimuths("directional_bake_azimuths", azimuths);
+  check_directional_azimuths("directional_bake_azimuths", azimuths);
   DirectionalBakeAzimuths r;
   const int na = azimuths;
   if (na > kMaxLatticeAzimuths) {
@@ -340,23 +338,23 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
 }  // namespace
 
 Texture bake_directional_channels(const Texture& height, float depth, int azimuths, float max_distance) {
-  check_azimuths("bake_directional_channels", azimuths);
+  check_directional_azimuths("bake_directional_channels", azimuths);
   return fit_directional(height, depth, azimuths, max_distance, FitOutput::Transport);
 }
 
 Texture bake_directional_slope_channels(const Texture& height, float depth, int azimuths,
                                         float max_distance) {
-  check_azimuths("bake_directional_slope_channels", azimuths);
+  check_directional_azimuths("bake_directional_slope_channels", azimuths);
   return fit_directional(height, depth, azimuths, max_distance, FitOutput::Slopes);
 }
 
 Texture bake_directional_view_channels(const Texture& height, float depth, int azimuths, float max_distance) {
-  check_azimuths("bake_directional_view_channels", azimuths);
+  check_directional_azimuths("bake_directional_view_channels", azimuths);
   return fit_directional(height, depth, azimuths, max_distance, FitOutput::Both);
 }
 
 Texture bake_horizon_moment_channels(const Texture& height, float depth, int azimuths, float max_distance) {
-  check_azimuths("bake_horizon_moment_channels", azimuths);
+  check_directional_azimuths("bake_horizon_moment_channels", azimuths);
   const auto dirs = uniform_azimuths(azimuths);
   const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance);
   const auto n = fine_normals(height, depth);

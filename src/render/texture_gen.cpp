@@ -284,12 +284,8 @@ void check_bake_options(const GenOptions& opt) {
   if (opt.ao_rays < 1 || opt.ao_rays > 65536) throw InputError("ao rays must be in [1, 65536]");
   if (!(opt.ao_max_distance >= 0) || !std::isfinite(opt.ao_max_distance))
     throw InputError("ao distance must be finite and >= 0");
-  if (opt.directional_azimuths != 0 && (opt.directional_azimuths < kMinDirectionalAzimuths ||
-                                        opt.directional_azimuths > kMaxDirectionalAzimuths))
-    throw InputError(fmt::format(
-        "directional azimuths must be 0 (off) or in [{}, {}] (the fits need at least "
-        "{}), got {}",
-        kMinDirectionalAzimuths, kMaxDirectionalAzimuths, kMinDirectionalAzimuths, opt.directional_azimuths));
+  if (opt.directional_azimuths != 0)  // 0: not baked
+    check_directional_azimuths("directional azimuths (0 = not baked)", opt.directional_azimuths);
 }
 
 // Normal map and micro-occlusion bake of a set whose height, colour, roughness and metallic are filled.

@@ -254,33 +254,7 @@ class HorizonWalk {
 // Vertices scanned together: consecutive in a row, one profile, lane by lane in lockstep (vectorised).
 constexpr int kLanes = 8;
 
-struct PaddedHeights {
-  int w = 0, h = 0, P = 0, PW = 0;
-  float zmax = 0;
-  // Above the rounding of a height interpolated between two vertices minus another (a few ulps of the
-  // largest |z|): scan_profile's skip test.
-  float margin = 0;
-  std::vector<float> z;  // (w + 2P) × (h + 2P)
-
-  PaddedHeights(const Texture& height, float depth, int pad) : w(height.width()), h(height.height()), P(pad) {
-    PW = w + 2 * P;
-    // kLanes of slack: a row's last block of lanes reads up to kLanes − 1 texels past the map (discarded).
-    z.resize(std::size_t(PW) * std::size_t(h + 2 * P) + kLanes);
-    zmax = -std::numeric_limits<float>::max();
-    for (int j = 0; j < h + 2 * P; ++j)
-      for (int i = 0; i < PW; ++i) {
-        const int si = ((i - P) % w + w) % w, sj = ((j - P) % h + h) % h;
-        const float v = (height.at(si, sj, 0) - 1.0f) * depth;
-        z[std::size_t(j) * PW + i] = v;
-        zmax = std::max(zmax, v);
-        margin = std::max(margin, std::abs(v));
-      }
-    margin = margin * 1e-6f + std::numeric_limits<float>::min();
-  }
-  std::size_t base(int i, int j) const { return std::size_t(j + P) * PW + std::size_t(i + P); }
-};
-
-// The side of the squares of block_max (kSkipWindow): a profile block and its kLanes start vertices fit
+// The side of the squares of PaddedHeights::block_max: a profile block and its kLanes start vertices fit
 // in one.
 constexpr int kSkipWindow = 16;
 
@@ -299,22 +273,46 @@ void sliding_max(const float* in, std::ptrdiff_t stride, int n, int k, float* ou
   }
 }
 
-// block_max[y·PW + x] = the highest padded height in [x, x + kSkipWindow) × [y, y + kSkipWindow) (clipped
-// at the array's end): the bound the scans skip profile blocks by.
-std::vector<float> block_max_heights(const PaddedHeights& f) {
-  const int rows = f.h + 2 * f.P;
-  std::vector<float> rowmax(f.z.size()), out(f.z.size());
-  tbb::parallel_for(0, rows, [&](int j) {
-    std::vector<int> q;
-    sliding_max(f.z.data() + std::size_t(j) * f.PW, 1, f.PW, kSkipWindow,
-                rowmax.data() + std::size_t(j) * f.PW, q);
-  });
-  tbb::parallel_for(0, f.PW, [&](int i) {
-    std::vector<int> q;
-    sliding_max(rowmax.data() + i, f.PW, rows, kSkipWindow, out.data() + i, q);
-  });
-  return out;
-}
+struct PaddedHeights {
+  int w = 0, h = 0, P = 0, PW = 0;
+  float zmax = 0;
+  // Above the rounding of a height interpolated between two vertices minus another (a few ulps of the
+  // largest |z|): scan_profile's skip test.
+  float margin = 0;
+  std::vector<float> z;  // (w + 2P) × (h + 2P)
+  // block_max[y·PW + x] = the highest padded height in [x, x + kSkipWindow) × [y, y + kSkipWindow) (clipped
+  // at the array's end): the bound the scans skip profile blocks by.
+  std::vector<float> block_max;
+
+  PaddedHeights(const Texture& height, float depth, int pad) : w(height.width()), h(height.height()), P(pad) {
+    PW = w + 2 * P;
+    // kLanes of slack: a row's last block of lanes reads up to kLanes − 1 texels past the map (discarded).
+    z.resize(std::size_t(PW) * std::size_t(h + 2 * P) + kLanes);
+    zmax = -std::numeric_limits<float>::max();
+    for (int j = 0; j < h + 2 * P; ++j)
+      for (int i = 0; i < PW; ++i) {
+        const int si = ((i - P) % w + w) % w, sj = ((j - P) % h + h) % h;
+        const float v = (height.at(si, sj, 0) - 1.0f) * depth;
+        z[std::size_t(j) * PW + i] = v;
+        zmax = std::max(zmax, v);
+        margin = std::max(margin, std::abs(v));
+      }
+    margin = margin * 1e-6f + std::numeric_limits<float>::min();
+    // Separable: the row maxima, then their column maxima.
+    const int rows = h + 2 * P;
+    std::vector<float> rowmax(z.size());
+    block_max.resize(z.size());
+    tbb::parallel_for(0, rows, [&](int j) {
+      std::vector<int> q;
+      sliding_max(z.data() + std::size_t(j) * PW, 1, PW, kSkipWindow, rowmax.data() + std::size_t(j) * PW, q);
+    });
+    tbb::parallel_for(0, PW, [&](int i) {
+      std::vector<int> q;
+      sliding_max(rowmax.data() + i, PW, rows, kSkipWindow, block_max.data() + i, q);
+    });
+  }
+  std::size_t base(int i, int j) const { return std::size_t(j + P) * PW + std::size_t(i + P); }
+};
 
 // One breakpoint of a ray profile: distance s from the start vertex, its height the interpolation of the
 // vertices at offsets a and b (relative to the start, in the padded array) with weight t on b.
@@ -436,29 +434,31 @@ Profile ray_profile(double c, double sn, double R, int PW) {
 // vertex gets its own scan's result, whatever its neighbours.
 //
 // Blocks of breakpoints are skipped where, for every lane still live, the highest height in the block's
-// square (bmax: block_max_heights) lies below the lane's horizon line over the whole block, s·T at the
-// block's nearer end for T ≥ 0 (its farther end for T < 0), with `margin` for the rounding of the
+// square (PaddedHeights::block_max) lies below the lane's horizon line over the whole block, s·T at the
+// block's nearer end for T ≥ 0 (its farther end for T < 0), with f.margin for the rounding of the
 // interpolated heights: then no breakpoint of the block passes, and a piece whose right end does not pass
 // changes nothing (above), so skipping leaves every T as the full scan would.
-void scan_profile(const PaddedHeights& f, const std::vector<float>& bmax, float margin, std::size_t base,
-                  const Profile& prof, float R, float* T_out) {
+void scan_profile(const PaddedHeights& f, std::size_t base, const Profile& prof, float R, float* T_out) {
   const float* z = f.z.data() + base;
   const float R2 = R * R;
   float z0[kLanes], rise[kLanes], T[kLanes], z_l[kLanes], zr[kLanes];
   int hard[kLanes];
   for (int l = 0; l < kLanes; ++l) z0[l] = z[l], rise[l] = f.zmax - z0[l], T[l] = 0, z_l[l] = 0;
   float s_l = 0;
+  // Δz of lane l at breakpoint p; whether lane l still scans (from s_l on).
+  const auto dz_at = [&](const ProfilePoint& p, int l) {
+    return z[p.a + l] + p.t * (z[p.b + l] - z[p.a + l]) - z0[l];
+  };
+  const auto scanning = [&](int l) { return (s_l * T[l] < rise[l]) & (s_l * s_l * (1 + T[l] * T[l]) < R2); };
   // One breakpoint for every lane; false when every lane has stopped.
   const auto step = [&](std::size_t e) {
     const ProfilePoint& p = prof.pts[e];
-    const float* za = z + p.a;
-    const float* zb = z + p.b;
     const int first = e == 0;
     int any_live = 0, any_hard = 0;
     // Branch-free over the lanes (bitwise masks), so the compiler vectorises it.
     for (int l = 0; l < kLanes; ++l) {
-      zr[l] = za[l] + p.t * (zb[l] - za[l]) - z0[l];
-      const int live = (s_l * T[l] < rise[l]) & (s_l * s_l * (1 + T[l] * T[l]) < R2);
+      zr[l] = dz_at(p, l);
+      const int live = scanning(l);
       const int pass = live & (zr[l] > p.s * T[l]);
       // The first piece, the disc or the ray's end: the scalar rule below.
       hard[l] = live & (first | (pass & (zr[l] > p.cr)));
@@ -477,19 +477,15 @@ void scan_profile(const PaddedHeights& f, const std::vector<float>& bmax, float 
   };
   if (!prof.pts.empty() && step(0)) {
     for (const ProfileBlock& b : prof.blocks) {
-      const float top = bmax[base + std::size_t(std::ptrdiff_t(b.box))];
+      const float top = f.block_max[base + std::size_t(std::ptrdiff_t(b.box))];
       const float sa = prof.pts[std::size_t(b.e0)].s, sb = prof.pts[std::size_t(b.e1 - 1)].s;
       int skip = 1;
-      for (int l = 0; l < kLanes; ++l) {
-        const int live = (s_l * T[l] < rise[l]) & (s_l * s_l * (1 + T[l] * T[l]) < R2);
-        skip &= (live ^ 1) | (top - z0[l] + margin <= std::min(sa * T[l], sb * T[l]));
-      }
+      for (int l = 0; l < kLanes; ++l)
+        skip &= (scanning(l) ^ 1) | (top - z0[l] + f.margin <= std::min(sa * T[l], sb * T[l]));
       if (skip) {
         // The last breakpoint's heights: the next piece's left end.
         const ProfilePoint& p = prof.pts[std::size_t(b.e1 - 1)];
-        const float* za = z + p.a;
-        const float* zb = z + p.b;
-        for (int l = 0; l < kLanes; ++l) z_l[l] = za[l] + p.t * (zb[l] - za[l]) - z0[l];
+        for (int l = 0; l < kLanes; ++l) z_l[l] = dz_at(p, l);
         s_l = p.s;
         continue;
       }
@@ -522,7 +518,6 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
   auto phi = [&](int k, int r) { return 2 * kPi<double> * (double(k) + (r + 0.5) / M) / double(azimuths); };
   if (profiles_fit(w, h, R)) {
     const PaddedHeights f(height, depth, profile_padding(R));
-    const std::vector<float> bmax = block_max_heights(f);
     std::vector<Profile> prof(std::size_t(azimuths) * M);
     tbb::parallel_for(0, azimuths * M, [&](int q) {
       const double a = phi(q / M, q % M);
@@ -536,7 +531,7 @@ Texture bake_visibility(const Texture& height, float depth, int azimuths, float 
         const int r = rotation(i0 / kLanes, j), n = std::min(kLanes, w - i0);
         std::fill(sum, sum + kLanes, 0.0);
         for (int k = 0; k < azimuths; ++k) {
-          scan_profile(f, bmax, f.margin, f.base(i0, j), prof[std::size_t(k) * M + r], R, T);
+          scan_profile(f, f.base(i0, j), prof[std::size_t(k) * M + r], R, T);
           for (int l = 0; l < n; ++l) sum[l] += cos2_horizon(T[l]);
         }
         for (int l = 0; l < n; ++l) vis.at(i0 + l, j, 0) = float(sum[l] / double(azimuths));
@@ -571,7 +566,6 @@ std::vector<float> bake_horizon_tangents_profiles(const Texture& height, float d
         max_profile_length(w, h), max_distance));
   check_unit_directions("bake_horizon_tangents_profiles", dirs);
   const PaddedHeights f(height, depth, profile_padding(max_distance));
-  const std::vector<float> bmax = block_max_heights(f);
   std::vector<Profile> prof;
   for (const Vec2f& d : dirs) prof.push_back(ray_profile(d.x, d.y, max_distance, f.PW));
   std::vector<float> out(std::size_t(w) * h * std::size_t(n));
@@ -579,7 +573,7 @@ std::vector<float> bake_horizon_tangents_profiles(const Texture& height, float d
     float T[kLanes];
     for (int i0 = 0; i0 < w; i0 += kLanes)
       for (int k = 0; k < n; ++k) {
-        scan_profile(f, bmax, f.margin, f.base(i0, j), prof[std::size_t(k)], max_distance, T);
+        scan_profile(f, f.base(i0, j), prof[std::size_t(k)], max_distance, T);
         for (int l = 0; l < std::min(kLanes, w - i0); ++l) out[(std::size_t(j) * w + i0 + l) * n + k] = T[l];
       }
   });

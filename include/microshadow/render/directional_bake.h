@@ -15,7 +15,8 @@ namespace msh::render {
 // The fit's azimuths for a given count: up to kMaxLatticeAzimuths, lattice steps (texture_gen.h
 // lattice_azimuths) within kLatticeAzimuthErrorDeg of the uniform φ_a = 2π(a + ½)/azimuths, each weighted by
 // its share of the circle (half the arcs to its neighbours, relative to 2π/azimuths); above, the uniform
-// azimuths themselves, weight 1, steps empty. InputError outside [kMinDirectionalAzimuths, 4096].
+// azimuths themselves, weight 1, steps empty. InputError outside [kMinDirectionalAzimuths,
+// kMaxDirectionalAzimuths].
 constexpr int kMaxLatticeAzimuths = 64;
 // The fewest azimuths the fits take: their functions carry azimuthal harmonics of orders 0, 1 and 2 (x² − y²
 // and x y are cos 2φ and sin 2φ), five unknowns in φ, which 4 azimuths cannot separate (at 45°, 135°, …
@@ -29,6 +30,9 @@ struct DirectionalBakeAzimuths {
   std::vector<double> weights;
 };
 DirectionalBakeAzimuths directional_bake_azimuths(int azimuths);
+// InputError "<what>: azimuths must be in [kMinDirectionalAzimuths, kMaxDirectionalAzimuths] …" outside
+// that range: the check of every directional bake (and of gen-material's option).
+void check_directional_azimuths(const char* what, int azimuths);
 
 // The 9 directional channels (occlusion/directional.h: the weighted least-squares fit of degree ≤ 2 of
 // lit · (n · l)⁺ over the hemisphere, channel order 1, x, y, z, xz, yz, x² − y², xy, z²) of a height map
@@ -39,7 +43,7 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths);
 // independent of the depth); otherwise the walks of bake_horizon_tangents classified against the fit
 // directions' elevations (lit is exact) with ray length max_distance texels. Float32, unencoded (8-bit: see
 // directional::decode_unorm8). Deterministic whatever the thread count. InputError on azimuths outside
-// [kMinDirectionalAzimuths, 4096] (and as bake_horizon_tangents).
+// [kMinDirectionalAzimuths, kMaxDirectionalAzimuths] (and as bake_horizon_tangents).
 Texture bake_directional_channels(const Texture& height, float depth_texels, int azimuths,
                                   float max_distance);
 
