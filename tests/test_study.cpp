@@ -237,7 +237,47 @@ TEST(Study, BadConfigurations) {
   c.sweep_scales = {};
   c.sweep_terms = {"none"};
   EXPECT_THROW(run_study(c, d), msh::InputError);  // a sweep without scales
+  // Compact forms: only on a method that reads the directional channels, and a form that parses.
+  for (const char* t : {"ao@pca8", "directional-view@pca22", "directional@pca10", "directional-view@pcaX",
+                        "directional-view@", "nosuch@pca8"}) {
+    c = tiny();
+    c.terms = {"none", t};
+    EXPECT_THROW(run_study(c, d), msh::InputError) << t;
+  }
   EXPECT_FALSE(fs::exists(d / "results.json"));
+}
+
+// A compact form of the directional channels ("method@form") renders its stored level in place of the float
+// channels: the full-rank float code reproduces the float rows; 4 coefficients at 8 bits do not (the form
+// really is what was rendered); the float rows are the same whether or not forms ran beside them.
+TEST(Study, CompactDirectionalForms) {
+  const fs::path d = fs::temp_directory_path() / "msh_test_study_forms",
+                 d0 = fs::temp_directory_path() / "msh_test_study_forms0";
+  StudyConfig c = tiny();
+  c.shapes = {"plane"};
+  c.sphere_light = false;
+  c.widened = false, c.normal_ablation = false;
+  c.directional_azimuths = 8;
+  c.terms = {"directional-view", "directional-view@pca21f", "directional-view@pca4", "directional@pca9x16"};
+  const nlohmann::json r = run_study(c, d);
+  c.terms = {"directional-view"};
+  const nlohmann::json r0 = run_study(c, d0);
+  std::map<std::string, std::vector<double>> bias;
+  for (const auto& row : r["rows"])
+    if (row["component"] == "diffuse") bias[row["method"].get<std::string>()].push_back(row["bias"]["whole"]);
+  std::vector<double> alone;
+  for (const auto& row : r0["rows"])
+    if (row["component"] == "diffuse") alone.push_back(row["bias"]["whole"]);
+  ASSERT_EQ(bias.size(), 4u);
+  const auto& f = bias["directional-view"];
+  ASSERT_FALSE(f.empty());
+  EXPECT_EQ(f, alone);
+  double d4 = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    EXPECT_NEAR(bias["directional-view@pca21f"][i], f[i], 1e-4 * f[i]) << i;
+    d4 = std::max(d4, std::abs(bias["directional-view@pca4"][i] - f[i]));
+  }
+  EXPECT_GT(d4, 1e-3);
 }
 
 // The user's own height maps (study --height / --material): a 16-bit PNG written here is studied under its

@@ -19,8 +19,8 @@ struct StudyArgs {
   std::string out, materials, cache, shapes, area_ms, scales, methods, heights, depths, encoding = "float";
   std::string views, view_azimuths, light_azimuths, light_elevations, gt_rule;
   std::vector<std::string> folders;
-  bool quick = false, quiet = false, area = false, sweep = false, no_sweep = false, near = false,
-       no_near = false;
+  bool quick = false, quiet = false, area = false, sweep = false, no_sweep = false, no_ablations = false,
+       near = false, no_near = false;
   int threads = 0, fine_size = 0, image_size = 0, gt_max_spp = 0, max_windows = 0;
 };
 
@@ -114,7 +114,11 @@ void add_study(Groups& g) {
       "the folder; repeatable or comma-separated");
   s->add_option("--methods", a->methods,
                 "Comma-separated micro-shadowing methods (`microshadow methods`; default: the methods marked "
-                "for the study; with --area-lights, the area section's terms)");
+                "for the study; with --area-lights, the area section's terms). A method that reads the "
+                "directional channels may name a compact form, METHOD@FORM, FORM = pca<K> (8-bit), "
+                "pca<K>x16, pca<K>f, or unorm8 / bc4 per channel (docs/directional-occlusion.md, \"Compact "
+                "forms\"), e.g. "
+                "directional-view@pca8");
   s->add_option("--directional-encoding", a->encoding,
                 "Storage of the directional channels on the coarse sets: float, unorm8 (gen-material's 8-bit "
                 "mips) or bc4 (4 bits per channel); each channel between the fine level's range")
@@ -139,6 +143,9 @@ void add_study(Groups& g) {
               "Add the full study's view sweep (views 30-85, light azimuths 0-180, k = 1-64, the shipped "
               "terms) to --quick or a study of your own maps");
   s->add_flag("--no-sweep", a->no_sweep, "Leave the view sweep out of the full study");
+  s->add_flag("--no-ablations", a->no_ablations,
+              "Render each term once: without the widened-roughness and smooth-normal variants (their rows "
+              "are then absent)");
   s->add_flag("--near-lights", a->near, "Add the point and sphere lights near the surface (full study: on)");
   s->add_flag("--no-near-lights", a->no_near, "Leave the lights near the surface out");
   s->add_option("--max-windows", a->max_windows,
@@ -181,6 +188,7 @@ void add_study(Groups& g) {
       c.sweep_scales = full.sweep_scales, c.sweep_terms = full.sweep_terms;
     }
     if (a->no_sweep) c.sweep_views.clear();
+    if (a->no_ablations) c.widened = c.normal_ablation = false;
     if (a->near) c.near_lights = true;
     if (a->no_near) c.near_lights = false;
     if (!a->views.empty()) c.views = angles(a->views, "--views", 0, 89);
@@ -197,10 +205,12 @@ void add_study(Groups& g) {
     if (!a->shapes.empty()) c.shapes = split_list(a->shapes);
     if (!a->methods.empty()) {
       (a->area ? c.area_terms : c.terms) = split_list(a->methods);
-      // The sweep renders the chosen methods it has.
+      // The sweep renders the chosen methods it has, and the chosen compact forms of those (method@form).
       std::vector<std::string> sweep;
-      for (const std::string& t : c.sweep_terms)
-        if (std::find(c.terms.begin(), c.terms.end(), t) != c.terms.end()) sweep.push_back(t);
+      for (const std::string& t : c.terms)
+        if (std::find(c.sweep_terms.begin(), c.sweep_terms.end(), study::split_study_term(t).first) !=
+            c.sweep_terms.end())
+          sweep.push_back(t);
       c.sweep_terms = sweep;
       if (sweep.empty()) c.sweep_views.clear();
     }

@@ -7,6 +7,8 @@
 #include <microshadow/io/texture.h>
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <microshadow/render/directional_bake.h>
+#include <microshadow/render/directional_codec.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/texture_gen.h>
@@ -367,7 +369,7 @@ GenOptions gen_options(const StudyConfig& c, const std::string& kind) {
   go.directional_azimuths = 0;
   for (const auto* list : {&c.terms, &c.area_terms})
     for (const std::string& t : *list) {
-      const auto* info = occlusion::find_micro_shadowing_method(t);
+      const auto* info = occlusion::find_micro_shadowing_method(split_study_term(t).first);
       if (info->needs_texel) go.directional_azimuths = c.directional_azimuths;
       if (info->texel_channels > directional::kDirectionalChannels) go.directional_view = true;
     }
@@ -429,9 +431,14 @@ struct CellRunner::State {
   int tiles = 3;
   std::unique_ptr<Scene> gt_scene;
   std::unique_ptr<Renderer> gt_renderer;
-  // Material × shape × scale: the coarse scenes (base roughness, and widened at k > 1).
+  // Material × shape × scale: the coarse scenes (base roughness, and widened at k > 1), and per compact form
+  // of the directional channels (a term "method@form") the coarse level as that form stores it, swapped into
+  // the scene's material for the term's render.
   int scale = 0;
   Scene coarse[2];
+  std::map<std::string, Texture> form_levels;
+  // Material: the compact forms' codes, fitted to the fine channels when a term first asks.
+  std::map<std::string, DirectionalCodec> codecs;
   // ... × view: the windows and the regions.
   std::optional<std::pair<double, double>> view;
   std::vector<Window> windows;
@@ -455,6 +462,7 @@ struct CellRunner::State {
     if (material != cell.material) {
       clear_shape();
       fine = TextureSet{};
+      codecs.clear();
       material.reset();
       cfg = plan.config;
       cfg.fine_size = mat.fine_size;
@@ -485,6 +493,7 @@ struct CellRunner::State {
     if (scale != cell.scale) {
       const int k = cell.scale;
       coarse[0] = coarse[1] = Scene{};
+      form_levels.clear();
       view.reset();
       // The coarse set at k is mip level log2 k, its directional channels stored as an engine would read
       // them.
@@ -510,9 +519,32 @@ struct CellRunner::State {
     }
   }
 
+  // The coarse level of the directional channels as the compact form stores it (the fine code's level of
+  // scale k: encoded, quantised, decoded).
+  Texture& form_level(const std::string& form, int k) {
+    auto it = form_levels.find(form);
+    if (it != form_levels.end()) return it->second;
+    if (form == "unorm8" || form == "bc4") {  // every channel on its own, between the fine level's range
+      Texture t = box_downsample(fine.directional, k);
+      store_directional_channels(t, channel_ranges(fine.directional), directional_encoding_from_name(form));
+      return form_levels.emplace(form, std::move(t)).first->second;
+    }
+    auto c = codecs.find(form);
+    if (c == codecs.end()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      c = codecs.emplace(form, fit_directional_codec(fine.directional, form)).first;
+      if (log)
+        log(fmt::format("study: fitted the directional form {} ({} coefficients, {:.3f} s)", form,
+                        c->second.coefficients, secs_since(t0)));
+    }
+    return form_levels.emplace(form, store_through_codec(box_downsample(fine.directional, k), c->second))
+        .first->second;
+  }
+
   // Clears the shape and scale levels (the renderer before the scene it refers to).
   void clear_shape() {
     scale = 0;
+    form_levels.clear();
     coarse[0] = coarse[1] = Scene{};
     view.reset();
     windows.clear();
@@ -671,7 +703,12 @@ CellResult CellRunner::run(const StudyCell& cell) {
   std::map<std::string, std::array<Plane, 3>> area_lum;  // "method/area_ms" → luminance per component
   for (const StudyVariant& v : st.plan.variants_of(cell)) {
     Scene& sc = st.coarse[v.roughness == CoarseRoughness::Widened ? 1 : 0];
-    sc.settings.micro_shadowing = v.term;
+    const auto [method, form] = split_study_term(v.term);
+    sc.settings.micro_shadowing = method;
+    // A compact form: its stored level in place of the float channels for this render (swapped back below).
+    Texture* swapped = form.empty() ? nullptr : &st.form_level(form, k);
+    if (swapped)
+      for (Material& m : sc.materials) std::swap(m.directional, *swapped);
     sc.settings.ms_smooth_normal = v.smooth_normal;
     sc.settings.area_ms = v.area_ms;
     sc.settings.spp = cfg.method_spp;
@@ -691,6 +728,8 @@ CellResult CellRunner::run(const StudyCell& cell) {
         [&](const std::array<RenderResult, 2>& rc, const Window& w) {
           for (int ci = 0; ci < 2; ++ci) blit_image(M.img[ci + 1], rc[std::size_t(ci)].mean, w);
         });
+    if (swapped)
+      for (Material& m : sc.materials) std::swap(m.directional, *swapped);
     add_total(M);
     out.variant_cpu_seconds[variant_label(v) + (area_sampled(ls.light) ? " (area light)" : "")] +=
         cpu_seconds() - cpu_v;

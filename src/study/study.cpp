@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
+#include <microshadow/render/directional_codec.h>
 #include <microshadow/render/texture_gen.h>
 #include <microshadow/study/study.h>
 
@@ -67,6 +69,12 @@ StudyConfig area_config(bool quick) {
   c.image_size = quick ? 32 : 64;
   if (quick) c.gt_spp = 32, c.gt_max_spp = 256;
   return c;
+}
+
+std::pair<std::string, std::string> split_study_term(const std::string& term) {
+  const std::size_t at = term.find('@');
+  if (at == std::string::npos) return {term, ""};
+  return {term.substr(0, at), term.substr(at + 1)};
 }
 
 namespace {
@@ -162,7 +170,25 @@ std::vector<StudyLight> make_lights(const StudyConfig& c, const Frame& fr, int k
   return out;
 }
 
-bool uses_nl(const std::string& m) { return occlusion::find_micro_shadowing_method(m)->uses_ndotl; }
+bool uses_nl(const std::string& m) {
+  return occlusion::find_micro_shadowing_method(split_study_term(m).first)->uses_ndotl;
+}
+
+// A term with a compact form: its method must read the directional channels and the form must parse for
+// their count.
+void check_term(const std::string& t) {
+  const auto [method, form] = split_study_term(t);
+  micro_shadowing_from_string(method);
+  if (form.empty() && t.find('@') != std::string::npos)
+    throw InputError(fmt::format("term '{}': no form after '@'", t));
+  if (form.empty()) return;
+  const auto* info = occlusion::find_micro_shadowing_method(method);
+  if (!info->needs_texel || info->is_pair())
+    throw InputError(
+        fmt::format("term '{}': only a method that reads the directional channels takes a form", t));
+  if (form == "unorm8" || form == "bc4") return;  // per-channel storage (render::DirectionalEncoding)
+  render::parse_directional_form(form, std::max(info->texel_channels, directional::kDirectionalChannels));
+}
 
 std::vector<StudyVariant> make_variants(const StudyConfig& c, int k) {
   std::vector<StudyVariant> v;
@@ -231,8 +257,8 @@ void validate(const StudyConfig& c) {
   if (area_section(c) && !(c.area_planar_elevation - 5 >= 0 && c.area_planar_elevation < 90))
     bad("area_planar_elevation must be in [5, 90)");
   try {
-    for (const auto& t : c.terms) micro_shadowing_from_string(t);
-    for (const auto& t : c.area_terms) micro_shadowing_from_string(t);
+    for (const auto& t : c.terms) check_term(t);
+    for (const auto& t : c.area_terms) check_term(t);
     for (const auto& m : c.area_ms_modes) area_ms_from_string(m);
   } catch (const InputError& e) {
     bad(e.what());

@@ -93,7 +93,11 @@ struct StudyConfig {
   double delta_bias = 0.01;  // smallest bias difference the ranking resolves
   double delta_rmse = 0.01;  // smallest rmse_footprint difference it resolves, relative to the GT mean
   // The terms rendered on the coarse sets: methods of the runtime registry
-  // (occlusion/runtime/micro_shadowing_methods.h); default: the registry's study list.
+  // (occlusion/runtime/micro_shadowing_methods.h); default: the registry's study list. A method that reads
+  // the directional channels may name a compact form, "method@form" (render/directional_codec.h, e.g.
+  // "directional-view@pca8"): the coarse level is then what that form stores (the code fitted to the fine
+  // channels; encoded, quantised, decoded), in place of directional_encoding's; "@unorm8" and "@bc4" store
+  // every channel on its own (render::DirectionalEncoding).
   std::vector<std::string> terms = occlusion::micro_shadowing_study_methods();
   bool widened = true;          // also render every term with the variance-widened coarse roughness
   bool normal_ablation = true;  // also render the N·L terms with the unperturbed normal
@@ -209,6 +213,9 @@ struct StudyPlan {
 // for a fine texture of fine_size texels (StudyConfig's views and windows comments).
 StudyView study_view(const StudyConfig& c, const std::string& shape, int fine_size, double view,
                      double view_azimuth, int k);
+
+// A term "method@form" split into its method and compact form ("" when it names none).
+std::pair<std::string, std::string> split_study_term(const std::string& term);
 
 // Validates the configuration and loads and checks the user's height maps (the InputErrors of run_study,
 // before any work), then enumerates the cells and the variants.
