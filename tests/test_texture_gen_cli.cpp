@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/render/directional_bake.h>
+#include <microshadow/render/directional_codec.h>
 #include <microshadow/render/texture_gen.h>
 #include <support/cli_test_util.h>
 #include <sys/wait.h>
@@ -220,4 +221,63 @@ TEST_F(GenMaterialCli, WritesMipChains) {
           (dir / "v9.png").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("21"), std::string::npos) << r.err;
+}
+
+// --directional-form pca<K>: the compact form's KTX2/DDS levels and level-0 PNGs decode, through mips.json's
+// code alone (lo, hi, mean, basis), to the study's stored level of that form (render::store_through_codec of
+// the box mean) within one float rounding, and close to the float channels; bad forms and combinations
+// exit 2 before anything is written.
+TEST_F(GenMaterialCli, WritesTheCompactForm) {
+  const fs::path out = dir / "compact";
+  Result r =
+      run("gen-material --kind rock --size 32 --ao-rays 4 --directional-azimuths 8 --directional-view "
+          "--directional-form pca6 --out " +
+          out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "mips" / "mips.json"))["directional_compact"];
+  ASSERT_EQ(j["coefficients"].get<int>(), 6);
+  ASSERT_EQ(j["channels"].get<int>(), 21);
+  ASSERT_EQ(j["textures"].size(), 2u);
+  const render::Texture fine = render::load_directional_channels(out / "directional.npy");
+  const render::DirectionalCodec codec = render::fit_directional_codec(fine, "pca6");
+  const std::vector<render::Texture> chain = render::box_mip_chain(fine);
+  for (int L : {0, 2, 5}) {
+    const render::Texture want = render::store_through_codec(chain[std::size_t(L)], codec);
+    for (const char* ext : {".ktx2", ".dds", ".png"}) {
+      if (std::string(ext) == ".png" && L > 0) continue;
+      std::vector<io::Volume> tex;
+      for (int t = 0; t < 2; ++t) {
+        const fs::path p = std::string(ext) == ".png"
+                               ? out / fmt::format("directional_compact_{}.png", t)
+                               : out / "mips" / fmt::format("directional_compact_{}{}", t, ext);
+        tex.push_back(std::string(ext) == ".png" ? io::read_image(p) : io::read_texture_level(p, L));
+        ASSERT_EQ(tex.back().width, want.width()) << p;
+      }
+      double worst = 0, scale = 0;
+      for (int y = 0; y < want.height(); ++y)
+        for (int x = 0; x < want.width(); ++x)
+          for (int i = 0; i < 21; ++i) {
+            double c = j["mean"][i].get<double>();
+            for (int k = 0; k < 6; ++k) {
+              const double lo = j["lo"][k], hi = j["hi"][k];
+              c += j["basis"][i][k].get<double>() *
+                   (lo + (hi - lo) * tex[std::size_t(k / 4)].at(x, y, 0, k % 4));
+            }
+            worst = std::max(worst, std::abs(c - want.at(x, y, i)));
+            scale = std::max(scale, double(std::abs(want.at(x, y, i))));
+          }
+      EXPECT_LT(worst, 1e-4 * (1 + scale)) << ext << " level " << L;
+    }
+  }
+  // Unused channels of the last texture are 0.
+  EXPECT_EQ(io::read_texture_level(out / "mips" / "directional_compact_1.ktx2", 0).at(3, 3, 0, 3), 0.0f);
+  for (const char* bad :
+       {"--directional-form pca8x16", "--directional-form pca22", "--directional-form x",
+        "--directional-form pca8 --no-mips", "--directional-form pca8 --directional-azimuths 0"}) {
+    const fs::path o = dir / "bad";
+    r = run(
+        fmt::format("gen-material --kind rock --size 16 --directional-view {} --out {}", bad, o.string()));
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_FALSE(fs::exists(o)) << bad;
+  }
 }

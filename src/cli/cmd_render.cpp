@@ -1,5 +1,7 @@
 // `microshadow render`, `microshadow gen-material`, `microshadow compare`: the reference renderer's commands.
 #include <fmt/format.h>
+#include <microshadow/occlusion/directional.h>
+#include <microshadow/render/directional_codec.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/multiscale.h>
 #include <microshadow/render/renderer.h>
@@ -192,6 +194,7 @@ void add_render(Groups& g) {
   auto mthreads = std::make_shared<int>(0);
   auto mno_mips = std::make_shared<bool>(false);
   auto mbc = std::make_shared<bool>(false);
+  auto mform = std::make_shared<std::string>();
   CLI::App* gm = g.root->add_subcommand("gen-material",
                                         "Generate a texture set (height, normal, roughness, metallic, base "
                                         "colour, baked micro-occlusion), procedural or from a height map");
@@ -228,12 +231,29 @@ void add_render(Groups& g) {
       "--directional-bc", *mbc,
       "Also write the directional channels block-compressed in mips/ (directional_bc_<f>: BC5 pairs, "
       "an odd last channel BC4; 4 bits per channel, the same ranges)");
+  gm->add_option(
+      "--directional-form", *mform,
+      "Also write a compact form of the directional channels (docs/directional-occlusion.md, "
+      "\"Compact forms\"): pca<K>, K coefficients per texel at 8 bits from a linear code fitted to "
+      "this material (mips/directional_compact_<t>.ktx2/.dds, 4 per RGBA8 texture, level 0 as "
+      "directional_compact_<t>.png; the code in mips/mips.json)");
   gm->add_flag("--no-mips", *mno_mips,
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
   gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
       ->check(CLI::Range(0, 1024));
-  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, kind_opt, size_opt] {
+  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, mform, kind_opt, size_opt] {
     auto limit = thread_limit(*mthreads);
+    if (!mform->empty()) {
+      if (*mno_mips || m->directional_azimuths == 0)
+        throw UsageError(
+            "--directional-form writes into mips/ from the directional channels: not with --no-mips or "
+            "--directional-azimuths 0");
+      // Refused before the bake: a bad name, or a form gen-material does not write.
+      const auto f = render::parse_directional_form(*mform, m->directional_view
+                                                                ? msh::directional::kViewChannels
+                                                                : msh::directional::kDirectionalChannels);
+      if (f.bits != 8) throw UsageError("--directional-form: gen-material writes the 8-bit forms, pca<K>");
+    }
     if (*mbc && (*mno_mips || m->directional_azimuths == 0))
       throw UsageError(
           "--directional-bc writes mips of the directional channels: not with --no-mips or "
@@ -241,7 +261,7 @@ void add_render(Groups& g) {
     if (mheight->empty()) {
       const auto set = render::generate_texture_set(*m);
       render::write_texture_set(*mdir, set);
-      if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc);
+      if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc, *mform);
       print_json({{"dir", *mdir},
                   {"kind", m->kind},
                   {"size", m->size},
@@ -256,7 +276,7 @@ void add_render(Groups& g) {
     const render::Texture h = render::load_height_map(*mheight);
     const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
     render::write_texture_set(*mdir, set);
-    if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc);
+    if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc, *mform);
     print_json({{"dir", *mdir},
                 {"height", *mheight},
                 {"size", {h.width(), h.height()}},

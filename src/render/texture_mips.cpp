@@ -5,10 +5,12 @@
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/render/directional_bake.h>
+#include <microshadow/render/directional_codec.h>
 #include <microshadow/render/multiscale.h>
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 namespace msh::render {
@@ -33,7 +35,19 @@ io::Volume channels(const Texture& t, int c0, int n, F f) {
 }
 }  // namespace
 
-void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine, bool directional_bc) {
+void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine, bool directional_bc,
+                            const std::string& directional_form) {
+  // The compact form is fitted (and a bad form refused) before any file is written.
+  std::optional<DirectionalCodec> codec;
+  if (!directional_form.empty()) {
+    if (fine.directional.empty())
+      throw InputError("a directional form needs the directional channels (--directional-azimuths > 0)");
+    codec = parse_directional_form(directional_form, fine.directional.channels());
+    if (codec->bits != 8)
+      throw InputError(fmt::format("directional form '{}': gen-material writes the 8-bit forms, pca<K>",
+                                   directional_form));
+    codec = fit_directional_codec(fine.directional, directional_form);
+  }
   const std::filesystem::path m = dir / "mips";
   std::error_code ec;
   std::filesystem::create_directories(m, ec);
@@ -94,6 +108,46 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
                         {"lo", lo},
                         {"hi", hi},
                         {"decode", "channel = lo + (hi - lo) * unorm (per channel, every level)"}};
+  }
+  if (codec) {
+    // K coefficients, 4 per RGBA8 texture, each level the quantised code of that level's channels (the
+    // writer rounds saturate(u) · 255 as quantize_coefficients does).
+    const int K = codec->coefficients, C = codec->channels;
+    std::vector<Texture> coef;
+    for (const TextureSet& s : chain) coef.push_back(encode_directional(s.directional, *codec));
+    nlohmann::json tex = nlohmann::json::array(), dds = nlohmann::json::array(),
+                   png = nlohmann::json::array();
+    for (int t = 0; 4 * t < K; ++t) {
+      const auto unorm = [&](float a, int k) {
+        return (a - codec->lo[std::size_t(k)]) / (codec->hi[std::size_t(k)] - codec->lo[std::size_t(k)]);
+      };
+      std::vector<io::Volume> levels;
+      for (const Texture& a : coef) levels.push_back(channels(a, 4 * t, 4, unorm));
+      const std::string name = fmt::format("directional_compact_{}", t);
+      io::write_texture_mips(m / (name + ".ktx2"), levels, io::PixelFormat::RGBA8Unorm);
+      io::write_texture_mips(m / (name + ".dds"), levels, io::PixelFormat::RGBA8Unorm);
+      io::write_volume(dir / (name + ".png"), levels[0], io::FileFormat::Png, io::PixelFormat::RGBA8Unorm);
+      tex.push_back(name + ".ktx2"), dds.push_back(name + ".dds"), png.push_back("../" + name + ".png");
+    }
+    nlohmann::json basis = nlohmann::json::array();
+    for (int i = 0; i < C; ++i)
+      basis.push_back(std::vector<float>(codec->basis.begin() + std::ptrdiff_t(i) * K,
+                                         codec->basis.begin() + std::ptrdiff_t(i + 1) * K));
+    j["directional_compact"] = {
+        {"form", codec->form},
+        {"coefficients", K},
+        {"channels", C},
+        {"textures", tex},
+        {"dds", dds},
+        {"png", png},
+        {"lo", codec->lo},
+        {"hi", codec->hi},
+        {"mean", codec->mean},
+        {"basis", basis},
+        {"explained", codec->explained},
+        {"decode",
+         "a_k = lo_k + (hi_k - lo_k) * unorm_k (coefficient 4t + c in channel c of texture t); channel_i = "
+         "mean_i + sum_k basis[i][k] * a_k; then the channels as directional.h evaluates them"}};
   }
   io::write_file_atomic(m / "mips.json", j.dump(2) + "\n");
 }

@@ -43,9 +43,14 @@ std::vector<TextureSet> texture_set_mip_chain(const TextureSet& fine);
 // directional ranges). With directional_bc, the directional channels also block-compressed between the same
 // ranges (io/bc4.h; 4 bits per channel): directional_bc_{f} holds channels 2f, 2f + 1 as BC5 and an odd last
 // channel alone as BC4 (9 channels: 4 BC5 + 1 BC4 = 4.5 bytes per texel; 21: 10 BC5 + 1 BC4 = 10.5 bytes),
-// KTX2 and DDS only (the NPY levels are the exact values). Atomic files; InputError on an unwritable
-// directory.
+// KTX2 and DDS only (the NPY levels are the exact values). With a directional_form (an 8-bit
+// render/directional_codec.h form, "pca<K>"), the compact form too: the code fitted to the fine channels,
+// directional_compact_{t} (KTX2 and DDS, RGBA8 UNORM; coefficient 4t + c in channel c, unused channels 0;
+// level L = the code of the channels' level L, quantised) and its level 0 as dir/directional_compact_{t}.png
+// (RGBA8, linear data), described in mips.json's "directional_compact" (form, coefficients, channels,
+// textures, lo, hi, mean, basis: channel_i = mean_i + Σ_k basis[i][k] (lo_k + (hi_k − lo_k) unorm_k)).
+// Atomic files; InputError on an unwritable directory, a bad form or a form without directional channels.
 void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine,
-                            bool directional_bc = false);
+                            bool directional_bc = false, const std::string& directional_form = "");
 
 }  // namespace msh::render
