@@ -136,6 +136,44 @@ float msh_dir_view_term(float4 c[6], float3 l, float3 v, float3 n) {
   return msh_dir_view_transport(c, l, v) / nl;
 }
 
+// ---- Compact forms (a per-material linear code of the 21 channels) ----
+// Port of msh::directional::decode_folded_code (docs/directional-occlusion.md, "Compact forms"): K UNORM
+// coefficients per texel, 4 per RGBA8 texture (gen-material --directional-form pca<K>:
+// mips/directional_compact_<t>), fetched with ordinary filtering (the code is linear, so the mips stay exact),
+// decode to the 21 channels packed as msh_dir_view_transport takes them: channel i = fm_i + sum_k fb_ik u_k,
+// fm / fb = mips.json's folded_mean / folded_basis (the material's uniforms). fm: 6 float4 (channel i in
+// fm[i / 4][i % 4]); fb: one float4 per channel and fetched texture (rows 21-23 unread). float32: each channel
+// within a few roundings of the (K + 1)-term sum, 1e-6 * (|fm_i| + sum_k |fb_ik| u_k) (measured in
+// tests/test_shaders_directional.cpp on lavapipe).
+
+// K <= 4 coefficients (one fetch): fb[i] = (fb_i0, fb_i1, fb_i2, fb_i3), 24 rows.
+void msh_dir_code4_decode(float4 u, float4 fm[6], float4 fb[24], out float4 c[6]) {
+  // Unrolled (as compilers would): 21 dot products, each row written once.
+  c[0] = fm[0] + float4(dot(fb[0], u), dot(fb[1], u), dot(fb[2], u), dot(fb[3], u));
+  c[1] = fm[1] + float4(dot(fb[4], u), dot(fb[5], u), dot(fb[6], u), dot(fb[7], u));
+  c[2] = fm[2] + float4(dot(fb[8], u), dot(fb[9], u), dot(fb[10], u), dot(fb[11], u));
+  c[3] = fm[3] + float4(dot(fb[12], u), dot(fb[13], u), dot(fb[14], u), dot(fb[15], u));
+  c[4] = fm[4] + float4(dot(fb[16], u), dot(fb[17], u), dot(fb[18], u), dot(fb[19], u));
+  c[5] = fm[5] + float4(dot(fb[20], u), 0.0, 0.0, 0.0);
+}
+
+// K <= 8 coefficients (two fetches u0 = u_0..3, u1 = u_4..7): fb[2 i] = (fb_i0 .. fb_i3), fb[2 i + 1] =
+// (fb_i4 .. fb_i7), 48 rows.
+void msh_dir_code8_decode(float4 u0, float4 u1, float4 fm[6], float4 fb[48], out float4 c[6]) {
+  // Unrolled: 42 dot products.
+  c[0] = fm[0] + float4(dot(fb[0], u0) + dot(fb[1], u1), dot(fb[2], u0) + dot(fb[3], u1),
+                        dot(fb[4], u0) + dot(fb[5], u1), dot(fb[6], u0) + dot(fb[7], u1));
+  c[1] = fm[1] + float4(dot(fb[8], u0) + dot(fb[9], u1), dot(fb[10], u0) + dot(fb[11], u1),
+                        dot(fb[12], u0) + dot(fb[13], u1), dot(fb[14], u0) + dot(fb[15], u1));
+  c[2] = fm[2] + float4(dot(fb[16], u0) + dot(fb[17], u1), dot(fb[18], u0) + dot(fb[19], u1),
+                        dot(fb[20], u0) + dot(fb[21], u1), dot(fb[22], u0) + dot(fb[23], u1));
+  c[3] = fm[3] + float4(dot(fb[24], u0) + dot(fb[25], u1), dot(fb[26], u0) + dot(fb[27], u1),
+                        dot(fb[28], u0) + dot(fb[29], u1), dot(fb[30], u0) + dot(fb[31], u1));
+  c[4] = fm[4] + float4(dot(fb[32], u0) + dot(fb[33], u1), dot(fb[34], u0) + dot(fb[35], u1),
+                        dot(fb[36], u0) + dot(fb[37], u1), dot(fb[38], u0) + dot(fb[39], u1));
+  c[5] = fm[5] + float4(dot(fb[40], u0) + dot(fb[41], u1), 0.0, 0.0, 0.0);
+}
+
 // 8-bit storage: a channel fetched from a UNORM texture (u in [0, 1], already filtered) mapped back to
 // the material's range [lo, hi] (the fine level's min and max, the same for every mip level):
 // lo + (hi - lo) * u (`unorm` is an HLSL keyword). Port of msh::directional::decode_unorm8. float32, within 2 roundings of C++ (one

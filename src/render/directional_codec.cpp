@@ -245,6 +245,26 @@ DirectionalCodec fit_directional_codec(const Texture& fine, const std::string& f
   return codec;
 }
 
+std::vector<float> DirectionalCodec::folded_mean() const {
+  std::vector<float> m(std::size_t(channels), 0.0f);
+  for (int i = 0; i < channels; ++i) {
+    double s = mean[std::size_t(i)];
+    for (int k = 0; k < coefficients; ++k)
+      s += double(basis[std::size_t(i) * coefficients + k]) * lo[std::size_t(k)];
+    m[std::size_t(i)] = float(s);
+  }
+  return m;
+}
+
+std::vector<float> DirectionalCodec::folded_basis() const {
+  std::vector<float> b(basis.size());
+  for (int i = 0; i < channels; ++i)
+    for (int k = 0; k < coefficients; ++k)
+      b[std::size_t(i) * coefficients + k] = float(double(basis[std::size_t(i) * coefficients + k]) *
+                                                   (double(hi[std::size_t(k)]) - lo[std::size_t(k)]));
+  return b;
+}
+
 Texture encode_directional(const Texture& channels, const DirectionalCodec& codec) {
   const int C = codec.channels, K = codec.coefficients;
   if (channels.channels() != C)

@@ -129,10 +129,14 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
       io::write_volume(dir / (name + ".png"), levels[0], io::FileFormat::Png, io::PixelFormat::RGBA8Unorm);
       tex.push_back(name + ".ktx2"), dds.push_back(name + ".dds"), png.push_back("../" + name + ".png");
     }
-    nlohmann::json basis = nlohmann::json::array();
-    for (int i = 0; i < C; ++i)
+    const std::vector<float> fb = codec->folded_basis();
+    nlohmann::json basis = nlohmann::json::array(), folded = nlohmann::json::array();
+    for (int i = 0; i < C; ++i) {
       basis.push_back(std::vector<float>(codec->basis.begin() + std::ptrdiff_t(i) * K,
                                          codec->basis.begin() + std::ptrdiff_t(i + 1) * K));
+      folded.push_back(
+          std::vector<float>(fb.begin() + std::ptrdiff_t(i) * K, fb.begin() + std::ptrdiff_t(i + 1) * K));
+    }
     j["directional_compact"] = {
         {"form", codec->form},
         {"coefficients", K},
@@ -145,9 +149,13 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
         {"mean", codec->mean},
         {"basis", basis},
         {"explained", codec->explained},
+        {"folded_mean", codec->folded_mean()},
+        {"folded_basis", folded},
         {"decode",
          "a_k = lo_k + (hi_k - lo_k) * unorm_k (coefficient 4t + c in channel c of texture t); channel_i = "
-         "mean_i + sum_k basis[i][k] * a_k; then the channels as directional.h evaluates them"}};
+         "mean_i + sum_k basis[i][k] * a_k (equivalently folded_mean_i + sum_k folded_basis[i][k] * "
+         "unorm_k); then "
+         "the channels as directional.h evaluates them"}};
   }
   io::write_file_atomic(m / "mips.json", j.dump(2) + "\n");
 }

@@ -115,6 +115,20 @@ T directional_view_term(const T* channels21, Vec3<T> l_local, Vec3<T> v_local, V
   return directional_view_transport(channels21, channels21 + kDirectionalChannels, l_local, v_local) / nl;
 }
 
+// Compact forms (render/directional_codec.h, docs/directional-occlusion.md "Compact forms"): K UNORM
+// coefficients u_k per texel (fetched and filtered like any texture) decode to the C channels through the
+// material's folded code, channel_i = fm_i + Σ_k fb[i K + k] u_k, fm_i = mean_i + Σ_k B_ik lo_k, fb_ik = B_ik
+// (hi_k − lo_k) (the code's affine decode of each coefficient folded into its basis); then the channels are
+// evaluated as above. Linear, so it commutes with the box mean of the coefficients.
+template <class T>
+void decode_folded_code(const T* u, int K, const T* folded_mean, const T* folded_basis, int C, T* channels) {
+  for (int i = 0; i < C; ++i) {
+    T s = folded_mean[i];
+    for (int k = 0; k < K; ++k) s += folded_basis[i * K + k] * u[k];
+    channels[i] = s;
+  }
+}
+
 // 8-bit storage: channel i as UNORM between a per-material range [lo_i, hi_i] (the fine level's min and max,
 // kept with the material; every mip level uses the same range).
 template <class T>

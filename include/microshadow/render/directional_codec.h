@@ -31,6 +31,10 @@ struct DirectionalCodec {
   std::vector<float> encode;      // K × C row-major: a_k = Σ_i encode[k C + i] (c_i − mean_i)
   std::vector<float> lo, hi;      // K: a_k = lo_k + (hi_k − lo_k) u_k, the fine coefficients' range
   std::vector<double> explained;  // K: the share of the metric-weighted variance each component carries
+  // The code with each coefficient's affine decode folded in (directional::decode_folded_code, what the
+  // shaders take): channel_i = folded_mean_i + Σ_k folded_basis[i K + k] u_k, u_k the stored UNORM value.
+  std::vector<float> folded_mean() const;
+  std::vector<float> folded_basis() const;
   // Bytes per texel as stored (K · bits / 8; float: 4 K) and texture fetches (RGBA: ⌈K / 4⌉).
   double bytes_per_texel() const { return coefficients * (bits == 0 ? 4.0 : bits / 8.0); }
   int fetches() const { return (coefficients + 3) / 4; }
