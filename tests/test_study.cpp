@@ -280,6 +280,48 @@ TEST(Study, CompactDirectionalForms) {
   EXPECT_GT(d4, 1e-3);
 }
 
+// A height map's file name becomes the material's name and the featured images' file names: a hostile one
+// (it ends the attribute and adds an onerror handler in an unescaped page) is percent-encoded in every img
+// src of study.html, escaped in its text, and each src still names the image written.
+TEST(Study, HostileMaterialNameIsEscapedInTheReport) {
+  const fs::path d = fs::temp_directory_path() / ("msh_test_study_hostile." + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  const std::string name = "x' onerror='alert(1);<b>\"&";
+  msh::io::Volume v(32, 32, 1, 1);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i) v.at(i, j, 0, 0) = float(0.5 + 0.4 * std::sin(0.4 * i) * std::cos(0.3 * j));
+  msh::io::write_png(d / (name + ".png"), v, 16);
+  StudyConfig c = tiny();
+  c.materials = {}, c.shapes = {"plane"}, c.sphere_light = false, c.scales = {1};
+  c.terms = {"none", "ao"};
+  c.widened = c.normal_ablation = false;
+  c.user_materials = {{name, d / (name + ".png"), 4}};
+  run_study(c, d / "out");
+  const std::string html = slurp(d / "out" / "study.html");
+  EXPECT_EQ(html.find("onerror='"), std::string::npos);
+  EXPECT_EQ(html.find("<b>"), std::string::npos);
+  int srcs = 0;
+  for (std::size_t at = html.find("src='"); at != std::string::npos; at = html.find("src='", at + 1)) {
+    const std::size_t end = html.find('\'', at + 5);
+    ASSERT_NE(end, std::string::npos);
+    const std::string url = html.substr(at + 5, end - at - 5);
+    for (char ch : url) EXPECT_EQ(std::string("\"<> &").find(ch), std::string::npos) << url;
+    std::string path;  // percent-decoded
+    for (std::size_t i = 0; i < url.size(); ++i)
+      if (url[i] == '%' && i + 2 < url.size()) {
+        path += char(std::stoi(url.substr(i + 1, 2), nullptr, 16));
+        i += 2;
+      } else {
+        path += url[i];
+      }
+    EXPECT_TRUE(fs::exists(d / "out" / path)) << path;
+    ++srcs;
+  }
+  EXPECT_GT(srcs, 0);
+  fs::remove_all(d);
+}
+
 // The user's own height maps (study --height / --material): a 16-bit PNG written here is studied under its
 // file's stem, through the procedural kinds' generation path (the directional channels are baked because a
 // term reads them: the material cache holds them); bad maps are InputErrors before anything is written.

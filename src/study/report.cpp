@@ -4,6 +4,7 @@
 #include <microshadow/study/study.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <set>
@@ -214,6 +215,7 @@ std::string md(const Table& t) {
   return s + "\n";
 }
 
+// Text and quoted attribute values: the five characters HTML gives meaning to, as entities.
 std::string esc(const std::string& s) {
   std::string o;
   for (char c : s) {
@@ -223,8 +225,26 @@ std::string esc(const std::string& s) {
       o += "&gt;";
     else if (c == '&')
       o += "&amp;";
+    else if (c == '\'')
+      o += "&#39;";
+    else if (c == '"')
+      o += "&quot;";
     else
       o += c;
+  }
+  return o;
+}
+
+// A relative file path as a URL (RFC 3986): every byte but the unreserved characters and '/' percent-encoded,
+// so a file name of the user's (a material is named after its height map) cannot end the attribute or turn
+// into a scheme; safe inside a quoted attribute as is.
+std::string url_path(const std::string& p) {
+  std::string o;
+  for (unsigned char c : p) {
+    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~' || c == '/')
+      o += char(c);
+    else
+      o += fmt::format("%{:02X}", unsigned(c));
   }
   return o;
 }
@@ -512,7 +532,7 @@ std::string plot_svg(const json& results, bool use_bias) {
     s += fmt::format("<polyline fill='none' stroke='{}' stroke-width='2'{} points='{}'/>", col,
                      mi >= colors.size() ? " stroke-dasharray='5,3'" : "", pts);
     s += fmt::format("<text x={} y={} fill='{}'>{}</text>", W - R + 8, T + 14 * int(mi) + 10, col,
-                     methods[mi]);
+                     esc(methods[mi]));
   }
   return s + "</svg>\n";
 }
@@ -562,9 +582,9 @@ void write_study_html(const json& results, const std::filesystem::path& out) {
         fmt::format("{} {} k = {} {}", im["material"].get<std::string>(), im["shape"].get<std::string>(),
                     im["scale"].get<int>(), im["light"].get<std::string>());
     if (group != last) h += "<h3>" + esc(group) + "</h3>\n", last = group;
-    h += "<figure><img src='" + im["image"].get<std::string>() + "'><br>" +
+    h += "<figure><img src='" + url_path(im["image"].get<std::string>()) + "'><br>" +
          esc(im["method"].get<std::string>());
-    if (im.contains("diff")) h += "<br><img src='" + im["diff"].get<std::string>() + "'>";
+    if (im.contains("diff")) h += "<br><img src='" + url_path(im["diff"].get<std::string>()) + "'>";
     h += "</figure>\n";
   }
   h += "<h2>Ground truth</h2><table><tr><th>material</th><th>shape</th><th>k</th><th>light</th><th>spp</th>"
