@@ -109,4 +109,5 @@ def main():
     print_tables(cells, methods, comps, views)
 
 
-main()
+if __name__ == "__main__":
+    main()
