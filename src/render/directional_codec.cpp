@@ -3,6 +3,7 @@
 #include <microshadow/io/error.h>
 #include <microshadow/math/vec.h>
 #include <microshadow/occlusion/directional.h>
+#include <microshadow/render/directional_bake.h>
 #include <microshadow/render/directional_codec.h>
 #include <tbb/parallel_for.h>
 
@@ -232,16 +233,8 @@ DirectionalCodec fit_directional_codec(const Texture& fine, const std::string& f
     for (int i = 0; i < C; ++i) codec.basis[std::size_t(i) * K + k] = float(x[std::size_t(i)]);
   }
   // The coefficients' range over the fine texels (a mip level's means stay inside it).
-  const Texture a = encode_directional(fine, codec);
-  codec.lo.assign(std::size_t(K), 1e30f), codec.hi.assign(std::size_t(K), -1e30f);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int k = 0; k < K; ++k)
-        codec.lo[std::size_t(k)] = std::min(codec.lo[std::size_t(k)], a.at(x, y, k)),
-        codec.hi[std::size_t(k)] = std::max(codec.hi[std::size_t(k)], a.at(x, y, k));
-  for (int k = 0; k < K; ++k)
-    if (!(codec.hi[std::size_t(k)] > codec.lo[std::size_t(k)]))
-      codec.hi[std::size_t(k)] = codec.lo[std::size_t(k)] + 1;
+  const ChannelRanges r = channel_ranges(encode_directional(fine, codec));
+  codec.lo = r.lo, codec.hi = r.hi;
   return codec;
 }
 
