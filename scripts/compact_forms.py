@@ -32,7 +32,7 @@ def cost(form):
         return 21.0, 6, SPIRV["unorm8"]
     if form == "bc4":
         return 10.5, 11, SPIRV["bc4"]
-    k = int("".join(ch for ch in form[3:] if ch.isdigit()))
+    k = int(form[3:].split("x")[0].rstrip("f"))
     bits = 16 if form.endswith("x16") else 32 if form.endswith("f") else 8
     return k * bits / 8, math.ceil(k / 4), SPIRV.get(k) if bits == 8 else None
 
