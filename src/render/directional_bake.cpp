@@ -284,10 +284,27 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
       const Vec3f& l = proj.dirs[std::size_t(a * ne + e)];
       tan_e[std::size_t(a)][std::size_t(e)] = double(l.z) / std::sqrt(double(l.x) * l.x + double(l.y) * l.y);
     }
-  // Unlimited rays on lattice azimuths: one exact sweep per line; otherwise the classified walks.
-  const auto tan_h = !az.steps.empty() && !(max_distance > 0)
-                         ? bake_horizon_tangents_lattice(height, depth, az.steps)
-                         : bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
+  // Per azimuth a and texel p, the first lit elevation: lit[a · w·h + p] = the first e with tan e > tan H.
+  // Unlimited rays on lattice azimuths: one exact sweep per line, classified as it goes; otherwise the
+  // classified walks.
+  const std::size_t wh = std::size_t(w) * std::size_t(h);
+  std::vector<uint8_t> lit;
+  if (!az.steps.empty() && !(max_distance > 0)) {
+    lit = bake_horizon_classes_lattice(height, depth, az.steps, tan_e);
+  } else {
+    const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
+    lit.resize(wh * std::size_t(na));
+    tbb::parallel_for(0, h, [&](int j) {
+      for (std::size_t p = std::size_t(j) * w; p < std::size_t(j + 1) * w; ++p)
+        for (int a = 0; a < na; ++a) {
+          const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
+          const auto& te = tan_e[std::size_t(a)];
+          int e = 0;
+          while (e < ne && !(te[std::size_t(e)] > T)) ++e;
+          lit[std::size_t(a) * wh + p] = uint8_t(e);
+        }
+    });
+  }
   const auto n = fine_normals(height, depth);
   // P transposed (direction-major, the rows of a direction side by side), widened once: the 9 functions of
   // T, and the kSlopeTerms of the slope fits (their own least squares, not a subset of T's rows).
@@ -312,11 +329,7 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
       double sum[nb + 2 * ns] = {};
       const double sx = double(n[p].x) / n[p].z, sy = double(n[p].y) / n[p].z;
       for (int a = 0; a < na; ++a) {
-        const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
-        const auto& te = tan_e[std::size_t(a)];
-        int e = 0;
-        while (e < ne && !(te[std::size_t(e)] > T)) ++e;
-        for (; e < ne; ++e) {
+        for (int e = lit[std::size_t(a) * wh + p]; e < ne; ++e) {
           const int d = a * ne + e;
           const float f = std::max(dot(n[p], proj.dirs[std::size_t(d)]), 0.0f);
           if (transport) {
