@@ -378,6 +378,43 @@ TEST(LatticeSweep, ThreadIndependentAndBadInput) {
   EXPECT_THROW(bake_horizon_tangents_lattice(Texture(), 12, steps), InputError);
 }
 
+// The classified sweep (what the directional bake uses) against the tangents classified afterwards: the
+// first threshold above tan H, per step and vertex, step-major; thresholds that the tangents hit exactly
+// (so "above" must be strict), an empty list and a list with a NaN-free repeat.
+TEST(LatticeSweep, ClassesEqualClassifiedTangents) {
+  const Texture f = field(
+      48, 40, 12, [](int i, int j) { return -6 - 5 * std::sin(0.4 * i) * std::cos(0.3 * j + 0.2 * i); });
+  const auto steps = lattice_azimuths(7, 0.5);
+  const auto tan_h = bake_horizon_tangents_lattice(f, 12, steps);
+  const std::size_t wh = 48 * 40, n = steps.size();
+  std::vector<std::vector<double>> th(n);
+  for (std::size_t k = 0; k < n; ++k)
+    for (int e = 0; e < 16; ++e) th[k].push_back(std::tan((e + 0.5) / 16 * kPiD / 2) * (0.5 + 0.1 * k));
+  th[1] = {double(tan_h[5 * n + 1]), double(tan_h[9 * n + 1]), 0.5, 0.5, 2.0};
+  std::sort(th[1].begin(), th[1].end());
+  th[2].clear();
+  std::vector<uint8_t> classes;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    classes = bake_horizon_classes_lattice(f, 12, steps, th);
+  }
+  EXPECT_EQ(classes, bake_horizon_classes_lattice(f, 12, steps, th));
+  ASSERT_EQ(classes.size(), wh * n);
+  int lit_some = 0, lit_none = 0;
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t v = 0; v < wh; ++v) {
+      std::size_t e = 0;
+      while (e < th[k].size() && !(th[k][e] > double(tan_h[v * n + k]))) ++e;
+      ASSERT_EQ(classes[k * wh + v], e) << "step " << k << " vertex " << v;
+      lit_some += e > 0 && e < th[k].size(), lit_none += e == th[k].size() && !th[k].empty();
+    }
+  EXPECT_GT(lit_some, int(wh));  // the classes are not all the same
+  EXPECT_GT(lit_none, 0);
+  EXPECT_THROW(bake_horizon_classes_lattice(f, 12, steps, {}), InputError);
+  EXPECT_THROW(bake_horizon_classes_lattice(f, 12, {{1, 0}}, {std::vector<double>(256, 1.0)}), InputError);
+  EXPECT_THROW(bake_horizon_classes_lattice(f, 12, {{2, 4}}, {{1.0}}), InputError);
+}
+
 // Every azimuth within the tolerance of its uniform target, primitive, and of the smallest ring that has
 // one (no step of smaller max(|p|, |q|) is within the tolerance).
 TEST(LatticeSweep, LatticeAzimuthsNearUniform) {

@@ -3,8 +3,12 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/npy.h>
 
+#include <cerrno>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string_view>
 
 #include "texture_internal.h"
@@ -13,25 +17,43 @@ namespace msh::io::codecs {
 namespace fs = std::filesystem;
 
 void write_npy(const fs::path& path, const Volume& v) {
-  validate_volume(v, path);
+  io::write_npy(path, v.data, v.width, v.height, v.depth, v.channels);
+}
+
+}  // namespace msh::io::codecs
+
+namespace msh::io {
+namespace fs = std::filesystem;
+
+void write_npy(const fs::path& path, std::span<const float> data, int width, int height, int depth,
+               int channels) {
+  codecs::validate_values(data, width, height, depth, channels, path);
   std::string header = fmt::format("{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, {}, {}, {}), }}",
-                                   v.depth, v.height, v.width, v.channels);
+                                   depth, height, width, channels);
   // Magic (6) + version (2) + header length (2) + header, padded with spaces and a final '\n' to a multiple
   // of 64 bytes so the data is aligned (what numpy itself writes).
   const std::size_t unpadded = 10 + header.size() + 1;
   header.append((64 - unpadded % 64) % 64, ' ');
   header.push_back('\n');
-  std::vector<std::byte> out;
-  out.reserve(10 + header.size() + v.data.size() * 4);
-  const char magic[] = "\x93NUMPY\x01\x00";
-  for (int i = 0; i < 8; ++i) out.push_back(std::byte(magic[i]));
-  out.push_back(std::byte(header.size() & 0xff));
-  out.push_back(std::byte(header.size() >> 8));
-  for (char c : header) out.push_back(std::byte(c));
-  const auto* p = reinterpret_cast<const std::byte*>(v.data.data());
-  out.insert(out.end(), p, p + v.data.size() * 4);
-  write_file_atomic(path, out);
+  std::string head = "\x93NUMPY\x01";
+  head.push_back('\0');
+  head.push_back(char(header.size() & 0xff));
+  head.push_back(char(header.size() >> 8));
+  head += header;
+  // The header, then the values straight from `data` (no copy), into a temporary renamed when complete.
+  AtomicPath ap(path);
+  std::FILE* f = std::fopen(ap.temp().c_str(), "wb");
+  if (!f) throw InputError(fmt::format("cannot write '{}': {}", path.string(), std::strerror(errno)));
+  bool ok = std::fwrite(head.data(), 1, head.size(), f) == head.size();
+  ok = ok && std::fwrite(data.data(), sizeof(float), data.size(), f) == data.size();
+  const bool closed = std::fclose(f) == 0;
+  if (!ok || !closed) throw InputError(fmt::format("cannot write '{}': write failed", path.string()));
+  ap.commit();
 }
+
+}  // namespace msh::io
+
+namespace msh::io::codecs {
 
 namespace {
 // Value text of `key` in the header dict (up to the next ',' at depth 0, or the matching ')').

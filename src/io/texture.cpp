@@ -199,20 +199,26 @@ void check_dimensions(const fs::path& path, long long w, long long h, long long 
 }
 
 void validate_volume(const Volume& v, const fs::path& path, int min_channels, int max_channels) {
-  check_dimensions(path, v.width, v.height, v.depth, v.channels);
-  if (v.channels < min_channels || v.channels > max_channels)
-    fail(path, fmt::format("{} channels not supported by this format (expected {}..{})", v.channels,
+  validate_values(v.data, v.width, v.height, v.depth, v.channels, path, min_channels, max_channels);
+}
+
+void validate_values(std::span<const float> data, int width, int height, int depth, int channels,
+                     const fs::path& path, int min_channels, int max_channels) {
+  check_dimensions(path, width, height, depth, channels);
+  if (channels < min_channels || channels > max_channels)
+    fail(path, fmt::format("{} channels not supported by this format (expected {}..{})", channels,
                            min_channels, max_channels));
-  if (v.data.size() != v.texel_count() * std::size_t(v.channels))
-    fail(path, fmt::format("volume data holds {} values, expected {}x{}x{}x{} = {}", v.data.size(), v.width,
-                           v.height, v.depth, v.channels, v.texel_count() * std::size_t(v.channels)));
-  for (std::size_t i = 0; i < v.data.size(); ++i) {
-    if (!std::isfinite(v.data[i])) {
-      const std::size_t c = i % v.channels, t = i / v.channels;
-      const std::size_t x = t % v.width, y = (t / v.width) % v.height,
-                        z = t / (std::size_t(v.width) * v.height);
+  const std::size_t texels = std::size_t(width) * std::size_t(height) * std::size_t(depth);
+  if (data.size() != texels * std::size_t(channels))
+    fail(path, fmt::format("volume data holds {} values, expected {}x{}x{}x{} = {}", data.size(), width,
+                           height, depth, channels, texels * std::size_t(channels)));
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    if (!std::isfinite(data[i])) {
+      const std::size_t c = i % std::size_t(channels), t = i / std::size_t(channels);
+      const std::size_t x = t % std::size_t(width), y = (t / std::size_t(width)) % std::size_t(height),
+                        z = t / (std::size_t(width) * std::size_t(height));
       fail(path,
-           fmt::format("non-finite value {} at x={} y={} z={} c={}; nothing written", v.data[i], x, y, z, c));
+           fmt::format("non-finite value {} at x={} y={} z={} c={}; nothing written", data[i], x, y, z, c));
     }
   }
 }

@@ -72,6 +72,9 @@ inline bool pixel_format_from_code(std::uint32_t value, std::uint32_t PixelForma
 // `path`.
 void validate_volume(const Volume& v, const std::filesystem::path& path, int min_channels = 1,
                      int max_channels = 1 << 16);
+// The same for values laid out as a Volume of these dimensions.
+void validate_values(std::span<const float> data, int width, int height, int depth, int channels,
+                     const std::filesystem::path& path, int min_channels = 1, int max_channels = 1 << 16);
 // Dimensions read from a file: InputError naming `path` unless they are within limits.
 void check_dimensions(const std::filesystem::path& path, long long w, long long h, long long d, long long c);
 

@@ -264,6 +264,59 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
 }
 
 namespace {
+// What fit_directional's sums read: lit[a · wh + p] (the first lit elevation), the fine normals, the fit's
+// directions [a · ne + e] and its projections transposed (PT: kPoly2Terms per direction, PS: kSlopeTerms).
+struct FitRows {
+  const uint8_t* lit;
+  std::size_t wh;
+  int w, na, ne;
+  const Vec3f* n;
+  const Vec3f* dirs;
+  const double* PT;
+  const double* PS;
+};
+
+// One texel's sums Σ_d P[r][d] f(d) in the order of d, the blocked directions (f = 0) left out: the 9 of
+// T (kTransport), then the 12 slope sums (kSlopes).
+template <bool kTransport, bool kSlopes>
+[[gnu::always_inline]] inline void fit_texel(const FitRows& R, std::size_t p, double* out) {
+  constexpr int nb = dir::kPoly2Terms, ns = dir::kSlopeTerms, t0 = kTransport ? nb : 0;
+  double sum[nb + 2 * ns] = {};
+  const Vec3f np = R.n[p];
+  const double sx = double(np.x) / np.z, sy = double(np.y) / np.z;
+  for (int a = 0; a < R.na; ++a)
+    for (int e = R.lit[std::size_t(a) * R.wh + p]; e < R.ne; ++e) {
+      const int d = a * R.ne + e;
+      const float f = std::max(dot(np, R.dirs[d]), 0.0f);
+      if (kTransport) {
+        const double* pd = &R.PT[std::size_t(d) * nb];
+        for (int r = 0; r < nb; ++r) sum[r] += pd[r] * f;
+      }
+      if (kSlopes) {
+        const double* ps = &R.PS[std::size_t(d) * ns];
+        for (int r = 0; r < ns; ++r) sum[t0 + r] += ps[r] * (f * sx), sum[t0 + ns + r] += ps[r] * (f * sy);
+      }
+    }
+  for (int r = 0; r < t0 + (kSlopes ? 2 * ns : 0); ++r) out[r] = sum[r];
+}
+
+// Row j's sums, texel by texel (channels side by side). Cloned for AVX2 (wider vectors for the independent
+// sums; no FMA, so every product and sum rounds as in the default build: the same results).
+[[gnu::target_clones("avx2", "default")]] void fit_row(const FitRows& R, int j, bool transport, bool slopes,
+                                                       double* out) {
+  const int nc = (transport ? dir::kPoly2Terms : 0) + (slopes ? 2 * dir::kSlopeTerms : 0);
+  for (int i = 0; i < R.w; ++i) {
+    const std::size_t p = std::size_t(j) * std::size_t(R.w) + std::size_t(i);
+    double* o = out + std::size_t(i) * std::size_t(nc);
+    if (transport && slopes)
+      fit_texel<true, true>(R, p, o);
+    else if (transport)
+      fit_texel<true, false>(R, p, o);
+    else
+      fit_texel<false, true>(R, p, o);
+  }
+}
+
 // Which functions of the fit: f = lit · (n · l)⁺ (9 channels), f · n_x/n_z then f · n_y/n_z (6 each, 12),
 // or both (21, in that order).
 enum class FitOutput { Transport, Slopes, Both };
@@ -284,10 +337,27 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
       const Vec3f& l = proj.dirs[std::size_t(a * ne + e)];
       tan_e[std::size_t(a)][std::size_t(e)] = double(l.z) / std::sqrt(double(l.x) * l.x + double(l.y) * l.y);
     }
-  // Unlimited rays on lattice azimuths: one exact sweep per line; otherwise the classified walks.
-  const auto tan_h = !az.steps.empty() && !(max_distance > 0)
-                         ? bake_horizon_tangents_lattice(height, depth, az.steps)
-                         : bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
+  // Per azimuth a and texel p, the first lit elevation: lit[a · w·h + p] = the first e with tan e > tan H.
+  // Unlimited rays on lattice azimuths: one exact sweep per line, classified as it goes; otherwise the
+  // classified walks.
+  const std::size_t wh = std::size_t(w) * std::size_t(h);
+  std::vector<uint8_t> lit;
+  if (!az.steps.empty() && !(max_distance > 0)) {
+    lit = bake_horizon_classes_lattice(height, depth, az.steps, tan_e);
+  } else {
+    const auto tan_h = bake_horizon_tangents(height, depth, dirs, max_distance, tan_e);
+    lit.resize(wh * std::size_t(na));
+    tbb::parallel_for(0, h, [&](int j) {
+      for (std::size_t p = std::size_t(j) * w; p < std::size_t(j + 1) * w; ++p)
+        for (int a = 0; a < na; ++a) {
+          const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
+          const auto& te = tan_e[std::size_t(a)];
+          int e = 0;
+          while (e < ne && !(te[std::size_t(e)] > T)) ++e;
+          lit[std::size_t(a) * wh + p] = uint8_t(e);
+        }
+    });
+  }
   const auto n = fine_normals(height, depth);
   // P transposed (direction-major, the rows of a direction side by side), widened once: the 9 functions of
   // T, and the kSlopeTerms of the slope fits (their own least squares, not a subset of T's rows).
@@ -303,35 +373,14 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
   const std::vector<double> PS =
       slopes ? transposed(LsqProjection(ns, dirs, dir::kFitElevations, dir::kFitEpsilon, 0, az.weights), ns)
              : std::vector<double>();
-  const int t0 = transport ? nb : 0;  // where the slope sums start
   Texture out(w, h, (transport ? nb : 0) + (slopes ? 2 * ns : 0));
+  const FitRows rows{lit.data(), wh, w, na, ne, n.data(), proj.dirs.data(), PT.data(), PS.data()};
   tbb::parallel_for(0, h, [&](int j) {
-    for (int i = 0; i < w; ++i) {
-      const std::size_t p = std::size_t(j) * w + i;
-      // Σ_d P[r][d] f(d) in the order of d, the blocked directions (f = 0) left out.
-      double sum[nb + 2 * ns] = {};
-      const double sx = double(n[p].x) / n[p].z, sy = double(n[p].y) / n[p].z;
-      for (int a = 0; a < na; ++a) {
-        const double T = tan_h[p * std::size_t(na) + std::size_t(a)];
-        const auto& te = tan_e[std::size_t(a)];
-        int e = 0;
-        while (e < ne && !(te[std::size_t(e)] > T)) ++e;
-        for (; e < ne; ++e) {
-          const int d = a * ne + e;
-          const float f = std::max(dot(n[p], proj.dirs[std::size_t(d)]), 0.0f);
-          if (transport) {
-            const double* pd = &PT[std::size_t(d) * nb];
-            for (int r = 0; r < nb; ++r) sum[r] += pd[r] * f;
-          }
-          if (slopes) {
-            const double* ps = &PS[std::size_t(d) * ns];
-            for (int r = 0; r < ns; ++r)
-              sum[t0 + r] += ps[r] * (f * sx), sum[t0 + ns + r] += ps[r] * (f * sy);
-          }
-        }
-      }
-      for (int r = 0; r < out.channels(); ++r) out.at(i, j, r) = float(sum[r]);
-    }
+    std::vector<double> sums(std::size_t(w) * std::size_t(out.channels()));
+    fit_row(rows, j, transport, slopes, sums.data());
+    for (int i = 0; i < w; ++i)
+      for (int r = 0; r < out.channels(); ++r)
+        out.at(i, j, r) = float(sums[std::size_t(i) * std::size_t(out.channels()) + std::size_t(r)]);
   });
   return out;
 }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/npy.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/directional.h>
@@ -472,6 +473,13 @@ io::Volume texture_volume(const Texture& t) {
   return v;
 }
 
+std::span<const float> texture_values(const Texture& t) {
+  if (t.empty()) return {};
+  // Texture's const at() returns values; the non-const one gives the address of its first (only read here).
+  const float* first = &const_cast<Texture&>(t).at(0, 0, 0);
+  return {first, std::size_t(t.width()) * std::size_t(t.height()) * std::size_t(t.channels())};
+}
+
 Texture load_directional_channels(const std::filesystem::path& path) {
   const io::Volume v = io::read_volume(path);
   if (v.depth != 1 ||
@@ -514,7 +522,8 @@ void write_texture_set(const std::filesystem::path& dir, const TextureSet& s) {
   write_tex(dir / "height.png", s.height, false, 16);
   // The directional channels (float32, (1, h, w, 9 or 21)): the renderer takes them from material.json.
   if (!s.directional.empty()) {
-    io::write_volume(dir / "directional.npy", texture_volume(s.directional), io::FileFormat::Npy);
+    io::write_npy(dir / "directional.npy", texture_values(s.directional), s.directional.width(),
+                  s.directional.height(), 1, s.directional.channels());
   }
   const std::string json = fmt::format(
       "{{\n  \"base_color\": \"basecolor.png\",\n  \"normal\": \"normal.png\",\n  \"roughness\": "

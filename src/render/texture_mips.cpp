@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/npy.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/directional_codec.h>
@@ -52,20 +53,27 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
   std::error_code ec;
   std::filesystem::create_directories(m, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create directory: {}", m.string(), ec.message()));
-  const std::vector<TextureSet> chain = texture_set_mip_chain(fine);
+  // texture_set_mip_chain's levels, the fine one by reference (not copied).
+  std::vector<TextureSet> coarse;
+  for (int k = 2; fine.height.width() % k == 0 && fine.height.height() % k == 0; k *= 2)
+    coarse.push_back(downsample_texture_set(fine, k, CoarseRoughness::Base));
+  std::vector<const TextureSet*> chain{&fine};
+  for (const TextureSet& s : coarse) chain.push_back(&s);
   nlohmann::json j = {{"levels", chain.size()}, {"maps", nlohmann::json::object()}};
-  for (const TextureSet& s : chain) j["sizes"].push_back({s.height.width(), s.height.height()});
+  for (const TextureSet* s : chain) j["sizes"].push_back({s->height.width(), s->height.height()});
   const auto identity = [](float x, int) { return x; };
   // One map: its chain in both containers (engine format) and each level exact as NPY.
   const auto write = [&](const std::string& name, Texture TextureSet::*map, int c0, int n, io::PixelFormat pf,
                          const auto& encode, bool npy = true) {
     std::vector<io::Volume> levels;
     for (std::size_t L = 0; L < chain.size(); ++L) {
-      const Texture& t = chain[L].*map;
+      const Texture& t = *chain[L].*map;
       levels.push_back(channels(t, c0, n, encode));
-      if (npy)
-        io::write_volume(m / fmt::format("{}_mip{}.npy", name, L), channels(t, c0, n, identity),
-                         io::FileFormat::Npy);
+      const std::filesystem::path npy_path = m / fmt::format("{}_mip{}.npy", name, L);
+      if (npy && c0 == 0 && n == t.channels())  // the texture as it is: written from its own values
+        io::write_npy(npy_path, texture_values(t), t.width(), t.height(), 1, n);
+      else if (npy)
+        io::write_volume(npy_path, channels(t, c0, n, identity), io::FileFormat::Npy);
     }
     io::write_texture_mips(m / (name + ".ktx2"), levels, pf);
     io::write_texture_mips(m / (name + ".dds"), levels, pf);

@@ -695,17 +695,19 @@ std::vector<LatticeStep> lattice_azimuths(int n, double max_error_deg) {
   return out;
 }
 
-std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float depth,
-                                                 const std::vector<LatticeStep>& steps) {
-  check_depth("bake_horizon_tangents_lattice", depth);
-  if (height.empty()) throw InputError("bake_horizon_tangents_lattice: empty height map");
+namespace {
+// The sweeps of bake_horizon_tangents_lattice: store(k, v, T) receives tan H of vertex v = j·w + i along step
+// k, once per vertex and step.
+template <class Store>
+void lattice_sweeps(const char* fn, const Texture& height, float depth, const std::vector<LatticeStep>& steps,
+                    const Store& store) {
+  check_depth(fn, depth);
+  if (height.empty()) throw InputError(fmt::format("{}: empty height map", fn));
   for (const LatticeStep& st : steps)
     if (gcd_int(st.p, st.q) != 1)
-      throw InputError(
-          fmt::format("bake_horizon_tangents_lattice: step ({}, {}) is not primitive", st.p, st.q));
+      throw InputError(fmt::format("{}: step ({}, {}) is not primitive", fn, st.p, st.q));
   const Heights f(height, depth);
   const int w = height.width(), h = height.height(), W = w + 1, n = int(steps.size());
-  std::vector<float> out(std::size_t(w) * h * std::size_t(n));
   // Into [0, m): one add or subtract for the usual small offsets, the remainder otherwise (tiny maps).
   auto wrap = [](int v, int m) {
     if (v >= m) v -= m;
@@ -786,8 +788,8 @@ std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float de
                    (hzp[n_h - 2] - z) * (hsp[n_h - 1] - s) >= (hzp[n_h - 1] - z) * (hsp[n_h - 2] - s))
               --n_h;
             if (idx % std::size_t(per) == 0)  // a vertex: its horizon
-              out[std::size_t(vl[idx / std::size_t(per)]) * n + k] =
-                  n_h ? float(std::max((hzp[n_h - 1] - z) / (hsp[n_h - 1] - s), 0.0)) : 0.0f;
+              store(k, vl[idx / std::size_t(per)],
+                    n_h ? float(std::max((hzp[n_h - 1] - z) / (hsp[n_h - 1] - s), 0.0)) : 0.0f);
             hsp[n_h] = s, hzp[n_h] = z, ++n_h;
           };
           for (std::size_t idx = start + 1; idx-- > 0;) visit(idx, 0.0);
@@ -796,6 +798,35 @@ std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float de
       }
     });
   }
+}
+}  // namespace
+
+std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float depth,
+                                                 const std::vector<LatticeStep>& steps) {
+  const std::size_t n = steps.size();
+  std::vector<float> out;
+  if (!height.empty()) out.resize(std::size_t(height.width()) * std::size_t(height.height()) * n);
+  lattice_sweeps("bake_horizon_tangents_lattice", height, depth, steps,
+                 [&](int k, int v, float T) { out[std::size_t(v) * n + std::size_t(k)] = T; });
+  return out;
+}
+
+std::vector<uint8_t> bake_horizon_classes_lattice(const Texture& height, float depth,
+                                                  const std::vector<LatticeStep>& steps,
+                                                  const std::vector<std::vector<double>>& thresholds) {
+  if (thresholds.size() != steps.size())
+    throw InputError("bake_horizon_classes_lattice: one threshold list per step is needed");
+  for (const auto& t : thresholds)
+    if (t.size() > 255) throw InputError("bake_horizon_classes_lattice: at most 255 thresholds per step");
+  const std::size_t wh = height.empty() ? 0 : std::size_t(height.width()) * std::size_t(height.height());
+  std::vector<uint8_t> out(wh * steps.size());
+  lattice_sweeps("bake_horizon_classes_lattice", height, depth, steps, [&](int k, int v, float T) {
+    const std::vector<double>& t = thresholds[std::size_t(k)];
+    const int nt = int(t.size());
+    int e = 0;
+    while (e < nt && !(t[std::size_t(e)] > double(T))) ++e;
+    out[std::size_t(k) * wh + std::size_t(v)] = uint8_t(e);
+  });
   return out;
 }
 

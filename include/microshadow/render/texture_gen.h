@@ -10,7 +10,9 @@
 #include <microshadow/io/texture.h>
 #include <microshadow/render/scene.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -131,8 +133,20 @@ Vec2f lattice_direction(LatticeStep s);
 std::vector<float> bake_horizon_tangents_lattice(const Texture& height, float depth_texels,
                                                  const std::vector<LatticeStep>& steps);
 
+// The same sweeps, each horizon only classified against thresholds[k] (one list per step, at most 255):
+// out[k · w·h + j·w + i] = the first index e with thresholds[k][e] > tan H (as a double), the list's size if
+// none; for ascending thresholds, how many lie at or below tan H. One byte per vertex and step (a quarter of
+// the tangents' memory), step-major. InputError as bake_horizon_tangents_lattice, or when thresholds has
+// another size than steps or a list is longer than 255.
+std::vector<uint8_t> bake_horizon_classes_lattice(const Texture& height, float depth_texels,
+                                                  const std::vector<LatticeStep>& steps,
+                                                  const std::vector<std::vector<double>>& thresholds);
+
 // The texture as a 2D io::Volume (same channels, values as they are), for the writers of io/texture.h.
 io::Volume texture_volume(const Texture& t);
+// The texture's values in that layout (texel-major, channels side by side), without a copy: for
+// io::write_npy (io/npy.h). Empty for an empty texture.
+std::span<const float> texture_values(const Texture& t);
 
 // Reads directional channels as write_texture_set writes them (directional.npy: float32 NPY of shape
 // (1, h, w, 9), or (1, h, w, 21) with the view correction; or any volume reader's format with depth 1 and 9
