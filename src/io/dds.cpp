@@ -74,7 +74,8 @@ void write_dds(const fs::path& path, const std::vector<Volume>& levels, PixelFor
 }
 
 Volume read_dds(const fs::path& path, int level) {
-  const std::vector<std::byte> bytes = read_file(path);
+  // The header only; the texels of the requested level are read after it, nothing beyond them.
+  const std::vector<std::byte> bytes = read_file_prefix(path, kHeaderBytes);
   ByteReader r{bytes, &path};
   r.require(0, kHeaderBytes);
   if (r.u32(0) != 0x20534444) fail(path, "not a DDS file (bad magic)");
@@ -101,6 +102,8 @@ Volume read_dds(const fs::path& path, int level) {
   }
   const PixelInfo pi = pixel_info(pf);
   check_dimensions(path, width, height, depth, pi.channels);
+  if (depth == 1 && (width > std::uint32_t(kMaxSide2D) || height > std::uint32_t(kMaxSide2D)))
+    fail(path, fmt::format("2D texture {}x{} exceeds the limit of {} per side", width, height, kMaxSide2D));
   if (pi.block_bytes && depth != 1) fail(path, "3D block-compressed DDS files are not supported");
   // Level `level`: the levels before it are packed after the header, level 0 first.
   const std::uint32_t n_levels = (flags & DDSD_MIPMAPCOUNT) && r.u32(28) > 0 ? r.u32(28) : 1;
@@ -114,8 +117,10 @@ Volume read_dds(const fs::path& path, int level) {
     w = std::max(1u, w / 2), h = std::max(1u, h / 2);
   }
   const std::size_t n = pi.image_bytes(w, h, std::size_t(depth));
-  r.require(offset, n);  // further levels after it are not read
-  return decode_texels(std::span(bytes).subspan(offset, n), pf, int(w), int(h), int(depth));
+  const std::vector<std::byte> texels = read_file_range(path, offset, n);  // further levels are not read
+  Volume v = decode_texels(texels, pf, int(w), int(h), int(depth));
+  if (pi.is_float) require_finite_texels(path, v, level);
+  return v;
 }
 
 }  // namespace msh::io::codecs

@@ -196,6 +196,7 @@ void check_exr_header(const fs::path& path) {
 }  // namespace
 
 Volume read_exr(const fs::path& path, bool as_volume) {
+  require_regular_file(path);
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) fail(path, "cannot open file");
   check_exr_header(path);

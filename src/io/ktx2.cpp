@@ -143,7 +143,10 @@ void write_ktx2(const fs::path& path, const std::vector<Volume>& levels, PixelFo
 }
 
 Volume read_ktx2(const fs::path& path, int level) {
-  const std::vector<std::byte> bytes = read_file(path);
+  // Identifier, header, index and the level entries up to `level` (the level index is at most 2^16 levels
+  // long here: check_dimensions caps the sides); the texels are read after it, nothing beyond them.
+  const std::size_t head = 80 + 24 * (std::size_t(std::max(level, 0)) + 1);
+  const std::vector<std::byte> bytes = read_file_prefix(path, head);
   ByteReader r{bytes, &path};
   r.require(0, 12 + 36 + 32 + 24);
   if (std::memcmp(bytes.data(), kIdentifier, 12) != 0) fail(path, "not a KTX2 file (bad identifier)");
@@ -158,6 +161,8 @@ Volume read_ktx2(const fs::path& path, int level) {
   const PixelInfo pi = pixel_info(pf);
   const long long d = depth == 0 ? 1 : depth;
   check_dimensions(path, width, height, d, pi.channels);
+  if (d == 1 && (width > std::uint32_t(kMaxSide2D) || height > std::uint32_t(kMaxSide2D)))
+    fail(path, fmt::format("2D texture {}x{} exceeds the limit of {} per side", width, height, kMaxSide2D));
   if (pi.block_bytes && d != 1) fail(path, "3D block-compressed KTX2 files are not supported");
   // levelCount 0 means "generate mips at load": level 0 only is stored.
   if (std::uint32_t(level) >= std::max(levels, 1u))
@@ -169,10 +174,14 @@ Volume read_ktx2(const fs::path& path, int level) {
   const std::uint32_t w = std::max(1u, width >> level), h = std::max(1u, height >> level);
   const std::size_t n = pi.image_bytes(w, h, std::size_t(d));
   if (length != n) fail(path, fmt::format("level {} holds {} bytes, expected {}", level, length, n));
-  if (offset > bytes.size())
+  std::error_code ec;
+  const std::uintmax_t file_size = fs::file_size(path, ec);
+  if (ec || offset > file_size)
     fail(path, fmt::format("truncated or corrupt file (level {} offset past the end)", level));
-  r.require(std::size_t(offset), n);
-  return decode_texels(std::span(bytes).subspan(std::size_t(offset), n), pf, int(w), int(h), int(d));
+  const std::vector<std::byte> texels = read_file_range(path, std::size_t(offset), n);
+  Volume v = decode_texels(texels, pf, int(w), int(h), int(d));
+  if (pi.is_float) require_finite_texels(path, v, level);
+  return v;
 }
 
 }  // namespace msh::io::codecs

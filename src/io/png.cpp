@@ -139,6 +139,7 @@ void write_png_volume(const fs::path& path, const Volume& v, int bits) {
 }
 
 Volume read_png(const fs::path& path, bool as_volume) {
+  require_regular_file(path);
   PngCtx ctx;
   ctx.file = std::fopen(path.c_str(), "rb");
   if (!ctx.file) fail(path, "cannot open file");

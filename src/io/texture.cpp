@@ -301,6 +301,7 @@ Volume decode_texels(std::span<const std::byte> bytes, PixelFormat pf, int w, in
 }
 
 std::vector<std::byte> read_file(const fs::path& path) {
+  require_regular_file(path);
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) fail(path, "cannot open file");
   const std::streamoff size = in.tellg();
@@ -309,6 +310,44 @@ std::vector<std::byte> read_file(const fs::path& path) {
   in.seekg(0);
   if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) fail(path, "cannot read file");
   return bytes;
+}
+
+std::vector<std::byte> read_file_prefix(const fs::path& path, std::size_t max_bytes) {
+  require_regular_file(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open file");
+  std::vector<std::byte> bytes(max_bytes);
+  in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(max_bytes));
+  bytes.resize(std::size_t(in.gcount()));
+  return bytes;
+}
+
+std::vector<std::byte> read_file_range(const fs::path& path, std::size_t offset, std::size_t size) {
+  require_regular_file(path);
+  std::error_code ec;
+  const std::uintmax_t file_size = fs::file_size(path, ec);
+  if (ec) fail(path, "cannot read file");
+  if (offset > file_size || size > file_size - offset)
+    fail(path, fmt::format("truncated or corrupt file (needs {} bytes at offset {}, file has {})", size,
+                           offset, file_size));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open file");
+  std::vector<std::byte> bytes(size);
+  in.seekg(std::streamoff(offset));
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
+    fail(path, "cannot read file");
+  return bytes;
+}
+
+void require_finite_texels(const fs::path& path, const Volume& v, int level) {
+  for (std::size_t i = 0; i < v.data.size(); ++i) {
+    if (std::isfinite(v.data[i])) continue;
+    const std::size_t c = i % v.channels, t = i / v.channels;
+    const std::size_t x = t % v.width, y = (t / v.width) % v.height,
+                      z = t / (std::size_t(v.width) * v.height);
+    fail(path, fmt::format("mip level {}: non-finite value {} at x={} y={} z={} c={}", level, v.data[i], x, y,
+                           z, c));
+  }
 }
 
 void ByteReader::require(std::size_t offset, std::size_t size) const {

@@ -19,6 +19,7 @@ static_assert(std::endian::native == std::endian::little, "the file writers assu
 // Hard limits that keep a corrupt header from requesting absurd allocations.
 inline constexpr int kMaxDimension = 1 << 16;
 inline constexpr std::size_t kMaxElements = std::size_t(1) << 28;  // floats in one Volume (1 GiB)
+inline constexpr int kMaxSide2D = 16384;  // each side of a 2D DDS / KTX2 texture (docs/formats.md)
 
 struct PixelInfo {
   int channels;
@@ -88,8 +89,16 @@ Volume decode_texels(std::span<const std::byte> bytes, PixelFormat pf, int w, in
 std::uint8_t to_unorm8(float x);
 std::uint16_t to_unorm16(float x);
 
-// The whole file; InputError naming it when it cannot be opened or read.
+// The whole file; InputError naming it when it cannot be opened or read (or is not a regular file).
 std::vector<std::byte> read_file(const std::filesystem::path& path);
+// At most `max_bytes` from the start of the file (fewer when the file is shorter): a header.
+std::vector<std::byte> read_file_prefix(const std::filesystem::path& path, std::size_t max_bytes);
+// Exactly `size` bytes at `offset`; InputError "truncated" naming the file when it is shorter. Nothing else
+// of the file is read.
+std::vector<std::byte> read_file_range(const std::filesystem::path& path, std::size_t offset,
+                                       std::size_t size);
+// InputError naming the file and the mip level at the first non-finite value of a decoded float texture.
+void require_finite_texels(const std::filesystem::path& path, const Volume& v, int level);
 
 // Little-endian field access with bounds checks (InputError "truncated" naming `path`).
 struct ByteReader {
@@ -110,14 +119,17 @@ struct ByteReader {
   }
 };
 
-// Appends little-endian values to a byte buffer.
+// Appends little-endian values to a byte buffer (resize + memcpy: GCC 12's -Wstringop-overflow misreads an
+// inlined insert of a 4-byte range into a fresh vector).
 inline void put_u32(std::vector<std::byte>& out, std::uint32_t v) {
-  const auto* p = reinterpret_cast<const std::byte*>(&v);
-  out.insert(out.end(), p, p + 4);
+  const std::size_t n = out.size();
+  out.resize(n + 4);
+  std::memcpy(out.data() + n, &v, 4);
 }
 inline void put_u64(std::vector<std::byte>& out, std::uint64_t v) {
-  const auto* p = reinterpret_cast<const std::byte*>(&v);
-  out.insert(out.end(), p, p + 8);
+  const std::size_t n = out.size();
+  out.resize(n + 8);
+  std::memcpy(out.data() + n, &v, 8);
 }
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& what);

@@ -97,6 +97,7 @@ MicroShadowingLut load_micro_shadowing_lut(const std::filesystem::path& path,
   const auto side = sidecar_path(path);
   const io::Volume& vol = lut.volume;
   if (std::filesystem::exists(side)) {
+    require_regular_file(side, "LUT sidecar ");
     std::ifstream in(side);
     nlohmann::json j;
     try {

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "py_common.h"
@@ -24,6 +26,46 @@ char dtype_vote(pyb::handle obj, const pyb::array& arr, const char* name) {
   }
   if (kind == 'f') return arr.dtype().itemsize() <= 4 ? 'f' : 'd';
   return 'd';
+}
+
+// The first element (lowest index) of argument a whose values are outside its domain, or SIZE_MAX.
+template <class T>
+std::size_t first_outside(const Broadcast& b, std::size_t a, Domain d) {
+  const T* p = b.data<T>(a);
+  const std::size_t k = std::size_t(std::max(1, b.core[a]));
+  const std::size_t count = b.step[a] == 0 ? std::min<std::size_t>(b.n, 1) : b.n;
+  for (std::size_t e = 0; e < count; ++e) {
+    const T* q = p + e * k;
+    bool ok = true, nonzero = false;
+    for (std::size_t c = 0; c < k; ++c) {
+      const double v = double(q[c]);
+      ok &= d == Domain::Uniform ? (v >= 0 && v < 1) : std::isfinite(v);
+      nonzero |= v != 0;
+    }
+    if (!ok || (d == Domain::Direction && !nonzero)) return e;
+  }
+  return std::numeric_limits<std::size_t>::max();
+}
+
+template <class T>
+void check_domains(const Broadcast& b, const std::vector<ArgSpec>& args) {
+  std::size_t bad = std::numeric_limits<std::size_t>::max(), which = 0;
+  for (std::size_t a = 0; a < args.size(); ++a) {
+    if (args[a].domain == Domain::Checked) continue;
+    const std::size_t e = first_outside<T>(b, a, args[a].domain);
+    if (e < bad) bad = e, which = a;
+  }
+  if (bad == std::numeric_limits<std::size_t>::max()) return;
+  const ArgSpec& s = args[which];
+  const std::size_t k = std::size_t(std::max(1, s.core));
+  const T* q = b.data<T>(which) + (b.step[which] == 0 ? 0 : bad * k);
+  std::string value;
+  for (std::size_t c = 0; c < k; ++c) value += fmt::format("{}{}", c ? ", " : "", double(q[c]));
+  if (k > 1) value = "(" + value + ")";
+  const char* what = s.domain == Domain::Uniform     ? "in [0, 1)"
+                     : s.domain == Domain::Direction ? "a finite, non-zero vector"
+                                                     : "finite";
+  throw InputError(fmt::format("{} must be {}, got {} (element {})", s.name, what, value, bad));
 }
 
 }  // namespace
@@ -105,6 +147,10 @@ Broadcast broadcast(const std::vector<ArgSpec>& args, bool force_f64) {
       throw pyb::value_error(fmt::format("{}: cannot convert to a float array", args[i].name));
     b.core.push_back(core);
   }
+  if (b.f32)
+    check_domains<float>(b, args);
+  else
+    check_domains<double>(b, args);
   return b;
 }
 

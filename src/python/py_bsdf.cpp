@@ -77,7 +77,7 @@ void register_bsdf(pyb::module_& m) {
       "eval_brdf",
       [](const std::string& model, pyb::handle wo, pyb::handle wi, const pyb::kwargs& kw) {
         const auto brdf = make_model(model, kw);
-        const Broadcast b = broadcast({{wo, "wo", 3}, {wi, "wi", 3}});
+        const Broadcast b = broadcast({{wo, "wo", 3, Domain::Direction}, {wi, "wi", 3, Domain::Direction}});
         return map_vec3(b, [&](const auto& r, std::size_t i) {
           const Rgbd f = brdf->f(r.vec(0, i), r.vec(1, i));
           return Vec3d(f.r, f.g, f.b);
@@ -93,7 +93,7 @@ void register_bsdf(pyb::module_& m) {
       "brdf_pdf",
       [](const std::string& model, pyb::handle wo, pyb::handle wi, const pyb::kwargs& kw) {
         const auto brdf = make_model(model, kw);
-        const Broadcast b = broadcast({{wo, "wo", 3}, {wi, "wi", 3}});
+        const Broadcast b = broadcast({{wo, "wo", 3, Domain::Direction}, {wi, "wi", 3, Domain::Direction}});
         return map_scalar(b,
                           [&](const auto& r, std::size_t i) { return brdf->pdf(r.vec(0, i), r.vec(1, i)); });
       },
@@ -103,7 +103,7 @@ void register_bsdf(pyb::module_& m) {
       "sample_brdf",
       [](const std::string& model, pyb::handle wo, pyb::handle u, const pyb::kwargs& kw) {
         const auto brdf = make_model(model, kw);
-        const Broadcast b = broadcast({{wo, "wo", 3}, {u, "u", 2}}, /*force_f64=*/true);
+        const Broadcast b = broadcast({{wo, "wo", 3, Domain::Direction}, {u, "u", 2, Domain::Uniform}}, /*force_f64=*/true);
         pyb::array_t<double> wi = make_output<double>(b, 3), f = make_output<double>(b, 3),
                              pdf = make_output<double>(b);
         double *pw = wi.mutable_data(), *pf = f.mutable_data(), *pp = pdf.mutable_data();

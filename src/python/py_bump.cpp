@@ -16,11 +16,10 @@ namespace {
 using namespace pybind11::literals;
 
 // The CLI's normalization of a direction (scaled by its largest |component| first, so tiny or huge vectors
-// normalize exactly as `eval bump-terminator` does); a zero or non-finite vector is passed through (the terms
-// return 1 for it, see bump_terminator.h).
+// normalize exactly as `eval bump-terminator` does); zero and non-finite vectors were refused by broadcast()
+// (Domain::Direction), as the CLI refuses them.
 Vec3d cli_direction(const Vec3d& v) {
   const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-  if (!(m > 0) || !(m <= std::numeric_limits<double>::max())) return v;
   return normalize(v / m);
 }
 
@@ -34,7 +33,9 @@ void register_bump(pyb::module_& m) {
         if (!bump::parse_method(method, meth)) throw InputError(fmt::format("unknown --method '{}'", method));
         const auto test = hemisphere_test ? bump::HemisphereTest::kOn : bump::HemisphereTest::kOff;
         const Broadcast b =
-            broadcast({{ng, "geometric_normal", 3}, {ns, "shading_normal", 3}, {l, "light", 3}});
+            broadcast({{ng, "geometric_normal", 3, Domain::Direction},
+                                             {ns, "shading_normal", 3, Domain::Direction},
+                                             {l, "light", 3, Domain::Direction}});
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           return bump::term(meth, cli_direction(r.vec(0, i)), cli_direction(r.vec(1, i)),
                             cli_direction(r.vec(2, i)), test);
@@ -47,12 +48,12 @@ void register_bump(pyb::module_& m) {
       "'chiang-2019' (Chiang, Li, Burley 2019, 'Taming the Shadow Terminator': the cubic of g = "
       "(N_g.L)/((N_s.L)(N_g.N_s))) or 'none' (1). geometric_normal, shading_normal, light: arrays of shape "
       "(..., 3) (any length; normalized as the CLI does), broadcast like numpy ufuncs; float32 in -> "
-      "float32 out. hemisphere_test: 0 unless the light is above both hemispheres. A zero vector gives 1 "
-      "(0 with the hemisphere test). Result in [0, 1].");
+      "float32 out. hemisphere_test: 0 unless the light is above both hemispheres. A zero or non-finite "
+      "vector raises ValueError (as the CLI refuses it). Result in [0, 1].");
   m.def(
       "bump_alpha2",
       [](pyb::handle ng, pyb::handle ns) {
-        const Broadcast b = broadcast({{ng, "geometric_normal", 3}, {ns, "shading_normal", 3}});
+        const Broadcast b = broadcast({{ng, "geometric_normal", 3, Domain::Direction}, {ns, "shading_normal", 3, Domain::Direction}});
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           return bump::alpha2_from_normals(cli_direction(r.vec(0, i)), cli_direction(r.vec(1, i)));
         });

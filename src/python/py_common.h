@@ -29,12 +29,21 @@ namespace msh::py {
 
 namespace pyb = pybind11;
 
+// The domain of an argument's values, checked for every element by broadcast() (docs/python.md, "Errors"):
+//   Finite     every number finite (the default: an argument a function does not declare is still checked);
+//   Direction  a 3-vector of finite numbers, not all zero (the CLI's "non-zero vector");
+//   Uniform    every number in [0, 1) (sample_vndf / sample_brdf's u);
+//   Checked    the kernel range-checks every element itself with the CLI's message (NaN fails), e.g.
+//              require_range on alpha or the micro-shadowing registry's inputs.
+enum class Domain { Finite, Direction, Uniform, Checked };
+
 // An argument: a Python object plus its core dimension (0: one number per element, 3: a 3-vector per
-// element, the last axis).
+// element, the last axis) and the domain of its values.
 struct ArgSpec {
   pyb::handle obj;
   const char* name;
   int core = 0;
+  Domain domain = Domain::Finite;
 };
 
 // Arguments broadcast against each other (core dimensions excluded), converted to one dtype, C-contiguous.
@@ -54,7 +63,9 @@ struct Broadcast {
 };
 
 // Builds the Broadcast for `args`; raises ValueError (pybind11::value_error) on a shape mismatch, a missing
-// core dimension or an unsupported dtype. An optional `force_f64` forces float64 output.
+// core dimension or an unsupported dtype, and InputError (ValueError) on a value outside its argument's
+// Domain: the message names the argument, the value and the element of the LOWEST index (ties: the first
+// argument), so it does not depend on the thread count. An optional `force_f64` forces float64 output.
 Broadcast broadcast(const std::vector<ArgSpec>& args, bool force_f64 = false);
 
 // A new C-contiguous output array of the broadcast shape plus `core` trailing elements (0: none).

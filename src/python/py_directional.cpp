@@ -52,7 +52,7 @@ void register_directional(pyb::module_& m) {
   m.def(
       "directional_transport",
       [](pyb::handle channels, pyb::handle l) {
-        const Broadcast b = broadcast({{channels, "channels", kCh}, {l, "light", 3}});
+        const Broadcast b = broadcast({{channels, "channels", kCh}, {l, "light", 3, Domain::Direction}});
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           double c[kCh];
           read_channels(r, 0, i, c);
@@ -70,7 +70,7 @@ void register_directional(pyb::module_& m) {
   m.def(
       "directional_term",
       [](pyb::handle channels, pyb::handle l, pyb::handle n) {
-        const Broadcast b = broadcast({{channels, "channels", kCh}, {l, "light", 3}, {n, "normal", 3}});
+        const Broadcast b = broadcast({{channels, "channels", kCh}, {l, "light", 3, Domain::Direction}, {n, "normal", 3, Domain::Direction}});
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           double c[kCh];
           read_channels(r, 0, i, c);
@@ -87,7 +87,7 @@ void register_directional(pyb::module_& m) {
   m.def(
       "directional_view_transport",
       [](pyb::handle channels, pyb::handle l, pyb::handle v) {
-        const Broadcast b = broadcast({{channels, "channels", kViewCh}, {l, "light", 3}, {v, "view", 3}});
+        const Broadcast b = broadcast({{channels, "channels", kViewCh}, {l, "light", 3, Domain::Direction}, {v, "view", 3, Domain::Direction}});
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           double c[kViewCh];
           read_channels(r, 0, i, c, kViewCh);
@@ -106,7 +106,7 @@ void register_directional(pyb::module_& m) {
       "directional_view_term",
       [](pyb::handle channels, pyb::handle l, pyb::handle v, pyb::handle n) {
         const Broadcast b =
-            broadcast({{channels, "channels", kViewCh}, {l, "light", 3}, {v, "view", 3}, {n, "normal", 3}});
+            broadcast({{channels, "channels", kViewCh}, {l, "light", 3, Domain::Direction}, {v, "view", 3, Domain::Direction}, {n, "normal", 3, Domain::Direction}});
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           double c[kViewCh];
           read_channels(r, 0, i, c, kViewCh);

@@ -91,6 +91,7 @@ pyb::tuple load(pyb::object path_obj, std::optional<std::vector<double>> roughne
   const auto side = lut::sidecar_path(path);
   std::error_code ec;
   if (std::filesystem::exists(side, ec) && !roughness && !harmonics) {
+    require_regular_file(side, "LUT sidecar ");
     std::ifstream in(side);
     std::stringstream ss;
     ss << in.rdbuf();

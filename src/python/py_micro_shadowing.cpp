@@ -138,12 +138,16 @@ pyb::object eval(const std::string& method_arg, pyb::handle visibility, pyb::han
   const auto ev = evaluator(method, o, g2);
 
   const bool has_phi = !phi.is_none(), has_ry = !roughness_y.is_none();
-  std::vector<ArgSpec> args = {
-      {visibility, "visibility"}, {ndotl, "ndotl"}, {ndotv, "ndotv"}, {roughness, "roughness"}};
+  // The registry range-checks every input with the CLI's message (NaN fails): Domain::Checked.
+  constexpr Domain kC = Domain::Checked;
+  std::vector<ArgSpec> args = {{visibility, "visibility", 0, kC},
+                               {ndotl, "ndotl", 0, kC},
+                               {ndotv, "ndotv", 0, kC},
+                               {roughness, "roughness", 0, kC}};
   const std::size_t iphi = args.size();
-  if (has_phi) args.push_back({phi, "phi"});
+  if (has_phi) args.push_back({phi, "phi", 0, kC});
   const std::size_t iry = args.size();
-  if (has_ry) args.push_back({roughness_y, "roughness_y"});
+  if (has_ry) args.push_back({roughness_y, "roughness_y", 0, kC});
   const Broadcast b = broadcast(args);
 
   // float32(π) rounds above π: a float32 phi equal to it means π (else np.float32(np.pi) would be rejected).

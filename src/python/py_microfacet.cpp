@@ -39,6 +39,7 @@ struct NdfArgs {
 
 NdfArgs prepare_ndf(const std::string& name, pyb::handle alpha, pyb::handle alpha_y, double gamma) {
   NdfArgs a{parse_ndf(name), !alpha_y.is_none(), nullptr};
+  require_range(gamma, 0.05, 20.0, "--gamma");  // every NDF: a NaN gamma is refused even where unused
   if ((a.ndf == Ndf::BlinnPhong || a.ndf == Ndf::Gtr) && a.has_alpha_y)
     throw InputError(a.ndf == Ndf::Gtr ? "--alpha-y: GTR is isotropic"
                                        : "--alpha-y: Blinn-Phong is isotropic");
@@ -47,7 +48,6 @@ NdfArgs prepare_ndf(const std::string& name, pyb::handle alpha, pyb::handle alph
       throw pyb::value_error("gtr: alpha must be one number per call (its Λ table is built once)");
     const double al = alpha.cast<double>();
     require_range(al, 0.0, 4.0, "--alpha");
-    require_range(gamma, 0.05, 20.0, "--gamma");
     a.gtr = std::make_shared<const GTR<double>>(al, gamma);
   }
   return a;
@@ -87,8 +87,8 @@ template <class F>
 pyb::object one_dir(const std::string& ndf, pyb::handle w, const char* wname, pyb::handle alpha,
                     pyb::handle alpha_y, double gamma, F&& f) {
   const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
-  std::vector<ArgSpec> args = {{w, wname, 3}, {alpha, "alpha"}};
-  if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y"});
+  std::vector<ArgSpec> args = {{w, wname, 3, Domain::Direction}, {alpha, "alpha", 0, Domain::Checked}};
+  if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
   const Broadcast b = broadcast(args);
   return map_scalar(b, [&](const auto& r, std::size_t i) {
     const auto [ax, ay] = alphas(a, r, i, 1, 2);
@@ -102,8 +102,9 @@ template <class F>
 pyb::object two_dir(const std::string& ndf, pyb::handle w, pyb::handle wm, pyb::handle alpha,
                     pyb::handle alpha_y, double gamma, F&& f) {
   const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
-  std::vector<ArgSpec> args = {{w, "w", 3}, {wm, "m", 3}, {alpha, "alpha"}};
-  if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y"});
+  std::vector<ArgSpec> args = {
+      {w, "w", 3, Domain::Direction}, {wm, "m", 3, Domain::Direction}, {alpha, "alpha", 0, Domain::Checked}};
+  if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
   const Broadcast b = broadcast(args);
   return map_scalar(b, [&](const auto& r, std::size_t i) {
     const auto [ax, ay] = alphas(a, r, i, 2, 3);
@@ -182,10 +183,12 @@ void register_microfacet(pyb::module_& m) {
         if (wm.is_none() && kind != G2Kind::HeightCorrelated)
           throw pyb::value_error(fmt::format("form '{}' needs the microfacet normal m", form));
         const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
-        std::vector<ArgSpec> args = {{wo, "wo", 3}, {wi, "wi", 3}, {alpha, "alpha"}};
-        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y"});
+        std::vector<ArgSpec> args = {{wo, "wo", 3, Domain::Direction},
+                                     {wi, "wi", 3, Domain::Direction},
+                                     {alpha, "alpha", 0, Domain::Checked}};
+        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
         const std::size_t im = args.size();
-        if (!wm.is_none()) args.push_back({wm, "m", 3});
+        if (!wm.is_none()) args.push_back({wm, "m", 3, Domain::Direction});
         const Broadcast b = broadcast(args);
         return map_scalar(b, [&](const auto& r, std::size_t i) {
           const auto [ax, ay] = alphas(a, r, i, 2, 3);
@@ -239,8 +242,9 @@ void register_microfacet(pyb::module_& m) {
           throw InputError(fmt::format("sampler must be spherical-caps or heitz-2018; got '{}'", sampler));
         if (heitz && a.ndf != Ndf::Ggx) throw InputError("sampler heitz-2018 is GGX only");
         // u: (..., 2) uniform numbers in [0, 1)
-        std::vector<ArgSpec> args = {{w, "w", 3}, {u, "u", 2}, {alpha, "alpha"}};
-        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y"});
+        std::vector<ArgSpec> args = {
+            {w, "w", 3, Domain::Direction}, {u, "u", 2, Domain::Uniform}, {alpha, "alpha", 0, Domain::Checked}};
+        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
         const Broadcast b = broadcast(args);
         return map_vec3(b, [&](const auto& r, std::size_t i) -> Vec3d {
           const auto [ax, ay] = alphas(a, r, i, 2, 3);

@@ -6,6 +6,7 @@
 #include <microshadow/render/renderer.h>
 #include <microshadow/render/scene.h>
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -40,6 +41,16 @@ render::Image to_image(pyb::handle obj, const char* name) {
   const std::size_t c = std::size_t(a.shape(2));
   for (std::size_t i = 0; i < img.px.size(); ++i) img.px[i] = Rgbf(p[c * i], p[c * i + 1], p[c * i + 2]);
   return img;
+}
+
+// Every pixel finite (a NaN or Inf would make RMSE NaN and SSIM meaningless): InputError naming the pixel.
+void require_finite(const render::Image& img, const std::string& what) {
+  for (std::size_t i = 0; i < img.px.size(); ++i) {
+    const Rgbf& q = img.px[i];
+    if (!(std::isfinite(q.r) && std::isfinite(q.g) && std::isfinite(q.b)))
+      throw InputError(fmt::format("{}: pixel ({}, {}) is not finite ({}, {}, {})", what,
+                                   i % std::size_t(img.width), i / std::size_t(img.width), q.r, q.g, q.b));
+  }
 }
 
 std::string label(pyb::handle obj, const char* fallback) {
@@ -100,6 +111,8 @@ pyb::dict compare(pyb::handle a_obj, pyb::handle b_obj, double exposure, int dow
   if (down < 1 || down > 64)
     throw InputError(fmt::format("--downsample: Value {} not in range 1 to 64", down));
   const render::Image A = to_image(a_obj, "a"), B = to_image(b_obj, "b");
+  require_finite(A, label(a_obj, "a"));
+  require_finite(B, label(b_obj, "b"));
   if (A.width != B.width || A.height != B.height)
     throw InputError(fmt::format("{} is {}x{} but {} is {}x{}", label(a_obj, "a"), A.width, A.height,
                                  label(b_obj, "b"), B.width, B.height));

@@ -157,6 +157,7 @@ Mesh make_cylinder(float radius, float height, int segments) {
 }
 
 Mesh load_obj(const std::filesystem::path& path) {
+  require_regular_file(path, "OBJ file ");
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot open OBJ file", path.string()));
   std::vector<Vec3f> P, N;

@@ -143,6 +143,7 @@ Material parse_material(const Ctx& c, const std::string& name, const json& j) {
   // taken from there when the scene omits it, and a scene value that disagrees is an error.
   if (j.contains("height") && j["height"].is_string()) {
     const auto mj = c.path(j["height"], w + ".height").parent_path() / "material.json";
+    require_regular_file(mj, "material.json ");
     std::ifstream in(mj);
     if (in) {
       json set;
@@ -485,6 +486,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& source,
 }
 
 Scene load_scene(const std::filesystem::path& path, const std::filesystem::path& asset_dir) {
+  require_regular_file(path, "scene file ");
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot open scene file", path.string()));
   std::stringstream ss;

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -411,12 +412,22 @@ Texture load_height_map(const std::filesystem::path& path) {
   if (ext != ".png" && ext != ".exr")
     throw InputError(fmt::format("{}: height map must be a 16-bit PNG or an EXR", name));
   if (ext == ".png") {
-    // IHDR: bit depth at byte 24, colour type at byte 25 (PNG spec §11.2.2). 8-bit heights make terraces.
+    // Signature (8 bytes), then the IHDR chunk: length 13 at byte 8, type "IHDR" at byte 12, bit depth at
+    // byte 24, colour type at byte 25 (PNG spec §5.2, §11.2.2). 8-bit heights make terraces.
+    require_regular_file(path, "height map ");
     std::ifstream f(path, std::ios::binary);
     unsigned char hdr[26] = {};
-    if (!f.read(reinterpret_cast<char*>(hdr), 26))
-      throw InputError(fmt::format("{}: not a PNG file (too short)", name));
+    static constexpr unsigned char kSig[12] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13};
+    if (!f.read(reinterpret_cast<char*>(hdr), 26) || std::memcmp(hdr, kSig, 12) != 0 ||
+        std::memcmp(hdr + 12, "IHDR", 4) != 0)
+      throw InputError(fmt::format("{}: not a PNG file (bad signature or IHDR)", name));
     const int bits = hdr[24], type = hdr[25];
+    // The bit depths and colour types of PNG spec table 11.1; anything else is a corrupt header.
+    const bool valid_bits = bits == 1 || bits == 2 || bits == 4 || bits == 8 || bits == 16;
+    const bool valid_type = type == 0 || type == 2 || type == 3 || type == 4 || type == 6;
+    if (!valid_bits || !valid_type)
+      throw InputError(
+          fmt::format("{}: corrupt PNG header (bit depth {}, colour type {})", name, bits, type));
     if (type == 3) throw InputError(fmt::format("{}: palette PNG; a height map must be grey", name));
     if (bits != 16)
       throw InputError(

@@ -104,6 +104,7 @@ TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& c
     for (const Slot& sl : slots)
       if (go.directional_azimuths > 0 || sl.map != &TextureSet::directional)
         s.*sl.map = from_volume(io::read_volume(dir / (std::string(sl.name) + ".npy")), sl.channels);
+    require_regular_file(dir / "depth.txt");
     std::ifstream in(dir / "depth.txt");
     in >> s.depth_texels;
     if (log) log("study: texture set from the cache " + dir.string());

@@ -359,6 +359,7 @@ UserMaterial user_material_from_folder(const std::filesystem::path& dir) {
   const std::string d = dir.string();
   if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("{}: material folder not found", d));
   const auto mj = dir / "material.json";
+  require_regular_file(mj, "material.json ");
   std::ifstream in(mj);
   if (!in) throw InputError(fmt::format("{}: no material.json (a gen-material folder holds one)", d));
   json j;

@@ -15,6 +15,7 @@ namespace {
 std::string expand(const fs::path& file, int depth) {
   if (depth > 16)
     throw InputError(fmt::format("shader includes nested deeper than 16 at '{}' (a cycle?)", file.string()));
+  require_regular_file(file, "shader file ");
   std::ifstream f(file, std::ios::binary);
   if (!f) throw InputError(fmt::format("cannot read the shader file '{}'", file.string()));
   std::string out, line;

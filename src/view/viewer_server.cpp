@@ -50,6 +50,7 @@ struct Blob {
 };
 
 std::string read_bytes(const fs::path& p) {
+  require_regular_file(p);
   std::ifstream in(p, std::ios::binary);
   if (!in) throw InputError(fmt::format("cannot read '{}'", p.string()));
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

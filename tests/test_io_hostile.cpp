@@ -1,0 +1,202 @@
+// Hostile files for the readers (issue 35, item 5): text named .png, FIFOs, devices and symlinks to them,
+// DDS/KTX2 files longer or shorter than their header says, float textures with NaN texels, and headers
+// claiming absurd dimensions. Always an InputError naming the file, never a hang, a crash or a huge read.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
+#include <microshadow/render/scene.h>
+#include <microshadow/render/texture_gen.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <stop_token>
+#include <thread>
+
+#include "support/io_test_util.h"
+
+namespace msh::io {
+namespace {
+using namespace test;
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+std::vector<char> read_all(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+void write_all(const fs::path& p, const std::vector<char>& b) {
+  fs::remove(p);
+  std::ofstream f(p, std::ios::binary);
+  f.write(b.data(), std::streamsize(b.size()));
+}
+std::uint32_t u32_at(const std::vector<char>& b, std::size_t o) {
+  std::uint32_t v;
+  std::memcpy(&v, b.data() + o, 4);
+  return v;
+}
+void put_u32_at(std::vector<char>& b, std::size_t o, std::uint32_t v) { std::memcpy(b.data() + o, &v, 4); }
+
+// f() must throw an InputError whose message contains `path` and `needle`.
+template <class F>
+void expect_input_error(F&& f, const fs::path& path, const std::string& needle) {
+  try {
+    f();
+    ADD_FAILURE() << path << ": no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path.string()), std::string::npos) << m;
+    EXPECT_NE(m.find(needle), std::string::npos) << m;
+  }
+}
+
+TEST(IoHostile, TextNamedPngIsNotAPng) {
+  const auto dir = scratch_dir();
+  const fs::path p = dir / "text.png";
+  const std::string text = "hello, this is a text file and not an image at all\n";
+  write_all(p, std::vector<char>(text.begin(), text.end()));
+  expect_input_error([&] { render::load_height_map(p); }, p, "not a PNG file");
+  expect_input_error([&] { read_image(p); }, p, "not a PNG file");
+  // A real signature and IHDR with a bit depth / colour type the PNG spec does not have.
+  write_volume(dir / "good.png", make_volume(8, 8, 1, 1, 0.f, 1.f), FileFormat::Png, PixelFormat::RGBA8Unorm);
+  std::vector<char> b = read_all(dir / "good.png");
+  for (auto [bits, type] : {std::pair{104, 0}, std::pair{16, 5}, std::pair{3, 0}}) {
+    b[24] = char(bits), b[25] = char(type);
+    write_all(p, b);
+    expect_input_error([&] { render::load_height_map(p); }, p, "corrupt PNG header");
+    EXPECT_THROW(read_image(p), InputError);
+  }
+}
+
+// Unblocks a reader stuck in open() on the FIFO after 5 s, so that a regression fails instead of hanging.
+struct FifoWatchdog {
+  std::jthread t;
+  explicit FifoWatchdog(const fs::path& p)
+      : t([p](std::stop_token st) {
+          for (int i = 0; i < 100 && !st.stop_requested(); ++i) std::this_thread::sleep_for(50ms);
+          while (!st.stop_requested()) {
+            const int fd = ::open(p.c_str(), O_WRONLY | O_NONBLOCK);
+            if (fd >= 0) ::close(fd);
+            std::this_thread::sleep_for(10ms);
+          }
+        }) {}
+};
+
+TEST(IoHostile, NonRegularFilesAreRefusedBeforeOpening) {
+  const auto dir = scratch_dir();
+  for (const char* name : {"t.png", "t.exr", "t.dds", "t.ktx2", "t.npy", "m.obj", "s.json"}) {
+    SCOPED_TRACE(name);
+    const fs::path fifo = dir / name, link = dir / (std::string("link_") + name);
+    fs::remove(fifo), fs::remove(link);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    fs::create_symlink(fifo, link);
+    const FifoWatchdog watchdog(fifo);
+    for (const fs::path& p : {fifo, link}) {
+      const std::string ext = p.extension().string();
+      if (ext == ".obj") {
+        expect_input_error([&] { render::load_obj(p); }, p, "not a regular file (a FIFO)");
+      } else if (ext == ".json") {
+        expect_input_error([&] { render::load_scene(p); }, p, "not a regular file (a FIFO)");
+      } else {
+        expect_input_error([&] { read_volume(p); }, p, "not a regular file (a FIFO)");
+        if (ext == ".png" || ext == ".exr") {
+          expect_input_error([&] { read_image(p); }, p, "not a regular file (a FIFO)");
+          expect_input_error([&] { render::load_height_map(p); }, p, "not a regular file (a FIFO)");
+        }
+        if (ext == ".dds" || ext == ".ktx2")
+          expect_input_error([&] { read_texture_level(p, 0); }, p, "not a regular file (a FIFO)");
+      }
+    }
+  }
+  // A device read without end, and a directory.
+  expect_input_error([&] { render::load_obj("/dev/zero"); }, "/dev/zero", "not a regular file (a device)");
+  fs::create_directories(dir / "d.npy");
+  expect_input_error([&] { read_volume(dir / "d.npy"); }, dir / "d.npy", "not a regular file (a directory)");
+}
+
+TEST(IoHostile, DdsAndKtx2ReadOnlyTheBytesTheHeaderDescribes) {
+  const auto dir = scratch_dir();
+  const Volume v = make_volume(64, 64, 1, 4, 0.f, 1.f);
+  for (FileFormat f : {FileFormat::Dds, FileFormat::Ktx2}) {
+    const fs::path p = dir / (f == FileFormat::Dds ? "big.dds" : "big.ktx2");
+    write_volume(p, v, f, PixelFormat::RGBA8Unorm);
+    const Volume expected = read_texture_level(p, 0);
+    // A sparse 3 GiB tail (no disk blocks): the reader must take the 64² payload and stop there.
+    fs::resize_file(p, std::uintmax_t(3) << 30);
+    const Volume got = read_texture_level(p, 0);
+    EXPECT_EQ(got.width, 64);
+    EXPECT_EQ(got.height, 64);
+    EXPECT_EQ(got.data, expected.data);
+    fs::remove(p);
+  }
+}
+
+TEST(IoHostile, TruncatedDdsAndKtx2AreRefused) {
+  const auto dir = scratch_dir();
+  const Volume v = make_volume(16, 16, 1, 4, 0.f, 1.f);
+  for (FileFormat f : {FileFormat::Dds, FileFormat::Ktx2}) {
+    const fs::path p = dir / (f == FileFormat::Dds ? "t.dds" : "t.ktx2");
+    write_volume(p, v, f, PixelFormat::RGBA32Float);
+    std::vector<char> b = read_all(p);
+    b.resize(b.size() - 5);
+    write_all(p, b);
+    expect_input_error([&] { read_texture_level(p, 0); }, p, "truncated");
+  }
+}
+
+TEST(IoHostile, NonFiniteTexelsInFloatFormatsAreRefused) {
+  const auto dir = scratch_dir();
+  const Volume v = make_volume(8, 8, 1, 4, 0.f, 1.f);
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()};
+  for (FileFormat f : {FileFormat::Dds, FileFormat::Ktx2}) {
+    for (PixelFormat pf : {PixelFormat::RGBA32Float, PixelFormat::RGBA16Float}) {
+      for (float x : bad) {
+        const fs::path p = dir / (f == FileFormat::Dds ? "n.dds" : "n.ktx2");
+        write_texture_mips(p, {v, make_volume(4, 4, 1, 4, 0.f, 1.f)}, pf);
+        std::vector<char> b = read_all(p);
+        // Level 1's texel (1, 2), channel 2: KTX2 level index entry 1 at byte 80 + 24; DDS after level 0.
+        const std::size_t bpc = pf == PixelFormat::RGBA32Float ? 4 : 2;
+        const std::size_t level1 =
+            f == FileFormat::Ktx2 ? std::size_t(u32_at(b, 80 + 24)) : 148 + 8 * 8 * 4 * bpc;
+        const std::size_t at = level1 + ((2 * 4 + 1) * 4 + 2) * bpc;
+        if (bpc == 4) {
+          std::memcpy(b.data() + at, &x, 4);
+        } else {
+          const std::uint16_t h = std::isnan(x) ? 0x7e00 : 0x7c00;
+          std::memcpy(b.data() + at, &h, 2);
+        }
+        write_all(p, b);
+        EXPECT_NO_THROW(read_texture_level(p, 0));
+        expect_input_error([&] { read_texture_level(p, 1); }, p, "mip level 1: non-finite value");
+      }
+    }
+  }
+}
+
+TEST(IoHostile, AbsurdHeaderDimensionsAreRefusedBeforeAllocating) {
+  const auto dir = scratch_dir();
+  for (FileFormat f : {FileFormat::Dds, FileFormat::Ktx2}) {
+    const fs::path p = dir / (f == FileFormat::Dds ? "huge.dds" : "huge.ktx2");
+    write_volume(p, make_volume(8, 8, 1, 1, 0.f, 1.f), f, PixelFormat::R8Unorm);
+    std::vector<char> b = read_all(p);
+    // width / height fields: DDS dwHeight at 12, dwWidth at 16; KTX2 pixelWidth at 20, pixelHeight at 24.
+    const std::size_t wo = f == FileFormat::Dds ? 16 : 20, ho = f == FileFormat::Dds ? 12 : 24;
+    put_u32_at(b, wo, 16385), put_u32_at(b, ho, 8);
+    write_all(p, b);
+    expect_input_error([&] { read_texture_level(p, 0); }, p, "exceeds the limit of 16384 per side");
+    put_u32_at(b, wo, 16384), put_u32_at(b, ho, 16384);  // 2^28 texels of R8: within the limits, too short
+    write_all(p, b);
+    expect_input_error([&] { read_texture_level(p, 0); }, p,
+                       f == FileFormat::Dds ? "truncated" : "expected 268435456");
+    put_u32_at(b, wo, 0xFFFFFFFFu), put_u32_at(b, ho, 0xFFFFFFFFu);
+    write_all(p, b);
+    expect_input_error([&] { read_texture_level(p, 0); }, p, "invalid dimensions");
+  }
+}
+
+}  // namespace
+}  // namespace msh::io
