@@ -141,62 +141,86 @@ struct Stat {
   int n = 0;
 };
 
+const fs::path kCopy = fs::path(MSH_BINARY_DIR) / "three_directional_example";
+const fs::path kShots = fs::path(MSH_BINARY_DIR) / "three_directional_screenshots";
+const fs::path kMat = kCopy / "data" / "dirmat";
+
+// The fixtures and one run of the driver (the probe scene, the compact fixture, the bad inputs and the glTF
+// asset through the plugin), shared by the tests below; "" when it ran, else why not.
+struct DriverRun {
+  std::string failure;
+  json res;
+};
+const DriverRun& driver_run() {
+  static const DriverRun run = [] {
+    DriverRun out;
+    const auto fail = [&](const std::string& why) {
+      out.failure = why;
+      return out;
+    };
+    const fs::path dir = scratch_dir("three_directional");
+    fs::remove_all(kShots);
+    fs::remove_all(kCopy);
+    {
+      const auto r = run_cli("view --three --export " + kCopy.string() + " --cache " + kCache.string(), dir);
+      if (r.code != 0) return fail("view --three --export: " + r.err);
+    }
+    // The texture set as a user makes it (KTX2 mips and mips.json; the glTF asset), small: 128² has 8 levels.
+    {
+      const auto r = run_cli(
+          "gen-material --kind plaster --size 128 --directional-view --gltf --out " + kMat.string(), dir);
+      if (r.code != 0) return fail("gen-material: " + r.err);
+    }
+    const json compact = write_compact_fixture(kMat, kCopy / "data" / "dircompact");
+    // Bad input for the loader.
+    const auto bad = [&](const std::string& name, const std::string& text) {
+      fs::create_directories(kCopy / "data" / name / "mips");
+      std::ofstream(kCopy / "data" / name / "mips" / "mips.json") << text;
+      return name + "=data/" + name + "/mips/mips.json";
+    };
+    json missing = {{"directional_compact", compact}};
+    missing["directional_compact"]["textures"][1] = "no_such_file.ktx2";
+    json wrong_k = {{"directional_compact", compact}};
+    wrong_k["directional_compact"]["coefficients"] = 9;
+    json no_dir = {{"levels", 1}, {"maps", json::object()}};
+    const std::string bads = bad("bad_json", "{\"directional\": [1, 2,") + "," +
+                             bad("bad_missing", missing.dump()) + "," + bad("bad_k", wrong_k.dump()) + "," +
+                             bad("bad_none", no_dir.dump());
+    // The missing texture's neighbour must exist for that case to be about the missing file.
+    fs::copy_file(kCopy / "data" / "dircompact" / "mips" / "directional_compact_0.ktx2",
+                  kCopy / "data" / "bad_missing" / "mips" / "directional_compact_0.ktx2");
+
+    msh::test::ViewServer server = msh::test::start_view({"--root", kCopy.string(), "--port", "0"}, dir);
+    const std::string url = server.url;
+    std::string node_out;
+    int rc = -1;
+    if (!url.empty()) {
+      const std::string cmd = "cd " + kBrowserDir.string() + " && node three_directional_test.mjs --url " +
+                              url + " --out " + kShots.string() +
+                              " --material data/dirmat --compact data/dircompact --bad " + bads +
+                              " --gltf data/dirmat/gltf/material.gltf --chromium " +
+                              msh::test::chromium_path() + " > " + (dir / "node.out").string() + " 2>&1";
+      rc = std::system(cmd.c_str());
+      node_out = slurp(dir / "node.out");
+    }
+    const int code = msh::test::stop_view(server);
+    if (url.empty()) return fail("the server printed no URL: " + slurp(server.err));
+    if (code != 0) return fail("the server: " + slurp(server.err));
+    if (rc != 0) return fail("the driver: " + node_out);
+    out.res = json::parse(slurp(kShots / "results.json"));
+    return out;
+  }();
+  return run;
+}
+
 TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   MSH_REQUIRE_BROWSER(missing_browser());
-  const fs::path dir = scratch_dir("three_directional");
-  const fs::path copy = fs::path(MSH_BINARY_DIR) / "three_directional_example";
-  const fs::path shots = fs::path(MSH_BINARY_DIR) / "three_directional_screenshots";
-  fs::remove_all(shots);
-  fs::remove_all(copy);
-  {
-    const auto r = run_cli("view --three --export " + copy.string() + " --cache " + kCache.string(), dir);
-    ASSERT_EQ(r.code, 0) << r.err;
-  }
-  // The texture set as a user makes it (KTX2 mips and mips.json), small: 128² has 8 levels.
-  const fs::path mat = copy / "data" / "dirmat";
-  {
-    const auto r =
-        run_cli("gen-material --kind plaster --size 128 --directional-view --out " + mat.string(), dir);
-    ASSERT_EQ(r.code, 0) << r.err;
-  }
+  const DriverRun& run = driver_run();
+  ASSERT_TRUE(run.failure.empty()) << run.failure;
+  const json& res = run.res;
+  const fs::path copy = kCopy, mat = kMat, shots = kShots;
   const json mips = json::parse(slurp(mat / "mips" / "mips.json"));
   ASSERT_EQ(mips["directional"]["channels"], directional::kViewChannels);
-  const json compact = write_compact_fixture(mat, copy / "data" / "dircompact");
-  // Bad input for the loader.
-  const auto bad = [&](const std::string& name, const std::string& text) {
-    fs::create_directories(copy / "data" / name / "mips");
-    std::ofstream(copy / "data" / name / "mips" / "mips.json") << text;
-    return name + "=data/" + name + "/mips/mips.json";
-  };
-  json missing = {{"directional_compact", compact}};
-  missing["directional_compact"]["textures"][1] = "no_such_file.ktx2";
-  json wrong_k = {{"directional_compact", compact}};
-  wrong_k["directional_compact"]["coefficients"] = 9;
-  json no_dir = {{"levels", 1}, {"maps", json::object()}};
-  const std::string bads = bad("bad_json", "{\"directional\": [1, 2,") + "," +
-                           bad("bad_missing", missing.dump()) + "," + bad("bad_k", wrong_k.dump()) + "," +
-                           bad("bad_none", no_dir.dump());
-  // The missing texture's neighbour must exist for that case to be about the missing file.
-  fs::copy_file(copy / "data" / "dircompact" / "mips" / "directional_compact_0.ktx2",
-                copy / "data" / "bad_missing" / "mips" / "directional_compact_0.ktx2");
-
-  msh::test::ViewServer server = msh::test::start_view({"--root", copy.string(), "--port", "0"}, dir);
-  const std::string url = server.url;
-  std::string node_out;
-  int rc = -1;
-  if (!url.empty()) {
-    const std::string cmd =
-        "cd " + kBrowserDir.string() + " && node three_directional_test.mjs --url " + url + " --out " +
-        shots.string() + " --material data/dirmat --compact data/dircompact --bad " + bads + " --chromium " +
-        msh::test::chromium_path() + " > " + (dir / "node.out").string() + " 2>&1";
-    rc = std::system(cmd.c_str());
-    node_out = slurp(dir / "node.out");
-  }
-  const int code = msh::test::stop_view(server);
-  ASSERT_FALSE(url.empty()) << "the server printed no URL: " << slurp(server.err);
-  EXPECT_EQ(code, 0) << slurp(server.err);
-  ASSERT_EQ(rc, 0) << node_out;
-  const json res = json::parse(slurp(shots / "results.json"));
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
   // The only failed request: the bad-input case's missing texture.
   ASSERT_EQ(res["http_errors"].size(), 1u) << res["http_errors"].dump(1);
@@ -436,6 +460,135 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
     std::printf("\n");
   }
   std::ofstream(shots / "comparison.json") << table.dump(1) << "\n";
+}
+
+// The glTF asset of gen-material --gltf through three's GLTFLoader and the module's MicroShadowGLTFPlugin
+// (docs/gltf.md): the plugin puts directional-view + generic ALU on the plane's material with the extension's
+// code; per probe and light, each lobe's term against the C++ library; the frame against the plane's +u (+x),
+// +v (+z: glTF's v runs down the image, the tangent's bitangent toward -v) and normal; the coefficients
+// fetched nearest against the PNG texels decoded with the extension's ranges (the PNGs unflipped, not
+// premultiplied, not colour-converted); direct light on/off against the terms.
+TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
+  MSH_REQUIRE_BROWSER(missing_browser());
+  const DriverRun& run = driver_run();
+  ASSERT_TRUE(run.failure.empty()) << run.failure;
+  ASSERT_TRUE(run.res.contains("gltf")) << run.res["errors"].dump(1);
+  const json& G = run.res["gltf"];
+  ASSERT_FALSE(G.contains("error")) << G["error"];
+  const json gj = json::parse(slurp(kMat / "gltf" / "material.gltf"));
+  const json& ext = gj["materials"][0]["extensions"]["MSH_materials_directional_occlusion"];
+  EXPECT_EQ(G["method"], "directional-view+generic-vndf-alu");
+  EXPECT_EQ(G["code"]["K"], ext["coefficients"]);
+  EXPECT_EQ(G["code"]["textures"], 6);
+  EXPECT_TRUE(G["code"]["identity"].get<bool>());
+  EXPECT_TRUE(G["aomap"].get<bool>() && G["normalmap"].get<bool>() && G["tangents"].get<bool>());
+  EXPECT_EQ(G["gl_error"], 0);
+  const std::vector<std::string> order = G["light_order"];
+  const int npts = int(G["points"].size());
+  const auto& cw = G["camera_world"];
+  const auto to_world = [&](const Vec3d& v) {
+    return Vec3d(cw[0].get<double>() * v.x + cw[4].get<double>() * v.y + cw[8].get<double>() * v.z,
+                 cw[1].get<double>() * v.x + cw[5].get<double>() * v.y + cw[9].get<double>() * v.z,
+                 cw[2].get<double>() * v.x + cw[6].get<double>() * v.y + cw[10].get<double>() * v.z);
+  };
+  const Vec3d cam_pos(cw[12].get<double>(), cw[13].get<double>(), cw[14].get<double>());
+  const double scale = G["scale"];
+  occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
+  std::map<std::string, Stat> stats;
+  double frame_err = 0, uv_err = 0, lt_err = 0, vt_err = 0, nl_err = 0, direct_err = 0;
+  int n_pix = 0, direct_n = 0;
+  for (int p = 0; p < npts; ++p) {
+    const auto& pos = G["position"][p];
+    if (!(pos[3].get<double>() > 0.5)) continue;
+    ++n_pix;
+    const Vec3d P = vec3(pos), Pw = to_world(P) + cam_pos;
+    const Vec3d x = vec3(G["dir_x"][p]), y = vec3(G["dir_y"][p]), z = vec3(G["dir_z"][p]);
+    frame_err = std::max({frame_err, length(to_world(x) - Vec3d(1, 0, 0)),
+                          length(to_world(y) - Vec3d(0, 0, 1)), length(to_world(z) - Vec3d(0, 1, 0))});
+    uv_err = std::max({uv_err, std::abs(G["dir_uv"][p][0].get<double>() - (Pw.x / scale + 0.5)),
+                       std::abs(G["dir_uv"][p][1].get<double>() - (Pw.z / scale + 0.5))});
+    float c[21];
+    for (int i = 0; i < 21; ++i) c[i] = G["c"][i / 4][p][i % 4];
+    const Vec3f n_t(vec3(G["dir_n"][p]));
+    for (int k = 0; k < int(order.size()); ++k) {
+      const std::string type = order[k];
+      const auto& L = G["lights_read"][k];
+      const float V = L["inputs"][p][0], nl = L["inputs"][p][1], nv = L["inputs"][p][2],
+                  r = L["inputs"][p][3];
+      if (!(nl > 0)) continue;
+      const Vec3f l_t(vec3(L["l_t"][p])), v_t(vec3(L["v_t"][p]));
+      const Vec3d wl = type == "directional" ? normalize(vec3(G["lights"][type]["direction"]))
+                                             : normalize(vec3(G["lights"][type]["position"]) - P);
+      const Vec3d vv = normalize(-P);
+      lt_err = std::max(lt_err, length(Vec3d(l_t) - Vec3d(dot(wl, x), dot(wl, y), dot(wl, z))));
+      vt_err = std::max(vt_err, length(Vec3d(v_t) - Vec3d(dot(vv, x), dot(vv, y), dot(vv, z))));
+      if (nl > 0.01f && nl < 0.99f) nl_err = std::max(nl_err, std::abs(double(dot(n_t, l_t)) - nl));
+      const float want_dir = directional::directional_view_term<float>(c, l_t, v_t, n_t);
+      for (int lobe = 0; lobe < 2; ++lobe) {
+        const double want =
+            lobe == 0 ? double(want_dir) : generic_alu.eval({V, nl, nv, r, std::nullopt, std::nullopt});
+        const double tol = lobe == 0 ? 1e-4 * std::max(1.0, std::abs(want)) : 1e-4;
+        const double got = G[lobe ? "terms_s" : "terms_d"][p][k];
+        const double got8 = G[lobe ? "terms8_s" : "terms8_d"][p][k].get<double>() / 255.0;
+        EXPECT_NEAR(got, want, tol) << (lobe ? "specular" : "diffuse") << " (" << type << ")";
+        EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255)
+            << (lobe ? "specular" : "diffuse") << " 8-bit";
+        Stat& st = stats[type + (lobe ? " specular" : " diffuse")];
+        st.max_float = std::max(st.max_float, std::abs(got - want) / std::max(1.0, std::abs(want)));
+        st.max_8bit = std::max(st.max_8bit, std::abs(got8 - std::clamp(want, 0.0, 1.0)));
+        ++st.n;
+        const double o = L["direct_off"][p][lobe];
+        if (o > 1e-4) {
+          direct_err = std::max(direct_err, std::abs(L["direct_on"][p][lobe].get<double>() - o * got) /
+                                                (o * std::max(1.0, got)));
+          ++direct_n;
+        }
+      }
+    }
+  }
+  EXPECT_GE(n_pix, 100) << "too few probes on the plane";
+  EXPECT_LE(frame_err, 1e-4) << "the channels' frame differs from the plane's +u, +v, normal";
+  EXPECT_LE(uv_err, 1e-4);
+  EXPECT_LE(lt_err, 1e-4);
+  EXPECT_LE(vt_err, 1e-4);
+  EXPECT_LE(nl_err, 1e-4);
+  EXPECT_LE(direct_err, 1e-4);
+  EXPECT_GE(direct_n, 100);
+  for (const auto& [what, st] : stats) EXPECT_GE(st.n, 30) << what << ": too few lit probes";
+  // Nearest: the PNG texels at the pixel's UV, decoded with the extension's ranges.
+  double near_err = 0;
+  int near_n = 0;
+  std::vector<io::Volume> png;
+  for (const auto& t : ext["textures"]) {
+    const int src = gj["textures"][t["index"].get<int>()]["source"];
+    png.push_back(io::read_image(kMat / "gltf" / gj["images"][src]["uri"].get<std::string>()));
+  }
+  const int K = ext["coefficients"];
+  for (int p = 0; p < npts; ++p) {
+    if (!(G["nearest"]["position"][p][3].get<double>() > 0.5)) continue;
+    const double u = G["nearest"]["dir_uv"][p][0], v = G["nearest"]["dir_uv"][p][1];
+    const int w = png[0].width, h = png[0].height;
+    const double fu = (u - std::floor(u)) * w, fv = (v - std::floor(v)) * h;
+    if (std::abs(fu - std::round(fu)) < 0.05 || std::abs(fv - std::round(fv)) < 0.05) continue;
+    const int tx = std::min(int(fu), w - 1), ty = std::min(int(fv), h - 1);
+    for (int k = 0; k < K; ++k) {
+      const double lo = ext["lo"][k], hi = ext["hi"][k];
+      const double want = lo + (hi - lo) * png[std::size_t(k / 4)].at(tx, ty, 0, k % 4);
+      near_err = std::max(near_err, std::abs(G["nearest"]["a"][k / 4][p][k % 4].get<double>() - want) /
+                                        std::max(1.0, hi - lo));
+    }
+    ++near_n;
+  }
+  EXPECT_LE(near_err, 1e-5) << "the fetched coefficients are not the PNG texels at the pixel's UV";
+  EXPECT_GE(near_n, 100);
+  std::printf(
+      "glTF (gen-material --gltf, plaster 128) through MicroShadowGLTFPlugin: %d plane probes; frame %.1e, "
+      "uv "
+      "%.1e, l %.1e, v %.1e, N.L %.1e, nearest vs PNG %.1e (n=%d), direct on/off %.1e (n=%d)\n",
+      n_pix, frame_err, uv_err, lt_err, vt_err, nl_err, near_err, near_n, direct_err, direct_n);
+  std::printf("max |three.js - C++|: 8-bit in 1/255 (float32 relative) n:\n");
+  for (const auto& [what, st] : stats)
+    std::printf("  %-24s %4.2f (%.1e) %3d\n", what.c_str(), st.max_8bit * 255, st.max_float, st.n);
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ async function probe() {
     const err = await page.evaluate(([o]) => window.mshDirProbe.shaded('directional-view+generic-vndf-alu', 'channels21', o), [on]);
     if (err !== 0) results.errors.push(`gl error ${err} (${name})`);
     const file = path.join(out, `${name}.png`);
-    await page.locator('canvas').screenshot({ path: file });
+    await page.locator('canvas').last().screenshot({ path: file });
     results.screenshots.push(file);
   }
   await page.close();
@@ -100,7 +100,7 @@ async function gltfProbe() {
   results.gltf = await page.evaluate((o) => window.mshGltfProbe.run(o), { width: W, height: H, grid: [24, 14], url: gltf });
   if (results.gltf.error) results.errors.push(`gltf: ${results.gltf.error}`);
   const file = path.join(out, 'three_gltf.png');
-  await page.locator('canvas').screenshot({ path: file });
+  await page.locator('canvas').last().screenshot({ path: file });
   results.screenshots.push(file);
   mark('gltf');
   await page.close();

@@ -17,6 +17,7 @@ import { MSH_GLSL } from './generated/glsl.js';
 import { DIRECTIONAL_CHANNELS, directionalOcclusion } from './directional.js';
 export { loadMicroShadowingLut, parseNpy } from './luts.js';
 export { loadDirectionalOcclusion, directionalOcclusion, prepareCoefficientTexture, DIRECTIONAL_CHANNELS } from './directional.js';
+export { MicroShadowGLTFPlugin, GLTF_DIRECTIONAL_EXTENSION, GLTF_DEFAULT_METHOD } from './gltf.js';
 
 // The recommended method when only an AO / micro-occlusion map exists and no table is wanted (README's guide,
 // docs/choosing.md): the diffuse-aware ALU fit on the diffuse lobe, the generic ALU fit on the specular lobe.
