@@ -172,6 +172,26 @@ const DriverRun& driver_run() {
       if (r.code != 0) return fail("gen-material: " + r.err);
     }
     const json compact = write_compact_fixture(kMat, kCopy / "data" / "dircompact");
+    // Bad glTF copies for the plugin (beside the good one: its .bin and PNGs resolve).
+    const json good = json::parse(slurp(kMat / "gltf" / "material.gltf"));
+    std::string bad_gltf;
+    const auto bad_g = [&](const std::string& name, const std::string& text) {
+      std::ofstream(kMat / "gltf" / (name + ".gltf")) << text;
+      bad_gltf += (bad_gltf.empty() ? "" : ",") + name + "=data/dirmat/gltf/" + name + ".gltf";
+    };
+    const std::string E = "/materials/0/extensions/MSH_materials_directional_occlusion";
+    bad_g("bad_k",
+          good.patch(json::parse(R"([{"op": "replace", "path": ")" + E + R"(/coefficients", "value": 9}])"))
+              .dump());
+    bad_g("bad_channels",
+          good.patch(json::parse(R"([{"op": "replace", "path": ")" + E + R"(/channels", "value": 20}])"))
+              .dump());
+    bad_g("bad_basis",
+          good.patch(json::parse(R"([{"op": "remove", "path": ")" + E + R"(/basis/20"}])")).dump());
+    bad_g("bad_texture",
+          good.patch(json::parse(R"([{"op": "replace", "path": "/images/3/uri", "value": "missing.png"}])"))
+              .dump());
+    bad_g("bad_json", good.dump().substr(0, 200));
     // Bad input for the loader.
     const auto bad = [&](const std::string& name, const std::string& text) {
       fs::create_directories(kCopy / "data" / name / "mips");
@@ -195,11 +215,11 @@ const DriverRun& driver_run() {
     std::string node_out;
     int rc = -1;
     if (!url.empty()) {
-      const std::string cmd = "cd " + kBrowserDir.string() + " && node three_directional_test.mjs --url " +
-                              url + " --out " + kShots.string() +
-                              " --material data/dirmat --compact data/dircompact --bad " + bads +
-                              " --gltf data/dirmat/gltf/material.gltf --chromium " +
-                              msh::test::chromium_path() + " > " + (dir / "node.out").string() + " 2>&1";
+      const std::string cmd =
+          "cd " + kBrowserDir.string() + " && node three_directional_test.mjs --url " + url + " --out " +
+          kShots.string() + " --material data/dirmat --compact data/dircompact --bad " + bads +
+          " --gltf data/dirmat/gltf/material.gltf --bad-gltf " + bad_gltf + " --chromium " +
+          msh::test::chromium_path() + " > " + (dir / "node.out").string() + " 2>&1";
       rc = std::system(cmd.c_str());
       node_out = slurp(dir / "node.out");
     }
@@ -222,11 +242,14 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   const json mips = json::parse(slurp(mat / "mips" / "mips.json"));
   ASSERT_EQ(mips["directional"]["channels"], directional::kViewChannels);
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
-  // The only failed request: the bad-input case's missing texture.
-  ASSERT_EQ(res["http_errors"].size(), 1u) << res["http_errors"].dump(1);
+  // The only failed requests: the bad-input cases' missing textures (KTX2 for the loader, PNG for the glTF
+  // plugin).
+  ASSERT_EQ(res["http_errors"].size(), 2u) << res["http_errors"].dump(1);
   EXPECT_NE(res["http_errors"][0].get<std::string>().find("404 "), std::string::npos);
   EXPECT_NE(res["http_errors"][0].get<std::string>().find("/bad_missing/mips/no_such_file.ktx2"),
             std::string::npos);
+  EXPECT_NE(res["http_errors"][1].get<std::string>().find("404 "), std::string::npos);
+  EXPECT_NE(res["http_errors"][1].get<std::string>().find("/dirmat/gltf/missing.png"), std::string::npos);
   ASSERT_TRUE(res.contains("runs")) << res["errors"].dump(1);
 
   // The module lists directional-view and its pair with the generic ALU fit (the 21-channel texel forms).
@@ -483,6 +506,23 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   EXPECT_TRUE(G["code"]["identity"].get<bool>());
   EXPECT_TRUE(G["aomap"].get<bool>() && G["normalmap"].get<bool>() && G["tangents"].get<bool>());
   EXPECT_EQ(G["gl_error"], 0);
+  // Bad assets: the load rejects with one line naming the problem.
+  const json& be = run.res["gltf_errors"];
+  const auto has = [&](const char* k, const std::vector<std::string>& parts) {
+    ASSERT_TRUE(be.contains(k) && be[k].is_string()) << k << " did not throw: " << be.dump(1);
+    const std::string m = be[k];
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
+  };
+  has("bad_k", {"glTF material 0", "K = 9 needs 3 textures, the extension lists 6"});
+  has("bad_channels", {"'channels' must be 21, got 20"});
+  has("bad_basis", {"'basis' must have 21 rows", "got 20"});
+  has("bad_texture", {"texture 3 (missing.png) did not load"});
+  has("bad_json", {"JSON"});
+  // Their page's console: GLTFLoader's own line for the missing image, nothing else.
+  EXPECT_EQ(run.res["bad_console"].size(), 1u) << run.res["bad_console"].dump(1);
+  for (const auto& l : run.res["bad_console"])
+    EXPECT_NE(l.get<std::string>().find("THREE.GLTFLoader: Couldn't load texture"), std::string::npos) << l;
   const std::vector<std::string> order = G["light_order"];
   const int npts = int(G["points"].size());
   const auto& cw = G["camera_world"];

@@ -6,7 +6,10 @@
 // library.
 //
 //   node three_directional_test.mjs --url http://127.0.0.1:PORT/ --out DIR --material data/dirmat
-//        [--compact data/dircompact] [--bad name=url,...] [--gltf data/gltf/material.gltf] [--chromium PATH]
+//        [--compact data/dircompact] [--bad name=url,...] [--gltf data/gltf/material.gltf]
+//        [--bad-gltf name=url,...] [--chromium PATH]
+// --bad / --bad-gltf: mips.json / glTF files that must fail to load; their messages go to results
+// (errors_by_case, gltf_errors) and their page's console lines to results.bad_console.
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -18,7 +21,8 @@ const arg = (name, def) => {
 };
 const url = arg('url'), out = arg('out'), material = arg('material'), compact = arg('compact'), gltf = arg('gltf');
 const exe = arg('chromium', '/usr/bin/chromium');
-const bad = Object.fromEntries((arg('bad', '') || '').split(',').filter((s) => s).map((s) => s.split('=')));
+const list = (name) => Object.fromEntries((arg(name, '') || '').split(',').filter((s) => s).map((s) => s.split('=')));
+const bad = list('bad'), badGltf = list('bad-gltf');
 if (!url || !out || !material) {
   console.error('usage: node three_directional_test.mjs --url URL --out DIR --material PATH [--compact PATH] [--bad k=url,...] [--gltf URL] [--chromium PATH]');
   process.exit(2);
@@ -35,18 +39,20 @@ const browser = await chromium.launch({ executablePath: exe, headless: true, arg
 // console line chromium prints for each is left out of results.errors, every other console error or warning
 // is kept.
 results.http_errors = [];
-const watch = (page, tag) => {
+results.bad_console = [];
+const watch = (page, tag, sink = results.errors) => {
   page.on('response', (r) => { if (r.status() >= 400) results.http_errors.push(`${r.status()} ${r.url()}`); });
   page.on('console', (m) => {
     if (m.type() !== 'error' && m.type() !== 'warning') return;
     if (/^Failed to load resource: the server responded with a status of \d+/.test(m.text())) return;
-    results.errors.push(`${tag} console ${m.type()}: ${m.text().slice(0, 2000)}`);
+    sink.push(`${tag} console ${m.type()}: ${m.text().slice(0, 2000)}`);
   });
   page.on('pageerror', (e) => results.errors.push(`${tag} pageerror: ${e.message}`));
 };
 try {
   await probe();
   if (gltf) await gltfProbe();
+  if (Object.keys(badGltf).length) await gltfBad();
   mark('done');
 } catch (e) {
   results.errors.push(`driver: ${e.message}`);
@@ -54,10 +60,10 @@ try {
   await browser.close();
 }
 
-async function open(tag, script, flag) {
+async function open(tag, script, flag, sink) {
   const W = 192, H = 108;
   const page = await browser.newPage({ viewport: { width: W + 40, height: H + 40 } });
-  watch(page, tag);
+  watch(page, tag, sink);
   await page.goto(`${url}?probe`);
   await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 120000 });
   await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, script), 'utf8') });
@@ -103,6 +109,14 @@ async function gltfProbe() {
   await page.locator('canvas').last().screenshot({ path: file });
   results.screenshots.push(file);
   mark('gltf');
+  await page.close();
+}
+
+async function gltfBad() {
+  const { page } = await open('gltf-bad', 'three_gltf_probe.js', 'mshGltfProbeLoaded', results.bad_console);
+  results.gltf_errors = {};
+  for (const [k, u] of Object.entries(badGltf)) results.gltf_errors[k] = await page.evaluate((x) => window.mshGltfProbe.loadError(x), u);
+  mark('gltf_bad');
   await page.close();
 }
 

@@ -94,5 +94,15 @@ async function run({ width, height, grid, url }) {
   }
 }
 
-window.mshGltfProbe = { run };
+// Bad input: the error the load throws (one line), or null when it loaded.
+async function loadError(url) {
+  try {
+    await new GLTFLoader().register((parser) => new MSH.MicroShadowGLTFPlugin(parser)).loadAsync(url);
+    return null;
+  } catch (e) {
+    return String(e.message || e);
+  }
+}
+
+window.mshGltfProbe = { run, loadError };
 window.mshGltfProbeLoaded = true;

@@ -45,9 +45,11 @@ export class MicroShadowGLTFPlugin {
       if ((t.texCoord || 0) !== 0) throw new Error(`microshadow: ${where}: texCoord ${t.texCoord}: the module reads UV channel 0 only`);
     const textures = await Promise.all(ext.textures.map(async (t) => {
       if (!this.parser.json.textures || !this.parser.json.textures[t.index]) throw new Error(`microshadow: ${where}: no texture ${t.index}`);
+      const img = (this.parser.json.images || [])[this.parser.json.textures[t.index].source];
+      const what = `texture ${t.index}${img && img.uri ? ` (${img.uri})` : ''}`;
       let tex;
-      try { tex = await this.parser.getDependency('texture', t.index); } catch (e) { throw new Error(`microshadow: ${where}: texture ${t.index} did not load: ${e.message || e}`); }
-      if (!tex) throw new Error(`microshadow: ${where}: texture ${t.index} did not load`);
+      try { tex = await this.parser.getDependency('texture', t.index); } catch (e) { throw new Error(`microshadow: ${where}: ${what} did not load: ${e.message || e}`); }
+      if (!tex) throw new Error(`microshadow: ${where}: ${what} did not load`);
       return prepareCoefficientTexture(tex.clone());
     }));
     return directionalOcclusion({ form: ext.form, K: ext.coefficients, lo: ext.lo, hi: ext.hi, mean: ext.mean, basis: ext.basis, textures }, where);
