@@ -29,7 +29,8 @@ for p in "${PACKAGES[@]}"; do
 done
 
 # The browser tests' npm packages from their committed lockfiles (node_modules is not committed): the driver
-# (playwright-core, tests/browser) and three.js for the three.js integration (integrations/three).
+# (playwright-core) and the Khronos glTF validator (gltf-validator) in tests/browser, three.js for the three.js
+# integration (integrations/three). A changed lockfile is installed again (the copy in node_modules).
 install_browser_driver() {
   local root d
   root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

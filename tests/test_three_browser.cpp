@@ -98,7 +98,7 @@ TEST(ThreeModule, GeneratedFilesAreTheRegistryAndTheShaders) {
   EXPECT_EQ(slurp(dir / "gen" / "methods.js"), msh::view::methods_js(occlusion::micro_shadowing_methods()));
   const std::string glsl = slurp(dir / "gen" / "glsl.js");
   for (const char* f : {"micro_shadowing.glsl", "micro_shadowing_fit.glsl", "micro_shadowing_aware.glsl",
-                        "micro_shadowing_aware_fit.glsl", "micro_shadowing_area.glsl"}) {
+                        "micro_shadowing_aware_fit.glsl", "micro_shadowing_area.glsl", "directional.glsl"}) {
     const std::string text = msh::view::expand_shader_includes(kSource / "shaders" / "glsl" / f);
     EXPECT_NE(glsl.find(json(f).dump() + ": " + json(text).dump()), std::string::npos) << f;
     EXPECT_EQ(text.find("\n#include"), std::string::npos) << f;
@@ -403,7 +403,8 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
                            "diffuse-aware-alu+generic-vndf-alu", "diffuse-aware-alu+lut3d"})
     EXPECT_NE(std::find(ids.begin(), ids.end(), want), ids.end()) << want;
   // ... and none is left out (the module keeps the entries whose GLSL functions its shader files define),
-  // except the forms that read per-texel directional channels ("texel"), which the module does not wire.
+  // except the forms that read per-texel directional channels ("texel"): the probe leaves them out, they need
+  // a texture set's channels (test_three_directional_browser tests directional-view).
   const std::string mjs = msh::view::methods_js(occlusion::micro_shadowing_methods());
   std::size_t entries = 0, texel = 0;
   for (auto p = mjs.find("\n  {\"id\":"); p != std::string::npos; p = mjs.find("\n  {\"id\":", p + 1)) {

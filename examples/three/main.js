@@ -82,7 +82,9 @@ async function main() {
 
   const state = { attached: true, method: DEFAULT_METHOD, enabled: true, ao_indirect: true, light: 'sun', elevation: 12, animate: true,
     azimuth: 40, split: false, panel: true, camera: null, target: null };
-  const available = MICRO_SHADOWING_METHODS.filter((e) => [].concat(e.lut || []).every((k) => luts[k]));
+  // directional-view (texel) reads a texture set's channel mips (loadDirectionalOcclusion); the example serves
+  // the texture set without them, so its menu leaves it out (tests/browser/three_directional_probe.js uses it).
+  const available = MICRO_SHADOWING_METHODS.filter((e) => !e.texel && [].concat(e.lut || []).every((k) => luts[k]));
   $('method').innerHTML = available.map((e) => `<option value="${e.id}">${e.label}</option>`).join('');
   let handles = [];
   const apply = () => {

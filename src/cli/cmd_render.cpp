@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_codec.h>
+#include <microshadow/render/gltf_export.h>
 #include <microshadow/render/image.h>
 #include <microshadow/render/multiscale.h>
 #include <microshadow/render/renderer.h>
@@ -12,6 +13,7 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "common.h"
 
@@ -195,6 +197,7 @@ void add_render(Groups& g) {
   auto mno_mips = std::make_shared<bool>(false);
   auto mbc = std::make_shared<bool>(false);
   auto mform = std::make_shared<std::string>();
+  auto mgltf = std::make_shared<bool>(false);
   CLI::App* gm = g.root->add_subcommand("gen-material",
                                         "Generate a texture set (height, normal, roughness, metallic, base "
                                         "colour, baked micro-occlusion), procedural or from a height map");
@@ -237,11 +240,23 @@ void add_render(Groups& g) {
       "\"Compact forms\"): pca<K>, K coefficients per texel at 8 bits from a linear code fitted to "
       "this material (mips/directional_compact_<t>.ktx2/.dds, 4 per RGBA8 texture, level 0 as "
       "directional_compact_<t>.png; the code in mips/mips.json)");
+  gm->add_flag(
+      "--gltf", *mgltf,
+      "Also write DIR/gltf/: a glTF 2.0 plane with the texture set (base colour, normal, ORM-packed "
+      "occlusion/roughness/metallic) and, with --directional-view, the MSH_materials_directional_occlusion "
+      "extension (docs/gltf.md)");
   gm->add_flag("--no-mips", *mno_mips,
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
   gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
       ->check(CLI::Range(0, 1024));
-  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, mform, kind_opt, size_opt] {
+  // The glTF asset (docs/gltf.md): the 21 channels of directional-view as the extension's identity code.
+  const auto write_gltf = [](const std::string& dir, const render::TextureSet& set) {
+    std::optional<render::DirectionalCode> code;
+    if (set.directional.channels() == directional::kViewChannels)
+      code = render::identity_directional_code(set.directional);
+    render::write_texture_set_gltf(std::filesystem::path(dir) / "gltf", set, code ? &*code : nullptr);
+  };
+  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, mform, mgltf, write_gltf, kind_opt, size_opt] {
     auto limit = thread_limit(*mthreads);
     if (!mform->empty()) {
       if (*mno_mips || m->directional_azimuths == 0)
@@ -262,6 +277,7 @@ void add_render(Groups& g) {
       const auto set = render::generate_texture_set(*m);
       render::write_texture_set(*mdir, set);
       if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc, *mform);
+      if (*mgltf) write_gltf(*mdir, set);
       print_json({{"dir", *mdir},
                   {"kind", m->kind},
                   {"size", m->size},
@@ -277,6 +293,7 @@ void add_render(Groups& g) {
     const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
     render::write_texture_set(*mdir, set);
     if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc, *mform);
+    if (*mgltf) write_gltf(*mdir, set);
     print_json({{"dir", *mdir},
                 {"height", *mheight},
                 {"size", {h.width(), h.height()}},

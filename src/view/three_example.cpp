@@ -43,11 +43,11 @@ constexpr const char* kThreeFiles[] = {
 };
 
 // The shader files the module uses (integrations/three/src/index.js): the point terms and LUT samplers, the
-// ALU fits, the micro-BRDF-aware terms and the area-light forms. Not the bump-terminator, LTC or directional
-// files.
-constexpr const char* kThreeGlsl[] = {"micro_shadowing.glsl", "micro_shadowing_area.glsl",
-                                      "micro_shadowing_aware.glsl", "micro_shadowing_aware_fit.glsl",
-                                      "micro_shadowing_fit.glsl"};
+// ALU fits, the micro-BRDF-aware terms, the area-light forms and the directional channels' terms
+// (directional-view). Not the bump-terminator or LTC files.
+constexpr const char* kThreeGlsl[] = {
+    "directional.glsl",           "micro_shadowing.glsl",           "micro_shadowing_area.glsl",
+    "micro_shadowing_aware.glsl", "micro_shadowing_aware_fit.glsl", "micro_shadowing_fit.glsl"};
 
 std::string base64(const std::vector<unsigned char>& b) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

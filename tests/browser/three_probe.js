@@ -92,7 +92,9 @@ async function setup({ width, height, grid }) {
     rect: { position: vpos(rect), half_width: new THREE.Vector3(rect.width / 2, 0, 0).applyMatrix4(rot).toArray(),
       half_height: new THREE.Vector3(0, rect.height / 2, 0).applyMatrix4(rot).toArray() },
   };
-  const methods = MSH.MICRO_SHADOWING_METHODS.map((m) => ({ id: m.id, label: m.label, lut: m.lut || null, cpp: m.cpp,
+  // The texel methods (directional-view, which read a texture set's directional channels) are
+  // tested by three_directional_probe.js.
+  const methods = MSH.MICRO_SHADOWING_METHODS.filter((m) => !m.texel).map((m) => ({ id: m.id, label: m.label, lut: m.lut || null, cpp: m.cpp,
     pair: m.glsl_diffuse !== undefined, lobes: MSH.methodLobes(m.id) }));
   // The NPY loader: the test writes the default 3D table as float32 NPY (data/lut3d.npy, the format of
   // `bake micro-shadowing --out lut.npy`); its half floats against the served raw half floats.

@@ -14,7 +14,10 @@
 import { Matrix3 } from 'three';
 import { MICRO_SHADOWING_METHODS as REGISTRY_METHODS } from './generated/methods.js';
 import { MSH_GLSL } from './generated/glsl.js';
+import { DIRECTIONAL_CHANNELS, directionalOcclusion } from './directional.js';
 export { loadMicroShadowingLut, parseNpy } from './luts.js';
+export { loadDirectionalOcclusion, directionalOcclusion, prepareCoefficientTexture, DIRECTIONAL_CHANNELS } from './directional.js';
+export { MicroShadowGLTFPlugin, GLTF_DIRECTIONAL_EXTENSION, GLTF_DEFAULT_METHOD } from './gltf.js';
 
 // The recommended method when only an AO / micro-occlusion map exists and no table is wanted (README's guide,
 // docs/choosing.md): the diffuse-aware ALU fit on the diffuse lobe, the generic ALU fit on the specular lobe.
@@ -34,6 +37,8 @@ export const AREA_FORMS = {
 // The shader files the terms need (micro_shadowing_area only when the scene has RectAreaLights).
 const GLSL_FILES = ['micro_shadowing.glsl', 'micro_shadowing_fit.glsl', 'micro_shadowing_aware.glsl', 'micro_shadowing_aware_fit.glsl'];
 const GLSL_AREA = 'micro_shadowing_area.glsl';
+// The directional channels' functions (msh_dir_view_term), only for the texel methods.
+const GLSL_DIRECTIONAL = 'directional.glsl';
 
 // Debug outputs (options.debug, setDebug): what the fragment writes instead of its colour, for one light.
 export const DEBUG_MODES = {
@@ -48,6 +53,14 @@ export const DEBUG_MODES = {
   terms_diffuse: 9,   // the diffuse-lobe term of the first four lights of the loop (all lights lit)
   terms_specular: 10, // the specular-lobe term of the first four lights
   indirect: 11,  // three's indirect diffuse light (after its AO, when aoOnIndirect)
+  // directional-view only (options.directional):
+  dir_c0: 12, dir_c1: 13, dir_c2: 14, dir_c3: 15, dir_c4: 16, dir_c5: 17, // the 21 channels as msh_dir_view_term reads them (c[k] = 4k .. 4k+3)
+  dir_a0: 18, dir_a1: 19, dir_a2: 20, dir_a3: 21, dir_a4: 22, dir_a5: 23, // the K decoded coefficients a (texture t = a[4t .. 4t+3])
+  dir_l: 24,     // the light in the channels' tangent frame (x = +u, y = +v, z = the geometric normal), l_t
+  dir_v: 25,     // the view in that frame, view_t
+  dir_n: 26,     // the shading normal in that frame, n_t
+  dir_uv: 27,    // (u, v) of the channels' fetch
+  dir_x: 28, dir_y: 29, dir_z: 30, // the frame's axes in view space
 };
 
 // One set of uniform objects per material, shared by every program three compiles for it: three keeps a
@@ -61,7 +74,9 @@ function materialUniforms(material) {
   if (!u) {
     u = { msh_enabled: { value: true }, u_samples: { value: 32 }, msh_debug_mode: { value: 0 }, msh_debug_light: { value: -1 },
       msh_visibility: { value: 1 }, msh_visibility_map: { value: null }, msh_visibility_map_transform: { value: new Matrix3() },
-      u_lut_az_harmonics: { value: 0 } };
+      u_lut_az_harmonics: { value: 0 },
+      msh_dir_lo: { value: [] }, msh_dir_hi: { value: [] }, msh_dir_mean: { value: [] }, msh_dir_basis: { value: [] } };
+    for (let t = 0; t < 6; ++t) u[`msh_dir_tex${t}`] = { value: null };
     for (const n of Object.values(LUT_UNIFORMS)) { u[n] = { value: null }; u[`${n}_slabs`] = { value: 1 }; }
     UNIFORMS.set(material, u);
   }
@@ -70,10 +85,12 @@ function materialUniforms(material) {
 
 const asList = (x) => (x === undefined || x === null ? [] : [].concat(x));
 
-// The registry's methods whose GLSL functions the shipped shader files define (as the viewer filters them),
-// without the forms that read per-texel directional channels ("texel": not wired into three's materials yet).
-const LIBRARY_TEXT = [...GLSL_FILES, GLSL_AREA].map((f) => MSH_GLSL[f] || '').join('\n');
-export const MICRO_SHADOWING_METHODS = REGISTRY_METHODS.filter((m) => !m.texel &&
+// The registry's methods whose GLSL functions the shipped shader files define (as the viewer filters them).
+// Of the forms that read per-texel directional channels ("texel"), the view-corrected ones (21 channels:
+// directional-view and its pair with a specular term; options.directional); the 9-channel directional term
+// is not wired.
+const LIBRARY_TEXT = [...GLSL_FILES, GLSL_AREA, GLSL_DIRECTIONAL].map((f) => MSH_GLSL[f] || '').join('\n');
+export const MICRO_SHADOWING_METHODS = REGISTRY_METHODS.filter((m) => (!m.texel || m.texel === 'directional_view') &&
   asList(m.requires).every((fn) => new RegExp(`\\b${fn}\\s*\\(`).test(LIBRARY_TEXT)));
 
 // The method's entry of generated/methods.js; throws (one line) listing the methods for an unknown id.
@@ -98,24 +115,82 @@ export function methodLobes(id) {
 }
 
 function glslLibrary() {
-  for (const f of [...GLSL_FILES, GLSL_AREA])
+  for (const f of [...GLSL_FILES, GLSL_AREA, GLSL_DIRECTIONAL])
     if (typeof MSH_GLSL[f] !== 'string') throw new Error(`microshadow: generated/glsl.js has no ${f} (run npm run build)`);
   return `${GLSL_FILES.map((f) => `// ---- shaders/glsl/${f}\n${MSH_GLSL[f]}`).join('\n')}
 #if NUM_RECT_AREA_LIGHTS > 0
 // ---- shaders/glsl/${GLSL_AREA}
 ${MSH_GLSL[GLSL_AREA]}
 #endif
+#ifdef MSH_DIR
+// ---- shaders/glsl/${GLSL_DIRECTIONAL}
+${MSH_GLSL[GLSL_DIRECTIONAL]}
+#endif
 `;
 }
 
-function parsBlock(lobes, luts, debug, visSource) {
+// The directional channels (options.directional, directional.js): NT coefficient textures, decoded per
+// channel (msh_dir_decode_unorm8), composed into the 21 channels (identity: the coefficients are the channels),
+// and the channels' tangent frame: x = +u, y = +v of the channel textures (rows top to bottom: the textures are
+// uploaded unflipped), z = the geometric normal (docs/directional-occlusion.md, "The stored channels"). x is
+// three's tangent where the geometry has one (its direction, u, is fixed by glTF/MikkTSpace), else the
+// derivative frame of the UVs; y = cross(z, x) with the sign of +v taken from the UVs' screen-space
+// derivatives (the bitangent's sign differs between conventions: glTF/MikkTSpace assets point it toward −v).
+function directionalBlock(dir) {
+  const NT = dir.textures;
+  const fetch = Array.from({ length: NT }, (_, t) =>
+    `  msh_dir_a[${t}] = msh_dir_decode_unorm8(texture(msh_dir_tex${t}, uv), msh_dir_lo[${t}], msh_dir_hi[${t}]);`).join('\n');
+  const compose = dir.identity
+    ? Array.from({ length: 6 }, (_, k) => `  msh_dir_c[${k}] = ${k < NT ? `msh_dir_a[${k}]` : 'vec4(0.0)'};`).join('\n')
+    : `  float c[24];
+  for (int i = 0; i < ${DIRECTIONAL_CHANNELS}; ++i) {
+    float s = msh_dir_mean[i / 4][i % 4];
+    for (int t = 0; t < ${NT}; ++t) s += dot(msh_dir_basis[i * ${NT} + t], msh_dir_a[t]);
+    c[i] = s;
+  }
+  for (int i = ${DIRECTIONAL_CHANNELS}; i < 24; ++i) c[i] = 0.0;
+  for (int k = 0; k < 6; ++k) msh_dir_c[k] = vec4(c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]);`;
+  return `
+${Array.from({ length: NT }, (_, t) => `uniform sampler2D msh_dir_tex${t};`).join('\n')}
+uniform vec4 msh_dir_lo[${NT}], msh_dir_hi[${NT}];
+${dir.identity ? '' : `uniform vec4 msh_dir_mean[6];\nuniform vec4 msh_dir_basis[${DIRECTIONAL_CHANNELS * NT}];`}
+varying vec2 vMshDirUv;
+vec4 msh_dir_a[${NT}];
+vec4 msh_dir_c[6];
+vec3 msh_dir_x = vec3(1.0, 0.0, 0.0), msh_dir_y = vec3(0.0, 1.0, 0.0), msh_dir_z = vec3(0.0, 0.0, 1.0), msh_dir_n = vec3(0.0, 0.0, 1.0);
+vec3 msh_dir_to_frame(vec3 w) { return vec3(dot(w, msh_dir_x), dot(w, msh_dir_y), dot(w, msh_dir_z)); }
+// pos: view-space position; ng: the geometric normal; ns: the shading normal (after the normal map).
+void msh_dir_setup(vec3 pos, vec3 ng, vec3 ns, vec2 uv) {
+${fetch}
+${compose}
+  vec3 q0 = dFdx(pos), q1 = dFdy(pos);
+  vec2 st0 = dFdx(uv), st1 = dFdy(uv);
+  vec3 q1perp = cross(q1, ng), q0perp = cross(ng, q0);
+  vec3 bd = q1perp * st0.y + q0perp * st1.y;  // along +v on the surface (three's getTangentFrame)
+#ifdef USE_TANGENT
+  vec3 t = vTangent;
+#else
+  vec3 t = q1perp * st0.x + q0perp * st1.x;   // along +u
+#endif
+  msh_dir_z = ng;
+  msh_dir_x = normalize(t - ng * dot(ng, t));
+  vec3 y = cross(ng, msh_dir_x);
+  msh_dir_y = dot(y, bd) < 0.0 ? -y : y;
+  msh_dir_n = normalize(msh_dir_to_frame(ns));
+}
+#define dir_v msh_dir_c
+`;
+}
+
+function parsBlock(lobes, luts, debug, visSource, dir) {
   const lutDecl = luts.map((k) => {
     const u = LUT_UNIFORMS[k];
     return `uniform highp sampler3D ${u};\nuniform int ${u}_slabs;${k === 'lut_azimuth' ? '\nuniform int u_lut_az_harmonics;' : ''}`;
   }).join('\n');
   return `
 // ---- microshadow (integrations/three, docs/three.md) ----
-${glslLibrary()}
+${dir ? '#define MSH_DIR\n' : ''}${glslLibrary()}
+${dir ? directionalBlock(dir) : ''}
 ${lutDecl}
 uniform bool msh_enabled;
 uniform int u_samples;
@@ -127,16 +202,30 @@ int msh_light_index = 0;
 uniform int msh_debug_mode, msh_debug_light;
 vec4 msh_dbg_inputs = vec4(0.0), msh_dbg_terms = vec4(0.0), msh_dbg_v = vec4(0.0), msh_dbg_l = vec4(0.0);
 vec4 msh_dbg_cap = vec4(0.0), msh_dbg_direct = vec4(0.0), msh_dbg_d = vec4(0.0), msh_dbg_s = vec4(0.0);
+vec4 msh_dbg_dir_l = vec4(0.0), msh_dbg_dir_v = vec4(0.0);
 #endif
 
-// The method's terms (diffuse lobe, specular lobe) at one light direction.
-vec2 msh_point_terms(float vis, float nl, float nv, float rough, float alpha, float cos_phi, vec3 v, vec3 l) {
+// The method's terms (diffuse lobe, specular lobe) at one light direction; lw, vw: the light and the view in
+// view space (the texel terms take them into the channels' frame).
+vec2 msh_point_terms(float vis, float nl, float nv, float rough, float alpha, float cos_phi, vec3 v, vec3 l, vec3 lw, vec3 vw) {
+#ifdef MSH_DIR
+  vec3 l_t = msh_dir_to_frame(lw), view_t = msh_dir_to_frame(vw), n_t = msh_dir_n;
+#ifdef MSH_DEBUG
+  if (msh_light_index == msh_debug_light) { msh_dbg_dir_l = vec4(l_t, 1.0); msh_dbg_dir_v = vec4(view_t, 1.0); }
+#endif
+#endif
   return vec2(${lobes.diffuse.glsl}, ${lobes.specular.glsl});
 }
 #if NUM_RECT_AREA_LIGHTS > 0
-vec2 msh_area_terms(float vis, float nl_cap, float rho, float nv, float rough, float alpha, vec3 v, vec3 l) {
+vec2 msh_area_terms(float vis, float nl_cap, float rho, float nv, float rough, float alpha, vec3 v, vec3 l, vec3 lw, vec3 vw) {
   float nl = clamp(nl_cap, 0.0, 1.0);
   float cos_phi = msh_ms_relative_azimuth_cos(v, l);
+#ifdef MSH_DIR
+  vec3 l_t = msh_dir_to_frame(lw), view_t = msh_dir_to_frame(vw), n_t = msh_dir_n;
+#ifdef MSH_DEBUG
+  if (msh_light_index == msh_debug_light) { msh_dbg_dir_l = vec4(l_t, 1.0); msh_dbg_dir_v = vec4(view_t, 1.0); }
+#endif
+#endif
   return vec2(${lobes.diffuse.area}, ${lobes.specular.area});
 }
 #endif
@@ -175,7 +264,7 @@ void msh_RE_Direct(const in IncidentLight directLight, const in vec3 geometryPos
   vec3 l = msh_ms_to_shading_frame(directLight.direction, t, b, geometryNormal);
   float nl = clamp(l.z, 0.0, 1.0), nv = clamp(v.z, 0.0, 1.0), rough = material.roughness;
   float cos_phi = msh_ms_relative_azimuth_cos(v, l);
-  vec2 ms = msh_enabled ? msh_point_terms(msh_vis, nl, nv, rough, rough * rough, cos_phi, v, l) : vec2(1.0);
+  vec2 ms = msh_enabled ? msh_point_terms(msh_vis, nl, nv, rough, rough * rough, cos_phi, v, l, directLight.direction, geometryViewDir) : vec2(1.0);
   if (!msh_record(vec4(msh_vis, nl, nv, rough), vec4(ms, cos_phi, nl > 0.0 ? 1.0 : 0.5), v, l)) return;
   reflectedLight.directDiffuse += own.directDiffuse * ms.x;
   reflectedLight.directSpecular += own.directSpecular * ms.y;
@@ -204,7 +293,8 @@ void msh_RE_Direct_RectArea(const in RectAreaLight rectAreaLight, const in vec3 
   vec3 l = lf > 0.0 ? F / lf : normalize(cs);
   vec3 v = msh_ms_to_shading_frame(geometryViewDir, t, b, n);
   float nv = clamp(v.z, 0.0, 1.0), rough = material.roughness;
-  vec2 ms = msh_enabled ? msh_area_terms(msh_vis, cap.x, cap.y, nv, rough, rough * rough, v, l) : vec2(1.0);
+  // The texel terms at the equivalent cap's axis, back in view space.
+  vec2 ms = msh_enabled ? msh_area_terms(msh_vis, cap.x, cap.y, nv, rough, rough * rough, v, l, t * l.x + b * l.y + n * l.z, geometryViewDir) : vec2(1.0);
 #ifdef MSH_DEBUG
   if (msh_light_index == msh_debug_light) msh_dbg_cap = vec4(cap, lf, 1.0);
 #endif
@@ -238,6 +328,8 @@ function replaceOnce(src, find, repl, what) {
 //   aoOnIndirect keep three's AO on indirect light (default true); false: the aoMap is V only
 //   luts         { lut3d, lut2d, lut_azimuth }: tables from loadMicroShadowingLut, required by the methods
 //                that sample them
+//   directional  the directional channels (loadDirectionalOcclusion, or the glTF extension's through
+//                gltf.js), required by the texel methods (directional-view and its pair)
 //   samples      samples of the generic-vndf estimator (default 32)
 //   debug        compile the debug outputs (setDebug); off by default (no cost)
 // Returns a handle: enabled (get/set: micro-shadowing on or off without recompiling), method, lobes,
@@ -252,8 +344,19 @@ export function addMicroShadowing(material, options = {}) {
   for (const k of luts)
     if (!options.luts || !options.luts[k] || !options.luts[k].texture)
       throw new Error(`microshadow: method '${method}' samples the table '${k}': pass luts: { ${k}: await loadMicroShadowingLut(URL) }`);
+  // The texel methods read the directional channels (docs/three.md, "directional-view").
+  const texel = !!entry.texel;
+  let dir = null;
+  if (texel) {
+    if (!options.directional)
+      throw new Error(`microshadow: method '${method}' reads the directional channels: pass directional: await loadDirectionalOcclusion(URL of mips/mips.json, { renderer })`);
+    dir = options.directional.uniforms ? options.directional : directionalOcclusion(options.directional, `method '${method}'`);
+  }
+  // A method that reads no V (directional-view alone) needs no aoMap.
+  const readsV = !(texel && lobes.diffuse.term === 'directional-view' && lobes.specular.term === 'directional-view');
   let visSource = 'aoMap';
-  if (typeof options.visibility === 'number') visSource = 'constant';
+  if (!readsV && options.visibility === undefined && !options.visibilityMap && !material.aoMap) visSource = 'none';
+  else if (typeof options.visibility === 'number') visSource = 'constant';
   else if (options.visibility === 'map' || options.visibilityMap) visSource = 'map';
   else if (options.visibility !== undefined && options.visibility !== 'aoMap')
     throw new Error(`microshadow: visibility must be 'aoMap', 'map' or a number in [0, 1], got ${JSON.stringify(options.visibility)}`);
@@ -275,6 +378,13 @@ export function addMicroShadowing(material, options = {}) {
   uniforms.msh_debug_light.value = -1;
   if (visSource === 'constant') uniforms.msh_visibility.value = options.visibility;
   if (visSource === 'map') uniforms.msh_visibility_map.value = options.visibilityMap;
+  if (dir) {
+    for (let t = 0; t < 6; ++t) uniforms[`msh_dir_tex${t}`].value = t < dir.textures ? dir.maps[t] : null;
+    uniforms.msh_dir_lo.value = dir.uniforms.lo;
+    uniforms.msh_dir_hi.value = dir.uniforms.hi;
+    uniforms.msh_dir_mean.value = dir.uniforms.mean;
+    uniforms.msh_dir_basis.value = dir.uniforms.basis;
+  }
   for (const k of luts) {
     const L = options.luts[k], u = LUT_UNIFORMS[k];
     uniforms[u].value = L.texture;
@@ -287,16 +397,18 @@ export function addMicroShadowing(material, options = {}) {
   const previous = material.onBeforeCompile, previousKey = material.customProgramCacheKey;
   const userCompile = previous !== proto.onBeforeCompile ? previous : null;
   const userKey = previousKey !== proto.customProgramCacheKey ? previousKey : null;
-  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}`;
+  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}${dir ? `:dir${dir.textures}${dir.identity ? 'i' : 'b'}` : ''}`;
   material.onBeforeCompile = function (shader, renderer) {
     if (userCompile) userCompile.call(this, shader, renderer);
     Object.assign(shader.uniforms, uniforms);
     let fs = shader.fragmentShader;
     fs = replaceOnce(fs, '#include <lights_physical_pars_fragment>',
-      `#include <lights_physical_pars_fragment>\n${debug ? '#define MSH_DEBUG\n' : ''}${parsBlock(lobes, luts, debug, visSource)}`, 'fragment');
+      `#include <lights_physical_pars_fragment>\n${debug ? '#define MSH_DEBUG\n' : ''}${parsBlock(lobes, luts, debug, visSource, dir)}`, 'fragment');
+    if (dir) fs = replaceOnce(fs, '#include <normal_fragment_maps>', '#include <normal_fragment_maps>\n\tmsh_dir_setup( - vViewPosition, nonPerturbedNormal, normal, vMshDirUv );', 'fragment');
     const vis = visSource === 'aoMap'
       ? '#ifdef USE_AOMAP\n\tmsh_vis = ( texture2D( aoMap, vAoMapUv ).r - 1.0 ) * aoMapIntensity + 1.0;\n#endif'
-      : visSource === 'map' ? '\tmsh_vis = texture2D( msh_visibility_map, vMshVisUv ).r;' : '\tmsh_vis = msh_visibility;';
+      : visSource === 'map' ? '\tmsh_vis = texture2D( msh_visibility_map, vMshVisUv ).r;'
+      : visSource === 'none' ? '\tmsh_vis = 1.0;' : '\tmsh_vis = msh_visibility;';
     fs = replaceOnce(fs, '#include <lights_fragment_begin>', `${vis}\n\tmsh_vis = clamp( msh_vis, 0.0, 1.0 );\n#include <lights_fragment_begin>`, 'fragment');
     if (!aoOnIndirect) fs = replaceOnce(fs, '#include <aomap_fragment>', '// microshadow: aoOnIndirect = false, three\'s AO on indirect light left out', 'fragment');
     if (debug)
@@ -311,12 +423,27 @@ export function addMicroShadowing(material, options = {}) {
 	else if ( msh_debug_mode == 8 ) gl_FragColor = msh_dbg_direct;
 	else if ( msh_debug_mode == 9 ) gl_FragColor = msh_dbg_d;
 	else if ( msh_debug_mode == 10 ) gl_FragColor = msh_dbg_s;
-	else if ( msh_debug_mode == 11 ) gl_FragColor = vec4( reflectedLight.indirectDiffuse, 1.0 );`, 'fragment');
+	else if ( msh_debug_mode == 11 ) gl_FragColor = vec4( reflectedLight.indirectDiffuse, 1.0 );${dir ? `
+	else if ( msh_debug_mode >= 12 && msh_debug_mode <= 17 ) gl_FragColor = msh_dir_c[ msh_debug_mode - 12 ];
+${Array.from({ length: dir.textures }, (_, t) => `	else if ( msh_debug_mode == ${18 + t} ) gl_FragColor = msh_dir_a[ ${t} ];`).join('\n')}
+	else if ( msh_debug_mode == 24 ) gl_FragColor = msh_dbg_dir_l;
+	else if ( msh_debug_mode == 25 ) gl_FragColor = msh_dbg_dir_v;
+	else if ( msh_debug_mode == 26 ) gl_FragColor = vec4( msh_dir_n, 1.0 );
+	else if ( msh_debug_mode == 27 ) gl_FragColor = vec4( vMshDirUv, 0.0, 1.0 );
+	else if ( msh_debug_mode == 28 ) gl_FragColor = vec4( msh_dir_x, 1.0 );
+	else if ( msh_debug_mode == 29 ) gl_FragColor = vec4( msh_dir_y, 1.0 );
+	else if ( msh_debug_mode == 30 ) gl_FragColor = vec4( msh_dir_z, 1.0 );` : ''}`, 'fragment');
     shader.fragmentShader = fs;
-    if (visSource === 'map') {
+    if (visSource === 'map' || dir) {
       let vs = shader.vertexShader;
-      vs = replaceOnce(vs, '#include <common>', '#include <common>\nuniform mat3 msh_visibility_map_transform;\nvarying vec2 vMshVisUv;', 'vertex');
-      vs = replaceOnce(vs, '#include <uv_vertex>', '#include <uv_vertex>\n\tvMshVisUv = ( msh_visibility_map_transform * vec3( uv, 1.0 ) ).xy;', 'vertex');
+      const decl = [], set = [];
+      if (visSource === 'map') {
+        decl.push('uniform mat3 msh_visibility_map_transform;\nvarying vec2 vMshVisUv;');
+        set.push('\tvMshVisUv = ( msh_visibility_map_transform * vec3( uv, 1.0 ) ).xy;');
+      }
+      if (dir) { decl.push('varying vec2 vMshDirUv;'); set.push('\tvMshDirUv = uv;'); }  // UV channel 0, no transform
+      vs = replaceOnce(vs, '#include <common>', `#include <common>\n${decl.join('\n')}`, 'vertex');
+      vs = replaceOnce(vs, '#include <uv_vertex>', `#include <uv_vertex>\n${set.join('\n')}`, 'vertex');
       shader.vertexShader = vs;
     }
   };
@@ -330,6 +457,7 @@ export function addMicroShadowing(material, options = {}) {
     method,
     lobes,
     uniforms,
+    directional: dir,
     get enabled() { return uniforms.msh_enabled.value; },
     set enabled(on) { uniforms.msh_enabled.value = !!on; },
     // Debug output (needs options.debug): a DEBUG_MODES name, or null for the normal colour; lightIndex is
