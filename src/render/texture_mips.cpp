@@ -122,7 +122,7 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
     // writer rounds saturate(u) · 255 as quantize_coefficients does).
     const int K = codec->coefficients, C = codec->channels;
     std::vector<Texture> coef;
-    for (const TextureSet& s : chain) coef.push_back(encode_directional(s.directional, *codec));
+    for (const TextureSet* s : chain) coef.push_back(encode_directional(s->directional, *codec));
     nlohmann::json tex = nlohmann::json::array(), dds = nlohmann::json::array(),
                    png = nlohmann::json::array();
     for (int t = 0; 4 * t < K; ++t) {
