@@ -278,3 +278,42 @@ TEST(GltfExport, CompactCodeAndBadInput) {
 }
 
 }  // namespace
+
+namespace {
+// gen-material --directional-form pca8 --gltf: the extension carries the same fitted code as mips.json's
+// "directional_compact" (form, ranges, mean, basis), its two PNGs are the mips' level-0 coefficient PNGs
+// texel for texel, and the asset validates with no error or warning.
+TEST(GltfExport, GenMaterialCompactFormIsTheMipsCode) {
+  MSH_REQUIRE_BROWSER(missing_validator());
+  const fs::path dir = scratch_dir("gltf_compact");
+  const fs::path mat = dir / "mat";
+  const auto r = run_cli(
+      "gen-material --kind rock --size 64 --directional-view --directional-form pca8 --gltf "
+      "--out " +
+          mat.string(),
+      dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json g = json::parse(slurp(mat / "gltf" / "material.gltf"));
+  const json& ext = g["materials"][0]["extensions"][render::kGltfDirectionalExtension];
+  const json mips = json::parse(slurp(mat / "mips" / "mips.json"));
+  const json& dc = mips["directional_compact"];
+  EXPECT_EQ(ext["form"], "pca8");
+  EXPECT_EQ(ext["coefficients"], 8);
+  for (const char* k : {"lo", "hi", "mean", "basis"}) EXPECT_EQ(ext[k], dc[k]) << k;
+  ASSERT_EQ(ext["textures"].size(), 2u);
+  for (int t = 0; t < 2; ++t) {
+    const int src = g["textures"][ext["textures"][t]["index"].get<int>()]["source"];
+    const io::Volume a = io::read_image(mat / "gltf" / g["images"][src]["uri"].get<std::string>());
+    const io::Volume b = io::read_image(mat / ("directional_compact_" + std::to_string(t) + ".png"));
+    ASSERT_EQ(a.width, b.width);
+    ASSERT_EQ(a.height, b.height);
+    ASSERT_EQ(a.channels, b.channels);
+    int differ = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x)
+        for (int c = 0; c < a.channels; ++c) differ += a.at(x, y, 0, c) != b.at(x, y, 0, c);
+    EXPECT_EQ(differ, 0) << "texture " << t;
+  }
+  expect_clean(validate(mat / "gltf" / "material.gltf", dir), 2, 3);
+}
+}  // namespace

@@ -165,10 +165,14 @@ const DriverRun& driver_run() {
       const auto r = run_cli("view --three --export " + kCopy.string() + " --cache " + kCache.string(), dir);
       if (r.code != 0) return fail("view --three --export: " + r.err);
     }
-    // The texture set as a user makes it (KTX2 mips and mips.json; the glTF asset), small: 128² has 8 levels.
+    // The texture set as a user makes it (KTX2 mips and mips.json; the glTF asset with the compact form
+    // pca8, two coefficient PNGs), small: 128² has 8 levels.
     {
       const auto r = run_cli(
-          "gen-material --kind plaster --size 128 --directional-view --gltf --out " + kMat.string(), dir);
+          "gen-material --kind plaster --size 128 --directional-view --directional-form pca8 "
+          "--gltf --out " +
+              kMat.string(),
+          dir);
       if (r.code != 0) return fail("gen-material: " + r.err);
     }
     const json compact = write_compact_fixture(kMat, kCopy / "data" / "dircompact");
@@ -502,8 +506,11 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   const json& ext = gj["materials"][0]["extensions"]["MSH_materials_directional_occlusion"];
   EXPECT_EQ(G["method"], "directional-view+generic-vndf-alu");
   EXPECT_EQ(G["code"]["K"], ext["coefficients"]);
-  EXPECT_EQ(G["code"]["textures"], 6);
-  EXPECT_TRUE(G["code"]["identity"].get<bool>());
+  // The compact form pca8 (gen-material --directional-form pca8 --gltf): two RGBA8 coefficient PNGs.
+  EXPECT_EQ(ext["form"], "pca8");
+  EXPECT_EQ(G["code"]["K"], 8);
+  EXPECT_EQ(G["code"]["textures"], 2);
+  EXPECT_FALSE(G["code"]["identity"].get<bool>());
   EXPECT_TRUE(G["aomap"].get<bool>() && G["normalmap"].get<bool>() && G["tangents"].get<bool>());
   EXPECT_EQ(G["gl_error"], 0);
   // Bad assets: the load rejects with one line naming the problem.
@@ -514,7 +521,7 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
     for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
   };
-  has("bad_k", {"glTF material 0", "K = 9 needs 3 textures, the extension lists 6"});
+  has("bad_k", {"glTF material 0", "K = 9 needs 3 textures, the extension lists 2"});
   has("bad_channels", {"'channels' must be 21, got 20"});
   has("bad_basis", {"'basis' must have 21 rows", "got 20"});
   has("bad_texture", {"texture 3 (missing.png) did not load"});
@@ -622,7 +629,8 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   EXPECT_LE(near_err, 1e-5) << "the fetched coefficients are not the PNG texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
   std::printf(
-      "glTF (gen-material --gltf, plaster 128) through MicroShadowGLTFPlugin: %d plane probes; frame %.1e, "
+      "glTF (gen-material --directional-form pca8 --gltf, plaster 128) through MicroShadowGLTFPlugin: %d "
+      "plane probes; frame %.1e, "
       "uv "
       "%.1e, l %.1e, v %.1e, N.L %.1e, nearest vs PNG %.1e (n=%d), direct on/off %.1e (n=%d)\n",
       n_pix, frame_err, uv_err, lt_err, vt_err, nl_err, near_err, near_n, direct_err, direct_n);

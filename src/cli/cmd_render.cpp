@@ -249,14 +249,25 @@ void add_render(Groups& g) {
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
   gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
       ->check(CLI::Range(0, 1024));
-  // The glTF asset (docs/gltf.md): the 21 channels of directional-view as the extension's identity code.
-  const auto write_gltf = [](const std::string& dir, const render::TextureSet& set) {
+  // The glTF asset (docs/gltf.md): the extension's code is the compact form when one is written (the same
+  // fitted code as mips/), else the 21 channels of directional-view themselves.
+  const auto write_gltf = [](const std::string& dir, const render::TextureSet& set,
+                             const render::DirectionalCodec* codec) {
     std::optional<render::DirectionalCode> code;
     if (set.directional.channels() == directional::kViewChannels)
-      code = render::identity_directional_code(set.directional);
+      code = codec ? render::compact_directional_code(set.directional, *codec)
+                   : render::identity_directional_code(set.directional);
     render::write_texture_set_gltf(std::filesystem::path(dir) / "gltf", set, code ? &*code : nullptr);
   };
-  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, mform, mgltf, write_gltf, kind_opt, size_opt] {
+  // Mips and glTF from one set: the compact form fitted once.
+  const auto write_extras = [mno_mips, mbc, mform, mgltf, write_gltf](const std::string& dir,
+                                                                      const render::TextureSet& set) {
+    std::optional<render::DirectionalCodec> codec;
+    if (!mform->empty()) codec = render::fit_directional_codec(set.directional, *mform);
+    if (!*mno_mips) render::write_texture_set_mips(dir, set, *mbc, codec ? &*codec : nullptr);
+    if (*mgltf) write_gltf(dir, set, codec ? &*codec : nullptr);
+  };
+  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, mform, write_extras, kind_opt, size_opt] {
     auto limit = thread_limit(*mthreads);
     if (!mform->empty()) {
       if (*mno_mips || m->directional_azimuths == 0)
@@ -276,8 +287,7 @@ void add_render(Groups& g) {
     if (mheight->empty()) {
       const auto set = render::generate_texture_set(*m);
       render::write_texture_set(*mdir, set);
-      if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc, *mform);
-      if (*mgltf) write_gltf(*mdir, set);
+      write_extras(*mdir, set);
       print_json({{"dir", *mdir},
                   {"kind", m->kind},
                   {"size", m->size},
@@ -292,8 +302,7 @@ void add_render(Groups& g) {
     const render::Texture h = render::load_height_map(*mheight);
     const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
     render::write_texture_set(*mdir, set);
-    if (!*mno_mips) render::write_texture_set_mips(*mdir, set, *mbc, *mform);
-    if (*mgltf) write_gltf(*mdir, set);
+    write_extras(*mdir, set);
     print_json({{"dir", *mdir},
                 {"height", *mheight},
                 {"size", {h.width(), h.height()}},

@@ -5,6 +5,7 @@
 #include <microshadow/io/texture.h>
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_bake.h>
+#include <microshadow/render/directional_codec.h>
 #include <microshadow/render/gltf_export.h>
 #include <microshadow/render/image.h>
 #include <unistd.h>
@@ -63,6 +64,23 @@ DirectionalCode identity_directional_code(const Texture& channels21) {
   c.basis.assign(kChannels, std::vector<float>(kChannels, 0.0f));
   for (int i = 0; i < kChannels; ++i) c.basis[std::size_t(i)][std::size_t(i)] = 1;
   c.coefficients = channels21;
+  return c;
+}
+
+DirectionalCode compact_directional_code(const Texture& channels21, const DirectionalCodec& codec) {
+  if (channels21.channels() != kChannels || codec.channels != kChannels || codec.bits != 8)
+    throw InputError(
+        fmt::format("the glTF extension {} carries an 8-bit code of the {} channels of "
+                    "directional-view; got {} channels and form '{}'",
+                    kGltfDirectionalExtension, kChannels, channels21.channels(), codec.form));
+  DirectionalCode c;
+  c.form = codec.form;
+  c.lo = codec.lo, c.hi = codec.hi, c.mean = codec.mean;
+  const auto K = std::size_t(codec.coefficients);
+  for (std::size_t i = 0; i < std::size_t(kChannels); ++i)
+    c.basis.emplace_back(codec.basis.begin() + std::ptrdiff_t(i * K),
+                         codec.basis.begin() + std::ptrdiff_t((i + 1) * K));
+  c.coefficients = encode_directional(channels21, codec);
   return c;
 }
 

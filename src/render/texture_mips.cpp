@@ -49,6 +49,14 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
                                    directional_form));
     codec = fit_directional_codec(fine.directional, directional_form);
   }
+  write_texture_set_mips(dir, fine, directional_bc, codec ? &*codec : nullptr);
+}
+
+void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine, bool directional_bc,
+                            const DirectionalCodec* codec) {
+  if (codec && (codec->bits != 8 || codec->channels != fine.directional.channels()))
+    throw InputError(fmt::format("directional form '{}': an 8-bit code of the set's {} channels expected",
+                                 codec->form, fine.directional.channels()));
   const std::filesystem::path m = dir / "mips";
   std::error_code ec;
   std::filesystem::create_directories(m, ec);

@@ -49,7 +49,7 @@ async function setup({ width, height, grid, material, compact, bad }) {
   renderer.setSize(width, height);
   document.body.appendChild(renderer.domElement);
   renderer.domElement.style.cssText = 'position: fixed; left: 0; top: 0; z-index: 10';  // above the example's panel (screenshots)
-  const dir21 = await MSH.loadDirectionalOcclusion(`${material}/mips/mips.json`, { renderer });
+  const dir21 = await MSH.loadDirectionalOcclusion(`${material}/mips/mips.json`, { renderer, prefer: 'directional' });
   const dirCompact = compact ? await MSH.loadDirectionalOcclusion(`${compact}/mips/mips.json`, { renderer }) : null;
   const normal = await ktx2(`${material}/mips/normal.ktx2`, renderer);
   const ao = await ktx2(`${material}/mips/micro_occlusion.ktx2`, renderer);

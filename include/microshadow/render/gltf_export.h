@@ -31,6 +31,13 @@ struct DirectionalCode {
 // channel_ranges, the ranges gen-material's mips use). InputError unless the texture has 21 channels.
 DirectionalCode identity_directional_code(const Texture& channels21);
 
+// A compact form as the extension's code (render/directional_codec.h, an 8-bit pca<K> fitted to these 21
+// channels): the fine level's coefficients encode_directional gives, the codec's ranges, mean and basis; the
+// PNGs quantise each coefficient to 8 bits as the mips' directional_compact_<t> do. InputError unless the
+// texture has 21 channels and the codec decodes to 21.
+struct DirectionalCodec;
+DirectionalCode compact_directional_code(const Texture& channels21, const DirectionalCodec& codec);
+
 // Checks a code (sizes, finite numbers, hi ≥ lo, the texture's size against width × height); InputError
 // naming the problem.
 void check_directional_code(const DirectionalCode& code, int width, int height);

@@ -52,5 +52,9 @@ std::vector<TextureSet> texture_set_mip_chain(const TextureSet& fine);
 // Atomic files; InputError on an unwritable directory, a bad form or a form without directional channels.
 void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine,
                             bool directional_bc = false, const std::string& directional_form = "");
+// The same with a code already fitted to fine.directional (fit_directional_codec; 8-bit), or none.
+struct DirectionalCodec;
+void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine, bool directional_bc,
+                            const DirectionalCodec* codec);
 
 }  // namespace msh::render
