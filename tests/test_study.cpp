@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -362,6 +363,32 @@ TEST(Study, UserHeightMaps) {
     cached += e.path().filename().string().rfind("user-my_bumps_64_", 0) == 0 &&
               fs::exists(e.path() / "directional.npy");
   EXPECT_EQ(cached, 1);
+  // A bad cache entry is checked on read and baked again, never used: a map of another size, a non-finite
+  // texel, a depth of 1e30, a truncated file; each run's rows equal the first run's.
+  {
+    fs::path entry;
+    for (const auto& e : fs::directory_iterator(d / "cache"))
+      if (e.path().filename().string().rfind("user-my_bumps_64_", 0) == 0) entry = e.path();
+    const auto rows = [](const nlohmann::json& j) { return j["rows"].dump(); };
+    const std::string want = rows(r);
+    const auto corrupt = [&](const std::string& what, const std::function<void()>& f) {
+      f();
+      EXPECT_EQ(rows(run_study(c, d / "out")), want) << what;
+    };
+    corrupt("visibility 32x32", [&] {
+      msh::io::write_volume(entry / "visibility.npy", msh::io::Volume(32, 32, 1, 1),
+                            msh::io::FileFormat::Npy);
+    });
+    corrupt("NaN roughness", [&] {  // float32 texels at the end of the file: texel (3, 5) patched in place
+      const auto at = fs::file_size(entry / "roughness.npy") - 64 * 64 * 4 + (5 * 64 + 3) * 4;
+      std::fstream f(entry / "roughness.npy", std::ios::in | std::ios::out | std::ios::binary);
+      const float nan = std::nanf("");
+      f.seekp(std::streamoff(at));
+      f.write(reinterpret_cast<const char*>(&nan), 4);
+    });
+    corrupt("depth 1e30", [&] { std::ofstream(entry / "depth.txt") << "1e30\n"; });
+    corrupt("truncated height", [&] { fs::resize_file(entry / "height.npy", 100); });
+  }
   // From a gen-material folder: named after the folder, depth from material.json.
   fs::create_directories(d / "paving");
   fs::copy_file(d / "my_bumps.png", d / "paving" / "height.png");

@@ -163,8 +163,11 @@ void add_study(Groups& g) {
        "The ground truth's stopping rule: full (bias and footprint-RMSE floors of every component; the "
        "default) or bias (the bias floors of the total and the diffuse; the default for your own maps)")
       ->check(CLI::IsMember({"full", "bias"}));
-  s->add_option("--material-cache", a->cache,
-                "Cache the fine texture sets in DIR (float NPY) and reuse them on later runs");
+  s->add_option(
+      "--material-cache", a->cache,
+      "Cache the fine texture sets in DIR (float NPY) and reuse them on later runs (keyed by material, "
+      "size, seed or height-map hash and depth, bake settings and bake version; an entry whose maps "
+      "or depth do not match its key or hold non-finite values is baked again)");
   s->add_option("--threads", a->threads, "Worker threads (0 = all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024));
   s->add_flag("--quiet", a->quiet, "No progress on stderr");

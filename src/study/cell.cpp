@@ -45,7 +45,7 @@ io::Volume to_volume(const Texture& t) {
 Texture from_volume(const io::Volume& v, int channels) {
   const bool slices = channels > 4;
   if (slices ? v.depth != channels : v.channels < channels)
-    throw InputError("study: a cached map has the wrong number of channels (delete the material cache)");
+    throw InputError("study: a cached map has the wrong number of channels");
   Texture t(v.width, v.height, channels);
   for (int y = 0; y < v.height; ++y)
     for (int x = 0; x < v.width; ++x)
@@ -99,17 +99,46 @@ TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& c
                         {"visibility", &TextureSet::visibility, 1},
                         {"directional", &TextureSet::directional,
                          with_view ? directional::kViewChannels : directional::kDirectionalChannels}};
-  if (!dir.empty() && std::filesystem::exists(dir / "depth.txt")) {
+  // A cached entry is checked on read (every map present with its channels, the key's size, finite texels;
+  // the depth finite, positive and, for a user map, the key's): a bad entry is baked again, never used.
+  const int want_w = user_height ? user_height->width() : go.size;
+  const int want_h = user_height ? user_height->height() : go.size;
+  const auto read_cached = [&]() -> std::optional<TextureSet> {
     TextureSet s;
-    for (const Slot& sl : slots)
-      if (go.directional_azimuths > 0 || sl.map != &TextureSet::directional)
-        s.*sl.map = from_volume(io::read_volume(dir / (std::string(sl.name) + ".npy")), sl.channels);
-    require_regular_file(dir / "depth.txt");
-    std::ifstream in(dir / "depth.txt");
-    in >> s.depth_texels;
-    if (log) log("study: texture set from the cache " + dir.string());
+    try {
+      for (const Slot& sl : slots) {
+        if (go.directional_azimuths == 0 && sl.map == &TextureSet::directional) continue;
+        const std::filesystem::path f = dir / (std::string(sl.name) + ".npy");
+        Texture t = from_volume(io::read_volume(f), sl.channels);
+        if (t.width() != want_w || t.height() != want_h)
+          throw InputError(fmt::format("{}: {}x{} texels, the key's {}x{}", f.filename().string(), t.width(),
+                                       t.height(), want_w, want_h));
+        for (int y = 0; y < t.height(); ++y)
+          for (int x = 0; x < t.width(); ++x)
+            for (int c = 0; c < t.channels(); ++c)
+              if (!std::isfinite(t.at(x, y, c)))
+                throw InputError(fmt::format("{}: a texel is not finite", f.filename().string()));
+        s.*sl.map = std::move(t);
+      }
+      require_regular_file(dir / "depth.txt");
+      std::ifstream in(dir / "depth.txt");
+      if (!(in >> s.depth_texels) || !std::isfinite(s.depth_texels) || !(s.depth_texels > 0) ||
+          s.depth_texels > 1e6f || (user_height && s.depth_texels != user_depth))
+        throw InputError("depth.txt: not the entry's depth (a finite number > 0" +
+                         std::string(user_height ? fmt::format(", {:.9g}", user_depth) : "") + ")");
+    } catch (const InputError& e) {
+      if (log)
+        log(fmt::format("study: the cache entry {} is invalid ({}); baking it again", dir.string(),
+                        e.what()));
+      return std::nullopt;
+    }
     return s;
-  }
+  };
+  if (!dir.empty() && std::filesystem::exists(dir / "depth.txt"))
+    if (std::optional<TextureSet> s = read_cached()) {
+      if (log) log("study: texture set from the cache " + dir.string());
+      return std::move(*s);
+    }
   TextureSet s =
       user_height ? texture_set_from_height(*user_height, user_depth, go) : generate_texture_set(go);
   if (!dir.empty()) {
