@@ -3,6 +3,7 @@
 // claiming absurd dimensions. Always an InputError naming the file, never a hang, a crash or a huge read.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/render/scene.h>
@@ -12,6 +13,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <stop_token>
@@ -200,3 +202,32 @@ TEST(IoHostile, AbsurdHeaderDimensionsAreRefusedBeforeAllocating) {
 
 }  // namespace
 }  // namespace msh::io
+
+// Writers never replace what is not a regular file (`convert x.npy /dev/null` made /dev/null a regular file):
+// a FIFO and a directory as targets, through the atomic writer and a format writer; each refused with the
+// path named, the FIFO still a FIFO, no temporary file left. A regular file and a symlink to one are written.
+TEST(IoHostile, WritersRefuseTargetsThatAreNotRegularFiles) {
+  namespace fs = std::filesystem;
+  const auto dir = msh::io::test::scratch_dir();
+  const fs::path fifo = dir / "pipe.npy";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_directories(dir / "folder.npy");
+  msh::io::Volume v(2, 2, 1, 1);
+  for (const fs::path& target : std::vector<fs::path>{fifo, dir / "folder.npy"}) {
+    try {
+      msh::io::write_file_atomic(target, std::string_view("x"));
+      ADD_FAILURE() << "no error for " << target;
+    } catch (const msh::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(target.string()), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(msh::io::write_volume(target, v, msh::io::FileFormat::Npy), msh::InputError) << target;
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_directory(dir / "folder.npy"));
+  msh::io::write_volume(dir / "plain.npy", v, msh::io::FileFormat::Npy);
+  fs::create_symlink(dir / "plain.npy", dir / "link.npy");
+  msh::io::write_file_atomic(dir / "link.npy", std::string_view("y"));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}

@@ -71,11 +71,7 @@ void run_study(const StudyArgs& a) {
     print_json(j);
   }
   const std::string md = render::directional_study_markdown(rows);
-  if (!a.out.empty()) {
-    std::ofstream f(a.out);
-    if (!f) throw UsageError(fmt::format("cannot write '{}'", a.out));
-    f << md;
-  }
+  if (!a.out.empty()) io::write_file_atomic(a.out, md);
   if (!a.json) std::cout << md;
 }
 

@@ -217,9 +217,7 @@ void export_three_example(const ViewerOptions& o, const fs::path& out) {
 
   const auto write = [&](const fs::path& p, const std::string& bytes) {
     fs::create_directories(p.parent_path());
-    std::ofstream f(p, std::ios::binary);
-    f.write(bytes.data(), std::streamsize(bytes.size()));
-    if (!f) throw InputError(fmt::format("cannot write '{}'", p.string()));
+    io::write_file_atomic(p, bytes);  // every write, flush and close checked
   };
   write_directory_atomically(out, "the three.js example", [&](const fs::path& tmp) {
     for (const auto& e : fs::directory_iterator(example))

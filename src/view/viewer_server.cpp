@@ -466,28 +466,23 @@ void export_viewer(const ViewerOptions& o, const fs::path& out) {
       else if (e.is_regular_file())
         fs::copy_file(e.path(), tmp / rel, fs::copy_options::overwrite_existing);
     }
-    std::ofstream(tmp / "methods.js", std::ios::binary) << methods_js(occlusion::micro_shadowing_methods());
+    // Every file through the checked writer: a full disk fails the export instead of leaving empty files.
+    io::write_file_atomic(tmp / "methods.js", methods_js(occlusion::micro_shadowing_methods()));
     nlohmann::json man = c.manifest;
     man["glsl"] = glsl_files(o.assets / "shaders" / "glsl");
     for (const auto& g : man["glsl"])  // with their includes expanded: WebGL2 has no #include
-      std::ofstream(tmp / "shaders" / "glsl" / g.get<std::string>(), std::ios::binary)
-          << expand_shader_includes(o.assets / "shaders" / "glsl" / g.get<std::string>());
-    for (const auto& [path, blob] : c.data) {
-      std::ofstream f(tmp / path, std::ios::binary);
-      f.write(blob.bytes.data(), std::streamsize(blob.bytes.size()));
-      if (!f) throw InputError(fmt::format("cannot write '{}'", (tmp / path).string()));
-    }
-    std::ofstream(tmp / "data" / "manifest.json") << man.dump(1) << "\n";
-    std::ofstream(tmp / "README.txt")
-        << "microshadow viewer, static copy (docs/viewer.md). Serve it over HTTP on this machine, then open "
-           "the URL:\n"
-           "  microshadow view --root "
-        << out.string()
-        << "\n"
-           "  or any static server, e.g. python3 -m http.server --bind 127.0.0.1 -d "
-        << out.string()
-        << " 8080\n"
-           "Opening index.html from file:// does not work: browsers refuse fetch() of file URLs.\n";
+      io::write_file_atomic(tmp / "shaders" / "glsl" / g.get<std::string>(),
+                            expand_shader_includes(o.assets / "shaders" / "glsl" / g.get<std::string>()));
+    for (const auto& [path, blob] : c.data)
+      io::write_file_atomic(tmp / path, std::string_view(blob.bytes.data(), blob.bytes.size()));
+    io::write_file_atomic(tmp / "data" / "manifest.json", man.dump(1) + "\n");
+    io::write_file_atomic(
+        tmp / "README.txt",
+        "microshadow viewer, static copy (docs/viewer.md). Serve it over HTTP on this machine, then open the "
+        "URL:\n  microshadow view --root " +
+            out.string() + "\n  or any static server, e.g. python3 -m http.server --bind 127.0.0.1 -d " +
+            out.string() +
+            " 8080\nOpening index.html from file:// does not work: browsers refuse fetch() of file URLs.\n");
   });
 }
 

@@ -10,7 +10,8 @@
 namespace msh::io {
 
 // Writes `bytes` to `path` atomically. Throws msh::InputError (naming the path) when the directory does not
-// exist or is not writable, or when the write fails; the target is then untouched.
+// exist or is not writable, when the target exists and is not a regular file (a device, FIFO, socket or
+// directory: never replaced), or when any write, flush or close fails; the target is then untouched.
 void write_file_atomic(const std::filesystem::path& path, std::span<const std::byte> bytes);
 void write_file_atomic(const std::filesystem::path& path, std::string_view text);
 
