@@ -61,13 +61,7 @@ const fs::path kThree = kSource / "integrations" / "three" / "node_modules" / "t
 const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
 
 // Why the browser part cannot run here ("" = it can).
-std::string missing_browser() {
-  const std::string why = msh::test::missing_browser_driver(kBrowserDir);
-  if (!why.empty()) return why;
-  if (!fs::exists(kThree / "package.json"))
-    return "three is not installed: run `npm ci` in integrations/three (scripts/install-deps.sh does)";
-  return "";
-}
+std::string missing_browser() { return msh::test::missing_three_browser(kBrowserDir, kThree); }
 #define REQUIRE_BROWSER() MSH_REQUIRE_BROWSER(missing_browser())
 
 int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }

@@ -47,13 +47,7 @@ const fs::path kThree = kSource / "integrations" / "three" / "node_modules" / "t
 const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
 constexpr int kCompactK = 8;
 
-std::string missing_browser() {
-  const std::string why = msh::test::missing_browser_driver(kBrowserDir);
-  if (!why.empty()) return why;
-  if (!fs::exists(kThree / "package.json"))
-    return "three is not installed: run `npm ci` in integrations/three (scripts/install-deps.sh does)";
-  return "";
-}
+std::string missing_browser() { return msh::test::missing_three_browser(kBrowserDir, kThree); }
 
 Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
 

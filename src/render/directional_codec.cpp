@@ -258,6 +258,22 @@ std::vector<float> DirectionalCodec::folded_basis() const {
   return b;
 }
 
+namespace {
+std::vector<std::vector<float>> rows_of(const std::vector<float>& m, int rows, int cols) {
+  std::vector<std::vector<float>> r;
+  for (int i = 0; i < rows; ++i)
+    r.emplace_back(m.begin() + std::ptrdiff_t(i) * cols, m.begin() + std::ptrdiff_t(i + 1) * cols);
+  return r;
+}
+}  // namespace
+
+std::vector<std::vector<float>> DirectionalCodec::basis_rows() const {
+  return rows_of(basis, channels, coefficients);
+}
+std::vector<std::vector<float>> DirectionalCodec::folded_basis_rows() const {
+  return rows_of(folded_basis(), channels, coefficients);
+}
+
 Texture encode_directional(const Texture& channels, const DirectionalCodec& codec) {
   const int C = codec.channels, K = codec.coefficients;
   if (channels.channels() != C)

@@ -76,10 +76,7 @@ DirectionalCode compact_directional_code(const Texture& channels21, const Direct
   DirectionalCode c;
   c.form = codec.form;
   c.lo = codec.lo, c.hi = codec.hi, c.mean = codec.mean;
-  const auto K = std::size_t(codec.coefficients);
-  for (std::size_t i = 0; i < std::size_t(kChannels); ++i)
-    c.basis.emplace_back(codec.basis.begin() + std::ptrdiff_t(i * K),
-                         codec.basis.begin() + std::ptrdiff_t((i + 1) * K));
+  c.basis = codec.basis_rows();
   c.coefficients = encode_directional(channels21, codec);
   return c;
 }

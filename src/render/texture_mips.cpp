@@ -128,7 +128,7 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
   if (codec) {
     // K coefficients, 4 per RGBA8 texture, each level the quantised code of that level's channels (the
     // writer rounds saturate(u) · 255 as quantize_coefficients does).
-    const int K = codec->coefficients, C = codec->channels;
+    const int K = codec->coefficients;
     std::vector<Texture> coef;
     for (const TextureSet* s : chain) coef.push_back(encode_directional(s->directional, *codec));
     nlohmann::json tex = nlohmann::json::array(), dds = nlohmann::json::array(),
@@ -145,28 +145,20 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
       io::write_volume(dir / (name + ".png"), levels[0], io::FileFormat::Png, io::PixelFormat::RGBA8Unorm);
       tex.push_back(name + ".ktx2"), dds.push_back(name + ".dds"), png.push_back("../" + name + ".png");
     }
-    const std::vector<float> fb = codec->folded_basis();
-    nlohmann::json basis = nlohmann::json::array(), folded = nlohmann::json::array();
-    for (int i = 0; i < C; ++i) {
-      basis.push_back(std::vector<float>(codec->basis.begin() + std::ptrdiff_t(i) * K,
-                                         codec->basis.begin() + std::ptrdiff_t(i + 1) * K));
-      folded.push_back(
-          std::vector<float>(fb.begin() + std::ptrdiff_t(i) * K, fb.begin() + std::ptrdiff_t(i + 1) * K));
-    }
     j["directional_compact"] = {
         {"form", codec->form},
         {"coefficients", K},
-        {"channels", C},
+        {"channels", codec->channels},
         {"textures", tex},
         {"dds", dds},
         {"png", png},
         {"lo", codec->lo},
         {"hi", codec->hi},
         {"mean", codec->mean},
-        {"basis", basis},
+        {"basis", codec->basis_rows()},
         {"explained", codec->explained},
         {"folded_mean", codec->folded_mean()},
-        {"folded_basis", folded},
+        {"folded_basis", codec->folded_basis_rows()},
         {"decode",
          "a_k = lo_k + (hi_k - lo_k) * unorm_k (coefficient 4t + c in channel c of texture t); channel_i = "
          "mean_i + sum_k basis[i][k] * a_k (equivalently folded_mean_i + sum_k folded_basis[i][k] * "

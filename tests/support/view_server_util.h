@@ -38,6 +38,16 @@ inline std::string missing_browser_driver(const std::filesystem::path& browser_d
   return "";
 }
 
+// The same, and three.js installed in integrations/three (three_dir: its node_modules/three).
+inline std::string missing_three_browser(const std::filesystem::path& browser_dir,
+                                         const std::filesystem::path& three_dir) {
+  const std::string why = missing_browser_driver(browser_dir);
+  if (!why.empty()) return why;
+  if (!std::filesystem::exists(three_dir / "package.json"))
+    return "three is not installed: run `npm ci` in integrations/three (scripts/install-deps.sh does)";
+  return "";
+}
+
 // Fails the test with `why` unless MSH_ALLOW_NO_BROWSER=1 (then skips); nothing when why is empty.
 #define MSH_REQUIRE_BROWSER(why_expr)                                             \
   do {                                                                            \

@@ -35,6 +35,9 @@ struct DirectionalCodec {
   // shaders take): channel_i = folded_mean_i + Σ_k folded_basis[i K + k] u_k, u_k the stored UNORM value.
   std::vector<float> folded_mean() const;
   std::vector<float> folded_basis() const;
+  // basis and folded_basis as C rows of K (mips.json and the glTF extension store them so).
+  std::vector<std::vector<float>> basis_rows() const;
+  std::vector<std::vector<float>> folded_basis_rows() const;
   // Bytes per texel as stored (K · bits / 8; float: 4 K) and texture fetches (RGBA: ⌈K / 4⌉).
   double bytes_per_texel() const { return coefficients * (bits == 0 ? 4.0 : bits / 8.0); }
   int fetches() const { return (coefficients + 3) / 4; }
