@@ -580,3 +580,118 @@ TEST(DirectionalPoly2, WholeTextureBiasAtContinuousLights) {
     }
   }
 }
+
+// The masked view correction (directional_view_masked_transport; measured in the renderer, not the shipped
+// form: docs/study.md "Grazing views"). R(m, s) = E[(m + s Z)⁺] against a Simpson quadrature of the normal
+// density; the seen area R(v_z, s) against a Monte Carlo of Gaussian slopes (the projected area of a facet of
+// slope p is v_z − p · v_h); s = 0 gives the unclamped form T + g/v_z; a uniformly lit material (f = t₀ on
+// every facet: T = t₀, G = 0) gives t₀ at every view; finite at v_z ≤ 0 and with a negative Σ.
+TEST(DirectionalViewMasked, RampMeanMatchesQuadrature) {
+  for (double m : {-2.0, -0.3, 0.0, 0.17, 1.5})
+    for (double s : {0.05, 0.4, 1.0, 3.0}) {
+      // The integrand is smooth from its kink z₀ = −m/s up: Simpson over [z₀, z₀ + 40].
+      const int n = 20000;
+      const double lo = -m / s, hi = lo + 40, h = (hi - lo) / n;
+      double sum = 0;
+      for (int i = 0; i <= n; ++i) {
+        const double z = lo + i * h, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+        sum += w * (m + s * z) * std::exp(-0.5 * z * z) / std::sqrt(2 * kPiD);
+      }
+      EXPECT_NEAR(dir::ramp_mean(m, s), sum * h / 3, 1e-9) << m << " " << s;
+    }
+  EXPECT_EQ(dir::ramp_mean(-0.5, 0.0), 0.0);
+  EXPECT_EQ(dir::ramp_mean(0.5, 0.0), 0.5);
+}
+
+TEST(DirectionalViewMasked, SeenAreaIsSmithsForGaussianSlopes) {
+  // Slopes p ~ N(0, Σ) with Σ = [[0.3, 0.1], [0.1, 0.2]]; Cholesky factor for sampling.
+  const double sxx = 0.3, sxy = 0.1, syy = 0.2;
+  const double l11 = std::sqrt(sxx), l21 = sxy / l11, l22 = std::sqrt(syy - l21 * l21);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> nd;
+  for (double ve : {30.0, 60.0, 80.0}) {
+    const double e = ve * kPiD / 180;  // elevation above the plane
+    const Vec3d v(std::cos(e) * std::cos(0.7), std::cos(e) * std::sin(0.7), std::sin(e));
+    const int n = 400000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < n; ++i) {
+      const double z1 = nd(rng), z2 = nd(rng);
+      const double px = l11 * z1, py = l21 * z1 + l22 * z2;
+      const double a = std::max(v.z - (px * v.x + py * v.y), 0.0);
+      sum += a, sum2 += a * a;
+    }
+    const double mean = sum / n, se = std::sqrt((sum2 / n - mean * mean) / n);
+    const double s = std::sqrt(sxx * v.x * v.x + 2 * sxy * v.x * v.y + syy * v.y * v.y);
+    EXPECT_NEAR(dir::ramp_mean(v.z, s), mean, 4 * se) << ve;
+    // A uniformly lit material: the form returns t₀ whatever the view and Σ.
+    double ch[dir::kViewChannels] = {};
+    ch[0] = 0.37;
+    const double cov[3] = {sxx, sxy, syy};
+    EXPECT_NEAR(dir::directional_view_masked_transport(ch, ch + 9, Vec3d(0.3, -0.2, 0.93), v, cov), 0.37,
+                1e-12);
+  }
+}
+
+TEST(DirectionalViewMasked, FlatSigmaIsTheUnclampedFormAndDegenerateInputsStayFinite) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-0.3f, 0.3f);
+  float ch[dir::kViewChannels];
+  for (float& c : ch) c = u(rng);
+  ch[0] = 0.6f;
+  const float zero[3] = {0, 0, 0}, neg[3] = {-1, 0, -1}, big[3] = {1e6f, 0, 1e6f};
+  const Vec3f l = normalize(Vec3f(0.2f, 0.4f, 0.8f));
+  for (float ve : {20.0f, 45.0f, 70.0f, 88.0f}) {
+    const float e = ve * float(kPiD) / 180;
+    const Vec3f v(0.3f * std::cos(e), -0.95f * std::cos(e), std::sin(e));
+    const Vec3f vn = normalize(v);
+    // s = 0: max(0, T + g / v_z) computed independently from the channels
+    float b[9];
+    dir::poly2_basis(l, b);
+    float t = 0, gx = 0, gy = 0;
+    for (int i = 0; i < 9; ++i) t += ch[i] * b[i];
+    for (int i = 0; i < dir::kSlopeTerms; ++i) gx += ch[9 + i] * b[i], gy += ch[15 + i] * b[i];
+    const float want = std::max(t + (gx * vn.x + gy * vn.y) / vn.z, 0.0f);
+    EXPECT_NEAR(dir::directional_view_masked_transport(ch, ch + 9, l, vn, zero), want, 1e-5f * (1 + want))
+        << ve;
+    EXPECT_EQ(dir::directional_view_masked_transport(ch, ch + 9, l, vn, neg),
+              dir::directional_view_masked_transport(ch, ch + 9, l, vn, zero));
+    EXPECT_TRUE(std::isfinite(dir::directional_view_masked_transport(ch, ch + 9, l, vn, big)));
+  }
+  for (const Vec3f& v : {Vec3f(0, -1, 0), Vec3f(0.6f, 0, -0.8f)}) {
+    const float r = dir::directional_view_masked_term(ch, l, v, Vec3f(0, 0, 1), zero);
+    const float c[3] = {0.2f, 0.05f, 0.3f};
+    const float rs = dir::directional_view_masked_term(ch, l, v, Vec3f(0, 0, 1), c);
+    EXPECT_TRUE(std::isfinite(r) && r >= 0) << r;
+    EXPECT_TRUE(std::isfinite(rs) && rs >= 0) << rs;
+  }
+  EXPECT_EQ(dir::directional_view_masked_transport(ch, ch + 9, Vec3f(0.6f, 0, -0.8f), Vec3f(0, 0, 1), zero),
+            0.0f);
+}
+
+// slope_covariance: a constant tilted normal n gives n_h n_hᵀ / n_z²; a sinusoidal height field z = A sin(2π
+// x / P) gives Σ_xx = E[n_x²]/E[n_z²] from its closed-form slopes, Σ_xy = Σ_yy = 0.
+TEST(DirectionalViewMasked, SlopeCovarianceOfKnownNormalMaps) {
+  Texture t(8, 8, 3);
+  const Vec3d n = normalize(Vec3d(0.3, -0.2, 0.9));
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i)
+      t.at(i, j, 0) = float(0.5 * n.x + 0.5), t.at(i, j, 1) = float(0.5 * n.y + 0.5),
+                 t.at(i, j, 2) = float(0.5 * n.z + 0.5);
+  const auto s = slope_covariance(t);
+  EXPECT_NEAR(s[0], n.x * n.x / (n.z * n.z), 1e-5);
+  EXPECT_NEAR(s[1], n.x * n.y / (n.z * n.z), 1e-5);
+  EXPECT_NEAR(s[2], n.y * n.y / (n.z * n.z), 1e-5);
+  Texture w(64, 4, 3);
+  double xx = 0, zz = 0;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 64; ++i) {
+      const double p = 0.8 * std::cos(2 * kPiD * (i + 0.5) / 64), r = std::sqrt(1 + p * p);
+      w.at(i, j, 0) = float(0.5 * (-p / r) + 0.5), w.at(i, j, 1) = 0.5f, w.at(i, j, 2) = float(0.5 / r + 0.5);
+      xx += p * p / (r * r), zz += 1 / (r * r);
+    }
+  const auto sw = slope_covariance(w);
+  EXPECT_NEAR(sw[0], xx / zz, 1e-5);
+  EXPECT_NEAR(sw[1], 0.0, 1e-6);
+  EXPECT_NEAR(sw[2], 0.0, 1e-6);
+  EXPECT_THROW(slope_covariance(Texture(4, 4, 1)), InputError);
+}

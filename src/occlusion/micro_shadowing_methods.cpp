@@ -564,6 +564,33 @@ const std::vector<Entry>& entries() {
            };
            return i;
          }},
+        // The same 21 channels with masking toward the camera (directional_view_masked_term): the material's
+        // slope covariance Σ spreads the projected areas as Smith's masking does. Renderer and study only.
+        {[] {
+           MicroShadowingMethodInfo i =
+               info("directional-view-masked", "directional, view-corrected and masked (21 channels + Σ)",
+                    "directional-view with masking toward the camera: the projected areas spread by the "
+                    "material's slope covariance (Smith-normalised; renderer and study)",
+                    kNoNdotl | kTexel);
+           i.texel_channels = directional::kViewChannels;
+           return i;
+         }(),
+         [](auto&, auto&) {
+           Impl i{[](const Point&) -> double {
+                    throw InputError(
+                        "directional-view-masked reads per-texel channels: render or study a material baked "
+                        "with them (gen-material --directional-view)");
+                  },
+                  nullptr};
+           i.shade = [](const In& in) {
+             if (in.texel_channels < directional::kViewChannels) return 1.0f;
+             static constexpr float kZero[3] = {0, 0, 0};
+             return directional::directional_view_masked_term(
+                 in.texel, in.l_tangent, in.v_tangent, in.n_tangent,
+                 in.slope_covariance ? in.slope_covariance : kZero);
+           };
+           return i;
+         }},
         // Named pairs (docs/micro-shadowing-aware.md): the diffuse-aware term on the diffuse lobe, a specular
         // term on the specular lobe.
         {pair("diffuse-aware", "specular-aware", "aware (estimator + indicator)",

@@ -136,6 +136,7 @@ void Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
       // Only what the method reads (the view correction's 12 slope channels more than double the fetches).
       sp.texel_channels = std::min({m.directional.channels(), int(sp.texel.size()), ms.texel_channels()});
       for (int c = 0; c < sp.texel_channels; ++c) sp.texel[std::size_t(c)] = m.directional.sample(u, v, c);
+      sp.slope_covariance = m.slope_covariance;
     }
     if (!m.normal.empty()) {
       const Rgbf nt = m.normal.sample_rgb(u, v);

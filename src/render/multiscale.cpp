@@ -45,6 +45,7 @@ TextureSet downsample_texture_set(const TextureSet& fine, int k, CoarseRoughness
 
   TextureSet c;
   c.depth_texels = fine.depth_texels / float(k);
+  c.slope_covariance = fine.slope_covariance;  // the fine normals' (a per-material constant)
   c.height = box_downsample(fine.height, k);
   c.base_color = box_downsample(fine.base_color, k);
   c.metallic = box_downsample(fine.metallic, k);

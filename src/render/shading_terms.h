@@ -53,6 +53,7 @@ class MicroShadowingTerm {
       };
       in.l_tangent = tangent_space(wi), in.n_tangent = tangent_space(sp.n_shading);
       in.v_tangent = tangent_space(wo);
+      in.slope_covariance = sp.slope_covariance.data();
     }
     const occlusion::MicroShadowingLobes t = method_->shade(in);
     return {t.diffuse, t.specular};

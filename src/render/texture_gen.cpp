@@ -301,6 +301,7 @@ void finish_set(TextureSet& s, const GenOptions& opt) {
         opt.directional_view
             ? bake_directional_view_channels(s.height, s.depth_texels, opt.directional_azimuths, 0.0f)
             : bake_directional_channels(s.height, s.depth_texels, opt.directional_azimuths, 0.0f);
+  s.slope_covariance = slope_covariance(s.normal);
 }
 
 // The test roughness of Zurita 2026, "Improving Direct Lighting Material Occlusion – Part 2": rough on the
@@ -310,6 +311,23 @@ float split_roughness(const GenOptions& opt, float u, float noise) {
 }
 
 }  // namespace
+
+std::array<float, 3> slope_covariance(const Texture& normal) {
+  if (normal.empty() || normal.channels() != 3)
+    throw InputError(
+        fmt::format("slope_covariance: the normal map must have 3 channels, got {}", normal.channels()));
+  double xx = 0, xy = 0, yy = 0, zz = 0;
+  for (int j = 0; j < normal.height(); ++j)
+    for (int i = 0; i < normal.width(); ++i) {
+      const double nx = 2.0 * normal.at(i, j, 0) - 1, ny = 2.0 * normal.at(i, j, 1) - 1,
+                   nz = 2.0 * normal.at(i, j, 2) - 1;
+      if (!std::isfinite(nx) || !std::isfinite(ny) || !std::isfinite(nz))
+        throw InputError("slope_covariance: a normal is not finite");
+      xx += nx * nx, xy += nx * ny, yy += ny * ny, zz += nz * nz;
+    }
+  if (!(zz > 0)) return {0.0f, 0.0f, 0.0f};
+  return {float(xx / zz), float(xy / zz), float(yy / zz)};
+}
 
 namespace {
 // Depth of the full height range in texels at size 256 (scaled with the size): chosen so that the baked

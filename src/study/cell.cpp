@@ -132,6 +132,7 @@ TextureSet load_or_generate(const GenOptions& go, const std::filesystem::path& c
                         e.what()));
       return std::nullopt;
     }
+    s.slope_covariance = slope_covariance(s.normal);  // not stored: a sum over the fine normals
     return s;
   };
   if (!dir.empty() && std::filesystem::exists(dir / "depth.txt"))
@@ -271,6 +272,7 @@ Material make_material(const std::string& name, const TextureSet& s, bool ground
     m.normal = s.normal;
     m.visibility = s.visibility;
     m.directional = s.directional;
+    m.slope_covariance = s.slope_covariance;
   }
   return m;
 }

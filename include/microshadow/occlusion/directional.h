@@ -102,6 +102,46 @@ T directional_view_transport(const T* channels, const T* slope_channels, Vec3<T>
   return std::max(t + (gx * v_local.x + gy * v_local.y) / vz, T(0));
 }
 
+// The view correction with masking toward the camera, Smith-normalised: measured and not shipped (rendered,
+// it is worse than the v_z clamp at 75° and 85°: docs/study.md, "Grazing views"). Without masking, a camera
+// along v weighs each facet by m = (n · v)/n_z, whose footprint mean is v_z; the unmasked transport is E[f
+// m]/v_z = T + g/v_z, g = G_x v_x + G_y v_y. Smith's masking (Smith 1967, "Geometrical shadowing of a random
+// rough surface"; Heitz 2014, "Understanding the masking-shadowing function in microfacet-based BRDFs", eq.
+// 72–73) replaces the mean of m by that of m⁺: with slopes of covariance Σ, m = v_z + s Z along the view
+// azimuth, s² = v_hᵀ Σ v_h (v_h = (v_x, v_y)), Z a unit normal, so the mean visible projected area is R(v_z,
+// s), R(m, s) = E[(m + s Z)⁺] = m Φ(m/s) + s φ(m/s). The lit part's mean projected area is modelled the same
+// way, T v_z + g spread by T⁺ s (the lit facets' share of the area): transport = R(T v_z + g, T⁺ s) / R(v_z,
+// s). s = 0 (a flat material) gives max(0, T + g/v_z), the form without the v_z clamp; it stays finite at v_z
+// = 0 when s > 0 (R(0, s) = s φ(0)). Σ = E[n_h n_hᵀ]/E[n_z²] over the material's fine normals (3 numbers:
+// Σ_xx, Σ_xy, Σ_yy; the texels' slope channels cannot give it), a per-material constant at every scale. A v_z
+// below 1e-4 is taken as 1e-4 (normal-mapped shading can put the camera under the tangent plane). 0 for l.z ≤
+// 0; ≥ 0; finite for finite channels.
+template <class T>
+T ramp_mean(T m, T s) {
+  if (!(s > T(1e-12))) return std::max(m, T(0));
+  const T x = m / s;
+  const T pdf = T(0.3989422804014327) * std::exp(T(-0.5) * x * x);
+  const T cdf = T(0.5) * std::erfc(-x * T(0.7071067811865476));
+  return m * cdf + s * pdf;
+}
+template <class T>
+T directional_view_masked_transport(const T* channels, const T* slope_channels, Vec3<T> l_local,
+                                    Vec3<T> v_local, const T slope_cov[3]) {
+  if (!(l_local.z > T(0))) return T(0);
+  T b[kPoly2Terms];
+  poly2_basis(l_local, b);
+  T t = 0, gx = 0, gy = 0;
+  for (int i = 0; i < kPoly2Terms; ++i) t += channels[i] * b[i];
+  for (int i = 0; i < kSlopeTerms; ++i)
+    gx += slope_channels[i] * b[i], gy += slope_channels[kSlopeTerms + i] * b[i];
+  const T vz = std::max(v_local.z, T(1e-4));
+  const T s2 = slope_cov[0] * v_local.x * v_local.x + T(2) * slope_cov[1] * v_local.x * v_local.y +
+               slope_cov[2] * v_local.y * v_local.y;
+  const T s = std::sqrt(std::max(s2, T(0)));
+  const T seen = ramp_mean(vz, s);
+  return std::max(ramp_mean(t * vz + gx * v_local.x + gy * v_local.y, std::max(t, T(0)) * s) / seen, T(0));
+}
+
 // The view-corrected data as one texel: the 9 transport channels, then the 12 slope channels (21;
 // render::bake_directional_view_channels).
 inline constexpr int kViewChannels = kDirectionalChannels + kSlopeChannels;
@@ -113,6 +153,16 @@ T directional_view_term(const T* channels21, Vec3<T> l_local, Vec3<T> v_local, V
   const T nl = dot(n_coarse_local, l_local);
   if (!(nl > T(1e-4))) return T(0);
   return directional_view_transport(channels21, channels21 + kDirectionalChannels, l_local, v_local) / nl;
+}
+// The masked form as the same factor (the `directional-view-masked` method).
+template <class T>
+T directional_view_masked_term(const T* channels21, Vec3<T> l_local, Vec3<T> v_local, Vec3<T> n_coarse_local,
+                               const T slope_cov[3]) {
+  const T nl = dot(n_coarse_local, l_local);
+  if (!(nl > T(1e-4))) return T(0);
+  return directional_view_masked_transport(channels21, channels21 + kDirectionalChannels, l_local, v_local,
+                                           slope_cov) /
+         nl;
 }
 
 // Compact forms (render/directional_codec.h, docs/directional-occlusion.md "Compact forms"): K UNORM

@@ -31,6 +31,7 @@ struct ShadePoint {
   Vec3f frame_u{1, 0, 0}, frame_v{0, 1, 0};
   std::array<float, 21> texel{};  // up to directional::kViewChannels
   int texel_channels = 0;
+  std::array<float, 3> slope_covariance{};  // Material::slope_covariance
 };
 
 // GGX (height-correlated Smith G2, RTR4 9.31 + 9.41) + Lambert BRDF times cosine, with Schlick Fresnel

@@ -62,6 +62,9 @@ struct Material {
   // Directional micro-occlusion channels (occlusion/directional.h; tangent space of the normal map), sampled
   // bilinearly (they are linear); empty = none (the methods that need them refuse the scene).
   Texture directional;
+  // The fine normals' slope covariance (Σ_xx, Σ_xy, Σ_yy; render::slope_covariance), what the
+  // `directional-view-masked` method reads; zero: that method takes the unclamped view correction.
+  std::array<float, 3> slope_covariance{};
   float height_texels = 0.0f;    // depth of the full height range in texel units (ground truth only)
   float uv_scale = 1.0f;         // texture repeats per unit of the object's uv
   float specular = 1.0f;         // dielectric F0 = 0.04 · specular (0 = pure Lambert, for closed-form tests)

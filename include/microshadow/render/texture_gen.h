@@ -10,6 +10,7 @@
 #include <microshadow/io/texture.h>
 #include <microshadow/render/scene.h>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -25,7 +26,15 @@ struct TextureSet {
   // channels); empty when not baked (GenOptions::directional_azimuths = 0).
   Texture directional;
   float depth_texels = 0;  // depth of the full height range in texel units (normal map and bake use it)
+  // The fine normals' slope covariance E[n_h n_hᵀ]/E[n_z²] (Σ_xx, Σ_xy, Σ_yy; slope_covariance()): what the
+  // `directional-view-masked` method reads, one constant per material, kept at every scale.
+  std::array<float, 3> slope_covariance{};
 };
+
+// Σ = E[n_h n_hᵀ]/E[n_z²] over a tangent-space normal map (encoded n·0.5 + 0.5, 3 channels): the slope
+// covariance of directional::directional_view_masked_transport. InputError on an empty or non-3-channel
+// map or non-finite texels.
+std::array<float, 3> slope_covariance(const Texture& normal);
 
 struct GenOptions {
   std::string kind = "plaster";  // plaster | bark | gravel | rock | brick | cobble (material_kinds())

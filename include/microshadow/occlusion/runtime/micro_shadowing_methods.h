@@ -100,6 +100,8 @@ struct MicroShadowingShadeInput {
   const float* texel = nullptr;
   int texel_channels = 0;
   Vec3f l_tangent{0, 0, 1}, n_tangent{0, 0, 1}, v_tangent{0, 0, 1};
+  // The material's slope covariance (Σ_xx, Σ_xy, Σ_yy; `directional-view-masked`).
+  const float* slope_covariance = nullptr;
 };
 // The term of each lobe (equal for a single term).
 struct MicroShadowingLobes {
