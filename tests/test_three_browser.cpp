@@ -9,7 +9,10 @@
 // are themselves checked against the scene (N·L, N·V and the cap recomputed from the pixel's position and
 // normal and the lights; V one of the texture's values or the constant); each light's direct diffuse and
 // specular with micro-shadowing on and off differ by exactly the lobes' terms; no console errors;
-// screenshots, the module's size and the frame time at 1280x720 printed. Fails without
+// screenshots, the module's size and the frame time at 1280x720 printed. docs/three.md's glTF block on an
+// asset with a shared mesh, a material without occlusion, an unlit one and a clearcoat one
+// (tests/browser/three_scene_probe.js): each material patched once or skipped with its code, a second call
+// changing nothing, the render changed on the patched quads only. Fails without
 // chromium/node/playwright-core/three unless MSH_ALLOW_NO_BROWSER=1 (then skips), as the viewer test.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
@@ -30,6 +33,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -239,6 +243,20 @@ TEST(ThreeExample, ServesTheExampleAndCleansUp) {
 
 // ---- the browser ---------------------------------------------------------------------------------------
 
+// docs/three.md's glTF block ("## A glTF model", the first js block) with 'model.glb' replaced by `model`
+// (a JS expression); "" when the section, the block or 'model.glb' is missing.
+std::string docs_gltf_block(const std::string& model) {
+  const std::string doc = slurp(kSource / "docs" / "three.md");
+  const auto h = doc.find("## A glTF model");
+  const auto a = h == std::string::npos ? h : doc.find("```js\n", h);
+  const auto b = a == std::string::npos ? a : doc.find("```", a + 6);
+  if (b == std::string::npos) return "";
+  std::string block = doc.substr(a + 6, b - a - 6);
+  const auto glb = block.find("'model.glb'");
+  if (glb == std::string::npos) return "";
+  return block.replace(glb, 11, model);
+}
+
 struct Stat {
   double max_float = 0, max_8bit = 0;
   int n = 0;
@@ -307,18 +325,13 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   fs::copy_file(ktx2, copy / "data" / "lut3d.ktx2", fs::copy_options::overwrite_existing);
   fs::copy_file(ktx2.string() + ".json", copy / "data" / "lut3d.ktx2.json",
                 fs::copy_options::overwrite_existing);
-  // docs/three.md's five lines as written, in a harness: a scene, the example's glTF model for model.glb, one
+  // docs/three.md's glTF block as written, in a harness: a scene, the example's glTF model for model.glb, one
   // render; the harness reports each mesh's program cache key (the module's key when the call took).
-  const std::string doc = slurp(kSource / "docs" / "three.md");
-  const auto h = doc.find("## The five lines"), a = doc.find("```js\n", h), b = doc.find("```", a + 6);
-  ASSERT_TRUE(h != std::string::npos && a != std::string::npos && b != std::string::npos) << "docs/three.md";
-  std::string five = doc.substr(a + 6, b - a - 6);
-  const auto glb = five.find("'model.glb'");
-  ASSERT_NE(glb, std::string::npos) << five;
-  five.replace(glb, 11, "'data/model.gltf'");
+  const std::string block = docs_gltf_block("'data/model.gltf'");
+  ASSERT_FALSE(block.empty()) << "docs/three.md has no glTF block loading 'model.glb'";
   std::ofstream(dir / "snippet.js")
       << "import * as THREE from 'three';\nconst scene = new THREE.Scene();\n"
-      << five
+      << block
       << "\ntry {\n  const r = new THREE.WebGLRenderer();\n  r.setSize(64, 64);\n"
          "  const cam = new THREE.PerspectiveCamera(40, 1, 0.1, 20);\n  cam.position.set(0, 1, 3);\n"
          "  cam.lookAt(0, 0, 0);\n  scene.add(new THREE.DirectionalLight(0xffffff, 2));\n  r.render(scene, "
@@ -350,7 +363,7 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
   ASSERT_TRUE(res.value("example_loaded", false)) << res["errors"].dump(1);
   EXPECT_GT(res["example_mean"].get<double>(), 0.05) << "the example's frame is (nearly) black";
-  // The five lines of docs/three.md: every mesh of the glTF model got micro-shadowing and compiled.
+  // docs/three.md's glTF block: every mesh of the glTF model got micro-shadowing and compiled.
   const auto& sn = res["snippet"];
   ASSERT_TRUE(sn.is_object() && !sn.contains("error")) << sn.dump();
   ASSERT_FALSE(sn["keys"].empty());
@@ -578,6 +591,134 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
     std::printf("\n");
   }
   std::ofstream(shots / "comparison.json") << table.dump(1) << "\n";
+}
+
+// docs/three.md's glTF block on an asset with what ordinary models hold (tests/browser/three_scene_probe.js
+// builds it in the page): a mesh used by two nodes (its material shared, with an occlusion texture), a
+// material without occlusion, a KHR_materials_unlit one (MeshBasicMaterial) and a KHR_materials_clearcoat one
+// with occlusion (MeshPhysicalMaterial). addMicroShadowingToScene patches the two materials with an aoMap
+// once each and skips the others with their codes; a second call returns the same handles and changes
+// nothing; other options give conflicts; the render changes on the patched quads and nowhere else (float32,
+// bit for bit). Besides, addMicroShadowing's idempotency, dispose(), arrays of materials and the roll-back on
+// fresh materials (the page's named checks).
+TEST(ThreeBrowser, GltfBlockPatchesEachSceneMaterialOnce) {
+  REQUIRE_BROWSER();
+  const fs::path dir = scratch_dir("three");
+  const fs::path out = fs::path(MSH_BINARY_DIR) / "three_scene";
+  fs::remove_all(out);
+  const fs::path& copy = example_copy();
+  ASSERT_TRUE(fs::is_regular_file(copy / "index.html"));
+  const std::string block = docs_gltf_block("window.mshScene.url");
+  ASSERT_FALSE(block.empty()) << "docs/three.md has no glTF block loading 'model.glb'";
+  // The block as written; the page's scene for `scene`, the asset's URL for 'model.glb'.
+  std::ofstream(dir / "scene_snippet.js")
+      << "const scene = window.mshScene.scene;\n"
+      << block << "\nwindow.mshSnippet = window.mshScene.check(gltf, report, options);\n";
+  Server server = start_view({"--root", copy.string(), "--port", "0"}, dir);
+  const std::string url = server.url;
+  std::string node_out;
+  int rc = -1;
+  if (!url.empty()) {
+    const std::string cmd = "cd " + kBrowserDir.string() + " && node three_test.mjs --url " + url +
+                            " --out " + out.string() + " --module " + (copy / "microshadow-three").string() +
+                            " --chromium " + chromium_path() + " --scene-snippet " +
+                            (dir / "scene_snippet.js").string() + " > " + (dir / "node.out").string() +
+                            " 2>&1";
+    rc = std::system(cmd.c_str());
+    node_out = slurp(dir / "node.out");
+  }
+  const int code = stop_view(server);
+  ASSERT_FALSE(url.empty()) << "the server printed no URL: " << slurp(server.err);
+  EXPECT_EQ(code, 0) << slurp(server.err);
+  ASSERT_EQ(rc, 0) << node_out;
+  const json res = json::parse(slurp(out / "results.json"));
+  EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
+  ASSERT_TRUE(res["scene"].is_object()) << res["errors"].dump(1);
+  const json& sc = res["scene"];
+
+  // addMicroShadowing and addMicroShadowingToScene on fresh materials.
+  ASSERT_TRUE(sc["api"].is_object() && !sc["api"].empty()) << sc["api"].dump();
+  for (const auto& [name, c] : sc["api"].items())
+    EXPECT_TRUE(c["ok"].get<bool>()) << name << ": " << c["detail"];
+
+  const json& sn = sc["snippet"];
+  ASSERT_TRUE(sn.is_object() && !sn.contains("error")) << sn.dump() << "\n" << res["errors"].dump(1);
+  // The asset as GLTFLoader made it: five meshes, four materials, the two nodes of one mesh sharing one.
+  const json& as = sn["asset"];
+  EXPECT_EQ(as["meshes"].size(), 5u) << as.dump();
+  EXPECT_EQ(as["materials"], 4) << as.dump();
+  EXPECT_TRUE(as["shared"].get<bool>()) << "the mesh used by two nodes does not share its material";
+  EXPECT_EQ(as["types"]["shared_a"], "MeshStandardMaterial");
+  EXPECT_EQ(as["types"]["plain"], "MeshStandardMaterial");
+  EXPECT_EQ(as["types"]["unlit"], "MeshBasicMaterial");
+  EXPECT_EQ(as["types"]["clearcoat"], "MeshPhysicalMaterial");
+  EXPECT_GT(as["clearcoat"].get<double>(), 0.0);
+  EXPECT_TRUE(as["aomap"]["shared_a"].get<bool>() && as["aomap"]["clearcoat"].get<bool>());
+  EXPECT_FALSE(as["aomap"]["plain"].get<bool>());
+
+  // The report: the two materials with an aoMap patched, each once; the others skipped with their codes.
+  const auto names = [](const json& list, const char* key) {
+    std::vector<std::string> v;
+    for (const auto& e : list) v.push_back(e[key].get<std::string>());
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  using Names = std::vector<std::string>;
+  EXPECT_EQ(names(sn["patched"], "name"), (Names{"clearcoat", "shared"})) << sn["patched"].dump();
+  EXPECT_EQ(sn["handles"], 2);
+  EXPECT_EQ(names(sn["skipped"], "code"), (Names{"no-aomap", "unsupported"})) << sn["skipped"].dump();
+  EXPECT_EQ(names(sn["skipped"], "name"), (Names{"no_occlusion", "unlit"})) << sn["skipped"].dump();
+  for (const auto& e : sn["skipped"]) {
+    const std::string reason = e["reason"];
+    EXPECT_FALSE(reason.empty());
+    EXPECT_EQ(reason.find('\n'), std::string::npos) << reason;
+  }
+  // The block's console.info line per skipped material.
+  EXPECT_EQ(sc["info"].size(), 2u) << sc["info"].dump(1);
+  // The same call again: the same handles, the same skips, no material changed (version, hook).
+  EXPECT_TRUE(sn["again"]["same_handles"].get<bool>()) << sn["again"].dump();
+  EXPECT_TRUE(sn["again"]["unchanged"].get<bool>()) << "the second call patched again";
+  EXPECT_EQ(names(sn["again"]["skipped"], "code"), (Names{"no-aomap", "unsupported"}));
+  // Another method: the patched two are conflicts, nothing patched, nothing changed.
+  EXPECT_TRUE(sn["other"]["patched"].empty()) << sn["other"].dump();
+  EXPECT_EQ(names(sn["other"]["skipped"], "code"),
+            (Names{"conflict", "conflict", "no-aomap", "unsupported"}));
+  EXPECT_TRUE(sn["other"]["unchanged"].get<bool>());
+  // addMicroShadowing on the shared material: its handle again; other options, one line naming the option.
+  EXPECT_TRUE(sn["single"]["same"].get<bool>());
+  const std::string other_error = sn["single"]["other_error"].is_string() ? sn["single"]["other_error"] : "";
+  EXPECT_NE(other_error.find("'aoOnIndirect'"), std::string::npos) << other_error;
+  EXPECT_NE(other_error.find("dispose()"), std::string::npos) << other_error;
+  EXPECT_EQ(other_error.find('\n'), std::string::npos) << other_error;
+  // The programs: the module's key on the patched materials only.
+  for (const auto& [mesh, key] : sn["keys"].items()) {
+    const bool patched = mesh == "shared_a" || mesh == "shared_b" || mesh == "clearcoat";
+    EXPECT_EQ(
+        key.get<std::string>().find("msh:diffuse-aware-alu+generic-vndf-alu:aoMap") != std::string::npos,
+        patched)
+        << mesh << ": " << key;
+  }
+  // The render against the same asset without the module: the patched quads darker at every pixel (the term
+  // on: V = 128/255 at N.L 0.39), the unlit and no-occlusion quads bit for bit the same.
+  EXPECT_EQ(sn["gl_error"], 0);
+  for (const auto& [node, r] : sn["regions"].items()) {
+    const int n = r["pixels"];
+    EXPECT_GE(n, 400) << node;
+    const bool patched = node == "shared_a" || node == "shared_b" || node == "clearcoat";
+    if (patched) {
+      EXPECT_EQ(r["darker"].get<int>(), n) << node << ": " << r.dump();
+      EXPECT_GT(r["max_diff"].get<double>(), 2.0 / 255) << node << ": " << r.dump();
+      EXPECT_NE(r["centre_before"], r["centre_after"]) << node;
+    } else {
+      EXPECT_EQ(r["differing"].get<int>(), 0) << node << ": " << r.dump();
+      EXPECT_EQ(r["centre_before"], r["centre_after"]) << node;
+    }
+    std::printf("  %-10s %4d px: %4d differ, %4d darker, max |diff| %.4f; centre %.4f -> %.4f (R)\n",
+                node.c_str(), n, r["differing"].get<int>(), r["darker"].get<int>(),
+                r["max_diff"].get<double>(), r["centre_before"][0].get<double>(),
+                r["centre_after"][0].get<double>());
+  }
+  EXPECT_EQ(sn["regions"].size(), 5u);
 }
 
 }  // namespace

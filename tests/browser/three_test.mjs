@@ -6,9 +6,12 @@
 //
 //   node three_test.mjs --url http://127.0.0.1:PORT/ --out DIR --module DIR/microshadow-three
 //        [--chromium /usr/bin/chromium] [--figure FILE.png [--figure-only]] [--frames N] [--snippet FILE.js]
+//        [--scene-snippet FILE.js]
 // --figure: also copy the with/without split at grazing sun (docs/three.md's figure) to FILE; --figure-only:
 // only that (no probe, no frame time). --snippet: a module run in the probe page after the probe (docs/three.md's
-// five lines in a harness); it sets window.mshSnippet, recorded as results.snippet.
+// glTF block in a harness); it sets window.mshSnippet, recorded as results.snippet. --scene-snippet: only the
+// glTF-scene check (three_scene_probe.js: a glTF asset built in the page, rendered before; then FILE, the docs'
+// glTF block on it, which sets window.mshSnippet), recorded as results.scene; no probe, no example.
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -22,7 +25,7 @@ const arg = (name, def) => {
 const url = arg('url'), out = arg('out'), moduleDir = arg('module'), figure = arg('figure');
 const exe = arg('chromium', '/usr/bin/chromium'), frames = Number(arg('frames', '3'));
 const figureOnly = process.argv.includes('--figure-only');
-const snippet = arg('snippet');
+const snippet = arg('snippet'), sceneSnippet = arg('scene-snippet');
 // The docs figure: the sun 7° above the horizon behind the camera, the split through the glTF torus and the
 // plane; left without micro-shadowing, right with the recommended pair.
 const FIGURE = { elevation: 7, azimuth: 200, camera: [0, 1.1, -3.6], target: [0, 0.3, -0.5], panel: false, split: true, attached: true, light: 'sun' };
@@ -53,8 +56,9 @@ const watch = (page, tag) => {
   page.on('pageerror', (e) => results.errors.push(`${tag} pageerror: ${e.message}`));
 };
 try {
-  if (!figureOnly) await probe();
-  if (!figureOnly) await example();
+  if (sceneSnippet) await sceneCheck();
+  else if (!figureOnly) await probe();
+  if (!figureOnly && !sceneSnippet) await example();
   if (figure) await figureShot();
   mark('done');
 } catch (e) {
@@ -101,6 +105,35 @@ async function probe() {
     await page.locator('canvas').screenshot({ path: file });
     results.screenshots.push(file);
   }
+  await page.close();
+}
+
+// ---- the glTF scene: docs/three.md's block on an asset with a shared mesh, a material without occlusion, an
+// unlit one and a clearcoat one (three_scene_probe.js); the block's console.info lines in results.scene.info
+async function sceneCheck() {
+  const page = await browser.newPage({ viewport: { width: 320, height: 120 } });
+  watch(page, 'scene');
+  const info = [];
+  let failed = false;
+  page.on('console', (m) => { if (m.type() === 'info') info.push(m.text()); });
+  page.on('pageerror', () => { failed = true; });
+  await page.goto(`${url}?probe`);
+  await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 60000 });
+  await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, 'three_scene_probe.js'), 'utf8') });
+  await page.waitForFunction(() => window.mshSceneLoaded === true, null, { timeout: 60000 });
+  const scene = { setup: await page.evaluate(() => window.mshScene.setup()) };
+  scene.api = await page.evaluate(() => window.mshScene.api());
+  mark('scene_setup');
+  await page.addScriptTag({ type: 'module', content: fs.readFileSync(sceneSnippet, 'utf8') });
+  // The block's module sets window.mshSnippet, or fails (a page error: recorded in results.errors).
+  for (let t = 0; t < 480 && !failed; ++t) {
+    if (await page.evaluate(() => window.mshSnippet !== undefined)) break;
+    await new Promise((r) => setTimeout(r, 250));
+  }
+  scene.snippet = await page.evaluate(() => window.mshSnippet ?? null);
+  scene.info = info;
+  results.scene = scene;
+  mark('scene');
   await page.close();
 }
 

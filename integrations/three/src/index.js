@@ -318,25 +318,10 @@ function replaceOnce(src, find, repl, what) {
   return src.replace(find, repl);
 }
 
-// Adds micro-shadowing to a MeshStandardMaterial or MeshPhysicalMaterial (docs/three.md). Options:
-//   method       a method id of MICRO_SHADOWING_METHODS (default DEFAULT_METHOD); a pair 'D+S' puts term D on
-//                the diffuse lobe and S on the specular lobe
-//   visibility   where V comes from: 'aoMap' (default: the material's aoMap, channel R, with aoMapIntensity
-//                as three applies it; the glTF occlusion texture), 'map' (options.visibilityMap, channel R,
-//                UV channel 0 with the texture's transform) or a number in [0, 1] (a constant V)
-//   visibilityMap  the texture for visibility 'map' (giving it selects 'map')
-//   aoOnIndirect keep three's AO on indirect light (default true); false: the aoMap is V only
-//   luts         { lut3d, lut2d, lut_azimuth }: tables from loadMicroShadowingLut, required by the methods
-//                that sample them
-//   directional  the directional channels (loadDirectionalOcclusion, or the glTF extension's through
-//                gltf.js), required by the texel methods (directional-view and its pair)
-//   samples      samples of the generic-vndf estimator (default 32)
-//   debug        compile the debug outputs (setDebug); off by default (no cost)
-// Returns a handle: enabled (get/set: micro-shadowing on or off without recompiling), method, lobes,
-// uniforms, setDebug(mode | null, lightIndex), dispose() (restores the material's own onBeforeCompile).
-export function addMicroShadowing(material, options = {}) {
-  if (!material || !material.isMeshStandardMaterial)
-    throw new Error('microshadow: addMicroShadowing needs a MeshStandardMaterial or MeshPhysicalMaterial');
+// The effective options of a call, defaults applied and checked (a bad option throws one line): cfg is what
+// two calls on one material are compared by; lobes, luts (the table names) and dir (the directional code)
+// what patching needs. hasAoMap: whether the material has an aoMap (directional-view alone reads no V).
+function resolveOptions(options, hasAoMap) {
   const method = options.method || DEFAULT_METHOD;
   const entry = findMethod(method);
   const lobes = methodLobes(method);
@@ -355,7 +340,7 @@ export function addMicroShadowing(material, options = {}) {
   // A method that reads no V (directional-view alone) needs no aoMap.
   const readsV = !(texel && lobes.diffuse.term === 'directional-view' && lobes.specular.term === 'directional-view');
   let visSource = 'aoMap';
-  if (!readsV && options.visibility === undefined && !options.visibilityMap && !material.aoMap) visSource = 'none';
+  if (!readsV && options.visibility === undefined && !options.visibilityMap && !hasAoMap) visSource = 'none';
   else if (typeof options.visibility === 'number') visSource = 'constant';
   else if (options.visibility === 'map' || options.visibilityMap) visSource = 'map';
   else if (options.visibility !== undefined && options.visibility !== 'aoMap')
@@ -364,20 +349,106 @@ export function addMicroShadowing(material, options = {}) {
     throw new Error(`microshadow: a constant visibility must be in [0, 1], got ${options.visibility}`);
   if (visSource === 'map' && !(options.visibilityMap && options.visibilityMap.isTexture))
     throw new Error("microshadow: visibility 'map' needs options.visibilityMap (a THREE.Texture, V in channel R)");
-  if (visSource === 'aoMap' && !material.aoMap)
-    throw new Error("microshadow: the material has no aoMap: set material.aoMap (the glTF occlusion texture) first, or pass visibilityMap or a constant visibility");
-  const aoOnIndirect = options.aoOnIndirect !== false;
-  const debug = !!options.debug;
+  const cfg = { method, visibility: visSource === 'constant' ? options.visibility : visSource,
+    visibilityMap: visSource === 'map' ? options.visibilityMap : null, aoOnIndirect: options.aoOnIndirect !== false,
+    debug: !!options.debug, samples: options.samples || 32, luts: Object.fromEntries(luts.map((k) => [k, options.luts[k]])),
+    directional: texel ? options.directional : null };
+  return { cfg, visSource, lobes, luts, dir };
+}
 
-  if (ACTIVE.has(material))
-    throw new Error('microshadow: this material has micro-shadowing already: call dispose() on its handle before adding it again');
+// Deep equality of effective options: plain objects and arrays by their entries, anything else (textures,
+// tables, directional codes) by identity. Returns the first option that differs, or null.
+const isPlain = (x) => x !== null && typeof x === 'object' && (Array.isArray(x) || Object.getPrototypeOf(x) === Object.prototype);
+function deepEqual(a, b) {
+  if (Object.is(a, b)) return true;
+  if (!isPlain(a) || !isPlain(b) || Array.isArray(a) !== Array.isArray(b)) return false;
+  const ka = Object.keys(a), kb = Object.keys(b);
+  return ka.length === kb.length && ka.every((k) => Object.hasOwn(b, k) && deepEqual(a[k], b[k]));
+}
+const differingOption = (a, b) => Object.keys(a).find((k) => !deepEqual(a[k], b[k])) || null;
+
+// Whether micro-shadowing can go on this material with these options: { problem: { code, reason } } or
+// { resolved } (resolveOptions'). A bad option throws; a material that cannot take it is a problem.
+function checkMaterial(material, options) {
+  if (!material || !material.isMeshStandardMaterial)
+    return { problem: { code: 'unsupported', reason: `addMicroShadowing needs a MeshStandardMaterial or MeshPhysicalMaterial, got ${material ? material.type : material}` } };
+  const resolved = resolveOptions(options, !!material.aoMap);
+  if (resolved.visSource === 'aoMap' && !material.aoMap)
+    return { problem: { code: 'no-aomap', reason: 'the material has no aoMap: set material.aoMap (the glTF occlusion texture) first, or pass visibilityMap or a constant visibility' } };
+  const active = ACTIVE.get(material);
+  const key = active && differingOption(active.cfg, resolved.cfg);
+  if (key) {
+    const shown = (x) => (x !== null && typeof x === 'object' ? 'an object' : JSON.stringify(x));
+    return { problem: { code: 'conflict', reason: `this material has micro-shadowing already with another '${key}' (${shown(active.cfg[key])}, now ${shown(resolved.cfg[key])}): call dispose() on its handle first` } };
+  }
+  return { problem: null, resolved };
+}
+
+// Adds micro-shadowing to a MeshStandardMaterial or MeshPhysicalMaterial (docs/three.md). Options:
+//   method       a method id of MICRO_SHADOWING_METHODS (default DEFAULT_METHOD); a pair 'D+S' puts term D on
+//                the diffuse lobe and S on the specular lobe
+//   visibility   where V comes from: 'aoMap' (default: the material's aoMap, channel R, with aoMapIntensity
+//                as three applies it; the glTF occlusion texture), 'map' (options.visibilityMap, channel R,
+//                UV channel 0 with the texture's transform) or a number in [0, 1] (a constant V)
+//   visibilityMap  the texture for visibility 'map' (giving it selects 'map')
+//   aoOnIndirect keep three's AO on indirect light (default true); false: the aoMap is V only
+//   luts         { lut3d, lut2d, lut_azimuth }: tables from loadMicroShadowingLut, required by the methods
+//                that sample them
+//   directional  the directional channels (loadDirectionalOcclusion, or the glTF extension's through
+//                gltf.js), required by the texel methods (directional-view and its pair)
+//   samples      samples of the generic-vndf estimator (default 32)
+//   debug        compile the debug outputs (setDebug); off by default (no cost)
+// Returns a handle: enabled (get/set: micro-shadowing on or off without recompiling), method, lobes,
+// uniforms, setDebug(mode | null, lightIndex), dispose() (restores the material's own onBeforeCompile).
+// Idempotent per material: a second call with the same options (deep-equal after the defaults; textures and
+// tables by identity) returns the same handle; other options throw, naming the option, until dispose().
+export function addMicroShadowing(material, options = {}) {
+  const { problem, resolved } = checkMaterial(material, options);
+  if (problem) throw new Error(`microshadow: ${problem.reason}`);
+  const active = ACTIVE.get(material);
+  return active ? active.handle : patch(material, resolved);
+}
+
+// Adds micro-shadowing to every distinct material of the meshes under root (docs/three.md, "A glTF model"):
+// each once however many meshes share it, arrays of materials included. Every material is checked before
+// any is changed; a bad option throws. Returns { patched: [{ material, handle }], skipped: [{ material, code,
+// reason }] } with code 'unsupported' (not a MeshStandardMaterial or MeshPhysicalMaterial: glTF's unlit
+// materials), 'no-aomap' (V from the aoMap, which it has not) or 'conflict' (micro-shadowing already, with
+// other options); a material patched before with the same options is listed with its handle. If patching
+// fails, the materials patched by this call are restored and the error is thrown again.
+export function addMicroShadowingToScene(root, options = {}) {
+  resolveOptions(options, true);  // a bad option throws here, before anything is looked at
+  const materials = new Set();
+  root.traverse((o) => { if (o.isMesh) for (const m of asList(o.material)) if (m) materials.add(m); });
+  const checked = [...materials].map((material) => ({ material, ...checkMaterial(material, options) }));
+  const patched = [], skipped = [], added = [];
+  try {
+    for (const { material, problem, resolved } of checked) {
+      if (problem) {
+        skipped.push({ material, ...problem });
+        continue;
+      }
+      const active = ACTIVE.get(material);
+      const handle = active ? active.handle : patch(material, resolved);
+      if (!active) added.push(handle);
+      patched.push({ material, handle });
+    }
+  } catch (e) {
+    for (const h of added.reverse()) h.dispose();
+    throw e;
+  }
+  return { patched, skipped };
+}
+
+function patch(material, { cfg, visSource, lobes, luts, dir }) {
+  const { method, aoOnIndirect, debug } = cfg;
   const uniforms = materialUniforms(material);
   uniforms.msh_enabled.value = true;
-  uniforms.u_samples.value = options.samples || 32;
+  uniforms.u_samples.value = cfg.samples;
   uniforms.msh_debug_mode.value = 0;
   uniforms.msh_debug_light.value = -1;
-  if (visSource === 'constant') uniforms.msh_visibility.value = options.visibility;
-  if (visSource === 'map') uniforms.msh_visibility_map.value = options.visibilityMap;
+  if (visSource === 'constant') uniforms.msh_visibility.value = cfg.visibility;
+  if (visSource === 'map') uniforms.msh_visibility_map.value = cfg.visibilityMap;
   if (dir) {
     for (let t = 0; t < 6; ++t) uniforms[`msh_dir_tex${t}`].value = t < dir.textures ? dir.maps[t] : null;
     uniforms.msh_dir_lo.value = dir.uniforms.lo;
@@ -386,7 +457,7 @@ export function addMicroShadowing(material, options = {}) {
     uniforms.msh_dir_basis.value = dir.uniforms.basis;
   }
   for (const k of luts) {
-    const L = options.luts[k], u = LUT_UNIFORMS[k];
+    const L = cfg.luts[k], u = LUT_UNIFORMS[k];
     uniforms[u].value = L.texture;
     uniforms[`${u}_slabs`].value = L.slabs;
     if (k === 'lut_azimuth') uniforms.u_lut_az_harmonics.value = L.harmonics;
@@ -451,7 +522,6 @@ ${Array.from({ length: dir.textures }, (_, t) => `	else if ( msh_debug_mode == $
     return `${userKey ? userKey.call(this) : userCompile ? userCompile.toString() : ''}|${key}`;
   };
   material.needsUpdate = true;
-  ACTIVE.set(material, true);
 
   const handle = {
     method,
@@ -476,13 +546,16 @@ ${Array.from({ length: dir.textures }, (_, t) => `	else if ( msh_debug_mode == $
       if (t.matrixAutoUpdate) t.updateMatrix();
       uniforms.msh_visibility_map_transform.value.copy(t.matrix);
     },
+    // Restores the material; a handle disposed already (or replaced since) does nothing.
     dispose() {
+      if (ACTIVE.get(material)?.handle !== handle) return;
       ACTIVE.delete(material);
       material.onBeforeCompile = previous;
       material.customProgramCacheKey = previousKey;
       material.needsUpdate = true;
     },
   };
+  ACTIVE.set(material, { handle, cfg });
   handle.updateVisibilityTransform();
   return handle;
 }
