@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -230,4 +231,81 @@ TEST(IoHostile, WritersRefuseTargetsThatAreNotRegularFiles) {
   msh::io::write_file_atomic(dir / "link.npy", std::string_view("y"));
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+// Temporaries never outlive a run (issue 35, item 1): SIGINT in the middle of a write removes the one in
+// flight and the process still dies of the signal; a later run's first write into the folder removes those a
+// dead process left (SIGKILL) and leaves a live process's alone.
+TEST(IoHostile, SignalsAndTheNextRunRemoveTemporaries) {
+  namespace fs = std::filesystem;
+  const auto dir = msh::io::test::scratch_dir();
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    msh::io::install_temporary_cleanup();
+    msh::io::AtomicPath ap(dir / "big.npy");
+    std::ofstream(ap.temp()) << "half written";
+    ::kill(::getpid(), SIGINT);
+    ::_exit(3);  // not reached: SIGINT's default action ends the process
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
+  int left = 0;
+  for (const auto& e : fs::directory_iterator(dir)) ++left, ADD_FAILURE() << "left behind: " << e.path();
+  EXPECT_EQ(left, 0);
+
+  // A dead process's temporaries (a reaped child's pid) and a live one's (pid 1).
+  const pid_t gone = ::fork();
+  ASSERT_GE(gone, 0);
+  if (gone == 0) ::_exit(0);
+  ASSERT_EQ(::waitpid(gone, &status, 0), gone);
+  const fs::path dead = dir / fmt::format(".a.npy.tmp-{}-0", gone), live = dir / ".b.npy.tmp-1-0",
+                 odd = dir / ".c.npy.tmp-x-0";
+  for (const fs::path& p : {dead, live, odd}) std::ofstream(p) << "x";
+  msh::io::write_file_atomic(dir / "new.txt", std::string_view("new"));
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(live));
+  EXPECT_TRUE(fs::exists(odd));
+  EXPECT_TRUE(fs::exists(dir / "new.txt"));
+}
+
+// A run's output folder as a whole: the second run removes the files the first wrote and it did not (with
+// the directories they leave empty), never a file the tool did not write nor one outside the folder named in
+// a hand-edited list; a run that does not finish removes nothing.
+TEST(IoHostile, OutputFolderRemovesTheEarlierRunsStaleFiles) {
+  namespace fs = std::filesystem;
+  const auto root = msh::io::test::scratch_dir();
+  const fs::path dir = root / "out";
+  {
+    msh::io::OutputFolder f(dir);
+    fs::create_directories(dir / "mips" / "deep");
+    for (const char* n : {"a.txt", "b.txt", "mips/m0.npy", "mips/deep/d.npy"})
+      msh::io::write_file_atomic(dir / n, std::string_view(n));
+    msh::io::write_file_atomic(root / "outside.txt", std::string_view("not in the folder"));
+    EXPECT_TRUE(f.finish().empty());
+  }
+  std::ofstream(dir / "mine.txt") << "the user's";
+  std::ofstream(dir / msh::io::OutputFolder::kManifest, std::ios::app) << "../outside.txt\n/etc/hostname\n";
+  {
+    msh::io::OutputFolder f(dir);  // no finish: an interrupted run
+    msh::io::write_file_atomic(dir / "a.txt", std::string_view("again"));
+  }
+  EXPECT_TRUE(fs::exists(dir / "b.txt"));
+  {
+    msh::io::OutputFolder f(dir);
+    msh::io::write_file_atomic(dir / "a.txt", std::string_view("third"));
+    const auto removed = f.finish();
+    EXPECT_EQ(removed, (std::vector<std::string>{"b.txt", "mips/deep/d.npy", "mips/m0.npy"}));
+  }
+  EXPECT_TRUE(fs::exists(dir / "a.txt"));
+  EXPECT_TRUE(fs::exists(dir / "mine.txt"));
+  EXPECT_TRUE(fs::exists(root / "outside.txt"));
+  EXPECT_FALSE(fs::exists(dir / "b.txt"));
+  EXPECT_FALSE(fs::exists(dir / "mips"));
+  std::ifstream in(dir / msh::io::OutputFolder::kManifest);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\na.txt\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("b.txt"), std::string::npos) << text;
+  EXPECT_THROW(msh::io::OutputFolder(dir / "a.txt"), msh::InputError);
 }

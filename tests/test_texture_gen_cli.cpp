@@ -281,3 +281,28 @@ TEST_F(GenMaterialCli, WritesTheCompactForm) {
     EXPECT_FALSE(fs::exists(o)) << bad;
   }
 }
+
+// A rerun replaces the folder as a whole (issue 35, item 1): gen-material with the directional channels and
+// their BC mips, then without them, leaves no directional.npy nor directional mips (71 files at 32², all
+// left behind before), keeps a file of the user's, and reports what it removed.
+TEST_F(GenMaterialCli, RerunLeavesNoStaleFiles) {
+  const fs::path out = dir / "set";
+  Result r =
+      run("gen-material --kind plaster --size 32 --ao-rays 4 --directional-view --directional-bc --out " +
+          out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(out / "directional.npy"));
+  std::ofstream(out / "notes.txt") << "mine";
+  r = run("gen-material --kind plaster --size 32 --ao-rays 4 --directional-azimuths 0 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(fs::exists(out / "directional.npy"));
+  int directional_left = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    directional_left += e.path().filename().string().find("directional") != std::string::npos;
+  EXPECT_EQ(directional_left, 0);
+  EXPECT_EQ(j["stale_removed"].size(), 71u);
+  EXPECT_TRUE(fs::exists(out / "notes.txt"));
+  EXPECT_TRUE(fs::exists(out / "mips" / "mips.json"));
+  for (const char* f : kFiles) EXPECT_TRUE(fs::exists(out / f)) << f;
+}

@@ -1,5 +1,6 @@
 // `microshadow render`, `microshadow gen-material`, `microshadow compare`: the reference renderer's commands.
 #include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_codec.h>
 #include <microshadow/render/gltf_export.h>
@@ -286,13 +287,15 @@ void add_render(Groups& g) {
           "--directional-azimuths 0");
     if (mheight->empty()) {
       const auto set = render::generate_texture_set(*m);
+      io::OutputFolder folder(*mdir);
       render::write_texture_set(*mdir, set);
       write_extras(*mdir, set);
       print_json({{"dir", *mdir},
                   {"kind", m->kind},
                   {"size", m->size},
                   {"height_texels", set.depth_texels},
-                  {"mean_visibility", mean_channel(set.visibility)}});
+                  {"mean_visibility", mean_channel(set.visibility)},
+                  {"stale_removed", folder.finish()}});
       return;
     }
     if (kind_opt->count() > 0) throw UsageError("--kind and --height are exclusive");
@@ -301,13 +304,15 @@ void add_render(Groups& g) {
       throw UsageError("--height needs --depth D > 0 (the depth of the full [0,1] range in texels)");
     const render::Texture h = render::load_height_map(*mheight);
     const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
+    io::OutputFolder folder(*mdir);
     render::write_texture_set(*mdir, set);
     write_extras(*mdir, set);
     print_json({{"dir", *mdir},
                 {"height", *mheight},
                 {"size", {h.width(), h.height()}},
                 {"height_texels", set.depth_texels},
-                {"mean_visibility", mean_channel(set.visibility)}});
+                {"mean_visibility", mean_channel(set.visibility)},
+                {"stale_removed", folder.finish()}});
   });
 
   struct CmpArgs {

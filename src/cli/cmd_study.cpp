@@ -1,6 +1,7 @@
 // `microshadow study [--quick] --out DIR`: the multiscale comparison of every micro-shadowing term against a
 // ray-traced fine height field (docs/study.md).
 #include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
 #include <microshadow/io/error.h>
 #include <microshadow/study/study.h>
 
@@ -234,9 +235,20 @@ void add_study(Groups& g) {
     c.material_cache = a->cache;
     c.directional_encoding = render::directional_encoding_from_name(a->encoding);
     const bool quiet = a->quiet;
+    if (!a->cache.empty()) {
+      // A warm cache is read, not written: inside the output folder, the folder's replacement would remove
+      // it.
+      const auto rel = std::filesystem::absolute(a->cache).lexically_normal().lexically_relative(
+          std::filesystem::absolute(a->out).lexically_normal());
+      if (!rel.empty() && *rel.begin() != "..")
+        throw UsageError(
+            "--material-cache must not lie inside --out (the output folder is replaced as a whole)");
+    }
+    io::OutputFolder folder(a->out);
     const auto res = study::run_study(c, a->out, [quiet](const std::string& line) {
       if (!quiet) std::cerr << line << std::endl;
     });
+    const auto stale = folder.finish();
     int met = 0;
     for (const auto& gt : res["ground_truth"]) met += gt["floors_met"].get<bool>();
     print_json({{"out", a->out},
@@ -245,7 +257,8 @@ void add_study(Groups& g) {
                 {"ground_truth_configurations", res["ground_truth"].size()},
                 {"floors_met", met},
                 {"results", a->out + "/results.json"},
-                {"html", a->out + "/study.html"}});
+                {"html", a->out + "/study.html"},
+                {"stale_removed", stale}});
   });
 }
 

@@ -1,5 +1,6 @@
 // microshadow command-line tool. Subcommands are added by src/cli/cmd_*.cpp through MSH_CLI_REGISTER.
 #include <fmt/format.h>
+#include <microshadow/io/atomic_file.h>
 
 #include <algorithm>
 #include <exception>
@@ -32,9 +33,12 @@ void run_registrars(Groups& g) {
 
 int main(int argc, char** argv) {
   using namespace msh::cli;
-  CLI::App app{"microshadow: microfacet BRDFs, micro-shadowing, the bump-terminator fix, their LUTs and a "
-               "reference renderer.",
-               "microshadow"};
+  // SIGINT / SIGTERM / SIGHUP remove the temporary files in flight (`view` blocks them for its own stop).
+  msh::io::install_temporary_cleanup();
+  CLI::App app{
+      "microshadow: microfacet BRDFs, micro-shadowing, the bump-terminator fix, their LUTs and a "
+      "reference renderer.",
+      "microshadow"};
   app.set_version_flag("--version", std::string("microshadow ") + MSH_VERSION);
   app.require_subcommand(1);
   Groups g;

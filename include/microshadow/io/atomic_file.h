@@ -5,7 +5,9 @@
 #include <cstddef>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace msh::io {
 
@@ -29,6 +31,38 @@ class AtomicPath {
  private:
   std::filesystem::path target_, temp_;
   bool committed_ = false;
+  int slot_ = -1;  // the signal handler's record of temp_
+};
+
+// Temporary files (".NAME.tmp-PID-N") are removed however the run ends:
+//  - by the destructor on an error;
+//  - on SIGINT, SIGTERM or SIGHUP once install_temporary_cleanup() has run (the CLI calls it first): the
+//    handler unlinks every temporary in flight, then the signal takes its default action (the exit status
+//    says the run was killed);
+//  - at the next run: the first write into a directory removes the temporaries there whose process is gone
+//    (a SIGKILL, a power cut).
+void install_temporary_cleanup();
+
+// A run's output folder, replaced or completed as a whole. Every file committed under `dir` while the object
+// lives is recorded (every writer of the library goes through AtomicPath); finish() writes their list to
+// DIR/.microshadow-files (written last: a folder without it, or with an older one, is an incomplete run) and
+// removes the files the previous run's list named that this run did not write (never a file the tool did
+// not write), with the directories they leave empty. Without finish() (an error, a signal) nothing is
+// removed: the previous list stays, and the next run completes the folder. The run's writers create `dir`
+// (the constructor only refuses a path that exists and is not a directory).
+class OutputFolder {
+ public:
+  explicit OutputFolder(std::filesystem::path dir);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  // The files removed as stale, relative to dir, sorted.
+  std::vector<std::string> finish();
+  static constexpr const char* kManifest = ".microshadow-files";
+
+ private:
+  std::filesystem::path dir_;
+  std::size_t id_;
 };
 
 }  // namespace msh::io
