@@ -549,15 +549,17 @@ TEST(StudyViews, GeometryPerViewAndScale) {
   EXPECT_EQ(v30.height, 64);
   // Along the view (azimuth 270: along v) it reaches 32 rows × 16 texels / cos 30° of the 2048 of a tile.
   EXPECT_NEAR(v30.extent, 32.0 * 16 / std::cos(M_PI / 6) / 2048, 1e-9);
-  // k = 1 at 2048²: the view is 64 of 2048 texels, so 4 × 4 windows of 16 × 16 pixels; k = 2: 2 × 2.
+  // k = 1 at 2048²: the view is 64 of 2048 texels, so 16 × 16 windows of one 4 × 4-pixel footprint; the
+  // same down to k = 8 (a quarter of the texture), none from k = 16 (half).
   const StudyView k1 = study_view(c, "plane", 2048, 30, 270, 1);
-  EXPECT_EQ(k1.windows, 4);
-  EXPECT_EQ(k1.width, 16);
-  EXPECT_EQ(k1.height, 16);
+  EXPECT_EQ(k1.windows, 16);
+  EXPECT_EQ(k1.width, 4);
+  EXPECT_EQ(k1.height, 4);
   EXPECT_EQ(k1.image_width(), 64);
-  EXPECT_EQ(study_view(c, "plane", 2048, 30, 270, 2).windows, 2);
-  EXPECT_EQ(study_view(c, "plane", 2048, 30, 270, 4).windows, 1);
-  EXPECT_EQ(study_view(c, "plane", 1024, 30, 270, 1).windows, 2);
+  EXPECT_EQ(study_view(c, "plane", 2048, 30, 270, 2).windows, 16);
+  EXPECT_EQ(study_view(c, "plane", 2048, 30, 270, 8).windows, 16);
+  EXPECT_EQ(study_view(c, "plane", 1024, 30, 270, 4).windows, 16);
+  EXPECT_EQ(study_view(c, "plane", 1024, 30, 270, 8).windows, 1);
   EXPECT_EQ(study_view(c, "cylinder", 2048, 30, 270, 1).windows, 1);  // windows on planes only
   // 60° off the normal: 64 cos 60° / cos 30° = 36.9 rows, a whole number of 4-pixel footprints: 36.
   const StudyView v60 = study_view(c, "plane", 2048, 60, 270, 16);
@@ -630,7 +632,7 @@ TEST(StudyViews, NearlyFlatReliefMatchesTheGroundTruthAtEveryView) {
   c.user_materials = {{"flat", write_bumps(d, "flat.png", 128, 32), 0.02f}};
   c.shapes = {"plane"};
   c.image_size = 8;
-  c.scales = {1, 2};  // k = 1: 128 / 8 / 8 = 2 windows per side
+  c.scales = {1, 2, 8};  // 128 / (8 k) >= 4 at k = 1, 2: 8 / 4 = 2 windows per side; none at k = 8
   c.views = {0, 60, 85};
   c.view_azimuths = {270, 45};
   c.elevations = {25};
@@ -644,10 +646,10 @@ TEST(StudyViews, NearlyFlatReliefMatchesTheGroundTruthAtEveryView) {
   c.gt_max_spp = 64;
   c.method_spp = 16;
   const nlohmann::json r = run_study(c, d / "out");
-  // 2 scales × 3 views × 2 view azimuths × 3 lights.
-  ASSERT_EQ(r["ground_truth"].size(), 36u);
+  // 3 scales × 3 views × 2 view azimuths × 3 lights.
+  ASSERT_EQ(r["ground_truth"].size(), 54u);
   for (const auto& g : r["ground_truth"]) {
-    const int n = g["scale"] == 1 ? 2 : 1;
+    const int n = g["scale"] == 8 ? 1 : 2;
     EXPECT_EQ(g["windows"].get<int>(), n);
     EXPECT_EQ(g["image"][0].get<int>(), 8);  // 8 pixels across: n windows of 8 / n
   }
@@ -659,7 +661,7 @@ TEST(StudyViews, NearlyFlatReliefMatchesTheGroundTruthAtEveryView) {
     EXPECT_NEAR(row["bias"]["whole"].get<double>(), 1.0, 0.02) << row.dump();
     ++checked;
   }
-  EXPECT_EQ(checked, 36 * 2);
+  EXPECT_EQ(checked, 54 * 2);
   fs::remove_all(d);
 }
 

@@ -150,7 +150,8 @@ void add_study(Groups& g) {
   s->add_flag("--near-lights", a->near, "Add the point and sphere lights near the surface (full study: on)");
   s->add_flag("--no-near-lights", a->no_near, "Leave the lights near the surface out");
   s->add_option("--max-windows", a->max_windows,
-                "Windows per side at most where the view covers a small part of the texture (default 4)")
+                "Windows per side at most where the view covers a quarter of the texture or less (default "
+                "16: one footprint each at 64 pixels)")
       ->check(CLI::Range(1, 16));
   s->add_option("--shapes", a->shapes, "Comma-separated shapes: plane, cylinder (default: the study's list)");
   s->add_option("--fine-size", a->fine_size, "Fine height field size in texels (default 2048, quick 1024)")

@@ -176,7 +176,8 @@ std::vector<Row> measure(const Texture& height, float depth, const std::string& 
       const Vec3f l(float(std::cos(er) * std::cos(az)), float(std::cos(er) * std::sin(az)),
                     float(std::sin(er)));
       const double tan_l = std::tan(er);
-      double sf = 0, sfw = 0, sw = 0, sb = 0, sfc = 0, swc = 0, qxx = 0, qxy = 0, qyy = 0, mxx = 0, mxy = 0, myy = 0, mzz = 0;
+      double sf = 0, sfw = 0, sw = 0, sb = 0, sfc = 0, swc = 0, qxx = 0, qxy = 0, qyy = 0, mxx = 0, mxy = 0,
+             myy = 0, mzz = 0;
       for (std::size_t p = 0; p < N; ++p) {
         const double f = tan_l > T[p * ns + ai] ? std::max(double(dot(n[p], l)), 0.0) : 0.0;
         const double nv = dot(n[p], v), nz = n[p].z;
@@ -216,7 +217,8 @@ double smith_lambda(double z, double sigma) {
 
 // Grazing-view candidates, all from the fitted data the run time has (T by the 9 channels, G by the 6 + 6)
 // unless named "exact" (exact whole-texture T and G, to separate the model from the fit). v = the view as in
-// measure(): azimuth -90°, elevation view_elev. g = G_x v_x + G_y v_y. Shipped: max(0, T + g / max(v_z, 0.1)).
+// measure(): azimuth -90°, elevation view_elev. g = G_x v_x + G_y v_y. Shipped: max(0, T + g / max(v_z,
+// 0.1)).
 void candidates(std::vector<Row>& rows, double view_elev) {
   const double ve = view_elev * kDeg, vz = std::sin(ve), sv = std::cos(ve);  // sin θ_v = cos(elevation)
   for (Row& r : rows) {
@@ -273,6 +275,59 @@ void candidates(std::vector<Row>& rows, double view_elev) {
   }
 }
 
+// --clamp-scales: the clamp's share of the error at small k. The 9-channel fit is linear, so the box mean of
+// the channels over a k × k footprint is the fit of the footprint's mean transport; the run time clamps
+// max(0, ·) after the fetch. At k = 1 a shadowed texel's fit is negative (a degree-2 polynomial cannot hold a
+// step at the horizon) and the clamp raises it; at larger k the negative and positive lobes cancel before
+// the clamp. Printed per material and light: the mean over the footprints of max(0, fit) at k = 1, 2, 4, 8,
+// 16 over the mean exact transport, and the unclamped fit's (the same at every k: the fit of the mean).
+void clamp_scales(const std::vector<std::string>& kinds, int size, const std::vector<double>& el,
+                  const std::vector<double>& az) {
+  const int ks[] = {1, 2, 4, 8, 16};
+  std::cout << "| material | light (elev/az) | unclamped fit / exact |";
+  for (int k : ks) std::cout << fmt::format(" k = {} |", k);
+  std::cout << " negative texels |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const std::string& kind : kinds) {
+    GenOptions g;
+    g.kind = kind, g.size = size, g.ao_rays = 1, g.ao_max_distance = 0.5f, g.directional_azimuths = 0;
+    const TextureSet s = generate_texture_set(g);
+    const Texture ch = bake_directional_channels(s.height, s.depth_texels, 32, 0);
+    for (double e : el)
+      for (double a : az) {
+        const Vec3f l(float(std::cos(e * kDeg) * std::cos(a * kDeg)),
+                      float(std::cos(e * kDeg) * std::sin(a * kDeg)), float(std::sin(e * kDeg)));
+        const Texture f = exact_diffuse_transport(s.height, s.depth_texels, l, 0);
+        double exact = 0, raw = 0;
+        long negative = 0;
+        for (int y = 0; y < size; ++y)
+          for (int x = 0; x < size; ++x) {
+            exact += f.at(x, y, 0);
+            double b[directional::kPoly2Terms];
+            directional::poly2_basis(Vec3d(l.x, l.y, l.z), b);
+            double t = 0;
+            for (int i = 0; i < directional::kPoly2Terms; ++i) t += ch.at(x, y, i) * b[i];
+            raw += t, negative += t < 0;
+          }
+        std::cout << fmt::format("| {} | {:g}/{:g} | {:.3f} |", kind, e, a, raw / exact);
+        for (int k : ks) {
+          if (size % k) continue;
+          double sum = 0;
+          for (int by = 0; by < size / k; ++by)
+            for (int bx = 0; bx < size / k; ++bx) {
+              double c[directional::kPoly2Terms] = {};
+              for (int y = by * k; y < (by + 1) * k; ++y)
+                for (int x = bx * k; x < (bx + 1) * k; ++x)
+                  for (int i = 0; i < directional::kPoly2Terms; ++i) c[i] += ch.at(x, y, i);
+              sum +=
+                  directional::directional_transport(c, Vec3d(l.x, l.y, l.z));  // k² × the clamped block mean
+            }
+          std::cout << fmt::format(" {:.3f} |", sum / exact);
+        }
+        std::cout << fmt::format(" {:.1f} % |\n", 100.0 * double(negative) / (double(size) * size));
+      }
+  }
+}
+
 std::vector<double> parse_list(const std::string& s, const char* what) {
   std::vector<double> out;
   std::stringstream ss(s);
@@ -315,10 +370,15 @@ int main(int argc, char** argv) {
       "--fits", fits,
       "Also the fitted forms: T by the 9 channels, and T plus the slope-weighted G_x, G_y fitted with 4 "
       "or 9 functions each");
-  app.add_flag("--candidates", cand_only,
-               "Grazing-view candidate forms only (implies --fits): the shipped form, T alone, v_z clamps, fades, "
-               "Smith-normalised forms");
+  app.add_flag(
+      "--candidates", cand_only,
+      "Grazing-view candidate forms only (implies --fits): the shipped form, T alone, v_z clamps, fades, "
+      "Smith-normalised forms");
   app.add_flag("--summary", summary, "Only the mean (max) table");
+  bool clamp = false;
+  app.add_flag("--clamp-scales", clamp,
+               "The run-time clamp max(0, fit) per footprint at k = 1-16 against the exact mean transport "
+               "(view-independent; what the fit's clamp adds at small k)");
   app.add_flag("--json", json, "Print the rows as JSON");
   try {
     app.parse(argc, argv);
@@ -330,6 +390,13 @@ int main(int argc, char** argv) {
     const auto el = parse_list(elevations, "--elevations"), az = parse_list(azimuths, "--azimuths");
     for (double e : el)
       if (!(e > 0 && e < 90)) throw InputError(fmt::format("--elevations: {} is not in (0, 90)", e));
+    if (clamp) {
+      std::vector<std::string> ks;
+      std::stringstream cs(kinds);
+      for (std::string k; std::getline(cs, k, ',');) ks.push_back(k);
+      clamp_scales(ks, size, el, az);
+      return 0;
+    }
     std::vector<Row> rows;
     if (flat) {
       rows = measure(Texture(size, size, 1), 4.0f, "flat", el, az, view_elev, fits);
@@ -423,15 +490,17 @@ int main(int argc, char** argv) {
       i = j;
     }
     std::cout << "| **all** |";
-    for (std::size_t q = 0; q < cols.size(); ++q) std::cout << fmt::format(" {:.3f} ({:.3f}) |", am[q] / double(nk), ax[q]);
+    for (std::size_t q = 0; q < cols.size(); ++q)
+      std::cout << fmt::format(" {:.3f} ({:.3f}) |", am[q] / double(nk), ax[q]);
     std::cout << "\n";
     if (fits) {
       std::cout << "\nslope covariance, exact (E[s sT]) and read off the slope channels (xx, xy, yy)\n";
       for (std::size_t i = 0; i < rows.size(); ++i)
         if (i == 0 || rows[i].kind != rows[i - 1].kind)
-          std::cout << fmt::format("{}: exact {:.4f} {:.4f} {:.4f}; normals {:.4f} {:.4f} {:.4f}; channels {:.4f} {:.4f} {:.4f}\n",
-                                   rows[i].kind, rows[i].sxx, rows[i].sxy, rows[i].syy, rows[i].nxx, rows[i].nxy,
-                                   rows[i].nyy, rows[i].cxx, rows[i].cxy, rows[i].cyy);
+          std::cout << fmt::format(
+              "{}: exact {:.4f} {:.4f} {:.4f}; normals {:.4f} {:.4f} {:.4f}; channels {:.4f} {:.4f} {:.4f}\n",
+              rows[i].kind, rows[i].sxx, rows[i].sxy, rows[i].syy, rows[i].nxx, rows[i].nxy, rows[i].nyy,
+              rows[i].cxx, rows[i].cxy, rows[i].cyy);
     }
   } catch (const std::exception& e) {
     std::cerr << "directional_view_probe: " << e.what() << "\n";

@@ -65,11 +65,12 @@ struct StudyConfig {
   std::vector<double> views{30};
   std::vector<double> view_azimuths{270};
   int image_size = 64;  // pixels across at every scale
-  // Windows: where the view covers a small part of the texture (fine_size / (image_size · k) >= 8, e.g.
-  // k = 1, 2 at 2048²), the image is split into n × n windows of equal size spread over the texture by a
-  // quasirandom sequence (n = that ratio / 8, at most max_windows; planes only), so that no cell is measured
-  // inside one shadow or at one phase of a periodic pattern.
-  int max_windows = 4;
+  // Windows: where the view covers a quarter of the texture or less (fine_size / (image_size · k) >= 4,
+  // e.g. k = 1-8 at 2048²), the image is split into n × n windows of equal size spread over the texture by a
+  // quasirandom sequence (n = the footprints across, at most max_windows; planes only: 16 × 16 windows of
+  // one footprint at the default 64 pixels), so that the ratio is a mean over many regions, never one shadow
+  // or one phase of a periodic pattern.
+  int max_windows = 16;
   // The view sweep: a second grid of cells (views × view azimuths × light elevations × light azimuths ×
   // scales) rendered with sweep_terms only (no ablations); cells that the main grid already has are not
   // repeated (their rows come from the main grid). Empty sweep_views: no sweep.
