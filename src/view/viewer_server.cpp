@@ -2,6 +2,7 @@
 #include "viewer_server.h"
 
 #include <Imath/half.h>
+#include <arpa/inet.h>
 #include <fmt/format.h>
 #include <httplib.h>
 #include <microshadow/io/atomic_file.h>
@@ -13,6 +14,8 @@
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/texture_gen.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <pthread.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -30,6 +33,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <regex>
 #include <thread>
 #include <vector>
@@ -301,6 +305,266 @@ Content build_content(const ViewerOptions& o) {
   return c;
 }
 
+// The regular file `rel` (a safe_relative_path) under `base`, every symbolic link resolved, if it stays
+// inside base's own canonical path; nothing otherwise (a link out of the folder, a missing file, not a
+// regular file).
+std::optional<fs::path> contained_file(const fs::path& base, const std::string& rel) {
+  std::error_code ec;
+  const fs::path root = fs::canonical(base, ec);
+  if (ec) return std::nullopt;
+  const fs::path file = fs::canonical(root / rel, ec);
+  if (ec) return std::nullopt;
+  const auto [r, f] = std::mismatch(root.begin(), root.end(), file.begin(), file.end());
+  if (r != root.end() || !fs::is_regular_file(file, ec)) return std::nullopt;
+  return file;
+}
+
+// ---- The request guard (ServerLimits in viewer_server.h, docs/viewer.md "Limits") ----
+// cpp-httplib 0.11 reads a request line and header lines of any length and any number, one recv at a time
+// with a per-read timeout (a client trickling a byte a second holds a worker forever), and reads a request
+// body before answering a handler-less method. So the viewer reads each request head itself, with a deadline
+// for the whole head, and hands httplib only a complete head it accepts (httplib::Server::process_request on
+// a stream holding that head: no body byte is ever read).
+
+using Clock = std::chrono::steady_clock;
+using Limits = ServerLimits;
+
+// Waits until `fd` is ready for `events` (POLLIN or POLLOUT) or `deadline` passes (then false), in slices of
+// at most 100 ms so that `stop()` (checked between slices) ends the wait early.
+bool wait_ready(int fd, short events, Clock::time_point deadline, const std::function<bool()>& stop) {
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    if (left <= 0 || (stop && stop())) return false;
+    pollfd p{fd, events, 0};
+    const int r = ::poll(&p, 1, int(std::min<long long>(left, 100)));
+    if (r > 0) return true;  // ready, or an error / hang-up the next recv or send reports
+    if (r < 0 && errno != EINTR) return false;
+  }
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+std::string trim(const std::string& s) {
+  const std::size_t b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
+// A complete request head ("...\r\n\r\n") judged: status 0 and the head httplib gets (Range lines dropped:
+// answered whole, so no multi-range answer many times a file's size), or the status to refuse it with (405: a
+// method other than GET or HEAD; 413: a body announced).
+struct HeadVerdict {
+  int status = 0;
+  std::string head;
+};
+
+HeadVerdict judge_head(const std::string& head) {
+  HeadVerdict v;
+  std::size_t pos = head.find("\r\n");
+  const std::string line = head.substr(0, pos);
+  const std::string method = line.substr(0, line.find(' '));
+  if (method != "GET" && method != "HEAD") {
+    v.status = method.empty() ? 400 : 405;
+    return v;
+  }
+  v.head = line + "\r\n";
+  for (pos += 2; pos < head.size();) {
+    const std::size_t e = head.find("\r\n", pos);
+    const std::string h = head.substr(pos, e - pos);
+    pos = e + 2;
+    if (h.empty()) break;  // the blank line ending the head
+    const std::size_t colon = h.find(':');
+    const std::string name = colon == std::string::npos ? "" : lower(trim(h.substr(0, colon)));
+    const std::string value = colon == std::string::npos ? "" : trim(h.substr(colon + 1));
+    if (name == "transfer-encoding" || (name == "content-length" && value != "0")) {
+      v.status = 413;
+      return v;
+    }
+    if (name == "range" || name == "if-range") continue;
+    v.head += h + "\r\n";
+  }
+  v.head += "\r\n";
+  return v;
+}
+
+const char* refusal_text(int status) {
+  switch (status) {
+    case 400:
+      return "Bad Request";
+    case 405:
+      return "Method Not Allowed";
+    case 408:
+      return "Request Timeout";
+    case 413:
+      return "Payload Too Large";
+    default:
+      return "Request Header Fields Too Large";
+  }
+}
+
+std::string refusal_body(int status) {
+  switch (status) {
+    case 405:
+      return "method not allowed: the viewer serves GET and HEAD only\n";
+    case 413:
+      return "payload too large: the viewer takes no request body\n";
+    case 408:
+      return fmt::format("request timeout: the request head must arrive within {} s\n", Limits::kHeadSeconds);
+    case 431:
+      return fmt::format("request header fields too large: at most {} bytes and {} header lines\n",
+                         Limits::kMaxHeadBytes, Limits::kMaxHeaderLines);
+    default:
+      return "bad request\n";
+  }
+}
+
+// A stream over one accepted request head (read) and the socket (write, each answer within
+// kAnswerSeconds): what httplib::Server::process_request parses and answers.
+class HeadStream final : public httplib::Stream {
+ public:
+  HeadStream(socket_t sock, std::string head)
+      : sock_(sock),
+        head_(std::move(head)),
+        deadline_(Clock::now() + std::chrono::seconds(Limits::kAnswerSeconds)) {}
+  bool is_readable() const override { return pos_ < head_.size(); }
+  bool is_writable() const override { return wait_ready(sock_, POLLOUT, deadline_, nullptr); }
+  ssize_t read(char* ptr, size_t size) override {
+    const std::size_t n = std::min(size, head_.size() - pos_);
+    std::memcpy(ptr, head_.data() + pos_, n);
+    pos_ += n;
+    return ssize_t(n);
+  }
+  ssize_t write(const char* ptr, size_t size) override {
+    if (!is_writable()) return -1;
+    ssize_t n;
+    do n = ::send(sock_, ptr, size, MSG_NOSIGNAL | MSG_DONTWAIT);
+    while (n < 0 && errno == EINTR);
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return 0;  // write_data tries again
+    return n;
+  }
+  void get_remote_ip_and_port(std::string& ip, int& port) const override { address(true, ip, port); }
+  void get_local_ip_and_port(std::string& ip, int& port) const override { address(false, ip, port); }
+  socket_t socket() const override { return sock_; }
+
+ private:
+  void address(bool peer, std::string& ip, int& port) const {
+    sockaddr_storage a{};
+    socklen_t len = sizeof(a);
+    const int r = peer ? getpeername(sock_, reinterpret_cast<sockaddr*>(&a), &len)
+                       : getsockname(sock_, reinterpret_cast<sockaddr*>(&a), &len);
+    char buf[INET6_ADDRSTRLEN] = "";
+    port = 0;
+    if (r == 0 && a.ss_family == AF_INET) {
+      const auto* in = reinterpret_cast<const sockaddr_in*>(&a);
+      inet_ntop(AF_INET, &in->sin_addr, buf, sizeof(buf));
+      port = ntohs(in->sin_port);
+    } else if (r == 0 && a.ss_family == AF_INET6) {
+      const auto* in = reinterpret_cast<const sockaddr_in6*>(&a);
+      inet_ntop(AF_INET6, &in->sin6_addr, buf, sizeof(buf));
+      port = ntohs(in->sin6_port);
+    }
+    ip = buf;
+  }
+
+  socket_t sock_;
+  std::string head_;
+  std::size_t pos_ = 0;
+  Clock::time_point deadline_;
+};
+
+// httplib's server with the request guard: every accepted connection goes through process_and_close_socket
+// (virtual in httplib::Server), which reads and judges each request head before httplib sees it.
+class GuardedServer final : public httplib::Server {
+ private:
+  bool stopping() const { return svr_sock_ == INVALID_SOCKET; }
+
+  // Reads the next request head into `head` (bytes past it stay in `pending`): 0, or the status to refuse
+  // with (431, 408), or -1 when the client closed or sent nothing before the deadline (closed quietly).
+  int read_head(socket_t sock, std::string& pending, std::string& head) const {
+    const Clock::time_point deadline = Clock::now() + std::chrono::seconds(Limits::kHeadSeconds);
+    std::size_t scanned = 0;  // pending[0, scanned) holds no "\r\n\r\n"
+    int lines = 0;            // "\r\n" seen in pending[0, scanned)
+    char buf[4096];
+    for (;;) {
+      // The head so far: complete, or over a limit?
+      for (std::size_t p; (p = pending.find("\r\n", scanned)) != std::string::npos;) {
+        if (p == scanned && lines > 0 && pending.compare(p - 2, 2, "\r\n") == 0) {  // "\r\n\r\n"
+          head = pending.substr(0, p + 2);
+          pending.erase(0, p + 2);
+          return 0;
+        }
+        if (++lines > Limits::kMaxHeaderLines + 1) return 431;  // the request line + the header lines
+        scanned = p + 2;
+        if (scanned > Limits::kMaxHeadBytes) return 431;
+      }
+      if (pending.size() > Limits::kMaxHeadBytes) return 431;
+      if (!wait_ready(sock, POLLIN, deadline, [this] { return stopping(); }))
+        return pending.empty() ? -1 : 408;
+      ssize_t n;
+      do
+        n = ::recv(sock, buf, std::min(sizeof(buf), Limits::kMaxHeadBytes + 1 - pending.size()),
+                   MSG_DONTWAIT);
+      while (n < 0 && errno == EINTR);
+      if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) continue;
+      if (n <= 0) return -1;
+      pending.append(buf, std::size_t(n));
+    }
+  }
+
+  // The refusal (one line of text, Connection: close); then the connection is closed after reading and
+  // discarding what the client still sends for at most 0.5 s or 1 MiB, so that it sees the answer rather than
+  // a reset.
+  static void refuse(socket_t sock, int status) {
+    const std::string body = refusal_body(status);
+    const std::string msg = fmt::format(
+        "HTTP/1.1 {} {}\r\nContent-Type: text/plain\r\nContent-Length: {}\r\nCache-Control: no-store\r\n{}"
+        "Connection: close\r\n\r\n{}",
+        status, refusal_text(status), body.size(), status == 405 ? "Allow: GET, HEAD\r\n" : "", body);
+    const Clock::time_point deadline = Clock::now() + std::chrono::seconds(1);
+    for (std::size_t off = 0; off < msg.size() && wait_ready(sock, POLLOUT, deadline, nullptr);) {
+      const ssize_t n = ::send(sock, msg.data() + off, msg.size() - off, MSG_NOSIGNAL | MSG_DONTWAIT);
+      if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) break;
+      if (n > 0) off += std::size_t(n);
+    }
+    ::shutdown(sock, SHUT_WR);
+    const Clock::time_point drain = Clock::now() + std::chrono::milliseconds(500);
+    char buf[4096];
+    for (std::size_t total = 0; total < (1u << 20) && wait_ready(sock, POLLIN, drain, nullptr);) {
+      const ssize_t n = ::recv(sock, buf, sizeof(buf), MSG_DONTWAIT);
+      if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) break;
+      if (n > 0) total += std::size_t(n);
+    }
+  }
+
+  bool process_and_close_socket(socket_t sock) override {
+    std::string pending;
+    bool ok = true;
+    for (int served = 0; served < Limits::kKeepAliveRequests && !stopping(); ++served) {
+      std::string head;
+      int status = read_head(sock, pending, head);
+      if (status < 0) break;
+      HeadVerdict v;
+      if (status == 0) {
+        v = judge_head(head);
+        status = v.status;
+      }
+      if (status != 0) {
+        refuse(sock, status);
+        break;
+      }
+      HeadStream strm(sock, std::move(v.head));
+      bool closed = false;
+      ok = process_request(strm, served + 1 == Limits::kKeepAliveRequests, closed, nullptr);
+      if (!ok || closed) break;
+    }
+    ::shutdown(sock, SHUT_RDWR);
+    ::close(sock);
+    return ok;
+  }
+};
+
 void check_host(const std::string& host) {
   if (!is_loopback_host(host))
     throw InputError(
@@ -501,13 +765,22 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
   const std::string host = o.host == "localhost" ? "127.0.0.1" : o.host == "[::1]" ? "::1" : o.host;
   const bool static_root = !o.root.empty();
   Content content;
-  httplib::Server svr;
+  GuardedServer svr;
   // Only SO_REUSEADDR: httplib's default SO_REUSEPORT would let a second server share a port in use.
   svr.set_socket_options([](socket_t sock) {
     int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
   });
-  svr.new_task_queue = [] { return new httplib::ThreadPool(4); };
+  // ServerLimits (viewer_server.h): the guard reads each request head with a deadline for the whole head, so
+  // a slow client holds one of kWorkers workers for at most kHeadSeconds. Also what httplib itself enforces:
+  // the keep-alive header it sends, each recv/send's timeout, no body (the guard refuses one before httplib
+  // runs).
+  svr.new_task_queue = [] { return new httplib::ThreadPool(ServerLimits::kWorkers); };
+  svr.set_keep_alive_timeout(ServerLimits::kHeadSeconds);
+  svr.set_keep_alive_max_count(ServerLimits::kKeepAliveRequests);
+  svr.set_read_timeout(ServerLimits::kHeadSeconds);
+  svr.set_write_timeout(ServerLimits::kAnswerSeconds);
+  svr.set_payload_max_length(0);
   svr.Get("/(.*)", [&](const httplib::Request& req, httplib::Response& res) {
     std::string p = req.matches[1].str();
     if (p.empty() || p.back() == '/') p += "index.html";
@@ -532,18 +805,22 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
         return;
       }
     }
-    const fs::path file = static_root                        ? o.root / p
-                          : p.rfind("shaders/glsl/", 0) == 0 ? o.assets / p
-                                                             : o.assets / "web" / p;
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) {
+    // Symbolic links resolved: a file whose real path leaves its folder (a link to /etc/passwd in --root) is
+    // not found, as a missing one.
+    const bool shader = !static_root && p.rfind("shaders/glsl/", 0) == 0;
+    const std::optional<fs::path> found = static_root ? contained_file(o.root, p)
+                                          : shader
+                                              ? contained_file(o.assets / "shaders" / "glsl", p.substr(13))
+                                              : contained_file(o.assets / "web", p);
+    if (!found) {
       res.status = 404;
       res.set_content(fmt::format("not found: /{}\n", p), "text/plain");
       return;
     }
+    const fs::path& file = *found;
     try {
       // The GLSL files with their includes expanded (WebGL2 has no #include; shader_source.h).
-      if (!static_root && p.rfind("shaders/glsl/", 0) == 0)
+      if (shader)
         res.set_content(expand_shader_includes(file), mime_type(p).c_str());
       else
         res.set_content(read_bytes(file), mime_type(p).c_str());

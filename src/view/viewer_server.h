@@ -6,6 +6,7 @@
 // the embeddable core.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -26,6 +27,24 @@ struct ViewerOptions {
   std::filesystem::path lut;       // a cone-layout table (bake micro-shadowing) replacing its default
   std::filesystem::path root;      // serve this static copy (export_viewer output) as is; the rest unused
   std::filesystem::path cache;     // where the built-in plaster is generated on first use
+};
+
+// What serve() accepts (docs/viewer.md, "Limits"). The request head (request line and header lines) is read
+// by the viewer's own code before cpp-httplib parses it, so each limit holds whatever the library version
+// does: more than kMaxHeadBytes or kMaxHeaderLines gets 431; a method other than GET or HEAD gets 405 and a
+// GET/HEAD announcing a body (Content-Length > 0, Transfer-Encoding) 413, both before any body byte is read;
+// a head not complete kHeadSeconds after the connection opened (or the previous answer was sent) gets 408 and
+// the connection is closed, however slowly its bytes trickle in; an answer not taken by the client within
+// kAnswerSeconds is cut. kWorkers connections are served at once (a slow client holds one for at most
+// kHeadSeconds), at most kKeepAliveRequests requests per connection. Range headers are ignored (200, the
+// whole file).
+struct ServerLimits {
+  static constexpr int kWorkers = 32;
+  static constexpr int kHeadSeconds = 3;
+  static constexpr int kAnswerSeconds = 10;
+  static constexpr std::size_t kMaxHeadBytes = 16 * 1024;
+  static constexpr int kMaxHeaderLines = 100;
+  static constexpr int kKeepAliveRequests = 100;
 };
 
 // 127.0.0.1 (any 127.x.y.z), ::1 and "localhost".
@@ -65,6 +84,8 @@ std::map<std::string, std::string> viewer_data_files(const ViewerOptions& o);
 // table the shaders cannot sample, a port in use), binds, calls on_ready(url) and serves until SIGINT or
 // SIGTERM, then returns. The caller must have blocked SIGINT and SIGTERM in every thread
 // (block_stop_signals() before any thread starts): a dedicated thread waits for them.
+// Requests within ServerLimits only; a file is served only if its real path (links resolved) stays inside its
+// folder (--root, web/, shaders/glsl/): else 404.
 void serve(const ViewerOptions& o, const std::function<void(const std::string& url)>& on_ready);
 
 // Blocks SIGINT and SIGTERM in the calling thread (inherited by the threads it starts later).
