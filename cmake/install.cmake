@@ -1,6 +1,6 @@
 # `cmake --install build --prefix P`: headers, libmicroshadow, the CLI, the shaders, the default tables, a
 # CMake package (find_package(microshadow CONFIG): microshadow::core, microshadow::microshadow) and pkg-config
-# files (microshadow-core.pc, microshadow.pc). Layout and usage: docs/packaging.md.
+# files (microshadow-core.pc, microshadow.pc), the three.js module (npm tarball). Layout and usage: docs/packaging.md.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -76,6 +76,9 @@ write_basic_package_version_file(${CMAKE_BINARY_DIR}/cmake/microshadowConfigVers
 install(FILES ${CMAKE_BINARY_DIR}/cmake/microshadowConfig.cmake
         ${CMAKE_BINARY_DIR}/cmake/microshadowConfigVersion.cmake DESTINATION ${MSH_INSTALL_CMAKEDIR})
 
+# The three.js module: the npm tarball, the unpacked module and the import-map example (share/microshadow/three).
+include(${CMAKE_SOURCE_DIR}/cmake/three_package.cmake)
+
 # pkg-config: relocatable (prefix from ${pcfiledir}), since `cmake --install --prefix` picks the prefix late.
 # libmicroshadow is static, so microshadow.pc lists its dependencies in Requires/Libs (not *.private).
 file(RELATIVE_PATH MSH_PC_TO_PREFIX ${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig
@@ -110,6 +113,7 @@ if(MSH_BUILD_TESTS)
   # builds of one-file programs.
   add_test(NAME test_package_consumer COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR}
            -DSOURCE_DIR=${CMAKE_SOURCE_DIR} -DCXX=${CMAKE_CXX_COMPILER} -DGENERATOR=${CMAKE_GENERATOR}
-           -DSANITIZE=${MSH_SANITIZE} -P ${CMAKE_SOURCE_DIR}/tests/package/consumer_test.cmake)
+           -DSANITIZE=${MSH_SANITIZE} -DTHREE_TGZ=${MSH_THREE_PACKAGED_TGZ}
+           -P ${CMAKE_SOURCE_DIR}/tests/package/consumer_test.cmake)
   set_tests_properties(test_core_headers test_package_consumer PROPERTIES TIMEOUT 600)
 endif()

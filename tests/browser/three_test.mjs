@@ -12,6 +12,13 @@
 // glTF block in a harness); it sets window.mshSnippet, recorded as results.snippet. --scene-snippet: only the
 // glTF-scene check (three_scene_probe.js: a glTF asset built in the page, rendered before; then FILE, the docs'
 // glTF block on it, which sets window.mshSnippet), recorded as results.scene; no probe, no example.
+//
+//   node three_test.mjs --serve DIR --page index.html --out DIR [--chromium PATH] [--revision R]
+// The installed package (tests/test_three_package.cpp): serves DIR (a folder where `npm install <tgz> three`
+// ran, with examples/three-importmap/index.html copied in) over HTTP from this process, opens the page, and
+// records in results.package what it made: three's REVISION, the import map's four names resolved, the shader
+// chunks and identifiers the module patches, and per light (the sun, the rect-area light, each alone) the
+// canvas read back with micro-shadowing off and on.
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -26,17 +33,22 @@ const url = arg('url'), out = arg('out'), moduleDir = arg('module'), figure = ar
 const exe = arg('chromium', '/usr/bin/chromium'), frames = Number(arg('frames', '3'));
 const figureOnly = process.argv.includes('--figure-only');
 const snippet = arg('snippet'), sceneSnippet = arg('scene-snippet');
+const serveDir = arg('serve'), pageName = arg('page', 'index.html');
 // The docs figure: the sun 7° above the horizon behind the camera, the split through the glTF torus and the
 // plane; left without micro-shadowing, right with the recommended pair.
 const FIGURE = { elevation: 7, azimuth: 200, camera: [0, 1.1, -3.6], target: [0, 0.3, -0.5], panel: false, split: true, attached: true, light: 'sun' };
-if (!url || !out || !moduleDir) {
-  console.error('usage: node three_test.mjs --url URL --out DIR --module DIR [--chromium PATH] [--figure FILE] [--frames N]');
+if (!out || (!serveDir && (!url || !moduleDir))) {
+  console.error('usage: node three_test.mjs --url URL --out DIR --module DIR [--chromium PATH] [--figure FILE] [--frames N]; or --serve DIR --page FILE --out DIR');
   process.exit(2);
 }
 fs.mkdirSync(out, { recursive: true });
 const here = path.dirname(fileURLToPath(import.meta.url));
 const DEFAULT_PAIR = 'diffuse-aware-alu+generic-vndf-alu';
 const CHROMIUM_ARGS = ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist', '--no-sandbox', '--disable-dev-shm-usage'];
+if (serveDir) {
+  await packagePage();
+  process.exit(0);
+}
 
 const results = { url, errors: [], screenshots: [], timing: {} };
 const T0 = Date.now();
@@ -191,6 +203,106 @@ async function figureShot() {
   await p.screenshot({ path: figure });
   results.screenshots.push(figure);
   await p.close();
+}
+
+// ---- the installed package: a static server on the folder, the import-map page, the term on each light
+async function packagePage() {
+  const http = await import('node:http');
+  const root = path.resolve(serveDir);
+  const TYPES = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript; charset=utf-8', '.mjs': 'text/javascript; charset=utf-8', '.json': 'application/json', '.png': 'image/png' };
+  const served = [];
+  const server = http.createServer((req, res) => {
+    const rel = decodeURIComponent(new URL(req.url, 'http://127.0.0.1').pathname).replace(/^\/+/, '');
+    const file = path.resolve(root, rel || 'index.html');
+    if (!file.startsWith(`${root}${path.sep}`) || !fs.existsSync(file) || !fs.statSync(file).isFile()) {
+      res.writeHead(404, { 'Content-Type': 'text/plain' });
+      res.end(`not found: /${rel}\n`);
+      return;
+    }
+    served.push(path.relative(root, file));
+    res.writeHead(200, { 'Content-Type': TYPES[path.extname(file)] ?? 'application/octet-stream', 'Cache-Control': 'no-store' });
+    res.end(fs.readFileSync(file));
+  });
+  await new Promise((r) => server.listen(0, '127.0.0.1', r));
+  const base = `http://127.0.0.1:${server.address().port}/`;
+  const res = { url: base, errors: [], timing: {} };
+  const t0 = Date.now();
+  const browser = await chromium.launch({ executablePath: exe, headless: true, args: CHROMIUM_ARGS });
+  try {
+    const page = await browser.newPage({ viewport: { width: 320, height: 240 } });
+    let failed = false;
+    page.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') res.errors.push(`page console ${m.type()}: ${m.text().slice(0, 2000)}`); });
+    page.on('pageerror', (e) => { failed = true; res.errors.push(`page pageerror: ${e.message}`); });
+    page.on('requestfailed', (r) => { failed = true; res.errors.push(`request failed: ${r.url()}`); });
+    page.on('response', (r) => { if (r.status() >= 400) { failed = true; res.errors.push(`HTTP ${r.status()}: ${r.url()}`); } });
+    await page.goto(`${base}${pageName}`);
+    for (let t = 0; t < 480 && !failed; ++t) {
+      if (await page.evaluate(() => window.mshDemo !== undefined)) break;
+      await new Promise((r) => setTimeout(r, 250));
+    }
+    res.loaded = await page.evaluate(() => window.mshDemo !== undefined);
+    res.timing.loaded = (Date.now() - t0) / 1000;
+    if (res.loaded) Object.assign(res, await page.evaluate(async () => {
+      const d = window.mshDemo, THREE = d.THREE;
+      const out = { revision: THREE.REVISION, method: d.method, handle_method: d.handle.method };
+      // The import map's names: the subpath's loader is the main entry's (one module instance), the addon ran.
+      const main = await import('microshadow-three');
+      out.luts_same_module = typeof d.loadMicroShadowingLut === 'function' && d.loadMicroShadowingLut === main.loadMicroShadowingLut;
+      const addons = await import('three/addons/lights/RectAreaLightUniformsLib.js');
+      out.addon_loaded = typeof addons.RectAreaLightUniformsLib?.init === 'function' && THREE.UniformsLib.LTC_FLOAT_1 !== undefined;
+      // What the module patches, by name, in this three: the includes and the identifiers its GLSL reads.
+      const L = THREE.ShaderLib.physical, C = THREE.ShaderChunk;
+      const need = {
+        'fragment #include <lights_physical_pars_fragment>': L.fragmentShader, 'fragment #include <lights_fragment_begin>': L.fragmentShader,
+        'fragment #include <aomap_fragment>': L.fragmentShader, 'fragment #include <dithering_fragment>': L.fragmentShader,
+        'fragment #include <normal_fragment_maps>': L.fragmentShader, 'vertex #include <common>': L.vertexShader, 'vertex #include <uv_vertex>': L.vertexShader,
+        'RE_Direct_Physical( const in IncidentLight directLight, const in vec3 geometryPosition, const in vec3 geometryNormal, const in vec3 geometryViewDir, const in vec3 geometryClearcoatNormal, const in PhysicalMaterial material, inout ReflectedLight reflectedLight )': C.lights_physical_pars_fragment,
+        'RE_Direct_RectArea_Physical( const in RectAreaLight rectAreaLight, const in vec3 geometryPosition, const in vec3 geometryNormal, const in vec3 geometryViewDir, const in vec3 geometryClearcoatNormal, const in PhysicalMaterial material, inout ReflectedLight reflectedLight )': C.lights_physical_pars_fragment,
+        'vAoMapUv': C.aomap_fragment, 'aoMapIntensity': C.aomap_fragment, 'nonPerturbedNormal': C.normal_fragment_begin,
+      };
+      out.missing = Object.entries(need).filter(([k, src]) => !src.includes(k.replace(/^(fragment|vertex) /, ''))).map(([k]) => k);
+      // Each light alone, micro-shadowing off then on: the canvas read back (8-bit sRGB).
+      const gl = d.renderer.getContext(), w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+      const grab = () => { d.render(); const px = new Uint8Array(w * h * 4); gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px); return px; };
+      out.lights = {};
+      for (const name of Object.keys(d.lights)) {
+        for (const [k, l] of Object.entries(d.lights)) l.visible = k === name;
+        d.handle.enabled = false;
+        const off = grab();
+        d.handle.enabled = true;
+        const on = grab();
+        let lit = 0, darker = 0, brighter = 0, sumOff = 0, sumOn = 0, maxDrop = 0;
+        for (let i = 0; i < off.length; i += 4) {
+          if (off[i] < 8) continue;  // background and unlit floor
+          ++lit; sumOff += off[i]; sumOn += on[i];
+          if (on[i] < off[i]) ++darker;
+          if (on[i] > off[i]) ++brighter;
+          maxDrop = Math.max(maxDrop, off[i] - on[i]);
+        }
+        const c = 4 * ((h >> 1) * w + (w >> 1));
+        out.lights[name] = { pixels: w * h, lit, darker, brighter, mean_off: sumOff / Math.max(lit, 1) / 255, mean_on: sumOn / Math.max(lit, 1) / 255,
+          max_drop: maxDrop / 255, centre_off: off[c] / 255, centre_on: on[c] / 255 };
+      }
+      for (const l of Object.values(d.lights)) l.visible = true;
+      d.handle.enabled = true;
+      d.render();
+      out.gl_error = gl.getError();
+      return out;
+    }));
+    res.timing.done = (Date.now() - t0) / 1000;
+    const shot = path.join(out, 'importmap_page.png');
+    await page.screenshot({ path: shot });
+    res.screenshot = shot;
+    await page.close();
+  } catch (e) {
+    res.errors.push(`driver: ${e.message}`);
+  } finally {
+    await browser.close();
+    server.close();
+  }
+  res.served = [...new Set(served)].sort();
+  fs.writeFileSync(path.join(out, 'results.json'), JSON.stringify({ errors: res.errors, package: res }));
+  console.log(`wrote ${path.join(out, 'results.json')}: three r${res.revision}, ${res.errors.length} errors, ${res.timing.done} s`);
 }
 
 fs.writeFileSync(path.join(out, 'results.json'), JSON.stringify(results));

@@ -2,8 +2,9 @@
 #  1. examples/consumer configured with find_package(microshadow CONFIG) against that prefix only, built,
 #     run; its output is checked;
 #  2. the installed CLI runs (--version) and reads the installed default table's sidecar;
-#  3. one-file programs compiled with pkg-config (microshadow-core.pc, microshadow.pc) and run.
-# -DBUILD_DIR=... -DSOURCE_DIR=... -DCXX=... -DGENERATOR=... [-DSANITIZE=ON: the installed library is
+#  3. one-file programs compiled with pkg-config (microshadow-core.pc, microshadow.pc) and run;
+#  and the three.js module's files in share/microshadow/three/ when the build packed it (node and npm).
+# -DBUILD_DIR=... -DSOURCE_DIR=... -DCXX=... -DGENERATOR=... [-DTHREE_TGZ=the packed module] [-DSANITIZE=ON: the installed library is
 # ASan/UBSan-instrumented (MSH_SANITIZE), so every consumer is compiled and linked with the same runtime]
 cmake_policy(VERSION 3.25)
 string(RANDOM LENGTH 8 tag)
@@ -43,6 +44,30 @@ foreach(f include/microshadow/microshadow.h share/microshadow/shaders/glsl/micro
     message(FATAL_ERROR "not installed: ${f}")
   endif()
 endforeach()
+# The three.js module (cmake/three_package.cmake), when the build packed it (node and npm present): the npm
+# tarball as built, the unpacked module with its generated files, the import-map example page.
+if(THREE_TGZ)
+  set(tgzs ${THREE_TGZ})
+  get_filename_component(tgz ${tgzs} NAME)
+  set(three ${prefix}/share/microshadow/three)
+  foreach(f ${tgz} importmap-example.html microshadow-three/package.json microshadow-three/src/index.js
+            microshadow-three/src/luts.js microshadow-three/src/generated/methods.js
+            microshadow-three/src/generated/glsl.js)
+    if(NOT EXISTS ${three}/${f})
+      file(REMOVE_RECURSE ${root})
+      message(FATAL_ERROR "not installed: share/microshadow/three/${f}")
+    endif()
+  endforeach()
+  file(SHA256 ${tgzs} built)
+  file(SHA256 ${three}/${tgz} installed)
+  if(NOT built STREQUAL installed)
+    file(REMOVE_RECURSE ${root})
+    message(FATAL_ERROR "share/microshadow/three/${tgz} differs from the built ${tgzs}")
+  endif()
+  message(STATUS "the three.js module is installed: share/microshadow/three/${tgz}, microshadow-three/, importmap-example.html")
+else()
+  message(STATUS "the three.js module was not packed (no node/npm at configure time): not checked")
+endif()
 # The installed shaders compile through the compiler's own #include (the prelude and the portable/ body found
 # relative to the entry point), in both languages.
 # glslang is a build dependency of the shader tests (scripts/install-deps.sh): its absence is an error here too.

@@ -189,6 +189,15 @@ function parsBlock(lobes, luts, debug, visSource, dir) {
   }).join('\n');
   return `
 // ---- microshadow (integrations/three, docs/three.md) ----
+// sampler3D has no default precision in GLSL ES 3.00; three declares one in its prefix in later versions (r187
+// does, r160 does not), with the renderer's precision, as here: the table samplers' function parameters need it.
+#if defined( LOW_PRECISION )
+precision lowp sampler3D;
+#elif defined( MEDIUM_PRECISION )
+precision mediump sampler3D;
+#else
+precision highp sampler3D;
+#endif
 ${dir ? '#define MSH_DIR\n' : ''}${glslLibrary()}
 ${dir ? directionalBlock(dir) : ''}
 ${lutDecl}
@@ -314,7 +323,7 @@ void msh_RE_Direct_RectArea(const in RectAreaLight rectAreaLight, const in vec3 
 
 function replaceOnce(src, find, repl, what) {
   if (!src.includes(find))
-    throw new Error(`microshadow: '${find}' not found in the ${what} shader: this three.js version is not supported (tested with the version in integrations/three/package.json)`);
+    throw new Error(`microshadow: '${find}' not found in the ${what} shader: this three.js version is not supported (microshadow-three supports three >=0.160.0 <0.188.0, the peerDependencies of its package.json)`);
   return src.replace(find, repl);
 }
 
