@@ -9,7 +9,8 @@
 // specular-lobe terms at V (the visibility), N·L, N·V and the material's roughness (three's perceptual
 // roughness, after its specular anti-aliasing). A RectAreaLight uses the area-light form: the equivalent cap
 // of the rectangle (its vector form factor, docs/area-lights.md §5) with the product-rule cap form of the
-// term where one exists, else the term at the cap's axis. Indirect light, clearcoat and sheen are unchanged;
+// term where one exists, else the term at the cap's axis (areaLights 'center': the point term at the direction
+// to the rectangle's centre). Indirect light, clearcoat and sheen are unchanged;
 // three's AO on indirect light is kept or dropped (aoOnIndirect).
 import { Matrix3 } from 'three';
 import { MICRO_SHADOWING_METHODS as REGISTRY_METHODS } from './generated/methods.js';
@@ -52,7 +53,7 @@ export const DEBUG_MODES = {
   terms: 2,    // (diffuse-lobe term, specular-lobe term, cos φ, 1 lit / 0.5 not lit)
   v: 3,        // v in the shading frame (n = +z)
   l: 4,        // l in the shading frame (a RectAreaLight: the equivalent cap's axis)
-  cap: 5,      // RectAreaLight: (N·L of the equivalent cap's axis, its angular radius, |F|, 1)
+  cap: 5,      // RectAreaLight: (N·L of the equivalent cap's axis, its angular radius, |F|, 1); areaLights 'center': (N·L of the centre's direction, 0, 0, 1)
   position: 6, // view-space position
   normal: 7,   // view-space shading normal
   direct: 8,   // (direct diffuse, direct specular) of the light, green channel
