@@ -571,6 +571,17 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   for (const char* lobe : {"diffuse", "specular"}) EXPECT_EQ(A["lobes"][lobe]["form"], "center") << lobe;
   EXPECT_EQ(A["handle_forms"], json({"center", "center"}));
   EXPECT_NE(A["key"].get<std::string>().find(":area-center"), std::string::npos) << A["key"];
+  {
+    const auto& api = A["api"];
+    const std::string bad = api["bad"].is_string() ? api["bad"] : "", other = api["other"].is_string() ? api["other"] : "";
+    EXPECT_NE(bad.find("areaLights must be 'cap' or 'center'"), std::string::npos) << api.dump();
+    EXPECT_NE(other.find("'areaLights'"), std::string::npos) << api.dump();
+    EXPECT_EQ(bad.find('\n'), std::string::npos) << bad;
+    EXPECT_EQ(other.find('\n'), std::string::npos) << other;
+    EXPECT_TRUE(api["default_same"].get<bool>()) << "{} and { areaLights: 'cap' } differ";
+    EXPECT_EQ(api["after_dispose"], "center");
+    EXPECT_EQ(api["modes"], json({"cap", "center"}));
+  }
   double center_nl = 0, center_float = 0, center_8bit = 0, cap_vs_center = 0;
   int center_n = 0;
   {

@@ -235,6 +235,16 @@ function area(method, methods, configs) {
   for (const m of ['inputs', 'v', 'l', 'position', 'normal', 'cap']) out.center[m] = read(m, RECT, true);
   attach(method, false, true, S.luts, { areaLights: 'cap' });
   out.cap = { terms: read('terms', RECT, true) };
+  // The option's checks: another value throws one line; another mode on a patched material is a conflict
+  // naming it; the default is 'cap' (the same handle).
+  const error = (f) => { try { f(); return null; } catch (e) { return e.message; } };
+  const fresh = new THREE.MeshStandardMaterial({ aoMap: S.vis });
+  out.api = { bad: error(() => MSH.addMicroShadowing(fresh, { areaLights: 'disk' })), modes: MSH.AREA_LIGHT_MODES };
+  const hc = MSH.addMicroShadowing(fresh, { areaLights: 'cap' });
+  out.api.default_same = MSH.addMicroShadowing(fresh, {}) === hc;
+  out.api.other = error(() => MSH.addMicroShadowing(fresh, { areaLights: 'center' }));
+  hc.dispose();
+  out.api.after_dispose = MSH.addMicroShadowing(fresh, { areaLights: 'center' }).lobes.specular.form;
   // 2. off = absent
   out.disabled = {};
   for (const mode of ['cap', 'center']) {
