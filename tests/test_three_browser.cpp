@@ -561,6 +561,105 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   EXPECT_GE(ao_n, 50);
   EXPECT_GE(direct_n, 100) << "too few pixels for the on/off check of the direct light";
 
+  // areaLights 'center' (three_probe.js area()): over the rect light each lobe's term is the point term at the
+  // direction to the rectangle's centre, N.L that of the centre as three places the light; it is not the cap
+  // form (the two differ at the probes). Micro-shadowing off gives the module-absent frame bit for bit (float32,
+  // every light, 'cap' and 'center'); on differs (the comparison sees the term).
+  const auto& A = res["area"];
+  ASSERT_TRUE(A.is_object()) << "no areaLights results";
+  EXPECT_EQ(A["error"], 0);
+  for (const char* lobe : {"diffuse", "specular"}) EXPECT_EQ(A["lobes"][lobe]["form"], "center") << lobe;
+  EXPECT_EQ(A["handle_forms"], json({"center", "center"}));
+  EXPECT_NE(A["key"].get<std::string>().find(":area-center"), std::string::npos) << A["key"];
+  {
+    const auto& api = A["api"];
+    const std::string bad = api["bad"].is_string() ? api["bad"] : "", other = api["other"].is_string() ? api["other"] : "";
+    EXPECT_NE(bad.find("areaLights must be 'cap' or 'center'"), std::string::npos) << api.dump();
+    EXPECT_NE(other.find("'areaLights'"), std::string::npos) << api.dump();
+    EXPECT_EQ(bad.find('\n'), std::string::npos) << bad;
+    EXPECT_EQ(other.find('\n'), std::string::npos) << other;
+    EXPECT_TRUE(api["default_same"].get<bool>()) << "{} and { areaLights: 'cap' } differ";
+    EXPECT_EQ(api["after_dispose"], "center");
+    EXPECT_EQ(api["modes"], json({"cap", "center"}));
+  }
+  double center_nl = 0, center_float = 0, center_8bit = 0, cap_vs_center = 0;
+  int center_n = 0;
+  {
+    const Vec3d c0 = vec3(A["rect"]["position"]);
+    const auto& C = A["center"];
+    for (int p = 0; p < npts; ++p) {
+      if (!(C["terms"][p][3].get<double>() > 0.75)) continue;  // the centre below the horizon, or no surface
+      const auto& in = C["inputs"][p];
+      const float V = in[0], nl = in[1], nv = in[2], r = in[3];
+      const Vec3d P = vec3(C["position"][p]), n = normalize(vec3(C["normal"][p]));
+      center_nl = std::max(center_nl, std::abs(nl - std::clamp(dot(n, normalize(c0 - P)), 0.0, 1.0)));
+      const Vec3f v(C["v"][p][0].get<float>(), C["v"][p][1].get<float>(), C["v"][p][2].get<float>());
+      const Vec3f l(C["l"][p][0].get<float>(), C["l"][p][1].get<float>(), C["l"][p][2].get<float>());
+      for (int lobe = 0; lobe < 2; ++lobe) {
+        const json& lb = A["lobes"][lobe ? "specular" : "diffuse"];
+        const double want = ref.eval(lb, false, V, nl, nv, r, v, l, 0, 0, samples);
+        const double got = C["terms"][p][lobe], got8 = C["terms8"][p][lobe].get<double>() / 255;
+        EXPECT_NEAR(got, want, 1e-4) << "areaLights 'center' " << (lobe ? "specular" : "diffuse") << " at V=" << V
+                                     << " N.L=" << nl << " N.V=" << nv << " r=" << r;
+        EXPECT_NEAR(got8, want, 2.0 / 255) << "areaLights 'center' 8-bit";
+        center_float = std::max(center_float, std::abs(got - want));
+        center_8bit = std::max(center_8bit, std::abs(got8 - want));
+        cap_vs_center =
+            std::max(cap_vs_center, std::abs(got - A["cap"]["terms"][p][lobe].get<double>()));
+      }
+      ++center_n;
+    }
+  }
+  EXPECT_GE(center_n, 20) << "too few probe pixels lit by the rect light's centre";
+  EXPECT_LE(center_nl, 1e-4) << "areaLights 'center': N.L is not that of the rectangle's centre";
+  EXPECT_GT(cap_vs_center, 1.0 / 255) << "areaLights 'center' gives the cap form";
+  for (const char* mode : {"cap", "center"}) {
+    const auto& d = A["disabled"][mode];
+    EXPECT_EQ(d["off"]["differing"], 0) << mode << ": enabled = false differs from the module absent: "
+                                        << d["off"].dump();
+    EXPECT_GT(d["on"]["max"].get<double>(), 1e-3) << mode << ": on does not differ from absent";
+  }
+  std::printf("areaLights 'center' (%s): %d lit probe pixels, N.L of the centre %.1e, |three.js - C++ point term| "
+              "%.2f/255 at 8 bits (%.3f/255 float); max |center - cap| %.1f/255; enabled = false vs absent: "
+              "%d / %d float32 values differ ('cap'), %d ('center')\n",
+              A["method"].get<std::string>().c_str(), center_n, center_nl, center_8bit * 255, center_float * 255,
+              cap_vs_center * 255, A["disabled"]["cap"]["off"]["differing"].get<int>(),
+              A["disabled"]["cap"]["off"]["values"].get<int>(), A["disabled"]["center"]["off"]["differing"].get<int>());
+  // 'center' against 'cap' at the probes, rect lights of 3 sizes at 2 distances (printed; docs/three.md).
+  std::printf(
+      "areaLights 'center' - 'cap' per lobe, in 1/255 (RMS / max |d|) over the probe pixels where the rectangle's "
+      "centre is above the horizon; horizon: pixels where only part of it is (there 'center' is the term at N.L = 0):\n");
+  json accuracy = json::array();
+  for (const auto& e : A["accuracy"]) {
+    std::vector<double> rho = e["rho"];
+    std::sort(rho.begin(), rho.end());
+    const json& lit = e["center_lit"];
+    int horizon = 0;
+    for (const auto& x : lit) horizon += !x.get<bool>();
+    const auto rms_max = [&](const json& a) {
+      double s2 = 0, m = 0;
+      int k = 0;
+      for (std::size_t i = 0; i < a.size(); ++i)
+        if (lit[i].get<bool>()) s2 += a[i].get<double>() * a[i].get<double>(), m = std::max(m, std::abs(a[i].get<double>())), ++k;
+      return std::pair<double, double>{k ? std::sqrt(s2 / k) * 255 : 0, m * 255};
+    };
+    const auto [dr, dm] = rms_max(e["d"]);
+    const auto [sr, sm] = rms_max(e["s"]);
+    const double rmed = rho.empty() ? 0 : rho[rho.size() / 2] * 180 / 3.14159265358979323846;
+    const double rmax = rho.empty() ? 0 : rho.back() * 180 / 3.14159265358979323846;
+    const double w = e["rect"]["width"], h = e["rect"]["height"];
+    std::printf("  %-36s rect %.1f x %.1f, distance x %.1f: n %3zu (horizon %2d), rho median %4.1f deg (max %4.1f); "
+                "diffuse %5.1f / %5.1f, specular %5.1f / %5.1f\n",
+                e["method"].get<std::string>().c_str(), w, h, e["distance"].get<double>(), rho.size() - horizon,
+                horizon, rmed, rmax, dr, dm, sr, sm);
+    EXPECT_FALSE(rho.empty()) << e["method"] << " size x" << e["size"] << " distance x" << e["distance"];
+    accuracy.push_back({{"method", e["method"]}, {"width", w}, {"height", h}, {"distance", e["distance"]},
+                        {"n", rho.size() - horizon}, {"horizon", horizon}, {"rho_median_deg", rmed}, {"rho_max_deg", rmax},
+                        {"diffuse_rms_255", dr}, {"diffuse_max_255", dm}, {"specular_rms_255", sr},
+                        {"specular_max_255", sm}});
+  }
+  std::ofstream(shots / "area_center.json") << accuracy.dump(1) << "\n";
+
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   const auto& bundle = res["bundle"];
   std::printf(

@@ -29,7 +29,7 @@ function dataTexture(w, h, f, { nearest = false } = {}) {
 let S = null;
 let S_KTX2 = null;
 
-async function setup({ width, height, grid }) {
+async function setup({ width, height, grid, tables = true }) {
   RectAreaLightUniformsLib.init();
   const man = await (await fetch('data/manifest.json')).json();
   const luts = {};
@@ -99,7 +99,7 @@ async function setup({ width, height, grid }) {
   // The NPY loader: the test writes the default 3D table as float32 NPY (data/lut3d.npy, the format of
   // `bake micro-shadowing --out lut.npy`); its half floats against the served raw half floats.
   let npy = null;
-  if (luts.lut3d) {
+  if (luts.lut3d && tables) {  // tables: false (the timing) needs no NPY/KTX2 files
     const T = await MSH.loadMicroShadowingLut('data/lut3d.npy');
     const a = T.texture.image.data, b = luts.lut3d.texture.image.data;
     let maxUlps = 0;
@@ -121,9 +121,9 @@ async function setup({ width, height, grid }) {
 
 // The method on the three materials: V from the aoMap on all three, or (variant) from the aoMap on the
 // plane, the separate visibility map on the sphere and the constant on the cylinder.
-function attach(method, variant = false, aoOnIndirect = true, luts = S.luts) {
+function attach(method, variant = false, aoOnIndirect = true, luts = S.luts, extra = {}) {
   for (const h of S.handles) h.dispose();
-  const base = { method, luts, debug: true, samples: SAMPLES, aoOnIndirect };
+  const base = { method, luts, debug: true, samples: SAMPLES, aoOnIndirect, ...extra };
   S.handles = [MSH.addMicroShadowing(S.mats[0], { ...base }),
     MSH.addMicroShadowing(S.mats[1], variant ? { ...base, visibilityMap: S.vis } : base),
     MSH.addMicroShadowing(S.mats[2], variant ? { ...base, visibility: V_CONST } : base)];
@@ -188,6 +188,173 @@ function shaded(method, enabled) {
   return S.renderer.getContext().getError();
 }
 
-window.mshProbe = { setup, run, shaded, aoSwitch, points: () => S.points };
+// ---- areaLights 'cap' / 'center' and micro-shadowing off (docs/three.md, "Rect-area lights" and "Cost")
+
+const RECT = LIGHT_ORDER.indexOf('rect');
+function rectLight() { let r = null; S.scene.traverse((o) => { if (o.isRectAreaLight) r = o; }); return r; }
+// The rect light as three's shaders see it (view space), for the C++ side.
+function rectView(rect) {
+  const view = S.camera.matrixWorldInverse;
+  const rot = new THREE.Matrix4().extractRotation(new THREE.Matrix4().multiplyMatrices(view, rect.matrixWorld));
+  return { position: new THREE.Vector3().setFromMatrixPosition(rect.matrixWorld).applyMatrix4(view).toArray(),
+    half_width: new THREE.Vector3(rect.width / 2, 0, 0).applyMatrix4(rot).toArray(),
+    half_height: new THREE.Vector3(0, rect.height / 2, 0).applyMatrix4(rot).toArray(), width: rect.width, height: rect.height };
+}
+
+// The whole float32 frame of the shaded scene (every light, debug off: the shipped program).
+function frame() {
+  const { width: w, height: h } = S;
+  S.renderer.setRenderTarget(S.rtF);
+  S.renderer.setClearColor(0x000000, 0);
+  S.renderer.clear();
+  S.renderer.render(S.scene, S.camera);
+  const buf = new Float32Array(w * h * 4);
+  S.renderer.readRenderTargetPixels(S.rtF, 0, 0, w, h, buf);
+  S.renderer.setRenderTarget(null);
+  return buf;
+}
+function frameDiff(a, b) {
+  let max = 0, n = 0;
+  for (let i = 0; i < a.length; ++i) { const d = Math.abs(a[i] - b[i]); if (d > 0) ++n; if (d > max) max = d; }
+  return { max, differing: n, values: a.length };
+}
+
+// 1. areaLights 'center' with the method: each lobe's term of the rect light and its inputs at the probe pixels
+// (the C++ side evaluates the point term at the direction to the rectangle's centre). 2. Micro-shadowing off
+// (enabled = false, debug off) against the module absent (the materials disposed), 'cap' and 'center': the whole
+// float32 frame; on against absent for contrast. 3. 'cap' against 'center' for rect lights of several sizes and
+// distances (methods: the list given), with the cap's N·L and angular radius.
+function area(method, methods, configs) {
+  const gl = S.renderer.getContext();
+  const out = { method, rect: rectView(rectLight()) };
+  attach(method, false, true, S.luts, { areaLights: 'center' });
+  out.lobes = MSH.methodLobes(method, 'center');
+  out.handle_forms = [S.handles[0].lobes.diffuse.form, S.handles[0].lobes.specular.form];
+  out.key = S.mats[0].customProgramCacheKey();
+  out.center = { terms: read('terms', RECT, true), terms8: read('terms', RECT, false) };
+  for (const m of ['inputs', 'v', 'l', 'position', 'normal', 'cap']) out.center[m] = read(m, RECT, true);
+  attach(method, false, true, S.luts, { areaLights: 'cap' });
+  out.cap = { terms: read('terms', RECT, true) };
+  // The option's checks: another value throws one line; another mode on a patched material is a conflict
+  // naming it; the default is 'cap' (the same handle).
+  const error = (f) => { try { f(); return null; } catch (e) { return e.message; } };
+  const fresh = new THREE.MeshStandardMaterial({ aoMap: S.vis });
+  out.api = { bad: error(() => MSH.addMicroShadowing(fresh, { areaLights: 'disk' })), modes: MSH.AREA_LIGHT_MODES };
+  const hc = MSH.addMicroShadowing(fresh, { areaLights: 'cap' });
+  out.api.default_same = MSH.addMicroShadowing(fresh, {}) === hc;
+  out.api.other = error(() => MSH.addMicroShadowing(fresh, { areaLights: 'center' }));
+  hc.dispose();
+  out.api.after_dispose = MSH.addMicroShadowing(fresh, { areaLights: 'center' }).lobes.specular.form;
+  // 2. off = absent
+  out.disabled = {};
+  for (const mode of ['cap', 'center']) {
+    for (const h of S.handles) h.dispose();
+    S.handles = S.mats.map((m) => MSH.addMicroShadowing(m, { method, luts: S.luts, areaLights: mode }));
+    for (const h of S.handles) h.enabled = false;
+    const off = frame();
+    for (const h of S.handles) h.enabled = true;
+    const on = frame();
+    for (const h of S.handles) h.dispose();
+    S.handles = [];
+    const absent = frame();
+    out.disabled[mode] = { off: frameDiff(off, absent), on: frameDiff(on, absent) };
+  }
+  // 3. cap against center, per rect light size and distance (scaled about the point it looks at)
+  const rect = rectLight(), p0 = rect.position.clone(), w0 = rect.width, h0 = rect.height, target = new THREE.Vector3(0, 0.3, 0);
+  out.accuracy = [];
+  for (const id of methods) {
+    const runs = {};
+    for (const mode of ['cap', 'center']) {
+      attach(id, false, true, S.luts, { areaLights: mode });
+      runs[mode] = configs.map(([size, dist]) => {
+        rect.width = w0 * size; rect.height = h0 * size;
+        rect.position.copy(target).addScaledVector(p0.clone().sub(target), dist);
+        rect.lookAt(target);
+        rect.updateMatrixWorld(true);
+        const r = { terms: read('terms', RECT, true) };
+        if (mode === 'cap') r.cap = read('cap', RECT, true);
+        return r;
+      });
+    }
+    configs.forEach(([size, dist], c) => {
+      rect.width = w0 * size; rect.height = h0 * size;
+      rect.position.copy(target).addScaledVector(p0.clone().sub(target), dist);
+      rect.lookAt(target);
+      rect.updateMatrixWorld(true);
+      const e = { method: id, size, distance: dist, rect: rectView(rect), d: [], s: [], rho: [], nl_cap: [], center_lit: [] };
+      S.points.forEach((_, p) => {
+        const a = runs.cap[c].terms[p], b = runs.center[c].terms[p], cap = runs.cap[c].cap[p];
+        if (!(a[3] === 1 || b[3] === 1)) return;   // neither form lit
+        e.d.push(b[0] - a[0]); e.s.push(b[1] - a[1]); e.rho.push(cap[1]); e.nl_cap.push(cap[0]);
+        e.center_lit.push(b[3] === 1);   // false: the centre below the horizon, part of the rectangle above
+      });
+      out.accuracy.push(e);
+    });
+  }
+  rect.width = w0; rect.height = h0; rect.position.copy(p0); rect.lookAt(target); rect.updateMatrixWorld(true);
+  for (const h of S.handles) h.dispose();
+  S.handles = [];
+  out.error = gl.getError();
+  return out;
+}
+
+// ---- frame time per light type (three_test.mjs --light-timing): the probe scene's three materials lit by one
+// light type at a time; micro-shadowing on, off (enabled = false) and absent (materials without the module),
+// interleaved rounds, each the mean of `frames` frames ended by a 1-pixel read-back; median over rounds.
+function timing({ method = 'diffuse-aware-alu+generic-vndf-alu', rounds = 5, frames = 3 } = {}) {
+  const { renderer, scene, camera } = S;
+  for (const h of S.handles) h.dispose();
+  S.handles = [];
+  const meshes = [];
+  scene.traverse((o) => { if (o.isMesh) meshes.push(o); });
+  const lights = {};
+  scene.traverse((o) => {
+    if (o.isPointLight) lights.point = o; else if (o.isSpotLight) lights.spot = o;
+    else if (o.isDirectionalLight) lights.directional = o; else if (o.isRectAreaLight) lights.rect = o;
+    else if (o.isAmbientLight) lights.ambient = o;
+  });
+  lights.hemisphere = new THREE.HemisphereLight(0xbfd4ff, 0x403020, 1.0);
+  scene.add(lights.hemisphere);
+  const absent = S.mats.map((m) => m.clone());
+  const sets = { cap: S.mats.map((m) => m.clone()), center: S.mats.map((m) => m.clone()) };
+  const handles = { cap: sets.cap.map((m) => MSH.addMicroShadowing(m, { method, luts: S.luts, areaLights: 'cap' })),
+    center: sets.center.map((m) => MSH.addMicroShadowing(m, { method, luts: S.luts, areaLights: 'center' })) };
+  const types = [['directional', ['directional'], 'cap'], ['point', ['point'], 'cap'], ['spot', ['spot'], 'cap'],
+    ['rect-cap', ['rect'], 'cap'], ['rect-center', ['rect'], 'center'], ['hemisphere+ambient', ['hemisphere', 'ambient'], 'cap']];
+  const gl = renderer.getContext(), px = new Uint8Array(4);
+  renderer.setRenderTarget(null);
+  const configure = (set, enabled) => {
+    meshes.forEach((o, i) => { o.material = set === 'absent' ? absent[i] : sets[set][i]; });
+    if (set !== 'absent') for (const h of handles[set]) h.enabled = enabled;
+  };
+  const time = () => {
+    renderer.render(scene, camera); gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    const t0 = performance.now();
+    for (let i = 0; i < frames; ++i) { renderer.render(scene, camera); gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px); }
+    return (performance.now() - t0) / frames;
+  };
+  const median = (a) => { const b = [...a].sort((x, y) => x - y), k = b.length >> 1; return b.length % 2 ? b[k] : (b[k - 1] + b[k]) / 2; };
+  const table = [];
+  for (const [name, on, set] of types) {
+    for (const [k, L] of Object.entries(lights)) L.visible = on.includes(k);
+    const cfgs = [['on', set, true], ['off', set, false], ['absent', 'absent', true]];
+    const compile0 = performance.now();
+    for (const [, s, e] of cfgs) { configure(s, e); time(); }   // compile and warm up
+    const compile_ms = performance.now() - compile0;
+    const t = { on: [], off: [], absent: [] };
+    for (let r = 0; r < rounds; ++r)
+      for (const [k, s, e] of (r % 2 ? [...cfgs].reverse() : cfgs)) { configure(s, e); t[k].push(time()); }
+    // Ratios within each round (the three configurations close in time), then their median.
+    const m = { on: median(t.on), off: median(t.off), absent: median(t.absent) };
+    const ratio = (a, b) => median(t[a].map((x, r) => x / t[b][r]));
+    table.push({ light: name, ms: m, on_absent: ratio('on', 'absent'), off_absent: ratio('off', 'absent'), on_off: ratio('on', 'off'), rounds: t, compile_ms });
+  }
+  for (const L of Object.values(lights)) L.visible = true;
+  scene.remove(lights.hemisphere);
+  meshes.forEach((o, i) => { o.material = S.mats[i]; });
+  return { method, width: S.width, height: S.height, rounds, frames, table, error: gl.getError() };
+}
+
+window.mshProbe = { setup, run, shaded, aoSwitch, area, timing, points: () => S.points };
 
 window.mshProbeLoaded = true;

@@ -6,7 +6,7 @@
 //
 //   node three_test.mjs --url http://127.0.0.1:PORT/ --out DIR --module DIR/microshadow-three
 //        [--chromium /usr/bin/chromium] [--figure FILE.png [--figure-only]] [--frames N] [--snippet FILE.js]
-//        [--scene-snippet FILE.js]
+//        [--scene-snippet FILE.js] [--light-timing [--width 640 --height 360 --rounds 5]]
 // --figure: also copy the with/without split at grazing sun (docs/three.md's figure) to FILE; --figure-only:
 // only that (no probe, no frame time). --snippet: a module run in the probe page after the probe (docs/three.md's
 // glTF block in a harness); it sets window.mshSnippet, recorded as results.snippet. --scene-snippet: only the
@@ -19,6 +19,9 @@
 // records in results.package what it made: three's REVISION, the import map's four names resolved, the shader
 // chunks and identifiers the module patches, and per light (the sun, the rect-area light, each alone) the
 // canvas read back with micro-shadowing off and on.
+// --light-timing: only the frame time per light type (the probe's scene at WIDTHxHEIGHT lit by one light type
+// at a time, micro-shadowing on / off / absent, interleaved rounds of --frames frames, median over --rounds;
+// three_probe.js timing()), recorded as results.light_timing and printed as a table; docs/three.md "Cost".
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -34,6 +37,7 @@ const exe = arg('chromium', '/usr/bin/chromium'), frames = Number(arg('frames', 
 const figureOnly = process.argv.includes('--figure-only');
 const snippet = arg('snippet'), sceneSnippet = arg('scene-snippet');
 const serveDir = arg('serve'), pageName = arg('page', 'index.html');
+const lightTiming = process.argv.includes('--light-timing');
 // The docs figure: the sun 7° above the horizon behind the camera, the split through the glTF torus and the
 // plane; left without micro-shadowing, right with the recommended pair.
 const FIGURE = { elevation: 7, azimuth: 200, camera: [0, 1.1, -3.6], target: [0, 0.3, -0.5], panel: false, split: true, attached: true, light: 'sun' };
@@ -68,9 +72,10 @@ const watch = (page, tag) => {
   page.on('pageerror', (e) => results.errors.push(`${tag} pageerror: ${e.message}`));
 };
 try {
-  if (sceneSnippet) await sceneCheck();
+  if (lightTiming) await lightTimes();
+  else if (sceneSnippet) await sceneCheck();
   else if (!figureOnly) await probe();
-  if (!figureOnly && !sceneSnippet) await example();
+  if (!figureOnly && !sceneSnippet && !lightTiming) await example();
   if (figure) await figureShot();
   mark('done');
 } catch (e) {
@@ -104,6 +109,12 @@ async function probe() {
   }
   results.ao_switch = await page.evaluate((id) => window.mshProbe.aoSwitch(id), DEFAULT_PAIR);
   mark('methods');
+  // areaLights 'center' against the point term at the centre, off against absent, 'cap' against 'center' for
+  // rect lights of 3 sizes (x 0.5, 1, 2) at 2 distances (x 1, 0.5 from the point the light looks at).
+  const configs = [[0.5, 1], [1, 1], [2, 1], [0.5, 0.5], [1, 0.5], [2, 0.5]];
+  results.area = await page.evaluate(([m, ms, c]) => window.mshProbe.area(m, ms, c), [DEFAULT_PAIR, [DEFAULT_PAIR, 'brinck-maximov-2016'], configs]);
+  if (results.area.error !== 0) results.errors.push(`gl error ${results.area.error} (area)`);
+  mark('area');
   if (snippet) {
     await page.addScriptTag({ type: 'module', content: fs.readFileSync(snippet, 'utf8') });
     await page.waitForFunction(() => window.mshSnippet !== undefined, null, { timeout: 120000 });
@@ -117,6 +128,29 @@ async function probe() {
     await page.locator('canvas').screenshot({ path: file });
     results.screenshots.push(file);
   }
+  await page.close();
+}
+
+// ---- frame time per light type (--light-timing)
+async function lightTimes() {
+  const W = Number(arg('width', '640')), H = Number(arg('height', '360')), rounds = Number(arg('rounds', '5'));
+  const page = await browser.newPage({ viewport: { width: W + 40, height: H + 40 } });
+  watch(page, 'timing');
+  await page.goto(`${url}?probe`);
+  await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 60000 });
+  await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, 'three_probe.js'), 'utf8') });
+  await page.waitForFunction(() => window.mshProbeLoaded === true, null, { timeout: 60000 });
+  await page.evaluate((o) => window.mshProbe.setup(o), { width: W, height: H, grid: [1, 1], tables: false });
+  const r = await page.evaluate((o) => window.mshProbe.timing(o), { rounds, frames });
+  if (r.error !== 0) results.errors.push(`gl error ${r.error} (timing)`);
+  results.light_timing = r;
+  const f = (x) => x.toFixed(2);
+  console.log(`frame time per light type, ${r.width}x${r.height}, ${r.method}, ${r.frames} frames per round, ${r.rounds} interleaved rounds: median ms, median of the rounds' ratios`);
+  console.log('| light | on ms | off ms | absent ms | on / absent | off / absent | on / off |');
+  console.log('| --- | --- | --- | --- | --- | --- | --- |');
+  for (const e of r.table)
+    console.log(`| ${e.light} | ${e.ms.on.toFixed(0)} | ${e.ms.off.toFixed(0)} | ${e.ms.absent.toFixed(0)} | ${f(e.on_absent)} | ${f(e.off_absent)} | ${f(e.on_off)} |`);
+  mark('light_timing');
   await page.close();
 }
 

@@ -9,7 +9,8 @@
 // specular-lobe terms at V (the visibility), N·L, N·V and the material's roughness (three's perceptual
 // roughness, after its specular anti-aliasing). A RectAreaLight uses the area-light form: the equivalent cap
 // of the rectangle (its vector form factor, docs/area-lights.md §5) with the product-rule cap form of the
-// term where one exists, else the term at the cap's axis. Indirect light, clearcoat and sheen are unchanged;
+// term where one exists, else the term at the cap's axis (areaLights 'center': the point term at the direction
+// to the rectangle's centre). Indirect light, clearcoat and sheen are unchanged;
 // three's AO on indirect light is kept or dropped (aoOnIndirect).
 import { Matrix3 } from 'three';
 import { MICRO_SHADOWING_METHODS as REGISTRY_METHODS } from './generated/methods.js';
@@ -34,6 +35,12 @@ export const AREA_FORMS = {
   'generic-vndf-alu': 'msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)',
 };
 
+// How a RectAreaLight is micro-shadowed (options.areaLights): 'cap' (default) — the rectangle's vector form
+// factor, its equivalent cap and the term's cap form (AREA_FORMS) or the point term at the cap's axis; 'center'
+// — the point term at the direction to the rectangle's centre (no form factor, no cap: cheaper, less accurate
+// for large or near lights, docs/three.md "Rect-area lights: 'cap' or 'center'").
+export const AREA_LIGHT_MODES = ['cap', 'center'];
+
 // The shader files the terms need (micro_shadowing_area only when the scene has RectAreaLights).
 const GLSL_FILES = ['micro_shadowing.glsl', 'micro_shadowing_fit.glsl', 'micro_shadowing_aware.glsl', 'micro_shadowing_aware_fit.glsl'];
 const GLSL_AREA = 'micro_shadowing_area.glsl';
@@ -46,7 +53,7 @@ export const DEBUG_MODES = {
   terms: 2,    // (diffuse-lobe term, specular-lobe term, cos φ, 1 lit / 0.5 not lit)
   v: 3,        // v in the shading frame (n = +z)
   l: 4,        // l in the shading frame (a RectAreaLight: the equivalent cap's axis)
-  cap: 5,      // RectAreaLight: (N·L of the equivalent cap's axis, its angular radius, |F|, 1)
+  cap: 5,      // RectAreaLight: (N·L of the equivalent cap's axis, its angular radius, |F|, 1); areaLights 'center': (N·L of the centre's direction, 0, 0, 1)
   position: 6, // view-space position
   normal: 7,   // view-space shading normal
   direct: 8,   // (direct diffuse, direct specular) of the light, green channel
@@ -103,25 +110,27 @@ export function findMethod(id) {
 // Each lobe's term of a method: { diffuse: {term, glsl, area, form}, specular: {...} } where term is the
 // registry name, glsl the point expression, area the RectAreaLight expression and form 'cap' (the area form)
 // or 'axis' (the point term at the cap's axis).
-export function methodLobes(id) {
+// With areaLights 'center' every lobe's RectAreaLight form is the point term at the rectangle's centre
+// (form 'center').
+export function methodLobes(id, areaLights = 'cap') {
   const m = findMethod(id);
   const lobe = (glsl, cpp) => {
-    const a = AREA_FORMS[cpp.method];
-    return { term: cpp.method, glsl, area: a || glsl, form: a ? 'cap' : 'axis', cpp };
+    const a = areaLights === 'center' ? null : AREA_FORMS[cpp.method];
+    return { term: cpp.method, glsl, area: a || glsl, form: areaLights === 'center' ? 'center' : a ? 'cap' : 'axis', cpp };
   };
   return m.glsl_diffuse !== undefined
     ? { diffuse: lobe(m.glsl_diffuse, m.cpp.diffuse), specular: lobe(m.glsl_specular, m.cpp.specular) }
     : { diffuse: lobe(m.glsl, m.cpp), specular: lobe(m.glsl, m.cpp) };
 }
 
-function glslLibrary() {
+function glslLibrary(areaCap) {
   for (const f of [...GLSL_FILES, GLSL_AREA, GLSL_DIRECTIONAL])
     if (typeof MSH_GLSL[f] !== 'string') throw new Error(`microshadow: generated/glsl.js has no ${f} (run npm run build)`);
   return `${GLSL_FILES.map((f) => `// ---- shaders/glsl/${f}\n${MSH_GLSL[f]}`).join('\n')}
-#if NUM_RECT_AREA_LIGHTS > 0
+${areaCap ? `#if NUM_RECT_AREA_LIGHTS > 0
 // ---- shaders/glsl/${GLSL_AREA}
 ${MSH_GLSL[GLSL_AREA]}
-#endif
+#endif` : '// areaLights: \'center\' (no area-light forms)'}
 #ifdef MSH_DIR
 // ---- shaders/glsl/${GLSL_DIRECTIONAL}
 ${MSH_GLSL[GLSL_DIRECTIONAL]}
@@ -182,7 +191,8 @@ ${compose}
 `;
 }
 
-function parsBlock(lobes, luts, debug, visSource, dir) {
+function parsBlock(lobes, luts, debug, visSource, dir, areaLights) {
+  const areaCap = areaLights !== 'center';
   const lutDecl = luts.map((k) => {
     const u = LUT_UNIFORMS[k];
     return `uniform highp sampler3D ${u};\nuniform int ${u}_slabs;${k === 'lut_azimuth' ? '\nuniform int u_lut_az_harmonics;' : ''}`;
@@ -198,7 +208,7 @@ precision mediump sampler3D;
 #else
 precision highp sampler3D;
 #endif
-${dir ? '#define MSH_DIR\n' : ''}${glslLibrary()}
+${dir ? '#define MSH_DIR\n' : ''}${areaCap ? '' : '#define MSH_AREA_CENTER\n'}${glslLibrary(areaCap)}
 ${dir ? directionalBlock(dir) : ''}
 ${lutDecl}
 uniform bool msh_enabled;
@@ -225,7 +235,7 @@ vec2 msh_point_terms(float vis, float nl, float nv, float rough, float alpha, fl
 #endif
   return vec2(${lobes.diffuse.glsl}, ${lobes.specular.glsl});
 }
-#if NUM_RECT_AREA_LIGHTS > 0
+#if NUM_RECT_AREA_LIGHTS > 0 && !defined(MSH_AREA_CENTER)
 vec2 msh_area_terms(float vis, float nl_cap, float rho, float nv, float rough, float alpha, vec3 v, vec3 l, vec3 lw, vec3 vw) {
   float nl = clamp(nl_cap, 0.0, 1.0);
   float cos_phi = msh_ms_relative_azimuth_cos(v, l);
@@ -292,7 +302,20 @@ void msh_RE_Direct_RectArea(const in RectAreaLight rectAreaLight, const in vec3 
   RE_Direct_RectArea_Physical(rectAreaLight, geometryPosition, geometryNormal, geometryViewDir, geometryClearcoatNormal, material, own);
   vec3 n = geometryNormal, t, b;
   msh_frame(n, t, b);
-  vec3 c = rectAreaLight.position - geometryPosition, hw = rectAreaLight.halfWidth, hh = rectAreaLight.halfHeight;
+  vec3 c = rectAreaLight.position - geometryPosition;
+#ifdef MSH_AREA_CENTER
+  // areaLights 'center': the point term at the direction to the rectangle's centre.
+  vec3 lw = normalize(c);
+  vec3 v = msh_ms_to_shading_frame(geometryViewDir, t, b, n), l = msh_ms_to_shading_frame(lw, t, b, n);
+  float nl = clamp(l.z, 0.0, 1.0), nv = clamp(v.z, 0.0, 1.0), rough = material.roughness;
+  float cos_phi = msh_ms_relative_azimuth_cos(v, l);
+  vec2 ms = msh_enabled ? msh_point_terms(msh_vis, nl, nv, rough, rough * rough, cos_phi, v, l, lw, geometryViewDir) : vec2(1.0);
+#ifdef MSH_DEBUG
+  if (msh_light_index == msh_debug_light) msh_dbg_cap = vec4(l.z, 0.0, 0.0, 1.0);
+#endif
+  if (!msh_record(vec4(msh_vis, nl, nv, rough), vec4(ms, cos_phi, nl > 0.0 ? 1.0 : 0.5), v, l)) return;
+#else
+  vec3 hw = rectAreaLight.halfWidth, hh = rectAreaLight.halfHeight;
   // The rectangle's corners seen from the point (three's order), its vector form factor and equivalent cap.
   vec3 F = msh_ms_quad_vector_form_factor(msh_ms_to_shading_frame(c + hw - hh, t, b, n), msh_ms_to_shading_frame(c - hw - hh, t, b, n),
                                           msh_ms_to_shading_frame(c - hw + hh, t, b, n), msh_ms_to_shading_frame(c + hw + hh, t, b, n));
@@ -308,6 +331,7 @@ void msh_RE_Direct_RectArea(const in RectAreaLight rectAreaLight, const in vec3 
   if (msh_light_index == msh_debug_light) msh_dbg_cap = vec4(cap, lf, 1.0);
 #endif
   if (!msh_record(vec4(msh_vis, clamp(cap.x, 0.0, 1.0), nv, rough), vec4(ms, msh_ms_relative_azimuth_cos(v, l), lf > 0.0 ? 1.0 : 0.5), v, l)) return;
+#endif
   reflectedLight.directDiffuse += own.directDiffuse * ms.x;
   reflectedLight.directSpecular += own.directSpecular * ms.y;
 #ifdef MSH_DEBUG
@@ -333,7 +357,10 @@ function replaceOnce(src, find, repl, what) {
 function resolveOptions(options, hasAoMap) {
   const method = options.method || DEFAULT_METHOD;
   const entry = findMethod(method);
-  const lobes = methodLobes(method);
+  const areaLights = options.areaLights === undefined ? 'cap' : options.areaLights;
+  if (!AREA_LIGHT_MODES.includes(areaLights))
+    throw new Error(`microshadow: areaLights must be 'cap' or 'center', got ${JSON.stringify(options.areaLights)}`);
+  const lobes = methodLobes(method, areaLights);
   const luts = asList(entry.lut);
   for (const k of luts)
     if (!options.luts || !options.luts[k] || !options.luts[k].texture)
@@ -361,7 +388,7 @@ function resolveOptions(options, hasAoMap) {
   const cfg = { method, visibility: visSource === 'constant' ? options.visibility : visSource,
     visibilityMap: visSource === 'map' ? options.visibilityMap : null, aoOnIndirect: options.aoOnIndirect !== false,
     debug: !!options.debug, samples: options.samples || 32, luts: Object.fromEntries(luts.map((k) => [k, options.luts[k]])),
-    directional: texel ? options.directional : null };
+    directional: texel ? options.directional : null, areaLights };
   return { cfg, visSource, lobes, luts, dir };
 }
 
@@ -407,7 +434,10 @@ function checkMaterial(material, options) {
 //                gltf.js), required by the texel methods (directional-view and its pair)
 //   samples      samples of the generic-vndf estimator (default 32)
 //   debug        compile the debug outputs (setDebug); off by default (no cost)
-// Returns a handle: enabled (get/set: micro-shadowing on or off without recompiling), method, lobes,
+//   areaLights   'cap' (default: the equivalent cap of each RectAreaLight and the term's cap form) or 'center'
+//                (the point term at the direction to the rectangle's centre: cheaper, less accurate)
+// Returns a handle: enabled (get/set: micro-shadowing on or off; off is three's own program, compiled at the
+// first switch and kept: no cost when off), method, lobes,
 // uniforms, setDebug(mode | null, lightIndex), dispose() (restores the material's own onBeforeCompile).
 // Idempotent per material: a second call with the same options (deep-equal after the defaults; textures and
 // tables by identity) returns the same handle; other options throw, naming the option, until dispose().
@@ -450,7 +480,7 @@ export function addMicroShadowingToScene(root, options = {}) {
 }
 
 function patch(material, { cfg, visSource, lobes, luts, dir }) {
-  const { method, aoOnIndirect, debug } = cfg;
+  const { method, aoOnIndirect, debug, areaLights } = cfg;
   const uniforms = materialUniforms(material);
   uniforms.msh_enabled.value = true;
   uniforms.u_samples.value = cfg.samples;
@@ -477,13 +507,22 @@ function patch(material, { cfg, visSource, lobes, luts, dir }) {
   const previous = material.onBeforeCompile, previousKey = material.customProgramCacheKey;
   const userCompile = previous !== proto.onBeforeCompile ? previous : null;
   const userKey = previousKey !== proto.customProgramCacheKey ? previousKey : null;
-  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}${dir ? `:dir${dir.textures}${dir.identity ? 'i' : 'b'}` : ''}`;
+  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}${dir ? `:dir${dir.textures}${dir.identity ? 'i' : 'b'}` : ''}${areaLights === 'center' ? ':area-center' : ''}`;
+  // With debug the switch stays a uniform (the debug outputs read the inputs with micro-shadowing off too).
+  const offProgram = () => !debug && !uniforms.msh_enabled.value;
   material.onBeforeCompile = function (shader, renderer) {
     if (userCompile) userCompile.call(this, shader, renderer);
     Object.assign(shader.uniforms, uniforms);
     let fs = shader.fragmentShader;
+    // Off (handle.enabled = false, without debug): three's own shader, nothing of the module in it (a program
+    // of its own, compiled at the first switch: a branch on the uniform before the form factor did not save
+    // the work under SwiftShader, docs/three.md "Cost").
+    if (offProgram()) {
+      if (!aoOnIndirect) shader.fragmentShader = replaceOnce(fs, '#include <aomap_fragment>', '// microshadow: aoOnIndirect = false, three\'s AO on indirect light left out', 'fragment');
+      return;
+    }
     fs = replaceOnce(fs, '#include <lights_physical_pars_fragment>',
-      `#include <lights_physical_pars_fragment>\n${debug ? '#define MSH_DEBUG\n' : ''}${parsBlock(lobes, luts, debug, visSource, dir)}`, 'fragment');
+      `#include <lights_physical_pars_fragment>\n${debug ? '#define MSH_DEBUG\n' : ''}${parsBlock(lobes, luts, debug, visSource, dir, areaLights)}`, 'fragment');
     if (dir) fs = replaceOnce(fs, '#include <normal_fragment_maps>', '#include <normal_fragment_maps>\n\tmsh_dir_setup( - vViewPosition, nonPerturbedNormal, normal, vMshDirUv );', 'fragment');
     const vis = visSource === 'aoMap'
       ? '#ifdef USE_AOMAP\n\tmsh_vis = ( texture2D( aoMap, vAoMapUv ).r - 1.0 ) * aoMapIntensity + 1.0;\n#endif'
@@ -528,7 +567,7 @@ ${Array.from({ length: dir.textures }, (_, t) => `	else if ( msh_debug_mode == $
     }
   };
   material.customProgramCacheKey = function () {
-    return `${userKey ? userKey.call(this) : userCompile ? userCompile.toString() : ''}|${key}`;
+    return `${userKey ? userKey.call(this) : userCompile ? userCompile.toString() : ''}|${key}${offProgram() ? ':off' : ''}`;
   };
   material.needsUpdate = true;
 
@@ -538,7 +577,13 @@ ${Array.from({ length: dir.textures }, (_, t) => `	else if ( msh_debug_mode == $
     uniforms,
     directional: dir,
     get enabled() { return uniforms.msh_enabled.value; },
-    set enabled(on) { uniforms.msh_enabled.value = !!on; },
+    // Off: without debug, the material's program becomes three's own (material.needsUpdate: a program of its
+    // own, compiled once, kept by three beside the module's, so switching back and forth compiles nothing more).
+    set enabled(on) {
+      if (uniforms.msh_enabled.value === !!on) return;
+      uniforms.msh_enabled.value = !!on;
+      if (!debug && ACTIVE.get(material)?.handle === handle) material.needsUpdate = true;
+    },
     // Debug output (needs options.debug): a DEBUG_MODES name, or null for the normal colour; lightIndex is
     // the light's place in three's light loop (point, spot, directional, then RectAreaLights, each in scene
     // order); with lightIndex >= 0 the other lights' direct light is left out.
