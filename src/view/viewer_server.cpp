@@ -420,16 +420,17 @@ std::string refusal_body(int status) {
   }
 }
 
-// A stream over one accepted request head (read) and the socket (write, each answer within
-// kAnswerSeconds): what httplib::Server::process_request parses and answers.
+// A stream over one accepted request head (read) and the socket (write, each answer taken by the client
+// within kAnswerSeconds of its first byte; the handler's own time, e.g. a first bake or a slow machine
+// preparing a large file, does not count): what httplib::Server::process_request parses and answers.
 class HeadStream final : public httplib::Stream {
  public:
-  HeadStream(socket_t sock, std::string head)
-      : sock_(sock),
-        head_(std::move(head)),
-        deadline_(Clock::now() + std::chrono::seconds(Limits::kAnswerSeconds)) {}
+  HeadStream(socket_t sock, std::string head) : sock_(sock), head_(std::move(head)) {}
   bool is_readable() const override { return pos_ < head_.size(); }
-  bool is_writable() const override { return wait_ready(sock_, POLLOUT, deadline_, nullptr); }
+  bool is_writable() const override {
+    if (!started_) started_ = true, deadline_ = Clock::now() + std::chrono::seconds(Limits::kAnswerSeconds);
+    return wait_ready(sock_, POLLOUT, deadline_, nullptr);
+  }
   ssize_t read(char* ptr, size_t size) override {
     const std::size_t n = std::min(size, head_.size() - pos_);
     std::memcpy(ptr, head_.data() + pos_, n);
@@ -471,7 +472,8 @@ class HeadStream final : public httplib::Stream {
   socket_t sock_;
   std::string head_;
   std::size_t pos_ = 0;
-  Clock::time_point deadline_;
+  mutable bool started_ = false;
+  mutable Clock::time_point deadline_;
 };
 
 // httplib's server with the request guard: every accepted connection goes through process_and_close_socket
