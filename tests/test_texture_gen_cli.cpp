@@ -306,3 +306,31 @@ TEST_F(GenMaterialCli, RerunLeavesNoStaleFiles) {
   EXPECT_TRUE(fs::exists(out / "mips" / "mips.json"));
   for (const char* f : kFiles) EXPECT_TRUE(fs::exists(out / f)) << f;
 }
+
+// `bake directional`: directional.json names one channel per NPY channel, 9 (the T basis) or 21 with --view
+// (then G_x and G_y on the first 6 functions each; it named 27 before, the 9-function slope set).
+TEST_F(GenMaterialCli, BakeDirectionalNamesEveryChannel) {
+  io::Volume h(32, 32, 1, 1);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i) h.at(i, j, 0, 0) = float(0.5 + 0.4 * std::sin(0.5 * i) * std::cos(0.4 * j));
+  io::write_png(dir / "h.png", h, 16);
+  for (const bool view : {false, true}) {
+    const fs::path out = dir / (view ? "v" : "t");
+    const Result r = run("bake directional " + (dir / "h.png").string() + " --depth 4 --azimuths 8 --out " +
+                         out.string() + (view ? " --view" : ""));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(out / "directional.json"));
+    const io::Volume v = io::read_volume(out / "directional_mip0.npy");
+    const std::size_t want = view ? 21 : 9;
+    EXPECT_EQ(std::size_t(v.channels), want);
+    ASSERT_EQ(j["channels"].size(), want);
+    EXPECT_EQ(j["range_lo"].size(), want);
+    EXPECT_EQ(j["channels"][8], "zz");
+    if (view) {
+      EXPECT_EQ(j["channels"][9], "gx:1");
+      EXPECT_EQ(j["channels"][14], "gx:yz");
+      EXPECT_EQ(j["channels"][15], "gy:1");
+      EXPECT_EQ(j["channels"][20], "gy:yz");
+    }
+  }
+}

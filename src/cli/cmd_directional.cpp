@@ -11,12 +11,14 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/io/texture.h>
+#include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/texture_gen.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 
 #include "common.h"
 
@@ -99,9 +101,12 @@ void run_bake(const BakeArgs& a) {
   // The basis of each group (occlusion/directional.h): T, then with --view G_x and G_y.
   const std::vector<std::string> basis = {"1", "x", "y", "z", "xz", "yz", "xx-yy", "xy", "zz"};
   j["channels"] = basis;
-  if (a.view)
+  if (a.view)  // each slope group on the first kSlopeTerms functions: 9 + 6 + 6 = 21 names
     for (const char* g : {"gx:", "gy:"})
-      for (const std::string& b : basis) j["channels"].push_back(g + b);
+      for (int i = 0; i < directional::kSlopeTerms; ++i) j["channels"].push_back(g + basis[std::size_t(i)]);
+  if (j["channels"].size() != std::size_t(ch.channels()))
+    throw std::logic_error(
+        fmt::format("directional.json: {} names for {} channels", j["channels"].size(), ch.channels()));
   j["range_lo"] = r.lo, j["range_hi"] = r.hi;
   j["tangent_space"] = "x = +u (columns), y = +v (rows, top to bottom), z = flat normal";
   j["azimuths"] = a.azimuths, j["max_distance"] = a.distance, j["depth_texels"] = a.depth;
