@@ -34,19 +34,6 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-int connect_to(int port) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(uint16_t(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 // A field of /proc/<pid>/status in kB (VmRSS, VmHWM); -1 if absent.
 long proc_kb(pid_t pid, const std::string& field) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");
@@ -80,7 +67,7 @@ struct Exchange {
 Exchange exchange(int port, const std::string& head, std::size_t body_bytes, pid_t pid,
                   int timeout_ms = 5000) {
   Exchange x;
-  const int fd = connect_to(port);
+  const int fd = msh::test::connect_loopback(port);
   if (fd < 0) return {"connect failed"};
   fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
   const std::string chunk(65536, 'a');
@@ -163,7 +150,7 @@ TEST_F(ViewerLimits, SlowClientsDoNotBlockOthers) {
   };
   std::vector<Slow> slow(kSlow);
   for (auto& s : slow) {
-    s.fd = connect_to(port);
+    s.fd = msh::test::connect_loopback(port);
     ASSERT_GE(s.fd, 0);
     s.opened = Clock::now();
   }

@@ -122,11 +122,8 @@ inline int stop_view(ViewServer& s, int sig = SIGINT) {
 
 inline int url_port(const std::string& url) { return std::stoi(url.substr(url.rfind(':') + 1)); }
 
-// GET path over a plain socket (HTTP/1.0) with this Host header (nullopt: none): the status line and the
-// body.
-inline std::pair<std::string, std::string> http_get_host(const std::string& url, const std::string& path,
-                                                         const std::optional<std::string>& host) {
-  const int port = url_port(url);
+// A TCP connection to 127.0.0.1:port (-1 when refused).
+inline int connect_loopback(int port) {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in a{};
   a.sin_family = AF_INET;
@@ -134,8 +131,17 @@ inline std::pair<std::string, std::string> http_get_host(const std::string& url,
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
     close(fd);
-    return {"connect failed", ""};
+    return -1;
   }
+  return fd;
+}
+
+// GET path over a plain socket (HTTP/1.0) with this Host header (nullopt: none): the status line and the
+// body.
+inline std::pair<std::string, std::string> http_get_host(const std::string& url, const std::string& path,
+                                                         const std::optional<std::string>& host) {
+  const int fd = connect_loopback(url_port(url));
+  if (fd < 0) return {"connect failed", ""};
   const std::string req = "GET " + path + " HTTP/1.0\r\n" + (host ? "Host: " + *host + "\r\n" : "") + "\r\n";
   if (write(fd, req.data(), req.size()) != ssize_t(req.size())) {
     close(fd);

@@ -89,15 +89,21 @@ T directional_term(const T* channels, Vec3<T> l_local, Vec3<T> n_coarse_local) {
 inline constexpr int kSlopeTerms = 6;
 inline constexpr int kSlopeChannels = 2 * kSlopeTerms;
 inline constexpr double kMinViewZ = 0.5;
+// T, G_x and G_y at l from the 9 and the 12 channels (each sum in channel order; both view forms read them).
 template <class T>
-T directional_view_transport(const T* channels, const T* slope_channels, Vec3<T> l_local, Vec3<T> v_local) {
-  if (!(l_local.z > T(0))) return T(0);
+void view_sums(const T* channels, const T* slope_channels, Vec3<T> l_local, T& t, T& gx, T& gy) {
   T b[kPoly2Terms];
   poly2_basis(l_local, b);
-  T t = 0, gx = 0, gy = 0;
+  t = 0, gx = 0, gy = 0;
   for (int i = 0; i < kPoly2Terms; ++i) t += channels[i] * b[i];
   for (int i = 0; i < kSlopeTerms; ++i)
     gx += slope_channels[i] * b[i], gy += slope_channels[kSlopeTerms + i] * b[i];
+}
+template <class T>
+T directional_view_transport(const T* channels, const T* slope_channels, Vec3<T> l_local, Vec3<T> v_local) {
+  if (!(l_local.z > T(0))) return T(0);
+  T t, gx, gy;
+  view_sums(channels, slope_channels, l_local, t, gx, gy);
   const T vz = std::max(v_local.z, T(kMinViewZ));
   return std::max(t + (gx * v_local.x + gy * v_local.y) / vz, T(0));
 }
@@ -128,12 +134,8 @@ template <class T>
 T directional_view_masked_transport(const T* channels, const T* slope_channels, Vec3<T> l_local,
                                     Vec3<T> v_local, const T slope_cov[3]) {
   if (!(l_local.z > T(0))) return T(0);
-  T b[kPoly2Terms];
-  poly2_basis(l_local, b);
-  T t = 0, gx = 0, gy = 0;
-  for (int i = 0; i < kPoly2Terms; ++i) t += channels[i] * b[i];
-  for (int i = 0; i < kSlopeTerms; ++i)
-    gx += slope_channels[i] * b[i], gy += slope_channels[kSlopeTerms + i] * b[i];
+  T t, gx, gy;
+  view_sums(channels, slope_channels, l_local, t, gx, gy);
   const T vz = std::max(v_local.z, T(1e-4));
   const T s2 = slope_cov[0] * v_local.x * v_local.x + T(2) * slope_cov[1] * v_local.x * v_local.y +
                slope_cov[2] * v_local.y * v_local.y;
