@@ -1,9 +1,11 @@
 // Writes the seed corpora of the fuzz targets with the project's own writers: small volumes in every pixel
-// format of every format, a baked table with its sidecar (both layouts), OBJ text and the example scenes.
+// format of every format (BC4/BC5 in DDS and KTX2), mip chains, a baked table with its sidecar (both
+// layouts), OBJ text, the example scenes, a gen-material material.json and HTTP request streams.
 // Usage: msh_fuzz_seeds OUT_DIR   (creates OUT_DIR/<target>/...)
 #include <microshadow/io/texture.h>
 #include <microshadow/lut/runtime/micro_shadowing_baker.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
+#include <microshadow/render/texture_gen.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -54,6 +56,53 @@ int main(int argc, char** argv) {
         const auto name = io::pixel_format_name(pf) + "_d" + std::to_string(d) + f.ext;
         io::write_volume(out / f.target / name, ramp(3, 2, d, io::pixel_format_channels(pf)), f.ff, pf);
       }
+  }
+  // BC4 and BC5 (2D only), 6 × 5 so that the right and bottom blocks are partial.
+  for (const auto& f : formats) {
+    if (f.ff != io::FileFormat::Dds && f.ff != io::FileFormat::Ktx2) continue;
+    for (const auto pf : {io::PixelFormat::BC4Unorm, io::PixelFormat::BC5Unorm})
+      io::write_volume(out / f.target / (io::pixel_format_name(pf) + "_d1" + f.ext),
+                       ramp(6, 5, 1, io::pixel_format_channels(pf)), f.ff, pf);
+  }
+  // Mip chains (6 × 5, 3 × 2, 1 × 1) for the level readers, BC4 and BC5 included.
+  for (const auto& [target, ext] : {std::pair{"level_dds", ".dds"}, std::pair{"level_ktx2", ".ktx2"}}) {
+    fs::create_directories(out / target);
+    for (const auto pf :
+         {io::PixelFormat::RGBA8Unorm, io::PixelFormat::R8Unorm, io::PixelFormat::RG16Float,
+          io::PixelFormat::RGBA16Float, io::PixelFormat::BC4Unorm, io::PixelFormat::BC5Unorm}) {
+      const int c = io::pixel_format_channels(pf);
+      io::write_texture_mips(out / target / (io::pixel_format_name(pf) + "_mips" + ext),
+                             {ramp(6, 5, 1, c), ramp(3, 2, 1, c), ramp(1, 1, 1, c)}, pf);
+    }
+  }
+  // material.json: what gen-material writes (8 × 8 plaster, 21 directional channels), and variants.
+  {
+    fs::create_directories(out / "material_json");
+    const fs::path tmp = out / "material_json" / "tmp_set";
+    render::GenOptions o;
+    o.size = 8, o.ao_rays = 4, o.directional_azimuths = 8, o.directional_view = true;
+    render::write_texture_set(tmp, render::generate_texture_set(o));
+    put(out / "material_json" / "gen_material.json", slurp(tmp / "material.json"));
+    fs::remove_all(tmp);
+    put(out / "material_json" / "depth_only.json", R"({"height": "height.png", "height_texels": 6})");
+    put(out / "material_json" / "no_directional.json",
+        R"({"base_color": "basecolor.png", "normal": "normal.png", "roughness": "roughness.png",)"
+        R"( "micro_occlusion": "micro_occlusion.png", "height": "height.png", "height_texels": 6})");
+  }
+  // HTTP request streams (fuzz/fuzz_http_head.cpp: 0xFF ends a recv() piece).
+  {
+    fs::create_directories(out / "http_head");
+    const std::string get = "GET /index.html HTTP/1.1\r\nHost: 127.0.0.1:8080\r\nAccept: */*\r\n\r\n";
+    put(out / "http_head" / "get", get);
+    put(out / "http_head" / "pipelined_pieces",
+        get.substr(0, 10) + "\xff" + get.substr(10) + "HEAD / HTTP/1.1\r\nHost: localhost:8080\r\n\xff\r\n");
+    put(out / "http_head" / "range",
+        "GET /data/a.f16 HTTP/1.1\r\nHost: [::1]:8080\r\nRange: bytes=0-1,2-3\r\nIf-Range: x\r\n\r\n");
+    put(out / "http_head" / "post",
+        "POST / HTTP/1.1\r\nHost: 127.0.0.1:8080\r\nContent-Length: 5\r\n\r\nhello");
+    put(out / "http_head" / "chunked",
+        "GET / HTTP/1.1\r\nHost: 127.0.0.1:8080\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n");
+    put(out / "http_head" / "bare_lf", "GET / HTTP/1.1\nHost: 127.0.0.1\n\n");
   }
   // LUT: sidecar text, NUL, table (.npy); tiny bakes of both layouts.
   fs::create_directories(out / "lut");

@@ -8,7 +8,7 @@ set -uo pipefail
 SECS=${1:-60}
 BUILD=${2:-build-fuzz}
 shift 2 2>/dev/null || shift $#
-TARGETS=${*:-"read_dds read_ktx2 read_exr read_npy read_png obj scene_json lut"}
+TARGETS=${*:-"read_dds read_ktx2 read_exr read_npy read_png obj scene_json lut level_dds level_ktx2 material_json http_head"}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 CXX=${FUZZ_CXX:-clang++-14}
 bash "$ROOT/scripts/install-deps.sh" --fuzz || exit 2

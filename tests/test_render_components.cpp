@@ -202,3 +202,48 @@ TEST(RenderComponents, RejectsSppNotAMultipleOfTheBatches) {
   s.settings.spp = 16;
   EXPECT_NO_THROW(Renderer(s).render_components_with_error());
 }
+
+// render_windows_components: every window bit-identical (mean and standard error, both components) to
+// render_components_with_error with the scene's camera, first light and seed set to the window's, on the
+// ground truth and a coarse scene, with a directional and a moved point light as the first light; pixels
+// no window covers stay 0; a window outside the mosaic is an InputError.
+TEST(RenderComponents, WindowMosaicEqualsOneRenderPerWindow) {
+  for (const bool gt : {true, false}) {
+    for (const LightType first : {LightType::Directional, LightType::Point}) {
+      Scene s = gt ? ground_truth_scene() : coarse_scene("directional-view");
+      s.settings.width = 5, s.settings.height = 3;  // odd sizes: no tiling accident
+      if (first == LightType::Point) std::swap(s.lights[0], s.lights[1]);
+      std::vector<RenderWindow> ws;
+      for (int i = 0; i < 4; ++i) {
+        RenderWindow w{s.camera, s.lights[0], 100u + 7u * uint32_t(i), 5 * (i % 2), 3 * (i / 2)};
+        w.camera.eye = w.camera.eye + Vec3f(0.1f * float(i), -0.05f * float(i), 0);
+        w.camera.target = w.camera.target + Vec3f(0.1f * float(i), -0.05f * float(i), 0);
+        if (first == LightType::Point) w.light.position = w.light.position + Vec3f(0.2f * float(i), 0, 0);
+        ws.push_back(w);
+      }
+      const std::string what = std::string(gt ? "ground truth" : "coarse") +
+                               (first == LightType::Point ? ", point light first" : ", directional first");
+      const Renderer r(s);
+      const std::array<RenderResult, 2> mosaic = r.render_windows_components(ws, 11, 7);  // a column spare
+      for (std::size_t wi = 0; wi < ws.size(); ++wi) {
+        Scene one = s;
+        one.camera = ws[wi].camera, one.lights[0] = ws[wi].light, one.settings.seed = ws[wi].seed;
+        const std::array<RenderResult, 2> ref = Renderer(one).render_components_with_error();
+        for (int c = 0; c < 2; ++c)
+          for (int y = 0; y < 3; ++y)
+            for (int x = 0; x < 5; ++x) {
+              const Rgbf a = mosaic[c].mean.at(ws[wi].x0 + x, ws[wi].y0 + y), b = ref[c].mean.at(x, y);
+              const Rgbf ea = mosaic[c].std_error.at(ws[wi].x0 + x, ws[wi].y0 + y),
+                         eb = ref[c].std_error.at(x, y);
+              ASSERT_EQ(std::memcmp(&a, &b, sizeof(Rgbf)), 0) << what << " window " << wi << " c " << c;
+              ASSERT_EQ(std::memcmp(&ea, &eb, sizeof(Rgbf)), 0) << what << " window " << wi << " c " << c;
+            }
+        EXPECT_GT(total(ref[0].mean), 0.0) << what;
+      }
+      for (int y = 0; y < 7; ++y) EXPECT_EQ(mosaic[0].mean.at(10, y).r, 0.0f);
+      EXPECT_EQ(mosaic[0].stats.camera_rays, uint64_t(4 * 5 * 3 * s.settings.spp)) << what;
+      ws[3].x0 = 7;  // 7 + 5 > 11
+      EXPECT_THROW(r.render_windows_components(ws, 11, 7), InputError) << what;
+    }
+  }
+}

@@ -400,6 +400,14 @@ TEST(Study, UserHeightMaps) {
   EXPECT_EQ(user_material_from_folder(d / "paving/").name, "paving");
   EXPECT_THROW(user_material_from_folder(d / "nowhere"), msh::InputError);
   EXPECT_THROW(user_material_from_folder(d / "cache"), msh::InputError);  // no material.json
+  // A depth out of (0, 10000] (1e300 was cast to float: undefined behaviour) or a height that is not a file
+  // name (nlohmann's type_error escaped): InputError (fuzz/fuzz_material_json.cpp).
+  for (const char* text :
+       {R"({"height_texels": 1e300})", R"({"height_texels": -1})", R"({"height_texels": 0})",
+        R"({"height": 5, "height_texels": 3})", R"({"height": null, "height_texels": 3})"}) {
+    std::ofstream(d / "paving" / "material.json") << text;
+    EXPECT_THROW(user_material_from_folder(d / "paving"), msh::InputError) << text;
+  }
 
   // Bad maps and depths: one InputError each, nothing written.
   const fs::path bad_out = d / "bad";

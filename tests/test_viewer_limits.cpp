@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "../src/view/request_head.h"
 #include "../src/view/viewer_server.h"
 #include "support/cli_test_util.h"
 #include "support/view_server_util.h"
@@ -301,3 +302,52 @@ TEST_F(ViewerLimits, SymlinksOutOfTheRootServeNothing) {
 }
 
 }  // namespace
+
+// The head scan and verdict as pure functions (src/view/request_head.h; what fuzz/fuzz_http_head.cpp
+// drives): a head arriving in pieces, pipelined heads, the line and byte limits, and judge_head on any
+// string.
+TEST(RequestHead, ScansPiecesAndPipelinedHeadsWithinTheLimits) {
+  using msh::view::RequestHeadScanner;
+  const std::string a = "GET /a HTTP/1.1\r\nHost: x\r\n\r\n", b = "HEAD /b HTTP/1.1\r\n\r\n";
+  std::string pending, head;
+  RequestHeadScanner s(ServerLimits::kMaxHeadBytes, ServerLimits::kMaxHeaderLines);
+  const std::string stream = a + b;
+  for (std::size_t i = 0; i + 1 < a.size(); ++i) {  // one byte at a time: no head before its last byte
+    pending += stream[i];
+    ASSERT_EQ(s.scan(pending, head), RequestHeadScanner::kNeedMore) << i;
+  }
+  pending += stream.substr(a.size() - 1);  // a's last byte and all of b in one piece
+  ASSERT_EQ(s.scan(pending, head), RequestHeadScanner::kComplete);
+  EXPECT_EQ(head, a);
+  RequestHeadScanner s2(ServerLimits::kMaxHeadBytes, ServerLimits::kMaxHeaderLines);
+  ASSERT_EQ(s2.scan(pending, head), RequestHeadScanner::kComplete);
+  EXPECT_EQ(head, b);
+  EXPECT_TRUE(pending.empty());
+
+  // Limits: 100 header lines pass, 101 get 431; a head over the byte limit gets 431 before its end.
+  auto with_lines = [](int n) {
+    std::string h = "GET / HTTP/1.1\r\n";
+    for (int i = 0; i < n; ++i) h += "X: 1\r\n";
+    return h + "\r\n";
+  };
+  for (const auto& [lines, want] : {std::pair{100, RequestHeadScanner::kComplete}, std::pair{101, 431}}) {
+    std::string p = with_lines(lines), h;
+    EXPECT_EQ(RequestHeadScanner(ServerLimits::kMaxHeadBytes, ServerLimits::kMaxHeaderLines).scan(p, h), want)
+        << lines;
+  }
+  std::string big = "GET / HTTP/1.1\r\nX: " + std::string(ServerLimits::kMaxHeadBytes, 'a'), h;
+  EXPECT_EQ(RequestHeadScanner(ServerLimits::kMaxHeadBytes, ServerLimits::kMaxHeaderLines).scan(big, h), 431);
+
+  // The verdict: Range dropped, bodies and other methods refused; a string that is not a whole head (no
+  // CRLF, or no blank line) ends, where the first version looped on it.
+  using msh::view::judge_head;
+  EXPECT_EQ(judge_head("GET / HTTP/1.1\r\nRange: bytes=0-1\r\nHost: x\r\n\r\n").head,
+            "GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(judge_head("GET / HTTP/1.1\r\nContent-Length: 3\r\n\r\n").status, 413);
+  EXPECT_EQ(judge_head("GET / HTTP/1.1\r\ntransfer-encoding : chunked\r\n\r\n").status, 413);
+  EXPECT_EQ(judge_head("GET / HTTP/1.1\r\nContent-Length: 0\r\n\r\n").status, 0);
+  EXPECT_EQ(judge_head("PUT / HTTP/1.1\r\n\r\n").status, 405);
+  EXPECT_EQ(judge_head(" / HTTP/1.1\r\n\r\n").status, 400);
+  EXPECT_EQ(judge_head("GET / HTTP/1.1").head, "GET / HTTP/1.1\r\n\r\n");
+  EXPECT_EQ(judge_head("GET / HTTP/1.1\r\nHost: x").head, "GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+}

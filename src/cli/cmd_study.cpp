@@ -124,7 +124,10 @@ void add_study(Groups& g) {
                 "Storage of the directional channels on the coarse sets: float, unorm8 (gen-material's 8-bit "
                 "mips) or bc4 (4 bits per channel); each channel between the fine level's range")
       ->capture_default_str();
-  s->add_option("--scales", a->scales, "Comma-separated scales k (default: the study's list)");
+  s->add_option(
+      "--scales", a->scales,
+      "Comma-separated scales k (default: the study's list); the view sweep, when on, runs at these "
+      "scales too");
   s->add_option(
       "--views", a->views,
       "Comma-separated view angles, degrees off the normal in [0, 89] (default 30; the full study's "
@@ -229,6 +232,8 @@ void add_study(Groups& g) {
           throw InputError(fmt::format("--scales: '{}' is not a scale in [1, 4096]", k));
         c.scales.push_back(int(v));
       }
+      // The view sweep at the chosen scales too (e.g. --scales 1,2,4,8 --sweep: the sweep's k <= 8 cells).
+      if (!c.sweep_views.empty()) c.sweep_scales = c.scales;
     }
     if (a->fine_size) c.fine_size = a->fine_size;
     if (a->image_size) c.image_size = a->image_size;

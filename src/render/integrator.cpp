@@ -113,7 +113,7 @@ Rgbf Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
 // operations in the same order, a lobe a component does not want contributing nothing, not a zero): what
 // makes each output bit-identical to that render.
 void Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st,
-                           const Components& cs, Rgbf* out) const {
+                           const Components& cs, Rgbf* out, const Light* light0) const {
   const Object& ob = scene.objects[h.obj];
   const Material& m = scene.materials[ob.material];
   const Settings& set = scene.settings;
@@ -187,7 +187,7 @@ void Renderer::Impl::shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderS
   const bool is_mesh = ob.type == ShapeType::Mesh && !h.gt;
   auto above = [&](const Vec3f& wi) { return is_mesh || dot(h.ng, wi) > 0; };
   for (std::size_t li = 0; li < scene.lights.size(); ++li) {
-    const Light& light = scene.lights[li];
+    const Light& light = li == 0 && light0 ? *light0 : scene.lights[li];
     const uint32_t ls = hash_combine(seed, uint32_t(li));
     if (light.type == LightType::Directional || light.type == LightType::Point) {
       Vec3f wi = light.direction;

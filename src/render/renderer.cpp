@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
+#include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
@@ -31,16 +32,16 @@ Rgbf Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, Rgbf* se,
 }
 
 void Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, int spp, const Components& cs,
-                           Rgbf* mean, Rgbf* se) const {
+                           Rgbf* mean, Rgbf* se, const RenderWindow* window) const {
   const Settings& s = scene.settings;
-  const Camera& cam = scene.camera;
+  const Camera& cam = window ? window->camera : scene.camera;
   const Vec3f f = normalize(cam.target - cam.eye);
   const Vec3f r = normalize(cross(f, cam.up));
   const Vec3f up = cross(r, f);
   const float th = cam.orthographic ? 0.5f * cam.ortho_height
                                     : std::tan(0.5f * cam.fov_deg * kPi<float> / 180.0f),
               aspect = float(s.width) / float(s.height);
-  const uint32_t ps = pixel_seed(s.seed, x, y);
+  const uint32_t ps = pixel_seed(window ? window->seed : s.seed, x, y);
   if (spp == 0) spp = s.spp;
   const int per = spp / batches, n = cs.n;
   Rgbf sum[2] = {Rgbf(0.0f), Rgbf(0.0f)};
@@ -62,7 +63,7 @@ void Renderer::Impl::pixel(int x, int y, RenderStats& st, int batches, int spp, 
         continue;
       }
       Rgbf L[2];
-      shade(h, -d, hash_combine(ps, uint32_t(i)), st, cs, L);
+      shade(h, -d, hash_combine(ps, uint32_t(i)), st, cs, L, window ? &window->light : nullptr);
       for (int c = 0; c < n; ++c) bsum[c] += L[c];
     }
     for (int c = 0; c < n; ++c) {
@@ -178,6 +179,50 @@ std::array<RenderResult, 2> Renderer::render_components_with_error(
     impl.pixel(x, y, st, batches, s.spp, cs, mean, se);
     for (int c = 0; c < 2; ++c) res[c].mean.at(x, y) = mean[c], res[c].std_error.at(x, y) = se[c];
   });
+  res[1].stats = res[0].stats;
+  return res;
+}
+
+std::array<RenderResult, 2> Renderer::render_windows_components(const std::vector<RenderWindow>& windows,
+                                                                int mosaic_width, int mosaic_height) const {
+  const Settings& s = impl_->scene.settings;
+  const int batches = error_batches(impl_->scene);
+  const Impl& impl = *impl_;
+  const std::string& src = impl.scene.source.string();
+  if (impl.scene.lights.empty()) throw InputError(fmt::format("{}: a windowed render needs a light", src));
+  for (const RenderWindow& w : windows)
+    if (w.x0 < 0 || w.y0 < 0 || w.x0 + s.width > mosaic_width || w.y0 + s.height > mosaic_height)
+      throw InputError(fmt::format("{}: a {}x{} window at ({}, {}) leaves the {}x{} mosaic", src, s.width,
+                                   s.height, w.x0, w.y0, mosaic_width, mosaic_height));
+  const Impl::Components cs{2, {Component::Diffuse, Component::Specular}};
+  std::array<RenderResult, 2> res;
+  for (RenderResult& r : res) {
+    r.batches = batches, r.spp = s.spp;
+    r.mean = Image(mosaic_width, mosaic_height);
+    r.std_error = Image(mosaic_width, mosaic_height);
+  }
+  // One task per window row of pixels: every window's pixels in one parallel loop. Each pixel depends on its
+  // window's seed and its own position only, so the order never changes a bit.
+  const auto t0 = std::chrono::steady_clock::now();
+  std::atomic<uint64_t> cam{0}, shadow{0}, shaded{0};
+  const std::size_t rows = windows.size() * std::size_t(s.height);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows, 1), [&](const auto& r) {
+    RenderStats st;
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      const RenderWindow& w = windows[i / std::size_t(s.height)];
+      const int y = int(i % std::size_t(s.height));
+      for (int x = 0; x < s.width; ++x) {
+        Rgbf mean[2], se[2];
+        impl.pixel(x, y, st, batches, s.spp, cs, mean, se, &w);
+        for (int c = 0; c < 2; ++c)
+          res[c].mean.at(w.x0 + x, w.y0 + y) = mean[c], res[c].std_error.at(w.x0 + x, w.y0 + y) = se[c];
+      }
+    }
+    cam += st.camera_rays, shadow += st.shadow_rays, shaded += st.shaded_samples;
+  });
+  RenderStats& stats = res[0].stats;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stats.camera_rays = cam, stats.shadow_rays = shadow, stats.shaded_samples = shaded;
   res[1].stats = res[0].stats;
   return res;
 }

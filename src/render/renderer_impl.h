@@ -119,8 +119,9 @@ struct Renderer::Impl {
   Rgbf shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st) const;
   // The same for each of cs's components from the same shadow rays and terms (out[0 … cs.n)): each bit for
   // bit what shade() gives with Settings::component = that component.
-  void shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st, const Components& cs,
-             Rgbf* out) const;
+  // light0: replaces the scene's first light (a mosaic window's, Renderer::render_windows_components).
+  void shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st, const Components& cs, Rgbf* out,
+             const Light* light0 = nullptr) const;
   // Hanika 2021 (RTG II ch. 4): shadow-ray origin on the smooth surface implied by the vertex normals.
   static Vec3f hanika_offset(const Mesh& m, const Hit& h);
   // Mean of the pixel's spp samples, taken as `batches` independently scrambled Sobol batches of spp/batches
@@ -129,8 +130,9 @@ struct Renderer::Impl {
   // spp = 0: settings.spp.
   Rgbf pixel(int x, int y, RenderStats& st, int batches = 1, Rgbf* se = nullptr, int spp = 0) const;
   // The same for each of cs's components from the same samples: mean[c] and, with se, se[c].
-  void pixel(int x, int y, RenderStats& st, int batches, int spp, const Components& cs, Rgbf* mean,
-             Rgbf* se) const;
+  // window: its camera, first light and seed replace the scene's.
+  void pixel(int x, int y, RenderStats& st, int batches, int spp, const Components& cs, Rgbf* mean, Rgbf* se,
+             const RenderWindow* window = nullptr) const;
 };
 
 }  // namespace msh::render

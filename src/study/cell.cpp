@@ -589,26 +589,22 @@ struct CellRunner::State {
 
 namespace {
 
-// Renders the cell's image window by window into one mosaic: per window, the scene's camera, image size,
-// light (a positional light moved with the window) and seed (the first window's is the scene's own) are
-// set and render(seed) is called; blit(result, window) copies its pixels into place.
-template <class RenderFn, class BlitFn>
-void for_each_window(Scene& sc, const StudyView& v, const std::vector<Window>& windows, const Light& light,
-                     uint32_t seed, RenderFn&& render, BlitFn&& blit) {
+// The cell's image as one mosaic of its windows (Renderer::render_windows_components, every window's pixels
+// in one parallel loop): per window its camera, the light (a positional light moved with the window) and
+// the seed (the first window's is the scene's own); the scene's size is one window's.
+std::array<RenderResult, 2> render_mosaic(Scene& sc, const Renderer& r, const StudyView& v,
+                                          const std::vector<Window>& windows, const Light& light,
+                                          uint32_t seed) {
   sc.settings.width = v.width, sc.settings.height = v.height;
+  std::vector<RenderWindow> rw;
+  rw.reserve(windows.size());
   for (std::size_t wi = 0; wi < windows.size(); ++wi) {
     const Window& w = windows[wi];
-    sc.camera = w.cam;
-    sc.lights[0] = light;
-    if (light.type != LightType::Directional) sc.lights[0].position = light.position + w.offset;
-    sc.settings.seed = seed + 104729u * uint32_t(wi);
-    blit(render(), w);
+    RenderWindow x{w.cam, light, seed + 104729u * uint32_t(wi), w.x0, w.y0};
+    if (light.type != LightType::Directional) x.light.position = light.position + w.offset;
+    rw.push_back(x);
   }
-}
-
-void blit_image(Image& dst, const Image& src, const Window& w) {
-  for (int y = 0; y < src.height; ++y)
-    for (int x = 0; x < src.width; ++x) dst.at(w.x0 + x, w.y0 + y) = src.at(x, y);
+  return r.render_windows_components(rw, v.image_width(), v.image_height());
 }
 
 }  // namespace
@@ -646,24 +642,11 @@ CellResult CellRunner::run(const StudyCell& cell) {
   while (true) {
     const int n = spp == 0 ? first_spp : spp;
     gt_scene.settings.spp = n;
-    // Diffuse and specular from one pass (each bit-identical to its own render), window by window.
-    RenderResult res[2];
-    for (RenderResult& r : res) r.mean = Image(iw, ih), r.std_error = Image(iw, ih);
-    for_each_window(
-        gt_scene, view, st.windows, ls.light, cfg.seed + 7919u * uint32_t(rounds),
-        [&] { return st.gt_renderer->render_components_with_error(); },
-        [&](const std::array<RenderResult, 2>& rc, const Window& w) {
-          for (int ci = 0; ci < 2; ++ci) {
-            const RenderResult& r = rc[std::size_t(ci)];
-            blit_image(res[ci].mean, r.mean, w);
-            blit_image(res[ci].std_error, r.std_error, w);
-            res[ci].spp = r.spp, res[ci].batches = r.batches;
-          }
-          // Both carry the pass's rays: count them once (on the diffuse).
-          const RenderStats& s0 = rc[0].stats;
-          res[0].stats.camera_rays += s0.camera_rays, res[0].stats.shadow_rays += s0.shadow_rays;
-          res[0].stats.shaded_samples += s0.shaded_samples, res[0].stats.seconds += s0.seconds;
-        });
+    // Diffuse and specular from one pass (each bit-identical to its own render), all windows at once. Both
+    // carry the pass's rays: counted once (on the diffuse).
+    std::array<RenderResult, 2> res = render_mosaic(gt_scene, *st.gt_renderer, view, st.windows, ls.light,
+                                                    cfg.seed + 7919u * uint32_t(rounds));
+    res[1].stats = RenderStats{};
     for (int ci = 0; ci < 2; ++ci) {
       if (spp == 0)
         acc[ci] = std::move(res[ci]);
@@ -754,12 +737,10 @@ CellResult CellRunner::run(const StudyCell& cell) {
     ComponentImages M;
     const double cpu_v = cpu_seconds();
     const Renderer r(sc);
-    M.img[1] = Image(iw, ih), M.img[2] = Image(iw, ih);
-    for_each_window(
-        sc, view, st.windows, ls.light, cfg.seed, [&] { return r.render_components_with_error(); },
-        [&](const std::array<RenderResult, 2>& rc, const Window& w) {
-          for (int ci = 0; ci < 2; ++ci) blit_image(M.img[ci + 1], rc[std::size_t(ci)].mean, w);
-        });
+    {
+      std::array<RenderResult, 2> rc = render_mosaic(sc, r, view, st.windows, ls.light, cfg.seed);
+      M.img[1] = std::move(rc[0].mean), M.img[2] = std::move(rc[1].mean);
+    }
     if (swapped)
       for (Material& m : sc.materials) std::swap(m.directional, *swapped);
     add_total(M);

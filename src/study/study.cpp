@@ -375,12 +375,18 @@ UserMaterial user_material_from_folder(const std::filesystem::path& dir) {
   }
   if (!j.is_object() || !j.contains("height_texels") || !j["height_texels"].is_number())
     throw InputError(fmt::format("{}: material.json has no numeric height_texels", d));
+  // Checked as a double: a float conversion of a value beyond float range is undefined behaviour.
+  const double depth = j["height_texels"].get<double>();
+  if (!(depth > 0 && depth <= 1e4))
+    throw InputError(fmt::format("{}: material.json height_texels {} is outside (0, 10000]", d, depth));
+  if (j.contains("height") && !j["height"].is_string())
+    throw InputError(fmt::format("{}: material.json \"height\" is not a file name", d));
   const std::string height = j.value("height", std::string("height.png"));
   UserMaterial u;
   // The folder's name; "dir/" has an empty filename, so take the parent's.
   u.name = (dir.has_filename() ? dir : dir.parent_path()).filename().string();
   u.height = dir / height;
-  u.depth_texels = j["height_texels"].get<float>();
+  u.depth_texels = float(depth);
   if (!std::filesystem::exists(u.height))
     throw InputError(fmt::format("{}: height map {} not found", d, height));
   return u;

@@ -38,6 +38,7 @@
 #include <thread>
 #include <vector>
 
+#include "request_head.h"
 #include "shader_source.h"
 
 namespace fs = std::filesystem;
@@ -342,53 +343,6 @@ bool wait_ready(int fd, short events, Clock::time_point deadline, const std::fun
   }
 }
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
-
-std::string trim(const std::string& s) {
-  const std::size_t b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
-
-// A complete request head ("...\r\n\r\n") judged: status 0 and the head httplib gets (Range lines dropped:
-// answered whole, so no multi-range answer many times a file's size), or the status to refuse it with (405: a
-// method other than GET or HEAD; 413: a body announced).
-struct HeadVerdict {
-  int status = 0;
-  std::string head;
-};
-
-HeadVerdict judge_head(const std::string& head) {
-  HeadVerdict v;
-  std::size_t pos = head.find("\r\n");
-  const std::string line = head.substr(0, pos);
-  const std::string method = line.substr(0, line.find(' '));
-  if (method != "GET" && method != "HEAD") {
-    v.status = method.empty() ? 400 : 405;
-    return v;
-  }
-  v.head = line + "\r\n";
-  for (pos += 2; pos < head.size();) {
-    const std::size_t e = head.find("\r\n", pos);
-    const std::string h = head.substr(pos, e - pos);
-    pos = e + 2;
-    if (h.empty()) break;  // the blank line ending the head
-    const std::size_t colon = h.find(':');
-    const std::string name = colon == std::string::npos ? "" : lower(trim(h.substr(0, colon)));
-    const std::string value = colon == std::string::npos ? "" : trim(h.substr(colon + 1));
-    if (name == "transfer-encoding" || (name == "content-length" && value != "0")) {
-      v.status = 413;
-      return v;
-    }
-    if (name == "range" || name == "if-range") continue;
-    v.head += h + "\r\n";
-  }
-  v.head += "\r\n";
-  return v;
-}
-
 const char* refusal_text(int status) {
   switch (status) {
     case 400:
@@ -486,22 +440,12 @@ class GuardedServer final : public httplib::Server {
   // with (431, 408), or -1 when the client closed or sent nothing before the deadline (closed quietly).
   int read_head(socket_t sock, std::string& pending, std::string& head) const {
     const Clock::time_point deadline = Clock::now() + std::chrono::seconds(Limits::kHeadSeconds);
-    std::size_t scanned = 0;  // pending[0, scanned) holds no "\r\n\r\n"
-    int lines = 0;            // "\r\n" seen in pending[0, scanned)
+    RequestHeadScanner scanner(Limits::kMaxHeadBytes, Limits::kMaxHeaderLines);
     char buf[4096];
     for (;;) {
       // The head so far: complete, or over a limit?
-      for (std::size_t p; (p = pending.find("\r\n", scanned)) != std::string::npos;) {
-        if (p == scanned && lines > 0 && pending.compare(p - 2, 2, "\r\n") == 0) {  // "\r\n\r\n"
-          head = pending.substr(0, p + 2);
-          pending.erase(0, p + 2);
-          return 0;
-        }
-        if (++lines > Limits::kMaxHeaderLines + 1) return 431;  // the request line + the header lines
-        scanned = p + 2;
-        if (scanned > Limits::kMaxHeadBytes) return 431;
-      }
-      if (pending.size() > Limits::kMaxHeadBytes) return 431;
+      if (const int status = scanner.scan(pending, head); status != RequestHeadScanner::kNeedMore)
+        return status;
       if (!wait_ready(sock, POLLIN, deadline, [this] { return stopping(); }))
         return pending.empty() ? -1 : 408;
       ssize_t n;

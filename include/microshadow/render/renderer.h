@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 
 namespace msh::render {
 
@@ -57,6 +58,15 @@ struct RenderResult {
 // a measured RMSE² is the true RMSE² plus this squared, on average).
 double rms_std_error(const Image& std_error);
 
+// One window of a mosaic render (Renderer::render_windows_components): its camera, the light that replaces
+// the scene's first light, its seed (Settings::seed's role) and its top-left pixel in the mosaic.
+struct RenderWindow {
+  Camera camera;
+  Light light;
+  uint32_t seed = 0;
+  int x0 = 0, y0 = 0;
+};
+
 class Renderer {
  public:
   // Builds the acceleration structures and loads what the settings need (LUT). InputError when a mode cannot
@@ -78,6 +88,14 @@ class Renderer {
   // InputError as render_with_error.
   std::array<RenderResult, 2> render_components_with_error(
       const std::function<void(double)>& progress = {}) const;
+  // Several windows of Settings::width × height pixels each into one mosaic of mosaic_width × mosaic_height
+  // (pixels no window covers stay 0), all windows' pixels in one parallel loop (the study's views at k <= 8
+  // are 16 × 16 windows of 4 × 4 pixels: rendered one after the other, each was one thread's work). Window
+  // i's pixels are bit-identical to render_components_with_error() with the scene's camera, first light and
+  // Settings::seed set to window i's; stats are summed over the windows. InputError as
+  // render_components_with_error, when the scene has no light or when a window leaves the mosaic.
+  std::array<RenderResult, 2> render_windows_components(const std::vector<RenderWindow>& windows,
+                                                        int mosaic_width, int mosaic_height) const;
   // Supersampling to a stated noise floor: render_with_error at spp = settings.spp (rounded up to a multiple
   // of error_batches), doubling spp until rms_std_error(std_error) <= target or the next step would exceed
   // max_spp; returns the last render (its spp in RenderResult::spp, stats summed over every pass).
