@@ -299,9 +299,8 @@ TEST(LutSamplerCone, EightBitFilterWeightsTruncateTheFraction) {
 //   sample's own moments (measured: RMS 0.112 / 0.115, SE 0.0045 / 0.0047: bounds ≈ 0.127 / 0.131);
 // - p99: the count above the documented p99 is Binomial(600, 0.01): mean 6, SD 2.44; asserted ≤ 6 + 3 SD = 13
 //   (measured 6 / 4);
-// - max: asserted at the documented max with no margin: a 600-point sample max exceeds a 10⁴-point one of the
-//   same distribution with probability 600 / 10600 = 5.7 % for a random seed (exchangeability); this seed is
-//   fixed and below it (measured 0.47 / 0.49).
+// - the targets themselves: RMS ≤ 0.5 and max ≤ 2 (measured max 0.47 / 0.49; a sample max has no stated
+//   margin against the documented 10⁴-point max, so that is not asserted).
 TEST(LutSamplerCone, DefaultTableMeetsTheTargetsAtContinuousInputs) {
   const auto lut = default_micro_shadowing_lut(false, 0);
   ASSERT_EQ(lut->layout, LutLayout::Cone);
@@ -333,26 +332,28 @@ TEST(LutSamplerCone, DefaultTableMeetsTheTargetsAtContinuousInputs) {
   RecordProperty("max_255", std::to_string(255 * e.max_abs));
   const int above_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 13
   EXPECT_LE(e.rms(), 0.114 / 255 + 3 * e.rms_stderr()) << 255 * e.rms();
+  EXPECT_LE(e.rms(), 0.5 / 255) << 255 * e.rms();
   EXPECT_LE(above, above_bound);
-  EXPECT_LE(e.max_abs, 0.990 / 255) << 255 * e.max_abs;
+  EXPECT_LE(e.max_abs, 2.0 / 255) << 255 * e.max_abs;
   EXPECT_LE(e_gpu.rms(), 0.117 / 255 + 3 * e_gpu.rms_stderr()) << 255 * e_gpu.rms();
+  EXPECT_LE(e_gpu.rms(), 0.5 / 255) << 255 * e_gpu.rms();
   EXPECT_LE(above_gpu, above_bound);
-  EXPECT_LE(e_gpu.max_abs, 1.010 / 255) << 255 * e_gpu.max_abs;
+  EXPECT_LE(e_gpu.max_abs, 2.0 / 255) << 255 * e_gpu.max_abs;
 }
 
 // The azimuth-aware default (a_0..a_3) against the exact term at the actual azimuth, continuous inputs, at
 // docs/lut.md's figures for it ("default azimuth-aware" row, N = 10⁴, seed 1): RMS 0.517/255, p99 2.076/255,
 // max 14.60/255. Tolerances from the sampling error of these 500 points, derived as in the test above: RMS
 // documented + 3 SE (measured: RMS 0.43, SE 0.035); count above the documented p99 ~ Binomial(500, 0.01),
-// mean 5, SD 2.22, asserted ≤ 5 + 3 SD = 11 (measured 3); max at the documented max, no margin (a 500-point
-// max exceeds a 10⁴-point one with probability 500 / 10500 = 4.8 % for a random seed; measured 2.6).
+// mean 5, SD 2.22, asserted ≤ 5 + 3 SD = 11 (measured 3). The targets: RMS ≤ 1, and p99 ≤ 3 as a count
+// above 3/255 within the same binomial bound (no max target: docs/lut.md "Known limits"; measured max 2.6).
 TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
   const auto lut = default_micro_shadowing_lut(false, 3);
   const MicroShadowingLutView view = lut->view();
   ASSERT_EQ(view.harmonics, 3);
   Pcg32 rng(4321);
   Errors e;
-  int above = 0;
+  int above = 0, above_target = 0;
   const int n = 500;
   for (int i = 0; i < n; ++i) {
     const double V = rng.next_double(), nl = 1 - rng.next_double(), nv = 1 - rng.next_double();
@@ -365,13 +366,15 @@ TEST(LutSamplerCone, AzimuthAwareDefaultMeetsTheTargetsAtContinuousInputs) {
                        exact;
     e.add(err);
     above += std::abs(err) > 2.076 / 255;
+    above_target += std::abs(err) > 3.0 / 255;
   }
   std::printf("[ lut azimuth ] %d points: RMS %.4f/255 (SE %.4f) max %.3f/255 above p99 %d\n", n,
               255 * e.rms(), 255 * e.rms_stderr(), 255 * e.max_abs, above);
   RecordProperty("rms_255", std::to_string(255 * e.rms()));
   EXPECT_LE(e.rms(), 0.517 / 255 + 3 * e.rms_stderr()) << 255 * e.rms();
+  EXPECT_LE(e.rms(), 1.0 / 255) << 255 * e.rms();
   EXPECT_LE(above, int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99))));  // 11
-  EXPECT_LE(e.max_abs, 14.60 / 255) << 255 * e.max_abs;
+  EXPECT_LE(above_target, int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99))));
 }
 
 }  // namespace

@@ -20,6 +20,7 @@ namespace {
 
 struct Errors {
   double rms = 0, max = 0;
+  double max_nv_001 = 0;  // max over the points with N·V >= 0.01 (the docs' exception lies below)
   double rms_se = 0;  // standard error of rms: SD(e²) / (2 rms √n), delta method on the mean of e²
   int above_p99 = 0;  // points with |e| > the p99 passed to measure()
   int above_8 = 0;    // points with |e| > 8/255
@@ -38,6 +39,7 @@ Errors measure(F term, int n, uint64_t seed, double p99 = 1) {
     const double e =
         std::abs(term(V, nl, nv, r) - micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv));
     ss += e * e, s4 += e * e * e * e, mx = std::max(mx, e);
+    if (nv >= 0.01) out.max_nv_001 = std::max(out.max_nv_001, e);
     out.above_p99 += e > p99, out.above_8 += e > 8.0 / 255;
   }
   const double m2 = ss / n;
@@ -48,19 +50,21 @@ Errors measure(F term, int n, uint64_t seed, double p99 = 1) {
 
 }  // namespace
 
-// Asserted at docs/micro-shadowing.md's "Measured error" table (`plot micro-shadowing-fit --samples 20000
-// --seed 3`, the same uniform domain, early-out included), RMS / p99 / max in 1/255: two-stage 0.95 / 3.2
-// / 9.0, one-call 4.19 / 16.6 / 36.6. Tolerances from the sampling error of these 400 points:
+// Bounds: the targets (RMS ≤ 2/255, max ≤ 8/255), or docs/micro-shadowing.md's "Measured error" table
+// (`plot micro-shadowing-fit --samples 20000 --seed 3`, the same uniform domain, early-out included; RMS / p99
+// / max in 1/255: two-stage 0.95 / 3.2 / 9.0, one-call 4.19 / 16.6 / 36.6) with a margin stated from the
+// sampling error of these 400 points, never a measured value itself:
 // - RMS: documented + 3 standard errors of the 400-point RMS, SE = SD(e²) / (2 RMS √400) from the
-//   sample's own moments (measured: two-stage RMS 0.94, SE 0.08; one-call 4.05, SE 0.30);
+//   sample's own moments (measured: two-stage RMS 0.94, SE 0.08; one-call 4.05, SE 0.30); the two-stage
+//   form also at the 2/255 target;
 // - p99: the count above the documented p99 is Binomial(400, 0.01): mean 4, SD 1.99, asserted ≤ 4 + 3 SD = 9;
-// - max: at the documented max, no margin: a 400-point sample max exceeds a 20,000-point one of the same
-//   distribution with probability 400 / 20400 = 2 % for a random seed; this seed is fixed and below it.
-// The targets are RMS ≤ 2/255 and max ≤ 8/255: the two-stage form's max is NOT met (9.0/255; 2 of the 20,000
-// points above 8/255, both at N·V < 0.01, as the docs state), so the test asserts the documented fraction
-// above 8/255 instead: 1e-4, a count ~ Poisson(0.04) here, asserted ≤ 1 (P(≥ 2) = 8e-4). The one-call form
-// meets neither error target (documented). Both must be several times better than the best older
-// closed-form term on the same points (Brinck-Maximov 2016 and the reference step, RMS 50-60/255 here).
+//   this bounds the tail of both forms (a sample max has no such margin: no bound on it alone);
+// - max ≤ 8/255, the target, for the two-stage form wherever N·V ≥ 0.01. Below that the target is NOT met
+//   (9.0/255; 2 of the 20,000 points above 8/255, both at N·V < 0.01, as the docs state), so there the test
+//   asserts the documented fraction above 8/255: 1e-4, a count ~ Poisson(0.04) here, asserted ≤ 1
+//   (P(≥ 2) = 8e-4). The one-call form meets neither error target (documented). Both must be several times
+//   better than the best older closed-form term on the same points (Brinck-Maximov 2016 and the reference
+//   step, RMS 50-60/255 here).
 TEST(MicroShadowingFit, AccuracyAgainstExactAzimuthMean) {
   const int n = 400;
   const Errors fast = measure(
@@ -87,12 +91,12 @@ TEST(MicroShadowingFit, AccuracyAgainstExactAzimuthMean) {
       255 * two.max, two.above_p99, two.above_8, 255 * bm.rms, 255 * bm.max, 255 * ref.rms, 255 * ref.max);
   const int above_p99_bound = int(std::floor(n * 0.01 + 3 * std::sqrt(n * 0.01 * 0.99)));  // 9
   EXPECT_LE(two.rms, 0.95 / 255 + 3 * two.rms_se);
+  EXPECT_LE(two.rms, 2.0 / 255);
   EXPECT_LE(two.above_p99, above_p99_bound);
-  EXPECT_LE(two.max, 9.0 / 255);
+  EXPECT_LE(two.max_nv_001, 8.0 / 255);
   EXPECT_LE(two.above_8, 1);
   EXPECT_LE(fast.rms, 4.19 / 255 + 3 * fast.rms_se);
   EXPECT_LE(fast.above_p99, above_p99_bound);
-  EXPECT_LE(fast.max, 36.6 / 255);
   EXPECT_LT(fast.rms, std::min(bm.rms, ref.rms) / 5);
   EXPECT_LT(two.rms, fast.rms);
 }
