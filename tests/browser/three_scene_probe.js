@@ -217,6 +217,37 @@ function api() {
     h2.dispose();
     return m.onBeforeCompile === proto.onBeforeCompile || 'not restored after the second patch';
   });
+  run('dispose, a render without, the same options again: the module renders again (its uniforms bound)', () => {
+    // three keeps a material's programs by cache key and binds the uniforms of the last program it compiled:
+    // re-patched with the key of a program compiled before dispose(), the module's uniforms were unbound.
+    const m = std('again'), scene = new THREE.Scene(), sun = new THREE.DirectionalLight(0xffffff, 3);
+    sun.position.set(0.3, 0.15, 1);  // N·L 0.95: inside the visibility cone of V = 0.5, partly shadowed
+    scene.add(new THREE.Mesh(geo, m), sun, sun.target);
+    const camera = new THREE.OrthographicCamera(-0.5, 0.5, 0.5, -0.5, 0.1, 10);
+    camera.position.set(0, 0, 3);
+    camera.lookAt(0, 0, 0);
+    const rt = new THREE.WebGLRenderTarget(4, 4, { type: THREE.FloatType });
+    const centre = () => {
+      S.renderer.setRenderTarget(rt);
+      S.renderer.render(scene, camera);
+      const buf = new Float32Array(4 * 4 * 4);
+      S.renderer.readRenderTargetPixels(rt, 0, 0, 4, 4, buf);
+      S.renderer.setRenderTarget(null);
+      return buf[4 * (2 * 4 + 2)];
+    };
+    // A uniform changed after the new patch (the visibility constant, through handle.uniforms) must reach the
+    // program: unbound, it kept its earlier value.
+    const h1 = MSH.addMicroShadowing(m, { visibility: 0.5 }), on = centre();
+    h1.dispose();
+    const off = centre();
+    const h2 = MSH.addMicroShadowing(m, { visibility: 0.5 }), again = centre();
+    h2.uniforms.msh_visibility.value = 1;
+    const open = centre();
+    h2.dispose();
+    rt.dispose();
+    const ok = on > 0.01 && on < off - 0.01 && Math.abs(again - on) <= 1e-6 && open > on + 0.01;
+    return ok || JSON.stringify({ on, off, again, open });
+  });
   run('arrays of materials and shared materials: each material once', () => {
     const a = std('array_a'), basic = new THREE.MeshBasicMaterial({ name: 'array_basic' });
     const g = new THREE.Group();

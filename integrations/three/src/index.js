@@ -75,6 +75,12 @@ export const DEBUG_MODES = {
 // material's latest compilation, so every compilation must hand over the same objects, with every name.
 const UNIFORMS = new WeakMap();
 const ACTIVE = new WeakMap();
+// How many times each material was patched. three binds the uniforms of a material's latest compilation; after
+// dispose() that can be three's own program, without the module's names, and a new patch with the same options
+// would go back to the module's program compiled before, its uniforms unbound. So every patch after the first
+// has a cache key of its own (one compilation); first patches keep the shared key (one program for every
+// material with the same options).
+const PATCHES = new WeakMap();
 const LUT_UNIFORMS = { lut3d: 'u_lut3d', lut2d: 'u_lut2d', lut_azimuth: 'u_lut_az' };
 function materialUniforms(material) {
   let u = UNIFORMS.get(material);
@@ -507,7 +513,9 @@ function patch(material, { cfg, visSource, lobes, luts, dir }) {
   const previous = material.onBeforeCompile, previousKey = material.customProgramCacheKey;
   const userCompile = previous !== proto.onBeforeCompile ? previous : null;
   const userKey = previousKey !== proto.customProgramCacheKey ? previousKey : null;
-  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}${dir ? `:dir${dir.textures}${dir.identity ? 'i' : 'b'}` : ''}${areaLights === 'center' ? ':area-center' : ''}`;
+  const patches = (PATCHES.get(material) ?? 0) + 1;
+  PATCHES.set(material, patches);
+  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}${dir ? `:dir${dir.textures}${dir.identity ? 'i' : 'b'}` : ''}${areaLights === 'center' ? ':area-center' : ''}${patches > 1 ? `:patch${patches}` : ''}`;
   // With debug the switch stays a uniform (the debug outputs read the inputs with micro-shadowing off too).
   const offProgram = () => !debug && !uniforms.msh_enabled.value;
   material.onBeforeCompile = function (shader, renderer) {
