@@ -155,3 +155,20 @@ TEST_F(StudyCli, UserMapsGetTheSmallDefaultSet) {
   EXPECT_EQ(lights.size(), 12u);  // 5 elevations × 2 azimuths, point-near, sphere-near
   EXPECT_TRUE(lights.count("point-near"));
 }
+
+// --scales sets the view sweep's scales too: `--sweep --scales 4` renders the sweep at k = 4 only (its
+// default is k = 1–64).
+TEST_F(StudyCli, ScalesSetTheSweepsScales) {
+  const std::string a = map("my_rock.png", 64);
+  const auto r = run("study --height " + a +
+                     " --depth 4 --sweep --quick --shapes plane --scales 4 --image-size 16 --methods none,ao "
+                     "--gt-max-spp 32 --quiet --threads 2 --out " +
+                     (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(msh::test::slurp(dir / "out" / "results.json"));
+  EXPECT_EQ(j["config"]["sweep"]["scales"], nlohmann::json::array({4})) << j["config"]["sweep"].dump();
+  std::set<int> sweep_scales;
+  for (const auto& row : j["rows"])
+    if (row["grid"] == "sweep") sweep_scales.insert(row["scale"].get<int>());
+  EXPECT_EQ(sweep_scales, std::set<int>{4});
+}
