@@ -2,10 +2,13 @@
 // file (in RAM under /dev/shm when it exists) and read back through the same entry point a user calls.
 #pragma once
 
+#include <microshadow/io/texture.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -23,6 +26,15 @@ inline std::filesystem::path scratch_path(const std::string& tag, const std::str
 inline void write_bytes(const std::filesystem::path& p, const std::uint8_t* data, std::size_t size) {
   std::ofstream f(p, std::ios::binary | std::ios::trunc);
   f.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+}
+
+// The readers' contract for a returned volume (docs/formats.md): positive sizes, as many values as the sizes
+// say, every one finite. Anything else aborts (a finding).
+inline void check_volume(const io::Volume& v) {
+  if (v.width < 1 || v.height < 1 || v.depth < 1 || v.channels < 1) std::abort();
+  if (v.data.size() != v.texel_count() * std::size_t(v.channels)) std::abort();
+  for (float x : v.data)
+    if (!std::isfinite(x)) std::abort();
 }
 
 }  // namespace msh::fuzz

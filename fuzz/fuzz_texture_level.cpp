@@ -7,7 +7,6 @@
 #include <microshadow/io/texture.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 
 #include "fuzz_common.h"
@@ -16,15 +15,6 @@
 #error "define MSH_FUZZ_EXT, \".dds\" or \".ktx2\""
 #endif
 
-namespace {
-void check(const msh::io::Volume& v) {
-  if (v.width < 1 || v.height < 1 || v.depth < 1 || v.channels < 1) std::abort();
-  if (v.data.size() != v.texel_count() * std::size_t(v.channels)) std::abort();
-  for (float x : v.data)
-    if (!std::isfinite(x)) std::abort();
-}
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const auto path = msh::fuzz::scratch_path("level", MSH_FUZZ_EXT);
   msh::fuzz::write_bytes(path, data, size);
@@ -32,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (int level = 0; level < 16; ++level) {
     try {
       const msh::io::Volume v = msh::io::read_texture_level(path, level);
-      check(v);
+      msh::fuzz::check_volume(v);
       if (level == 0) {
         w0 = v.width, h0 = v.height;
       } else if (w0 > 0 && (v.width > std::max(1, w0 >> level) || v.height > std::max(1, h0 >> level))) {

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
 #include <microshadow/math/sampling.h>
-#include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
@@ -201,28 +200,19 @@ std::array<RenderResult, 2> Renderer::render_windows_components(const std::vecto
     r.mean = Image(mosaic_width, mosaic_height);
     r.std_error = Image(mosaic_width, mosaic_height);
   }
-  // One task per window row of pixels: every window's pixels in one parallel loop. Each pixel depends on its
-  // window's seed and its own position only, so the order never changes a bit.
-  const auto t0 = std::chrono::steady_clock::now();
-  std::atomic<uint64_t> cam{0}, shadow{0}, shaded{0};
-  const std::size_t rows = windows.size() * std::size_t(s.height);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows, 1), [&](const auto& r) {
-    RenderStats st;
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const RenderWindow& w = windows[i / std::size_t(s.height)];
-      const int y = int(i % std::size_t(s.height));
-      for (int x = 0; x < s.width; ++x) {
-        Rgbf mean[2], se[2];
-        impl.pixel(x, y, st, batches, s.spp, cs, mean, se, &w);
-        for (int c = 0; c < 2; ++c)
-          res[c].mean.at(w.x0 + x, w.y0 + y) = mean[c], res[c].std_error.at(w.x0 + x, w.y0 + y) = se[c];
-      }
-    }
-    cam += st.camera_rays, shadow += st.shadow_rays, shaded += st.shaded_samples;
+  // The windows stacked into one column (row Y: window Y / height, its row Y % height), so every window's
+  // pixels are in one parallel loop. Each pixel depends on its window's seed and its own position only, so
+  // the tiling never changes a bit.
+  Settings stacked = s;
+  stacked.height = int(windows.size()) * s.height;
+  for_each_pixel(stacked, {}, &res[0].stats, [&](int x, int yy, RenderStats& st) {
+    const RenderWindow& w = windows[std::size_t(yy / s.height)];
+    const int y = yy % s.height;
+    Rgbf mean[2], se[2];
+    impl.pixel(x, y, st, batches, s.spp, cs, mean, se, &w);
+    for (int c = 0; c < 2; ++c)
+      res[c].mean.at(w.x0 + x, w.y0 + y) = mean[c], res[c].std_error.at(w.x0 + x, w.y0 + y) = se[c];
   });
-  RenderStats& stats = res[0].stats;
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  stats.camera_rays = cam, stats.shadow_rays = shadow, stats.shaded_samples = shaded;
   res[1].stats = res[0].stats;
   return res;
 }
