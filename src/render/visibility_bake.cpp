@@ -438,63 +438,93 @@ Profile ray_profile(double c, double sn, double R, int PW) {
 // block's nearer end for T ≥ 0 (its farther end for T < 0), with f.margin for the rounding of the
 // interpolated heights: then no breakpoint of the block passes, and a piece whose right end does not pass
 // changes nothing (above), so skipping leaves every T as the full scan would.
+// The kLanes lanes in groups of 4 (GCC/Clang vector extensions: one SSE register each, the x86-64 baseline;
+// other targets get their own 128-bit registers or scalar code). Every lane computes the same float
+// operations in the same order as a scalar scan would, so the result does not depend on the mapping.
+constexpr int kGroup = 4, kGroups = kLanes / kGroup;
+using Lane4 = float __attribute__((vector_size(kGroup * sizeof(float))));
+using Mask4 = int32_t __attribute__((vector_size(kGroup * sizeof(float))));
+static_assert(kLanes % kGroup == 0);
+
+inline Lane4 load4(const float* p) {
+  Lane4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+// Whether any lane of comparison masks (0 or −1 per lane) is set.
+inline bool any_lane(const Mask4 (&m)[kGroups]) {
+  Mask4 a = m[0];
+  for (int g = 1; g < kGroups; ++g) a |= m[g];
+  uint64_t q[2];
+  std::memcpy(q, &a, sizeof q);
+  return (q[0] | q[1]) != 0;
+}
+
 void scan_profile(const PaddedHeights& f, std::size_t base, const Profile& prof, float R, float* T_out) {
   const float* z = f.z.data() + base;
   const float R2 = R * R;
-  float z0[kLanes], rise[kLanes], T[kLanes], z_l[kLanes], zr[kLanes];
-  int hard[kLanes];
-  for (int l = 0; l < kLanes; ++l) z0[l] = z[l], rise[l] = f.zmax - z0[l], T[l] = 0, z_l[l] = 0;
+  Lane4 z0[kGroups], rise[kGroups], T[kGroups], z_l[kGroups];
+  for (int g = 0; g < kGroups; ++g)
+    z0[g] = load4(z + g * kGroup), rise[g] = f.zmax - z0[g], T[g] = Lane4{} + 0.0f, z_l[g] = T[g];
   float s_l = 0;
-  // Δz of lane l at breakpoint p; whether lane l still scans (from s_l on).
-  const auto dz_at = [&](const ProfilePoint& p, int l) {
-    return z[p.a + l] + p.t * (z[p.b + l] - z[p.a + l]) - z0[l];
+  // Δz of group g at breakpoint p; which lanes of group g still scan (from s_l on): −1 where they do.
+  const auto dz_at = [&](const ProfilePoint& p, int g) {
+    const Lane4 za = load4(z + p.a + g * kGroup), zb = load4(z + p.b + g * kGroup);
+    return za + p.t * (zb - za) - z0[g];
   };
-  const auto scanning = [&](int l) { return (s_l * T[l] < rise[l]) & (s_l * s_l * (1 + T[l] * T[l]) < R2); };
-  // One breakpoint for every lane; false when every lane has stopped.
-  const auto step = [&](std::size_t e) {
-    const ProfilePoint& p = prof.pts[e];
-    const int first = e == 0;
-    int any_live = 0, any_hard = 0;
-    // Branch-free over the lanes (bitwise masks), so the compiler vectorises it.
-    for (int l = 0; l < kLanes; ++l) {
-      zr[l] = dz_at(p, l);
-      const int live = scanning(l);
-      const int pass = live & (zr[l] > p.s * T[l]);
+  const auto scanning = [&](int g) -> Mask4 {
+    return (s_l * T[g] < rise[g]) & (s_l * s_l * (1 + T[g] * T[g]) < R2);
+  };
+  // One breakpoint for every lane; live_in: the lanes that scan, taken at the start of the block (null: test
+  // now). A lane that stops inside a block keeps stepping to the block's end, which cannot change its T: past
+  // s·T ≥ z_max − z_0 no breakpoint passes the line, and past the disc a passing one is a hard piece whose
+  // disc-clipped value piece_raise finds below T. (Both up to float rounding; the micro-occlusion of the six
+  // kinds at 512² and of rock at 2048² is bit-identical to the per-step test.) Testing once per block takes
+  // the test off the chain from one step's T to the next: 14 % faster. A stopped lane never scans again
+  // (s_l only grows, its T no longer changes), so the scan ends at the first block with no lane live.
+  const auto step = [&](const ProfilePoint& p, bool first, const Mask4* live_in) {
+    Lane4 zr[kGroups];
+    Mask4 hard[kGroups];
+    for (int g = 0; g < kGroups; ++g) {
+      zr[g] = dz_at(p, g);
+      const Mask4 live = live_in ? live_in[g] : scanning(g);
+      const Mask4 pass = live & (zr[g] > p.s * T[g]);
       // The first piece, the disc or the ray's end: the scalar rule below.
-      hard[l] = live & (first | (pass & (zr[l] > p.cr)));
-      const float raised = zr[l] * p.inv_s;
-      T[l] = (pass & (hard[l] ^ 1) & (raised > T[l])) ? raised : T[l];
-      any_live |= live;
-      any_hard |= hard[l];
+      hard[g] = first ? live : pass & (zr[g] > p.cr);
+      const Lane4 raised = zr[g] * p.inv_s;
+      T[g] = (pass & ~hard[g] & (raised > T[g])) ? raised : T[g];
     }
-    if (!any_live) return false;
-    if (any_hard)
-      for (int l = 0; l < kLanes; ++l)
-        if (hard[l]) T[l] = piece_raise(T[l], s_l, z_l[l], p.s, zr[l], R, true);
+    if (any_lane(hard)) [[unlikely]]
+      for (int g = 0; g < kGroups; ++g)
+        for (int l = 0; l < kGroup; ++l)
+          if (hard[g][l]) T[g][l] = piece_raise(T[g][l], s_l, z_l[g][l], p.s, zr[g][l], R, true);
     s_l = p.s;
-    std::copy(zr, zr + kLanes, z_l);
-    return true;
+    for (int g = 0; g < kGroups; ++g) z_l[g] = zr[g];
   };
-  if (!prof.pts.empty() && step(0)) {
+  if (!prof.pts.empty()) {
+    step(prof.pts[0], true, nullptr);
+    const ProfilePoint* pts = prof.pts.data();
     for (const ProfileBlock& b : prof.blocks) {
+      Mask4 live[kGroups], blocking[kGroups];
       const float top = f.block_max[base + std::size_t(std::ptrdiff_t(b.box))];
-      const float sa = prof.pts[std::size_t(b.e0)].s, sb = prof.pts[std::size_t(b.e1 - 1)].s;
-      int skip = 1;
-      for (int l = 0; l < kLanes; ++l)
-        skip &= (scanning(l) ^ 1) | (top - z0[l] + f.margin <= std::min(sa * T[l], sb * T[l]));
-      if (skip) {
-        // The last breakpoint's heights: the next piece's left end.
-        const ProfilePoint& p = prof.pts[std::size_t(b.e1 - 1)];
-        for (int l = 0; l < kLanes; ++l) z_l[l] = dz_at(p, l);
-        s_l = p.s;
+      const float sa = pts[b.e0].s, sb = pts[b.e1 - 1].s;
+      for (int g = 0; g < kGroups; ++g) {
+        live[g] = scanning(g);
+        const Lane4 line_a = sa * T[g], line_b = sb * T[g];
+        blocking[g] = live[g] & ~(top - z0[g] + f.margin <= (line_a < line_b ? line_a : line_b));
+      }
+      if (!any_lane(live)) break;
+      if (!any_lane(blocking)) {
+        // No live lane can pass anywhere in the block: its last breakpoint's heights are the next piece's
+        // left end.
+        for (int g = 0; g < kGroups; ++g) z_l[g] = dz_at(pts[b.e1 - 1], g);
+        s_l = sb;
         continue;
       }
-      bool live = true;
-      for (int e = b.e0; e < b.e1 && live; ++e) live = step(std::size_t(e));
-      if (!live) break;
+      for (int e = b.e0; e < b.e1; ++e) step(pts[e], false, live);
     }
   }
-  std::copy(T, T + kLanes, T_out);
+  std::memcpy(T_out, T, sizeof T);
 }
 
 }  // namespace
