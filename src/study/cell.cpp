@@ -573,6 +573,10 @@ struct CellRunner::State {
         .first->second;
   }
 
+  // The steps of CellRunner::run (defined below, after render_mosaic).
+  GroundTruth ground_truth(const StudyCell& cell, CellResult& out);
+  ComponentImages render_variant(const StudyCell& cell, const StudyVariant& v, CellResult& out);
+
   // Clears the shape and scale levels (the renderer before the scene it refers to).
   void clear_shape() {
     scale = 0;
@@ -615,36 +619,24 @@ CellRunner::~CellRunner() = default;
 
 const json& CellRunner::preparation_timing() const { return state_->timing; }
 
-CellResult CellRunner::run(const StudyCell& cell) {
-  State& st = *state_;
-  st.prepare(cell);
-  const StudyConfig& cfg = st.cfg;
-  const std::string& kind = st.plan.materials[cell.material].name;
-  const std::string& shape = cell.shape;
-  const int k = cell.scale;
-  const StudyLight& ls = cell.light;
-  const Regions& reg = st.regions;
-  Scene& gt_scene = *st.gt_scene;
-  CellResult out;
-
-  // Ground truth: diffuse and specular rendered alone; rounds of independent estimates (new seed), doubling
-  // the samples, until the floors are met or gt_max_spp.
+// Ground truth: diffuse and specular rendered alone; rounds of independent estimates (new seed), doubling
+// the samples, until the floors are met or gt_max_spp. Fills the cell's ground-truth row and ray counts.
+GroundTruth CellRunner::State::ground_truth(const StudyCell& cell, CellResult& out) {
   const auto t_light = std::chrono::steady_clock::now();
   const StudyView& view = cell.view;
   const StudyConfig::GtRule rule = cell.sweep ? StudyConfig::GtRule::Bias : cfg.gt_rule;
   const int first_spp = cell.sweep ? cfg.sweep_gt_spp : cfg.gt_spp;
   const int max_spp = cell.sweep ? cfg.sweep_gt_max_spp : cfg.gt_max_spp;
-  const int iw = view.image_width(), ih = view.image_height();
   RenderResult acc[2];
   int spp = 0, rounds = 0;
   GroundTruth G;
   GtFloors floors;
   while (true) {
     const int n = spp == 0 ? first_spp : spp;
-    gt_scene.settings.spp = n;
+    gt_scene->settings.spp = n;
     // Diffuse and specular from one pass (each bit-identical to its own render), all windows at once. Both
     // carry the pass's rays: counted once (on the diffuse).
-    std::array<RenderResult, 2> res = render_mosaic(gt_scene, *st.gt_renderer, view, st.windows, ls.light,
+    std::array<RenderResult, 2> res = render_mosaic(*gt_scene, *gt_renderer, view, windows, cell.light.light,
                                                     cfg.seed + 7919u * uint32_t(rounds));
     res[1].stats = RenderStats{};
     for (int ci = 0; ci < 2; ++ci) {
@@ -658,7 +650,7 @@ CellResult CellRunner::run(const StudyCell& cell) {
     for (int ci = 0; ci < 2; ++ci) gi.img[ci + 1] = acc[ci].mean, gi.se[ci + 1] = acc[ci].std_error;
     add_total(gi);
     G = make_ground_truth(std::move(gi));
-    floors = check_floors(cfg, rule, G.lum, G.lum_se, reg);
+    floors = check_floors(cfg, rule, G.lum, G.lum_se, regions);
     if (floors.met || spp * 2 > max_spp) break;
   }
   out.ground_truth_seconds = secs_since(t_light);
@@ -666,15 +658,15 @@ CellResult CellRunner::run(const StudyCell& cell) {
     out.ground_truth_rays += acc[ci].stats.camera_rays + acc[ci].stats.shadow_rays;
     out.ground_truth_ray_seconds += acc[ci].stats.seconds;
   }
-  out.ground_truth = {{"material", kind},
-                      {"shape", shape},
-                      {"scale", k},
+  out.ground_truth = {{"material", plan.materials[cell.material].name},
+                      {"shape", cell.shape},
+                      {"scale", cell.scale},
                       {"view", view.view},
                       {"view_azimuth", view.view_azimuth},
                       {"windows", view.windows},
                       {"grid", cell.sweep ? "sweep" : "main"},
-                      {"image", {iw, ih}},
-                      {"light", ls.name},
+                      {"image", {view.image_width(), view.image_height()}},
+                      {"light", cell.light.name},
                       {"spp", spp},
                       {"rounds", rounds},
                       {"rule", rule == StudyConfig::GtRule::Bias ? "bias" : "full"},
@@ -682,9 +674,100 @@ CellResult CellRunner::run(const StudyCell& cell) {
                       {"components", floors.j},
                       {"camera_rays", acc[0].stats.camera_rays + acc[1].stats.camera_rays},
                       {"shadow_rays", acc[0].stats.shadow_rays + acc[1].stats.shadow_rays}};
+  return G;
+}
+
+// One term on the coarse set, same camera: its three components (total, diffuse, specular); its CPU time
+// into the cell's per-variant account.
+ComponentImages CellRunner::State::render_variant(const StudyCell& cell, const StudyVariant& v,
+                                                  CellResult& out) {
+  const StudyLight& ls = cell.light;
+  Scene& sc = coarse[v.roughness == CoarseRoughness::Widened ? 1 : 0];
+  const auto [method, form] = split_study_term(v.term);
+  sc.settings.micro_shadowing = method;
+  // A compact form: its stored level in place of the float channels for this render (swapped back below).
+  Texture* swapped = form.empty() ? nullptr : &form_level(form, cell.scale);
+  if (swapped)
+    for (Material& m : sc.materials) std::swap(m.directional, *swapped);
+  sc.settings.ms_smooth_normal = v.smooth_normal;
+  sc.settings.area_ms = v.area_ms;
+  sc.settings.spp = cfg.method_spp;
+  // generic-vndf: vndf_samples per light; evaluated per area sample, they are spread over them.
+  sc.settings.vndf_samples = area_sampled(ls.light) && v.area_ms != AreaMs::Representative
+                                 ? std::max(1, cfg.vndf_samples / cfg.area_samples)
+                                 : cfg.vndf_samples;
+  // Diffuse and specular from one pass; with one batch each mean is bit-identical to render() of that
+  // component alone (Renderer::render_components_with_error).
+  sc.settings.error_batches = 1;
+  ComponentImages M;
+  const double cpu_v = cpu_seconds();
+  const Renderer r(sc);
+  {
+    std::array<RenderResult, 2> rc = render_mosaic(sc, r, cell.view, windows, ls.light, cfg.seed);
+    M.img[1] = std::move(rc[0].mean), M.img[2] = std::move(rc[1].mean);
+  }
+  if (swapped)
+    for (Material& m : sc.materials) std::swap(m.directional, *swapped);
+  add_total(M);
+  out.variant_cpu_seconds[variant_label(v) + (area_sampled(ls.light) ? " (area light)" : "")] +=
+      cpu_seconds() - cpu_v;
+  return M;
+}
+
+namespace {
+
+// "method/area_ms" → the term's luminance per component under an area light.
+using AreaLuminance = std::map<std::string, std::array<Plane, 3>>;
+
+// The representative point's own error: its image against the integrated (or, without one, the per-sample)
+// image of the same term, same light samples.
+json area_representative_rows(const StudyConfig& cfg, const StudyCell& cell, const std::string& kind,
+                              const GroundTruth& G, const Regions& reg, AreaLuminance& area_lum) {
+  const StudyLight& ls = cell.light;
+  json rows = json::array();
+  for (const std::string& t : cfg.area_terms) {
+    if (!area_lum.count(t + "/representative")) continue;
+    const bool has_int = area_lum.count(t + "/integrated") > 0;
+    if (!has_int && !area_lum.count(t + "/sampled")) continue;
+    const auto& R = area_lum[t + "/representative"];
+    const auto& X = area_lum[t + (has_int ? "/integrated" : "/sampled")];
+    for (int ci = 0; ci < 3; ++ci) {
+      const Plane zero(R[ci].width, R[ci].height, 0.0);
+      const double gm = region_mean(G.lum[ci], G.lum_se[ci], reg.whole).value;
+      rows.push_back(
+          {{"material", kind},
+           {"scale", cell.scale},
+           {"light", ls.name},
+           {"light_type", ls.type},
+           {"light_radius_deg", ls.radius_deg},
+           {"elevation", ls.elevation},
+           {"component", kComponentName[ci]},
+           {"method", t},
+           {"against", has_int ? "integrated" : "sampled"},
+           {"ratio", finite_or_null(bias(R[ci], X[ci], zero, reg.whole).value)},
+           {"rmse_footprint_rel",
+            finite_or_null(rmse_footprint(R[ci], X[ci], zero, reg.whole, cfg.footprint).value / gm)},
+           {"rmse_rel", finite_or_null(rmse(R[ci], X[ci], zero, reg.whole).value / gm)}});
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+CellResult CellRunner::run(const StudyCell& cell) {
+  State& st = *state_;
+  st.prepare(cell);
+  const StudyConfig& cfg = st.cfg;
+  const std::string& kind = st.plan.materials[cell.material].name;
+  const std::string& shape = cell.shape;
+  const int k = cell.scale;
+  const StudyLight& ls = cell.light;
+  const StudyView& view = cell.view;
+  CellResult out;
+  const GroundTruth G = st.ground_truth(cell, out);
   out.rows = json::array();
   out.images = json::array();
-  out.area_representative = json::array();
   const bool featured =
       std::find(cfg.featured_lights.begin(), cfg.featured_lights.end(), ls.name) != cfg.featured_lights.end();
   const float exposure = display_exposure(G.lum[0]);
@@ -715,38 +798,10 @@ CellResult CellRunner::run(const StudyCell& cell) {
 
   // Every term on the coarse set, same camera.
   const auto t_m = std::chrono::steady_clock::now();
-  std::map<std::string, std::array<Plane, 3>> area_lum;  // "method/area_ms" → luminance per component
+  AreaLuminance area_lum;
   for (const StudyVariant& v : st.plan.variants_of(cell)) {
-    Scene& sc = st.coarse[v.roughness == CoarseRoughness::Widened ? 1 : 0];
-    const auto [method, form] = split_study_term(v.term);
-    sc.settings.micro_shadowing = method;
-    // A compact form: its stored level in place of the float channels for this render (swapped back below).
-    Texture* swapped = form.empty() ? nullptr : &st.form_level(form, k);
-    if (swapped)
-      for (Material& m : sc.materials) std::swap(m.directional, *swapped);
-    sc.settings.ms_smooth_normal = v.smooth_normal;
-    sc.settings.area_ms = v.area_ms;
-    sc.settings.spp = cfg.method_spp;
-    // generic-vndf: vndf_samples per light; evaluated per area sample, they are spread over them.
-    sc.settings.vndf_samples = area_sampled(ls.light) && v.area_ms != AreaMs::Representative
-                                   ? std::max(1, cfg.vndf_samples / cfg.area_samples)
-                                   : cfg.vndf_samples;
-    // Diffuse and specular from one pass; with one batch each mean is bit-identical to render() of that
-    // component alone (Renderer::render_components_with_error).
-    sc.settings.error_batches = 1;
-    ComponentImages M;
-    const double cpu_v = cpu_seconds();
-    const Renderer r(sc);
-    {
-      std::array<RenderResult, 2> rc = render_mosaic(sc, r, view, st.windows, ls.light, cfg.seed);
-      M.img[1] = std::move(rc[0].mean), M.img[2] = std::move(rc[1].mean);
-    }
-    if (swapped)
-      for (Material& m : sc.materials) std::swap(m.directional, *swapped);
-    add_total(M);
-    out.variant_cpu_seconds[variant_label(v) + (area_sampled(ls.light) ? " (area light)" : "")] +=
-        cpu_seconds() - cpu_v;
-    const std::array<json, 3> measured = measure_variant(M, G, reg, cfg.footprint);
+    const ComponentImages M = st.render_variant(cell, v, out);
+    const std::array<json, 3> measured = measure_variant(M, G, st.regions, cfg.footprint);
     for (int ci = 0; ci < 3; ++ci) {
       json row = {{"material", kind},
                   {"shape", shape},
@@ -772,33 +827,7 @@ CellResult CellRunner::run(const StudyCell& cell) {
     }
     if (featured && !v.smooth_normal && v.roughness == CoarseRoughness::Base) feature(v.term, M.img[0]);
   }
-  // The representative point's own error: its image against the integrated (or, without one, the
-  // per-sample) image of the same term, same light samples.
-  for (const std::string& t : cfg.area_terms) {
-    if (!area_lum.count(t + "/representative")) continue;
-    const bool has_int = area_lum.count(t + "/integrated") > 0;
-    if (!has_int && !area_lum.count(t + "/sampled")) continue;
-    const auto& R = area_lum[t + "/representative"];
-    const auto& X = area_lum[t + (has_int ? "/integrated" : "/sampled")];
-    for (int ci = 0; ci < 3; ++ci) {
-      const Plane zero(R[ci].width, R[ci].height, 0.0);
-      const double gm = region_mean(G.lum[ci], G.lum_se[ci], reg.whole).value;
-      out.area_representative.push_back(
-          {{"material", kind},
-           {"scale", k},
-           {"light", ls.name},
-           {"light_type", ls.type},
-           {"light_radius_deg", ls.radius_deg},
-           {"elevation", ls.elevation},
-           {"component", kComponentName[ci]},
-           {"method", t},
-           {"against", has_int ? "integrated" : "sampled"},
-           {"ratio", finite_or_null(bias(R[ci], X[ci], zero, reg.whole).value)},
-           {"rmse_footprint_rel",
-            finite_or_null(rmse_footprint(R[ci], X[ci], zero, reg.whole, cfg.footprint).value / gm)},
-           {"rmse_rel", finite_or_null(rmse(R[ci], X[ci], zero, reg.whole).value / gm)}});
-    }
-  }
+  out.area_representative = area_representative_rows(cfg, cell, kind, G, st.regions, area_lum);
   out.methods_seconds = secs_since(t_m);
   scrub(out.ground_truth);
   scrub(out.rows);
