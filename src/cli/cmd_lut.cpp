@@ -57,8 +57,8 @@ io::PixelFormat pixel_format_for(const std::string& name, int channels) {
   }
 }
 
-void run_bake(const BakeLutOptions& o) {
-  namespace fs = std::filesystem;
+// The bake's options from the command line, each refused where its layout does not take it.
+lut::BakeOptions bake_options(const BakeLutOptions& o) {
   const lut::LutLayout layout = lut::layout_from_name(o.layout);
   const bool cone = layout == lut::LutLayout::Cone;
   const int harmonics =
@@ -101,6 +101,13 @@ void run_bake(const BakeLutOptions& o) {
   b.phi_nodes = o.phi_nodes;
   b.seed = o.seed;
   b.threads = o.threads;
+  return b;
+}
+
+void run_bake(const BakeLutOptions& o) {
+  namespace fs = std::filesystem;
+  lut::BakeOptions b = bake_options(o);
+  const bool cone = b.layout == lut::LutLayout::Cone;
   lut::validate(b);  // every domain error before any work or output
 
   const fs::path out(o.out);

@@ -142,6 +142,9 @@ void render_one(const render::Scene& scene, const std::string& prefix, bool quie
   print_json(j);
 }
 
+void add_gen_material(Groups& g);
+void add_compare(Groups& g);
+
 void add_render(Groups& g) {
   const auto [r, a] = add_command<RenderArgs>(
       g.root, "render", "Render a scene JSON file to PREFIX.exr (linear) and PREFIX.png (sRGB)", run_render);
@@ -191,130 +194,144 @@ void add_render(Groups& g) {
   r->add_option("--exposure", a->exposure, "PNG exposure in stops")->check(CLI::Range(-30.0, 30.0));
   r->add_flag("--quiet", a->quiet, "No progress on stderr");
 
-  auto m = std::make_shared<render::GenOptions>();
-  auto mdir = std::make_shared<std::string>();
-  auto mheight = std::make_shared<std::string>();
-  auto mthreads = std::make_shared<int>(0);
-  auto mno_mips = std::make_shared<bool>(false);
-  auto mbc = std::make_shared<bool>(false);
-  auto mform = std::make_shared<std::string>();
-  auto mgltf = std::make_shared<bool>(false);
+  add_gen_material(g);
+  add_compare(g);
+}
+
+// gen-material's options.
+struct GenMaterialArgs {
+  render::GenOptions gen;
+  std::string dir, height, form;
+  int threads = 0;
+  bool no_mips = false, bc = false, gltf = false;
+  CLI::Option *kind_opt = nullptr, *size_opt = nullptr;
+};
+
+// The glTF asset (docs/gltf.md): the extension's code is the compact form when one is written (the same
+// fitted code as mips/), else the 21 channels of directional-view themselves.
+void write_gen_gltf(const std::string& dir, const render::TextureSet& set,
+                    const render::DirectionalCodec* codec) {
+  std::optional<render::DirectionalCode> code;
+  if (set.directional.channels() == directional::kViewChannels)
+    code = codec ? render::compact_directional_code(set.directional, *codec)
+                 : render::identity_directional_code(set.directional);
+  render::write_texture_set_gltf(std::filesystem::path(dir) / "gltf", set, code ? &*code : nullptr);
+}
+
+// Mips and glTF from one set: the compact form fitted once.
+void write_gen_extras(const GenMaterialArgs& a, const render::TextureSet& set) {
+  std::optional<render::DirectionalCodec> codec;
+  if (!a.form.empty()) codec = render::fit_directional_codec(set.directional, a.form);
+  if (!a.no_mips) render::write_texture_set_mips(a.dir, set, a.bc, codec ? &*codec : nullptr);
+  if (a.gltf) write_gen_gltf(a.dir, set, codec ? &*codec : nullptr);
+}
+
+void run_gen_material(const GenMaterialArgs& a) {
+  auto limit = thread_limit(a.threads);
+  if (!a.form.empty()) {
+    if (a.no_mips || a.gen.directional_azimuths == 0)
+      throw UsageError(
+          "--directional-form writes into mips/ from the directional channels: not with --no-mips or "
+          "--directional-azimuths 0");
+    // Refused before the bake: a bad name, or a form gen-material does not write.
+    const auto f = render::parse_directional_form(a.form, a.gen.directional_view
+                                                              ? msh::directional::kViewChannels
+                                                              : msh::directional::kDirectionalChannels);
+    if (f.bits != 8) throw UsageError("--directional-form: gen-material writes the 8-bit forms, pca<K>");
+  }
+  if (a.bc && (a.no_mips || a.gen.directional_azimuths == 0))
+    throw UsageError(
+        "--directional-bc writes mips of the directional channels: not with --no-mips or "
+        "--directional-azimuths 0");
+  if (a.height.empty()) {
+    const auto set = render::generate_texture_set(a.gen);
+    io::OutputFolder folder(a.dir);
+    render::write_texture_set(a.dir, set);
+    write_gen_extras(a, set);
+    print_json({{"dir", a.dir},
+                {"kind", a.gen.kind},
+                {"size", a.gen.size},
+                {"height_texels", set.depth_texels},
+                {"mean_visibility", mean_channel(set.visibility)},
+                {"stale_removed", folder.finish()}});
+    return;
+  }
+  if (a.kind_opt->count() > 0) throw UsageError("--kind and --height are exclusive");
+  if (a.size_opt->count() > 0) throw UsageError("--size and --height are exclusive (the size is the map's)");
+  if (!(a.gen.depth_texels > 0))
+    throw UsageError("--height needs --depth D > 0 (the depth of the full [0,1] range in texels)");
+  const render::Texture h = render::load_height_map(a.height);
+  const auto set = render::texture_set_from_height(h, a.gen.depth_texels, a.gen);
+  io::OutputFolder folder(a.dir);
+  render::write_texture_set(a.dir, set);
+  write_gen_extras(a, set);
+  print_json({{"dir", a.dir},
+              {"height", a.height},
+              {"size", {h.width(), h.height()}},
+              {"height_texels", set.depth_texels},
+              {"mean_visibility", mean_channel(set.visibility)},
+              {"stale_removed", folder.finish()}});
+}
+
+// gen-material: a texture set, procedural or from a height map, its mips, compact form and glTF asset.
+void add_gen_material(Groups& g) {
+  auto a = std::make_shared<GenMaterialArgs>();
   CLI::App* gm = g.root->add_subcommand("gen-material",
                                         "Generate a texture set (height, normal, roughness, metallic, base "
                                         "colour, baked micro-occlusion), procedural or from a height map");
-  CLI::Option* kind_opt =
+  a->kind_opt =
       gm->add_option(
-            "--kind", m->kind,
+            "--kind", a->gen.kind,
             "plaster (damaged plaster: noise, cracks, pits), bark (furrowed ridges), gravel "
             "(packed stones on sand), rock (fractured rock: blocks, cracks, ridges), brick (running-bond "
             "paving, deep mortar joints) or cobble (rounded cobblestones)")
           ->check(CLI::IsMember(render::material_kinds()));
-  CLI::Option* size_opt = gm->add_option("--size", m->size, "Texels per side")->check(CLI::Range(8, 8192));
-  gm->add_option("--height", *mheight,
+  a->size_opt = gm->add_option("--size", a->gen.size, "Texels per side")->check(CLI::Range(8, 8192));
+  gm->add_option("--height", a->height,
                  "Bake this height map instead (16-bit PNG or EXR, grey, values in [0,1]; needs --depth)");
-  gm->add_option("--out", *mdir, "Output directory (created)")->required();
-  gm->add_option("--depth", m->depth_texels,
+  gm->add_option("--out", a->dir, "Output directory (created)")->required();
+  gm->add_option("--depth", a->gen.depth_texels,
                  "Depth of the full height range in texels (0 = kind default; required with --height)")
       ->check(Finite)
       ->check(CLI::Range(0.0, 1e4));
-  gm->add_option("--ao-rays", m->ao_rays,
+  gm->add_option("--ao-rays", a->gen.ao_rays,
                  "Micro-occlusion bake: azimuths per texel (each exact in elevation)")
       ->check(CLI::Range(1, 65536));
-  gm->add_option("--ao-distance", m->ao_max_distance, "Bake ray length in texels (0 = 8% of the size)")
+  gm->add_option("--ao-distance", a->gen.ao_max_distance, "Bake ray length in texels (0 = 8% of the size)")
       ->check(Finite)
       ->check(CLI::Range(0.0, 1e6));
-  gm->add_option("--seed", m->seed, "Noise seed");
-  gm->add_option("--directional-azimuths", m->directional_azimuths,
+  gm->add_option("--seed", a->gen.seed, "Noise seed");
+  gm->add_option("--directional-azimuths", a->gen.directional_azimuths,
                  "Directional micro-occlusion bake (9 channels, docs/directional-occlusion.md): azimuths per "
                  "texel; 0 = not baked")
       ->capture_default_str();
-  gm->add_flag("--directional-view", m->directional_view,
+  gm->add_flag("--directional-view", a->gen.directional_view,
                "Bake the view correction's 12 slope channels too (21 channels in directional.npy), what the "
                "directional-view method reads");
   gm->add_flag(
-      "--directional-bc", *mbc,
+      "--directional-bc", a->bc,
       "Also write the directional channels block-compressed in mips/ (directional_bc_<f>: BC5 pairs, "
       "an odd last channel BC4; 4 bits per channel, the same ranges)");
   gm->add_option(
-      "--directional-form", *mform,
+      "--directional-form", a->form,
       "Also write a compact form of the directional channels (docs/directional-occlusion.md, "
       "\"Compact forms\"): pca<K>, K coefficients per texel at 8 bits from a linear code fitted to "
       "this material (mips/directional_compact_<t>.ktx2/.dds, 4 per RGBA8 texture, level 0 as "
       "directional_compact_<t>.png; the code in mips/mips.json)");
   gm->add_flag(
-      "--gltf", *mgltf,
+      "--gltf", a->gltf,
       "Also write DIR/gltf/: a glTF 2.0 plane with the texture set (base colour, normal, ORM-packed "
       "occlusion/roughness/metallic) and, with --directional-view, the MSH_materials_directional_occlusion "
       "extension (docs/gltf.md)");
-  gm->add_flag("--no-mips", *mno_mips,
+  gm->add_flag("--no-mips", a->no_mips,
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
-  gm->add_option("--threads", *mthreads, "Worker threads (0 = all); output does not depend on it")
+  gm->add_option("--threads", a->threads, "Worker threads (0 = all); output does not depend on it")
       ->check(CLI::Range(0, 1024));
-  // The glTF asset (docs/gltf.md): the extension's code is the compact form when one is written (the same
-  // fitted code as mips/), else the 21 channels of directional-view themselves.
-  const auto write_gltf = [](const std::string& dir, const render::TextureSet& set,
-                             const render::DirectionalCodec* codec) {
-    std::optional<render::DirectionalCode> code;
-    if (set.directional.channels() == directional::kViewChannels)
-      code = codec ? render::compact_directional_code(set.directional, *codec)
-                   : render::identity_directional_code(set.directional);
-    render::write_texture_set_gltf(std::filesystem::path(dir) / "gltf", set, code ? &*code : nullptr);
-  };
-  // Mips and glTF from one set: the compact form fitted once.
-  const auto write_extras = [mno_mips, mbc, mform, mgltf, write_gltf](const std::string& dir,
-                                                                      const render::TextureSet& set) {
-    std::optional<render::DirectionalCodec> codec;
-    if (!mform->empty()) codec = render::fit_directional_codec(set.directional, *mform);
-    if (!*mno_mips) render::write_texture_set_mips(dir, set, *mbc, codec ? &*codec : nullptr);
-    if (*mgltf) write_gltf(dir, set, codec ? &*codec : nullptr);
-  };
-  gm->callback([m, mdir, mheight, mthreads, mno_mips, mbc, mform, write_extras, kind_opt, size_opt] {
-    auto limit = thread_limit(*mthreads);
-    if (!mform->empty()) {
-      if (*mno_mips || m->directional_azimuths == 0)
-        throw UsageError(
-            "--directional-form writes into mips/ from the directional channels: not with --no-mips or "
-            "--directional-azimuths 0");
-      // Refused before the bake: a bad name, or a form gen-material does not write.
-      const auto f = render::parse_directional_form(*mform, m->directional_view
-                                                                ? msh::directional::kViewChannels
-                                                                : msh::directional::kDirectionalChannels);
-      if (f.bits != 8) throw UsageError("--directional-form: gen-material writes the 8-bit forms, pca<K>");
-    }
-    if (*mbc && (*mno_mips || m->directional_azimuths == 0))
-      throw UsageError(
-          "--directional-bc writes mips of the directional channels: not with --no-mips or "
-          "--directional-azimuths 0");
-    if (mheight->empty()) {
-      const auto set = render::generate_texture_set(*m);
-      io::OutputFolder folder(*mdir);
-      render::write_texture_set(*mdir, set);
-      write_extras(*mdir, set);
-      print_json({{"dir", *mdir},
-                  {"kind", m->kind},
-                  {"size", m->size},
-                  {"height_texels", set.depth_texels},
-                  {"mean_visibility", mean_channel(set.visibility)},
-                  {"stale_removed", folder.finish()}});
-      return;
-    }
-    if (kind_opt->count() > 0) throw UsageError("--kind and --height are exclusive");
-    if (size_opt->count() > 0) throw UsageError("--size and --height are exclusive (the size is the map's)");
-    if (!(m->depth_texels > 0))
-      throw UsageError("--height needs --depth D > 0 (the depth of the full [0,1] range in texels)");
-    const render::Texture h = render::load_height_map(*mheight);
-    const auto set = render::texture_set_from_height(h, m->depth_texels, *m);
-    io::OutputFolder folder(*mdir);
-    render::write_texture_set(*mdir, set);
-    write_extras(*mdir, set);
-    print_json({{"dir", *mdir},
-                {"height", *mheight},
-                {"size", {h.width(), h.height()}},
-                {"height_texels", set.depth_texels},
-                {"mean_visibility", mean_channel(set.visibility)},
-                {"stale_removed", folder.finish()}});
-  });
+  gm->callback([a] { run_gen_material(*a); });
+}
 
+// compare: an image's error against a reference.
+void add_compare(Groups& g) {
   struct CmpArgs {
     std::string a, b, diff;
     double exposure = 0;

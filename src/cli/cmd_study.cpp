@@ -84,6 +84,104 @@ std::vector<study::UserMaterial> user_materials(const StudyArgs& a) {
   return out;
 }
 
+// The study's configuration from the command line: the preset (area, quick or full), then each option over
+// it.
+study::StudyConfig study_config(const StudyArgs& a) {
+  study::StudyConfig c = a.area    ? study::area_config(a.quick)
+                         : a.quick ? study::quick_config()
+                                   : study::full_config();
+  if (!a.materials.empty()) c.materials = split_list(a.materials);
+  c.user_materials = user_materials(a);
+  if (!c.user_materials.empty() && a.materials.empty()) {
+    c.materials.clear();
+    if (!a.area && !a.quick) user_map_defaults(c);
+  }
+  if (a.sweep && a.no_sweep) throw UsageError("--sweep and --no-sweep: give one");
+  if (a.near && a.no_near) throw UsageError("--near-lights and --no-near-lights: give one");
+  if (a.sweep) {
+    const study::StudyConfig full = study::full_config();
+    c.sweep_views = full.sweep_views, c.sweep_view_azimuths = full.sweep_view_azimuths;
+    c.sweep_elevations = full.sweep_elevations, c.sweep_azimuths = full.sweep_azimuths;
+    c.sweep_scales = full.sweep_scales, c.sweep_terms = full.sweep_terms;
+  }
+  if (a.no_sweep) c.sweep_views.clear();
+  if (a.no_ablations) c.widened = c.normal_ablation = false;
+  if (a.near) c.near_lights = true;
+  if (a.no_near) c.near_lights = false;
+  if (!a.views.empty()) c.views = angles(a.views, "--views", 0, 89);
+  if (!a.view_azimuths.empty()) c.view_azimuths = angles(a.view_azimuths, "--view-azimuths", -360, 360);
+  if (!a.light_azimuths.empty()) c.azimuths = angles(a.light_azimuths, "--light-azimuths", -360, 360);
+  if (!a.light_elevations.empty()) {
+    c.elevations = angles(a.light_elevations, "--light-elevations", 0, 90);
+    for (double e : c.elevations)
+      if (!(e > 0 && e < 90)) throw UsageError(fmt::format("--light-elevations: {} is not in (0, 90)", e));
+  }
+  if (a.max_windows) c.max_windows = a.max_windows;
+  if (!a.gt_rule.empty())
+    c.gt_rule = a.gt_rule == "bias" ? study::StudyConfig::GtRule::Bias : study::StudyConfig::GtRule::Full;
+  if (!a.shapes.empty()) c.shapes = split_list(a.shapes);
+  if (!a.methods.empty()) {
+    (a.area ? c.area_terms : c.terms) = split_list(a.methods);
+    // The sweep renders the chosen methods it has, and the chosen compact forms of those (method@form).
+    std::vector<std::string> sweep;
+    for (const std::string& t : c.terms)
+      if (std::find(c.sweep_terms.begin(), c.sweep_terms.end(), study::split_study_term(t).first) !=
+          c.sweep_terms.end())
+        sweep.push_back(t);
+    c.sweep_terms = sweep;
+    if (sweep.empty()) c.sweep_views.clear();
+  }
+  if (!a.area_ms.empty()) c.area_ms_modes = split_list(a.area_ms);
+  if (!a.scales.empty()) {
+    c.scales.clear();
+    for (const std::string& k : split_list(a.scales)) {
+      char* end = nullptr;
+      const long v = std::strtol(k.c_str(), &end, 10);
+      if (k.empty() || *end != '\0' || v < 1 || v > 4096)
+        throw InputError(fmt::format("--scales: '{}' is not a scale in [1, 4096]", k));
+      c.scales.push_back(int(v));
+    }
+    // The view sweep at the chosen scales too (e.g. --scales 1,2,4,8 --sweep: the sweep's k <= 8 cells).
+    if (!c.sweep_views.empty()) c.sweep_scales = c.scales;
+  }
+  if (a.fine_size) c.fine_size = a.fine_size;
+  if (a.image_size) c.image_size = a.image_size;
+  if (a.gt_max_spp) c.gt_max_spp = a.gt_max_spp;
+  c.material_cache = a.cache;
+  c.directional_encoding = render::directional_encoding_from_name(a.encoding);
+  return c;
+}
+
+void run_study_command(const StudyArgs& a) {
+  const auto limit = thread_limit(a.threads);
+  const study::StudyConfig c = study_config(a);
+  const bool quiet = a.quiet;
+  if (!a.cache.empty()) {
+    // A warm cache is read, not written: inside the output folder, the folder's replacement would remove
+    // it.
+    const auto rel = std::filesystem::absolute(a.cache).lexically_normal().lexically_relative(
+        std::filesystem::absolute(a.out).lexically_normal());
+    if (!rel.empty() && *rel.begin() != "..")
+      throw UsageError(
+          "--material-cache must not lie inside --out (the output folder is replaced as a whole)");
+  }
+  io::OutputFolder folder(a.out);
+  const auto res = study::run_study(c, a.out, [quiet](const std::string& line) {
+    if (!quiet) std::cerr << line << std::endl;
+  });
+  const auto stale = folder.finish();
+  int met = 0;
+  for (const auto& gt : res["ground_truth"]) met += gt["floors_met"].get<bool>();
+  print_json({{"out", a.out},
+              {"study", c.name},
+              {"rows", res["rows"].size()},
+              {"ground_truth_configurations", res["ground_truth"].size()},
+              {"floors_met", met},
+              {"results", a.out + "/results.json"},
+              {"html", a.out + "/study.html"},
+              {"stale_removed", stale}});
+}
+
 void add_study(Groups& g) {
   auto a = std::make_shared<StudyArgs>();
   CLI::App* s = g.root->add_subcommand(
@@ -176,96 +274,7 @@ void add_study(Groups& g) {
   s->add_option("--threads", a->threads, "Worker threads (0 = all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024));
   s->add_flag("--quiet", a->quiet, "No progress on stderr");
-  s->callback([a] {
-    const auto limit = thread_limit(a->threads);
-    study::StudyConfig c = a->area    ? study::area_config(a->quick)
-                           : a->quick ? study::quick_config()
-                                      : study::full_config();
-    if (!a->materials.empty()) c.materials = split_list(a->materials);
-    c.user_materials = user_materials(*a);
-    if (!c.user_materials.empty() && a->materials.empty()) {
-      c.materials.clear();
-      if (!a->area && !a->quick) user_map_defaults(c);
-    }
-    if (a->sweep && a->no_sweep) throw UsageError("--sweep and --no-sweep: give one");
-    if (a->near && a->no_near) throw UsageError("--near-lights and --no-near-lights: give one");
-    if (a->sweep) {
-      const study::StudyConfig full = study::full_config();
-      c.sweep_views = full.sweep_views, c.sweep_view_azimuths = full.sweep_view_azimuths;
-      c.sweep_elevations = full.sweep_elevations, c.sweep_azimuths = full.sweep_azimuths;
-      c.sweep_scales = full.sweep_scales, c.sweep_terms = full.sweep_terms;
-    }
-    if (a->no_sweep) c.sweep_views.clear();
-    if (a->no_ablations) c.widened = c.normal_ablation = false;
-    if (a->near) c.near_lights = true;
-    if (a->no_near) c.near_lights = false;
-    if (!a->views.empty()) c.views = angles(a->views, "--views", 0, 89);
-    if (!a->view_azimuths.empty()) c.view_azimuths = angles(a->view_azimuths, "--view-azimuths", -360, 360);
-    if (!a->light_azimuths.empty()) c.azimuths = angles(a->light_azimuths, "--light-azimuths", -360, 360);
-    if (!a->light_elevations.empty()) {
-      c.elevations = angles(a->light_elevations, "--light-elevations", 0, 90);
-      for (double e : c.elevations)
-        if (!(e > 0 && e < 90)) throw UsageError(fmt::format("--light-elevations: {} is not in (0, 90)", e));
-    }
-    if (a->max_windows) c.max_windows = a->max_windows;
-    if (!a->gt_rule.empty())
-      c.gt_rule = a->gt_rule == "bias" ? study::StudyConfig::GtRule::Bias : study::StudyConfig::GtRule::Full;
-    if (!a->shapes.empty()) c.shapes = split_list(a->shapes);
-    if (!a->methods.empty()) {
-      (a->area ? c.area_terms : c.terms) = split_list(a->methods);
-      // The sweep renders the chosen methods it has, and the chosen compact forms of those (method@form).
-      std::vector<std::string> sweep;
-      for (const std::string& t : c.terms)
-        if (std::find(c.sweep_terms.begin(), c.sweep_terms.end(), study::split_study_term(t).first) !=
-            c.sweep_terms.end())
-          sweep.push_back(t);
-      c.sweep_terms = sweep;
-      if (sweep.empty()) c.sweep_views.clear();
-    }
-    if (!a->area_ms.empty()) c.area_ms_modes = split_list(a->area_ms);
-    if (!a->scales.empty()) {
-      c.scales.clear();
-      for (const std::string& k : split_list(a->scales)) {
-        char* end = nullptr;
-        const long v = std::strtol(k.c_str(), &end, 10);
-        if (k.empty() || *end != '\0' || v < 1 || v > 4096)
-          throw InputError(fmt::format("--scales: '{}' is not a scale in [1, 4096]", k));
-        c.scales.push_back(int(v));
-      }
-      // The view sweep at the chosen scales too (e.g. --scales 1,2,4,8 --sweep: the sweep's k <= 8 cells).
-      if (!c.sweep_views.empty()) c.sweep_scales = c.scales;
-    }
-    if (a->fine_size) c.fine_size = a->fine_size;
-    if (a->image_size) c.image_size = a->image_size;
-    if (a->gt_max_spp) c.gt_max_spp = a->gt_max_spp;
-    c.material_cache = a->cache;
-    c.directional_encoding = render::directional_encoding_from_name(a->encoding);
-    const bool quiet = a->quiet;
-    if (!a->cache.empty()) {
-      // A warm cache is read, not written: inside the output folder, the folder's replacement would remove
-      // it.
-      const auto rel = std::filesystem::absolute(a->cache).lexically_normal().lexically_relative(
-          std::filesystem::absolute(a->out).lexically_normal());
-      if (!rel.empty() && *rel.begin() != "..")
-        throw UsageError(
-            "--material-cache must not lie inside --out (the output folder is replaced as a whole)");
-    }
-    io::OutputFolder folder(a->out);
-    const auto res = study::run_study(c, a->out, [quiet](const std::string& line) {
-      if (!quiet) std::cerr << line << std::endl;
-    });
-    const auto stale = folder.finish();
-    int met = 0;
-    for (const auto& gt : res["ground_truth"]) met += gt["floors_met"].get<bool>();
-    print_json({{"out", a->out},
-                {"study", c.name},
-                {"rows", res["rows"].size()},
-                {"ground_truth_configurations", res["ground_truth"].size()},
-                {"floors_met", met},
-                {"results", a->out + "/results.json"},
-                {"html", a->out + "/study.html"},
-                {"stale_removed", stale}});
-  });
+  s->callback([a] { run_study_command(*a); });
 }
 
 }  // namespace

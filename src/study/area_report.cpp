@@ -63,68 +63,61 @@ json summarize_area(const json& rows) {
   return out;
 }
 
-std::string area_summary_markdown(const json& results) {
-  const json& cells = results["area_summary"];
-  std::set<std::string> terms;
-  std::vector<std::string> term_order;
-  for (const auto& c : cells)
-    for (const auto& [m, e] : c["methods"].items()) {
-      const std::string t = m.substr(0, m.find('/'));
-      if (terms.insert(t).second) term_order.push_back(t);
-    }
-  std::string s =
-      "### Area lights: micro-shadowing per light sample (S), at the representative point (R), integrated "
-      "over the light (I)\n\n"
-      "Mean radiance term / ground truth over the whole view (1 = exact; ± = the ground truth's standard "
-      "error on the ratio), then the footprint RMSE / GT mean (its floor in brackets).\n\n";
-  std::set<std::string> groups;
-  std::vector<std::pair<std::string, std::string>> group_order;  // (material|scale, component)
-  for (const auto& c : cells) {
-    const std::string g = fmt::format("{}|{}|{}", c["material"].get<std::string>(), c["scale"].get<int>(),
-                                      c["component"].get<std::string>());
-    if (groups.insert(g).second) group_order.push_back({g, c["component"]});
-  }
-  // The representative point against the integrated form (or the per-sample term) of the same term.
-  if (results.contains("area_representative")) {
-    const json& rep = results["area_representative"];
-    std::vector<std::string> rep_terms;
-    for (const auto& r : rep)
-      if (std::find(rep_terms.begin(), rep_terms.end(), r["method"].get<std::string>()) == rep_terms.end())
-        rep_terms.push_back(r["method"]);
-    for (const auto& [g, comp] : group_order) {
-      const auto p1 = g.find('|'), p2 = g.rfind('|');
-      const std::string mat = g.substr(0, p1);
-      const int k = std::stoi(g.substr(p1 + 1, p2 - p1 - 1));
-      s += fmt::format(
-          "#### Representative point against integrated (I) / per-sample (S) — {}, k = {}, {}: mean ratio "
-          "R/I, "
-          "footprint RMSE of R − I / GT mean, per-pixel RMSE / GT mean\n\n| light | radius | elev. |",
-          mat, k, comp);
-      std::string sep = "|---|---:|---:|";
-      for (const auto& t : rep_terms) s += " " + t + " |", sep += "---:|";
-      s += "\n" + sep + "\n";
-      std::string last;
-      for (const auto& r : rep) {
-        if (r["material"] != mat || r["scale"] != k || r["component"] != comp) continue;
-        if (r["light"] == last) continue;
-        last = r["light"];
-        s += fmt::format("| {} | {}° | {}° |", r["light_type"].get<std::string>(),
-                         r["light_radius_deg"].get<double>(), r["elevation"].get<double>());
-        for (const auto& t : rep_terms) {
-          std::string v = "–";
-          for (const auto& q : rep)
-            if (q["light"] == last && q["material"] == mat && q["scale"] == k && q["component"] == comp &&
-                q["method"] == t)
-              v = fmt::format("{} / {} / {} ({})", f3(num_or_nan(q["ratio"])),
-                              f3(num_or_nan(q["rmse_footprint_rel"])), f3(num_or_nan(q["rmse_rel"])),
-                              q["against"] == "integrated" ? "I" : "S");
-          s += " " + v + " |";
-        }
-        s += "\n";
+namespace {
+
+// (material|scale|component, component) of the area summary's cells, in their order.
+using AreaGroups = std::vector<std::pair<std::string, std::string>>;
+
+// The representative point against the integrated form (or the per-sample term) of the same term: one table
+// per group.
+std::string representative_tables(const json& results, const AreaGroups& group_order) {
+  std::string s;
+  const json& rep = results["area_representative"];
+  std::vector<std::string> rep_terms;
+  for (const auto& r : rep)
+    if (std::find(rep_terms.begin(), rep_terms.end(), r["method"].get<std::string>()) == rep_terms.end())
+      rep_terms.push_back(r["method"]);
+  for (const auto& [g, comp] : group_order) {
+    const auto p1 = g.find('|'), p2 = g.rfind('|');
+    const std::string mat = g.substr(0, p1);
+    const int k = std::stoi(g.substr(p1 + 1, p2 - p1 - 1));
+    s += fmt::format(
+        "#### Representative point against integrated (I) / per-sample (S) — {}, k = {}, {}: mean ratio "
+        "R/I, "
+        "footprint RMSE of R − I / GT mean, per-pixel RMSE / GT mean\n\n| light | radius | elev. |",
+        mat, k, comp);
+    std::string sep = "|---|---:|---:|";
+    for (const auto& t : rep_terms) s += " " + t + " |", sep += "---:|";
+    s += "\n" + sep + "\n";
+    std::string last;
+    for (const auto& r : rep) {
+      if (r["material"] != mat || r["scale"] != k || r["component"] != comp) continue;
+      if (r["light"] == last) continue;
+      last = r["light"];
+      s += fmt::format("| {} | {}° | {}° |", r["light_type"].get<std::string>(),
+                       r["light_radius_deg"].get<double>(), r["elevation"].get<double>());
+      for (const auto& t : rep_terms) {
+        std::string v = "–";
+        for (const auto& q : rep)
+          if (q["light"] == last && q["material"] == mat && q["scale"] == k && q["component"] == comp &&
+              q["method"] == t)
+            v = fmt::format("{} / {} / {} ({})", f3(num_or_nan(q["ratio"])),
+                            f3(num_or_nan(q["rmse_footprint_rel"])), f3(num_or_nan(q["rmse_rel"])),
+                            q["against"] == "integrated" ? "I" : "S");
+        s += " " + v + " |";
       }
       s += "\n";
     }
+    s += "\n";
   }
+
+  return s;
+}
+
+// Per group, each term's mean radiance ratio per mode, then its footprint RMSE.
+std::string term_tables(const json& cells, const AreaGroups& group_order,
+                        const std::vector<std::string>& term_order) {
+  std::string s;
   for (const bool rmse : {false, true})
     for (const auto& [g, comp] : group_order) {
       const auto p1 = g.find('|'), p2 = g.rfind('|');
@@ -178,6 +171,34 @@ std::string area_summary_markdown(const json& results) {
       }
       s += "\n";
     }
+  return s;
+}
+
+}  // namespace
+
+std::string area_summary_markdown(const json& results) {
+  const json& cells = results["area_summary"];
+  std::set<std::string> terms;
+  std::vector<std::string> term_order;
+  for (const auto& c : cells)
+    for (const auto& [m, e] : c["methods"].items()) {
+      const std::string t = m.substr(0, m.find('/'));
+      if (terms.insert(t).second) term_order.push_back(t);
+    }
+  std::string s =
+      "### Area lights: micro-shadowing per light sample (S), at the representative point (R), integrated "
+      "over the light (I)\n\n"
+      "Mean radiance term / ground truth over the whole view (1 = exact; ± = the ground truth's standard "
+      "error on the ratio), then the footprint RMSE / GT mean (its floor in brackets).\n\n";
+  std::set<std::string> groups;
+  AreaGroups group_order;
+  for (const auto& c : cells) {
+    const std::string g = fmt::format("{}|{}|{}", c["material"].get<std::string>(), c["scale"].get<int>(),
+                                      c["component"].get<std::string>());
+    if (groups.insert(g).second) group_order.push_back({g, c["component"]});
+  }
+  if (results.contains("area_representative")) s += representative_tables(results, group_order);
+  s += term_tables(cells, group_order, term_order);
   return s;
 }
 

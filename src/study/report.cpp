@@ -48,6 +48,62 @@ std::string key_of(const json& r, std::initializer_list<const char*> keys) {
 }
 json field(const json& r, const char* key) { return r.contains(key) ? r[key] : json(nullptr); }
 
+// summarize's "cells": per cell each term's mean bias, |bias - 1|, footprint RMSE and floors, and the terms
+// within delta of the best.
+json cells_json(const std::map<std::string, std::map<std::string, MethodAcc>>& cells,
+                const std::map<std::string, json>& cell_info, const StudyConfig& cfg) {
+  json jc = json::array();
+  for (const auto& [k, ms] : cells) {
+    json c = cell_info.at(k);
+    json jm = json::object();
+    double best_dev = 1e300, best_fp = 1e300;
+    for (const auto& [m, a] : ms) {
+      jm[m] = {{"bias", a.bias.mean()},
+               {"abs_dev", a.dev.mean()},
+               {"rmse_footprint_rel", a.fp.mean()},
+               {"bias_floor", a.bias_floor.mx},
+               {"rmse_footprint_floor_rel", a.fp_floor.mx},
+               {"n", a.bias.n}};
+      best_dev = std::min(best_dev, a.dev.mean()), best_fp = std::min(best_fp, a.fp.mean());
+    }
+    json bb = json::array(), br = json::array();
+    for (const auto& [m, a] : ms) {
+      if (a.dev.mean() <= best_dev + cfg.delta_bias) bb.push_back(m);
+      if (a.fp.mean() <= best_fp + cfg.delta_rmse) br.push_back(m);
+    }
+    c["methods"] = jm, c["best_bias"] = bb, c["best_rmse_footprint"] = br;
+    jc.push_back(c);
+  }
+  return jc;
+}
+
+// summarize's "by_view": per view × component × scale × method, over the directional lights of every material
+// (both grids): mean and largest |bias - 1| of the per-material cells.
+json by_view_json(const json& jc) {
+  std::map<std::string, std::pair<json, Acc>> by_view;
+  for (const json& c : jc) {
+    if (c["material"] == "all" || c["light_type"] != "directional") continue;
+    for (const auto& [m, e] : c["methods"].items()) {
+      const double d = e["abs_dev"].get<double>();
+      if (!std::isfinite(d)) continue;
+      auto& [info, acc] = by_view[key_of(c, {"view", "view_azimuth", "component", "scale"}) + m];
+      info = {{"view", c["view"]},
+              {"view_azimuth", c["view_azimuth"]},
+              {"component", c["component"]},
+              {"scale", c["scale"]},
+              {"method", m}};
+      acc.add(d);
+    }
+  }
+  json bv = json::array();
+  for (auto& [k, p] : by_view) {
+    json e = p.first;
+    e["mean_abs_dev"] = p.second.mean(), e["max_abs_dev"] = p.second.mx, e["n"] = p.second.n;
+    bv.push_back(e);
+  }
+  return bv;
+}
+
 }  // namespace
 
 json summarize(const json& rows, const StudyConfig& cfg) {
@@ -110,53 +166,9 @@ json summarize(const json& rows, const StudyConfig& cfg) {
   }
 
   json out = {{"delta_bias", cfg.delta_bias}, {"delta_rmse", cfg.delta_rmse}};
-  json jc = json::array();
-  for (const auto& [k, ms] : cells) {
-    json c = cell_info[k];
-    json jm = json::object();
-    double best_dev = 1e300, best_fp = 1e300;
-    for (const auto& [m, a] : ms) {
-      jm[m] = {{"bias", a.bias.mean()},
-               {"abs_dev", a.dev.mean()},
-               {"rmse_footprint_rel", a.fp.mean()},
-               {"bias_floor", a.bias_floor.mx},
-               {"rmse_footprint_floor_rel", a.fp_floor.mx},
-               {"n", a.bias.n}};
-      best_dev = std::min(best_dev, a.dev.mean()), best_fp = std::min(best_fp, a.fp.mean());
-    }
-    json bb = json::array(), br = json::array();
-    for (const auto& [m, a] : ms) {
-      if (a.dev.mean() <= best_dev + cfg.delta_bias) bb.push_back(m);
-      if (a.fp.mean() <= best_fp + cfg.delta_rmse) br.push_back(m);
-    }
-    c["methods"] = jm, c["best_bias"] = bb, c["best_rmse_footprint"] = br;
-    jc.push_back(c);
-  }
+  const json jc = cells_json(cells, cell_info, cfg);
   out["cells"] = jc;
-  // Per view × component × scale × method, over the directional lights of every material (both grids):
-  // mean and largest |bias - 1| of the per-material cells.
-  std::map<std::string, std::pair<json, Acc>> by_view;
-  for (const json& c : jc) {
-    if (c["material"] == "all" || c["light_type"] != "directional") continue;
-    for (const auto& [m, e] : c["methods"].items()) {
-      const double d = e["abs_dev"].get<double>();
-      if (!std::isfinite(d)) continue;
-      auto& [info, acc] = by_view[key_of(c, {"view", "view_azimuth", "component", "scale"}) + m];
-      info = {{"view", c["view"]},
-              {"view_azimuth", c["view_azimuth"]},
-              {"component", c["component"]},
-              {"scale", c["scale"]},
-              {"method", m}};
-      acc.add(d);
-    }
-  }
-  json bv = json::array();
-  for (auto& [k, p] : by_view) {
-    json e = p.first;
-    e["mean_abs_dev"] = p.second.mean(), e["max_abs_dev"] = p.second.mx, e["n"] = p.second.n;
-    bv.push_back(e);
-  }
-  out["by_view"] = bv;
+  out["by_view"] = by_view_json(jc);
   // Per cell, each term's mean |bias - 1| in two conditions (first, second), for the terms measured in both;
   // `more` adds cell-level fields from the same pairs.
   auto paired = [&](const auto& by_cell, const char* first, const char* second, auto&& more) {

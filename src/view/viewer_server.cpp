@@ -704,30 +704,14 @@ void block_stop_signals() {
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
 }
 
-void serve(const ViewerOptions& o, const std::function<void(const std::string& url)>& on_ready) {
-  check_host(o.host);
-  if (o.port < 0 || o.port > 65535)
-    throw InputError(fmt::format("--port must be in [0, 65535], got {}", o.port));
-  const std::string host = o.host == "localhost" ? "127.0.0.1" : o.host == "[::1]" ? "::1" : o.host;
+namespace {
+
+// The viewer's routes: the generated method list and manifest and the baked data from memory (content,
+// filled once the server is bound), the GLSL with its includes expanded, the page's files; or with
+// --root, a static copy. Paths that leave their folder are not found.
+void add_routes(GuardedServer& svr, const ViewerOptions& o, const Content& content) {
   const bool static_root = !o.root.empty();
-  Content content;
-  GuardedServer svr;
-  // Only SO_REUSEADDR: httplib's default SO_REUSEPORT would let a second server share a port in use.
-  svr.set_socket_options([](socket_t sock) {
-    int yes = 1;
-    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
-  });
-  // ServerLimits (viewer_server.h): the guard reads each request head with a deadline for the whole head, so
-  // a slow client holds one of kWorkers workers for at most kHeadSeconds. Also what httplib itself enforces:
-  // the keep-alive header it sends, each recv/send's timeout, no body (the guard refuses one before httplib
-  // runs).
-  svr.new_task_queue = [] { return new httplib::ThreadPool(ServerLimits::kWorkers); };
-  svr.set_keep_alive_timeout(ServerLimits::kHeadSeconds);
-  svr.set_keep_alive_max_count(ServerLimits::kKeepAliveRequests);
-  svr.set_read_timeout(ServerLimits::kHeadSeconds);
-  svr.set_write_timeout(ServerLimits::kAnswerSeconds);
-  svr.set_payload_max_length(0);
-  svr.Get("/(.*)", [&](const httplib::Request& req, httplib::Response& res) {
+  svr.Get("/(.*)", [&o, &content, static_root](const httplib::Request& req, httplib::Response& res) {
     std::string p = req.matches[1].str();
     if (p.empty() || p.back() == '/') p += "index.html";
     res.set_header("Cache-Control", "no-store");
@@ -774,9 +758,12 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
       res.status = 500;
     }
   });
+}
 
+// Binds host:port (0: any free port) and returns the port, or a clear error (in use, cannot listen).
+int bind_port(GuardedServer& svr, const std::string& host, int requested) {
   errno = 0;
-  int port = o.port;
+  int port = requested;
   bool bound = false;
   if (port == 0) {
     port = svr.bind_to_any_port(host);
@@ -788,10 +775,63 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
     const int err = errno;
     if (err == EADDRINUSE)
       throw InputError(fmt::format(
-          "port {} on {} is in use (choose another with --port, or 0 for any free port)", o.port, host));
-    throw InputError(fmt::format("cannot listen on {} port {}: {}", host, o.port,
+          "port {} on {} is in use (choose another with --port, or 0 for any free port)", requested, host));
+    throw InputError(fmt::format("cannot listen on {} port {}: {}", host, requested,
                                  err ? std::strerror(err) : "bind failed"));
   }
+  return port;
+}
+
+// Serves until SIGINT or SIGTERM (blocked in every thread, taken here): a clean return.
+void listen_until_signal(GuardedServer& svr) {
+  std::atomic<bool> done{false};
+  std::thread stopper([&] {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    int sig = 0;
+    sigwait(&set, &sig);
+    // stop() before listen_after_bind() has started would be lost: repeat until the server returned.
+    while (!done.load()) {
+      svr.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  });
+  const bool ok = svr.listen_after_bind();
+  done = true;
+  pthread_kill(stopper.native_handle(), SIGTERM);  // wakes sigwait if no signal came (harmless otherwise)
+  stopper.join();
+  if (!ok) throw std::runtime_error("the HTTP server stopped with an error");
+}
+
+}  // namespace
+
+void serve(const ViewerOptions& o, const std::function<void(const std::string& url)>& on_ready) {
+  check_host(o.host);
+  if (o.port < 0 || o.port > 65535)
+    throw InputError(fmt::format("--port must be in [0, 65535], got {}", o.port));
+  const std::string host = o.host == "localhost" ? "127.0.0.1" : o.host == "[::1]" ? "::1" : o.host;
+  const bool static_root = !o.root.empty();
+  Content content;
+  GuardedServer svr;
+  // Only SO_REUSEADDR: httplib's default SO_REUSEPORT would let a second server share a port in use.
+  svr.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
+  // ServerLimits (viewer_server.h): the guard reads each request head with a deadline for the whole head, so
+  // a slow client holds one of kWorkers workers for at most kHeadSeconds. Also what httplib itself enforces:
+  // the keep-alive header it sends, each recv/send's timeout, no body (the guard refuses one before httplib
+  // runs).
+  svr.new_task_queue = [] { return new httplib::ThreadPool(ServerLimits::kWorkers); };
+  svr.set_keep_alive_timeout(ServerLimits::kHeadSeconds);
+  svr.set_keep_alive_max_count(ServerLimits::kKeepAliveRequests);
+  svr.set_read_timeout(ServerLimits::kHeadSeconds);
+  svr.set_write_timeout(ServerLimits::kAnswerSeconds);
+  svr.set_payload_max_length(0);
+  add_routes(svr, o, content);
+  const int port = bind_port(svr, host, o.port);
   // DNS rebinding: a page of another site whose name now resolves to this address still sends its own name.
   svr.set_pre_routing_handler([port](const httplib::Request& req, httplib::Response& res) {
     if (is_allowed_host_header(req.get_header_value("Host"), port))
@@ -820,26 +860,7 @@ void serve(const ViewerOptions& o, const std::function<void(const std::string& u
                                                               : fmt::format("http://{}:{}/", host, port);
   on_ready(url);
 
-  // SIGINT / SIGTERM (blocked in every thread) are taken here and stop the server: a clean return.
-  std::atomic<bool> done{false};
-  std::thread stopper([&] {
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    sigaddset(&set, SIGTERM);
-    int sig = 0;
-    sigwait(&set, &sig);
-    // stop() before listen_after_bind() has started would be lost: repeat until the server returned.
-    while (!done.load()) {
-      svr.stop();
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  });
-  const bool ok = svr.listen_after_bind();
-  done = true;
-  pthread_kill(stopper.native_handle(), SIGTERM);  // wakes sigwait if no signal came (harmless otherwise)
-  stopper.join();
-  if (!ok) throw std::runtime_error("the HTTP server stopped with an error");
+  listen_until_signal(svr);
 }
 
 }  // namespace msh::view
