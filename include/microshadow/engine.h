@@ -7,7 +7,7 @@
 //    micro_shadowing_aware_fit.h) and the specular-aware closed form (micro_shadowing_aware.h);
 //  - the samplers of the tables we bake and install (lut/micro_shadowing_lut.h);
 //  - the area-light forms (occlusion/micro_shadowing_area.h, bsdf/ltc.h, bsdf/ltc_shading.h);
-//  - directional micro-occlusion's run-time reconstruction (occlusion/directional.h; shaders/glsl,hlsl/directional);
+//  - directional micro-occlusion's run-time reconstruction (occlusion/directional.h; shaders: directional.*);
 //  - the bump-terminator terms (occlusion/bump_terminator.h) and GGX (microfacet/ggx.h, roughness.h).
 // Not here: the exact references and quadratures (reference/), the bakers, loaders, renderer and study
 // (the library, microshadow::microshadow). tests/package/check_core_headers.cmake checks that this header's
