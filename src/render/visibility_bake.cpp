@@ -425,19 +425,6 @@ Profile ray_profile(double c, double sn, double R, int PW) {
   return prof;
 }
 
-// tan H at the kLanes consecutive vertices from padded index `base` along a profile, rays of length R
-// (finite), into T_out[kLanes]. Each lane is the scan of one vertex through piece_raise: the first piece (the
-// start slope) and pieces that reach the disc or the ray's end take it as it is; every other piece can only
-// raise T to its right end's Δz/s (inside the disc), which the lanes do together without branches. A lane
-// stops where nothing can raise its T any more: from s with s·T ≥ z_max − z_0 (no point rises higher) or
-// s²(1 + T²) ≥ R² (no point of the disc beyond passes T); the scan ends when every lane has stopped. So each
-// vertex gets its own scan's result, whatever its neighbours.
-//
-// Blocks of breakpoints are skipped where, for every lane still live, the highest height in the block's
-// square (PaddedHeights::block_max) lies below the lane's horizon line over the whole block, s·T at the
-// block's nearer end for T ≥ 0 (its farther end for T < 0), with f.margin for the rounding of the
-// interpolated heights: then no breakpoint of the block passes, and a piece whose right end does not pass
-// changes nothing (above), so skipping leaves every T as the full scan would.
 // The kLanes lanes in groups of 4 (GCC/Clang vector extensions: one SSE register each, the x86-64 baseline;
 // other targets get their own 128-bit registers or scalar code). Every lane computes the same float
 // operations in the same order as a scalar scan would, so the result does not depend on the mapping.
@@ -460,6 +447,19 @@ inline bool any_lane(const Mask4 (&m)[kGroups]) {
   return (q[0] | q[1]) != 0;
 }
 
+// tan H at the kLanes consecutive vertices from padded index `base` along a profile, rays of length R
+// (finite), into T_out[kLanes]. Each lane is the scan of one vertex through piece_raise: the first piece (the
+// start slope) and pieces that reach the disc or the ray's end take it as it is; every other piece can only
+// raise T to its right end's Δz/s (inside the disc), which the lanes do together without branches. A lane
+// stops where nothing can raise its T any more: from s with s·T ≥ z_max − z_0 (no point rises higher) or
+// s²(1 + T²) ≥ R² (no point of the disc beyond passes T); the scan ends when every lane has stopped. So each
+// vertex gets its own scan's result, whatever its neighbours.
+//
+// Blocks of breakpoints are skipped where, for every lane still live, the highest height in the block's
+// square (PaddedHeights::block_max) lies below the lane's horizon line over the whole block, s·T at the
+// block's nearer end for T ≥ 0 (its farther end for T < 0), with f.margin for the rounding of the
+// interpolated heights: then no breakpoint of the block passes, and a piece whose right end does not pass
+// changes nothing (above), so skipping leaves every T as the full scan would.
 void scan_profile(const PaddedHeights& f, std::size_t base, const Profile& prof, float R, float* T_out) {
   const float* z = f.z.data() + base;
   const float R2 = R * R;
@@ -475,22 +475,21 @@ void scan_profile(const PaddedHeights& f, std::size_t base, const Profile& prof,
   const auto scanning = [&](int g) -> Mask4 {
     return (s_l * T[g] < rise[g]) & (s_l * s_l * (1 + T[g] * T[g]) < R2);
   };
-  // One breakpoint for every lane; live_in: the lanes that scan, taken at the start of the block (null: test
-  // now). A lane that stops inside a block keeps stepping to the block's end, which cannot change its T: past
-  // s·T ≥ z_max − z_0 no breakpoint passes the line, and past the disc a passing one is a hard piece whose
-  // disc-clipped value piece_raise finds below T. (Both up to float rounding; the micro-occlusion of the six
-  // kinds at 512² and of rock at 2048² is bit-identical to the per-step test.) Testing once per block takes
-  // the test off the chain from one step's T to the next: 14 % faster. A stopped lane never scans again
+  // One breakpoint for every lane; live: the lanes that scan, taken at the start of the block. A lane that
+  // stops inside a block keeps stepping to the block's end, which cannot change its T: past s·T ≥ z_max − z_0
+  // no breakpoint passes the line, and past the disc a passing one is a hard piece whose disc-clipped value
+  // piece_raise finds below T. (Both up to float rounding: the float micro-occlusion mips of the six kinds at
+  // 512² and every output of rock at 2048² are bit-identical to the per-step test.) Testing once per block
+  // takes the test off the chain from one step's T to the next: 14 % faster. A stopped lane never scans again
   // (s_l only grows, its T no longer changes), so the scan ends at the first block with no lane live.
-  const auto step = [&](const ProfilePoint& p, bool first, const Mask4* live_in) {
+  const auto step = [&](const ProfilePoint& p, bool first, const Mask4(&live)[kGroups]) {
     Lane4 zr[kGroups];
     Mask4 hard[kGroups];
     for (int g = 0; g < kGroups; ++g) {
       zr[g] = dz_at(p, g);
-      const Mask4 live = live_in ? live_in[g] : scanning(g);
-      const Mask4 pass = live & (zr[g] > p.s * T[g]);
+      const Mask4 pass = live[g] & (zr[g] > p.s * T[g]);
       // The first piece, the disc or the ray's end: the scalar rule below.
-      hard[g] = first ? live : pass & (zr[g] > p.cr);
+      hard[g] = first ? live[g] : pass & (zr[g] > p.cr);
       const Lane4 raised = zr[g] * p.inv_s;
       T[g] = (pass & ~hard[g] & (raised > T[g])) ? raised : T[g];
     }
@@ -502,7 +501,9 @@ void scan_profile(const PaddedHeights& f, std::size_t base, const Profile& prof,
     for (int g = 0; g < kGroups; ++g) z_l[g] = zr[g];
   };
   if (!prof.pts.empty()) {
-    step(prof.pts[0], true, nullptr);
+    Mask4 live0[kGroups];
+    for (int g = 0; g < kGroups; ++g) live0[g] = scanning(g);
+    step(prof.pts[0], true, live0);
     const ProfilePoint* pts = prof.pts.data();
     for (const ProfileBlock& b : prof.blocks) {
       Mask4 live[kGroups], blocking[kGroups];
