@@ -2,9 +2,14 @@
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <exception>
 #include <iostream>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -35,6 +40,15 @@ int main(int argc, char** argv) {
   using namespace msh::cli;
   // SIGINT / SIGTERM / SIGHUP remove the temporary files in flight (`view` blocks them for its own stop).
   msh::io::install_temporary_cleanup();
+#if defined(__GLIBC__)
+  // The bakers allocate and free buffers of tens to hundreds of MB (horizon classes, channel textures, mip
+  // levels, encoded copies). glibc maps each block above 32 MB afresh and unmaps it on free, so every reuse
+  // page-faults and zero-fills anew; kept in the heap instead, a freed block is reused as it is. Peak memory
+  // is unchanged (it is set by the largest live set); gen-material --directional-view on 1024² rock, one
+  // thread: 0.91× the CPU time, system time 1.38 → 0.82 s (docs/directional-occlusion.md).
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+#endif
   CLI::App app{
       "microshadow: microfacet BRDFs, micro-shadowing, the bump-terminator fix, their LUTs and a "
       "reference renderer.",

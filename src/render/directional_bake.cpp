@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 namespace msh::render {
@@ -265,55 +266,79 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
 
 namespace {
 // What fit_directional's sums read: lit[a · wh + p] (the first lit elevation), the fine normals, the fit's
-// directions [a · ne + e] and its projections transposed (PT: kPoly2Terms per direction, PS: kSlopeTerms).
+// directions [a · ne + e], and the suffix sums S (below) of `rows` projection rows.
 struct FitRows {
   const uint8_t* lit;
   std::size_t wh;
-  int w, na, ne;
+  int w, na, ne, rows;
   const Vec3f* n;
   const Vec3f* dirs;
-  const double* PT;
-  const double* PS;
+  const double* S;
 };
 
-// One texel's sums Σ_d P[r][d] f(d) in the order of d, the blocked directions (f = 0) left out: the 9 of
-// T (kTransport), then the 12 slope sums (kSlopes).
-template <bool kTransport, bool kSlopes>
-[[gnu::always_inline]] inline void fit_texel(const FitRows& R, std::size_t p, double* out) {
-  constexpr int nb = dir::kPoly2Terms, ns = dir::kSlopeTerms, t0 = kTransport ? nb : 0;
-  double sum[nb + 2 * ns] = {};
-  const Vec3f np = R.n[p];
-  const double sx = double(np.x) / np.z, sy = double(np.y) / np.z;
-  for (int a = 0; a < R.na; ++a)
-    for (int e = R.lit[std::size_t(a) * R.wh + p]; e < R.ne; ++e) {
-      const int d = a * R.ne + e;
-      const float f = std::max(dot(np, R.dirs[d]), 0.0f);
-      if (kTransport) {
-        const double* pd = &R.PT[std::size_t(d) * nb];
-        for (int r = 0; r < nb; ++r) sum[r] += pd[r] * f;
-      }
-      if (kSlopes) {
-        const double* ps = &R.PS[std::size_t(d) * ns];
-        for (int r = 0; r < ns; ++r) sum[t0 + r] += ps[r] * (f * sx), sum[t0 + ns + r] += ps[r] * (f * sy);
-      }
+// The fit is Σ_d P[r][d] f(d) over the lit directions with f = (n · l_d)⁺. Within an azimuth, n · l(e) =
+// cos e (n_h · u_a) + sin e n_z rises with e (its derivative −sin e (n_h · u_a) + cos e n_z is > 0 where it
+// is ≤ 0, n_z > 0), so the directions that count are a suffix e ≥ s of the azimuth's elevations, and on it f
+// = n · l_d is linear in n: Σ_{e ≥ s} P[r][d] f(d) = n_x SX + n_y SY + n_z SZ with the suffix sums S[a][s] =
+// (SX, SY, SZ)[rows] = Σ_{e ≥ s} P[r][a·ne + e] · (l_x, l_y, l_z). One texel then costs one table row per
+// azimuth instead of a product per lit direction. The slope functions f · n_x/n_z and f · n_y/n_z are that
+// sum of their own rows times the texel's constant slope.
+std::vector<double> fit_suffix_sums(const std::vector<Vec3f>& dirs, int na, int ne,
+                                    const std::vector<const float*>& P) {
+  const int rows = int(P.size());
+  std::vector<double> S(std::size_t(na) * std::size_t(ne + 1) * 3 * std::size_t(rows), 0.0);
+  for (int a = 0; a < na; ++a)
+    for (int e = ne - 1; e >= 0; --e) {
+      const int d = a * ne + e;
+      const double l[3] = {dirs[std::size_t(d)].x, dirs[std::size_t(d)].y, dirs[std::size_t(d)].z};
+      double* here = &S[(std::size_t(a) * std::size_t(ne + 1) + std::size_t(e)) * 3 * std::size_t(rows)];
+      const double* next = here + 3 * std::size_t(rows);
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < rows; ++r)
+          here[c * rows + r] = next[c * rows + r] + double(P[std::size_t(r)][d]) * l[c];
     }
-  for (int r = 0; r < t0 + (kSlopes ? 2 * ns : 0); ++r) out[r] = sum[r];
+  return S;
 }
 
-// Row j's sums, texel by texel (channels side by side). Cloned for AVX2 (wider vectors for the independent
-// sums; no FMA, so every product and sum rounds as in the default build: the same results).
+// One texel's sums: the 9 of T (kTransport), then the 12 slope sums (kSlopes).
+template <int kRows>
+[[gnu::always_inline]] inline void fit_texel(const FitRows& R, std::size_t p, bool transport, bool slopes,
+                                             double* out) {
+  double acc[3 * kRows] = {};
+  const Vec3f np = R.n[p];
+  for (int a = 0; a < R.na; ++a) {
+    int s = R.lit[std::size_t(a) * R.wh + p];
+    // Past the elevations the texel's own plane hides (n · l ≤ 0: they add nothing).
+    while (s < R.ne && !(dot(np, R.dirs[std::size_t(a * R.ne + s)]) > 0.0f)) ++s;
+    const double* row = &R.S[(std::size_t(a) * std::size_t(R.ne + 1) + std::size_t(s)) * 3 * kRows];
+    for (int i = 0; i < 3 * kRows; ++i) acc[i] += row[i];
+  }
+  double v[kRows];
+  for (int r = 0; r < kRows; ++r)
+    v[r] = double(np.x) * acc[r] + double(np.y) * acc[kRows + r] + double(np.z) * acc[2 * kRows + r];
+  constexpr int nb = dir::kPoly2Terms, ns = dir::kSlopeTerms;
+  const int t0 = transport ? nb : 0;
+  for (int r = 0; r < t0; ++r) out[r] = v[r];
+  if (slopes) {
+    const double sx = double(np.x) / np.z, sy = double(np.y) / np.z;
+    for (int r = 0; r < ns; ++r) out[t0 + r] = v[t0 + r] * sx, out[t0 + ns + r] = v[t0 + r] * sy;
+  }
+}
+
+// Row j's sums, texel by texel (channels side by side). Cloned for AVX2 (wider vectors for the table rows).
 [[gnu::target_clones("avx2", "default")]] void fit_row(const FitRows& R, int j, bool transport, bool slopes,
                                                        double* out) {
-  const int nc = (transport ? dir::kPoly2Terms : 0) + (slopes ? 2 * dir::kSlopeTerms : 0);
+  constexpr int nb = dir::kPoly2Terms, ns = dir::kSlopeTerms;
+  const int nc = (transport ? nb : 0) + (slopes ? 2 * ns : 0);
   for (int i = 0; i < R.w; ++i) {
     const std::size_t p = std::size_t(j) * std::size_t(R.w) + std::size_t(i);
     double* o = out + std::size_t(i) * std::size_t(nc);
     if (transport && slopes)
-      fit_texel<true, true>(R, p, o);
+      fit_texel<nb + ns>(R, p, true, true, o);
     else if (transport)
-      fit_texel<true, false>(R, p, o);
+      fit_texel<nb>(R, p, true, false, o);
     else
-      fit_texel<false, true>(R, p, o);
+      fit_texel<ns>(R, p, false, true, o);
   }
 }
 
@@ -359,22 +384,20 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
     });
   }
   const auto n = fine_normals(height, depth);
-  // P transposed (direction-major, the rows of a direction side by side), widened once: the 9 functions of
-  // T, and the kSlopeTerms of the slope fits (their own least squares, not a subset of T's rows).
+  // The suffix sums of the projection rows: the 9 functions of T, then the kSlopeTerms of the slope fits
+  // (their own least squares, not a subset of T's rows).
   constexpr int nb = dir::kPoly2Terms, ns = dir::kSlopeTerms;
-  const auto transposed = [&](const LsqProjection& pr, int rows) {
-    std::vector<double> t(std::size_t(nd) * rows);
-    for (int d = 0; d < nd; ++d)
-      for (int r = 0; r < rows; ++r) t[std::size_t(d) * rows + r] = pr.P[std::size_t(r) * nd + d];
-    return t;
-  };
-  const std::vector<double> PT = transposed(proj, nb);
   const bool transport = what != FitOutput::Slopes, slopes = what != FitOutput::Transport;
-  const std::vector<double> PS =
-      slopes ? transposed(LsqProjection(ns, dirs, dir::kFitElevations, dir::kFitEpsilon, 0, az.weights), ns)
-             : std::vector<double>();
+  const std::optional<LsqProjection> slope_proj =
+      slopes ? std::optional<LsqProjection>(std::in_place, ns, dirs, dir::kFitElevations, dir::kFitEpsilon, 0,
+                                            az.weights)
+             : std::nullopt;
+  std::vector<const float*> P;
+  for (int r = 0; transport && r < nb; ++r) P.push_back(&proj.P[std::size_t(r) * std::size_t(nd)]);
+  for (int r = 0; slopes && r < ns; ++r) P.push_back(&slope_proj->P[std::size_t(r) * std::size_t(nd)]);
+  const std::vector<double> S = fit_suffix_sums(proj.dirs, na, ne, P);
   Texture out(w, h, (transport ? nb : 0) + (slopes ? 2 * ns : 0));
-  const FitRows rows{lit.data(), wh, w, na, ne, n.data(), proj.dirs.data(), PT.data(), PS.data()};
+  const FitRows rows{lit.data(), wh, w, na, ne, int(P.size()), n.data(), proj.dirs.data(), S.data()};
   tbb::parallel_for(0, h, [&](int j) {
     std::vector<double> sums(std::size_t(w) * std::size_t(out.channels()));
     fit_row(rows, j, transport, slopes, sums.data());

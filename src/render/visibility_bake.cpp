@@ -284,7 +284,9 @@ struct PaddedHeights {
   // at the array's end): the bound the scans skip profile blocks by.
   std::vector<float> block_max;
 
-  PaddedHeights(const Texture& height, float depth, int pad) : w(height.width()), h(height.height()), P(pad) {
+  // with_block_max false: the heights alone (the lattice sweeps read no skip bound).
+  PaddedHeights(const Texture& height, float depth, int pad, bool with_block_max = true)
+      : w(height.width()), h(height.height()), P(pad) {
     PW = w + 2 * P;
     // kLanes of slack: a row's last block of lanes reads up to kLanes − 1 texels past the map (discarded).
     z.resize(std::size_t(PW) * std::size_t(h + 2 * P) + kLanes);
@@ -298,6 +300,7 @@ struct PaddedHeights {
         margin = std::max(margin, std::abs(v));
       }
     margin = margin * 1e-6f + std::numeric_limits<float>::min();
+    if (!with_block_max) return;
     // Separable: the row maxima, then their column maxima.
     const int rows = h + 2 * P;
     std::vector<float> rowmax(z.size());
@@ -737,8 +740,12 @@ void lattice_sweeps(const char* fn, const Texture& height, float depth, const st
   for (const LatticeStep& st : steps)
     if (gcd_int(st.p, st.q) != 1)
       throw InputError(fmt::format("{}: step ({}, {}) is not primitive", fn, st.p, st.q));
-  const Heights f(height, depth);
-  const int w = height.width(), h = height.height(), W = w + 1, n = int(steps.size());
+  // Padded by the largest step plus a cell, so every breakpoint's cell from any vertex is inside the array
+  // at a fixed offset from the vertex: no wrapping per breakpoint.
+  int pad = 2;
+  for (const LatticeStep& st : steps) pad = std::max(pad, std::max(std::abs(st.p), std::abs(st.q)) + 2);
+  const PaddedHeights f(height, depth, pad, false);
+  const int w = height.width(), h = height.height(), PW = f.PW, n = int(steps.size());
   // Into [0, m): one add or subtract for the usual small offsets, the remainder otherwise (tiny maps).
   auto wrap = [](int v, int m) {
     if (v >= m) v -= m;
@@ -770,6 +777,14 @@ void lattice_sweeps(const char* fn, const Texture& height, float depth, const st
     const int per = 1 + int(bps.size());  // profile points per step: the vertex, then its breakpoints
     std::vector<double> s_off(std::size_t(per), 0.0);  // their distances from the step's vertex
     for (int b = 1; b < per; ++b) s_off[std::size_t(b)] = bps[std::size_t(b - 1)].t * len;
+    std::vector<std::ptrdiff_t> cell_off(bps.size());  // each breakpoint's cell corner from the vertex
+    // The rows and columns a step's cells span from its vertex (the prefetch below).
+    int r0 = 0, r1 = 0, c0 = 0, c1 = 0;
+    for (std::size_t b = 0; b < bps.size(); ++b) {
+      cell_off[b] = std::ptrdiff_t(bps[b].cj) * PW + bps[b].ci;
+      r0 = std::min(r0, bps[b].cj), r1 = std::max(r1, bps[b].cj + 1);
+      c0 = std::min(c0, bps[b].ci), c1 = std::max(c1, bps[b].ci + 1);
+    }
     // Distances along the line, the same for every line of the step.
     const std::size_t N = std::size_t(K) * per;
     std::vector<double> ss(N);
@@ -786,45 +801,86 @@ void lattice_sweeps(const char* fn, const Texture& height, float depth, const st
       for (std::size_t l0 = r.begin(); l0 < r.end(); l0 += kBundle) {
         const std::size_t nl = std::min(kBundle, r.end() - l0);
         int xs[kBundle], ys[kBundle];
-        for (std::size_t u = 0; u < nl; ++u) xs[u] = starts[l0 + u] % w, ys[u] = starts[l0 + u] / w;
-        for (int m = 0; m < K; ++m)
+        // Each line's highest point, its first if several (found as the profile is read).
+        std::size_t top[kBundle];
+        float ztop[kBundle];
+        for (std::size_t u = 0; u < nl; ++u) {
+          xs[u] = starts[l0 + u] % w, ys[u] = starts[l0 + u] / w;
+          top[u] = 0, ztop[u] = -std::numeric_limits<float>::infinity();
+        }
+        // The bundle's first and last lines kAhead steps ahead: their cells are prefetched (the lines cross
+        // the rows diagonally, which the hardware's stride prefetch does not follow).
+        constexpr int kAhead = 8;
+        int ax[2] = {wrap(xs[0] + kAhead * st.p, w), wrap(xs[nl - 1] + kAhead * st.p, w)};
+        int ay[2] = {wrap(ys[0] + kAhead * st.q, h), wrap(ys[nl - 1] + kAhead * st.q, h)};
+        for (int m = 0; m < K; ++m) {
+          {
+            const float* a = f.z.data() + f.base(ax[0], ay[0]);
+            const float* b = f.z.data() + f.base(ax[1], ay[1]);
+            // One span when the bundle's lines sit side by side in a row (the usual case), else each end.
+            const bool one_span = ay[0] == ay[1] && ax[1] >= ax[0] && ax[1] - ax[0] <= 2 * int(kBundle);
+            for (int rr = r0; rr <= r1; ++rr) {
+              const float* lo = a + std::ptrdiff_t(rr) * PW + c0;
+              const float* hi = (one_span ? b : a) + std::ptrdiff_t(rr) * PW + c1;
+              for (const float* q = lo; q <= hi; q += 16) __builtin_prefetch(q);
+              __builtin_prefetch(hi);
+              if (!one_span) {
+                __builtin_prefetch(b + std::ptrdiff_t(rr) * PW + c0);
+                __builtin_prefetch(b + std::ptrdiff_t(rr) * PW + c1);
+              }
+            }
+            for (int t = 0; t < 2; ++t) ax[t] = wrap(ax[t] + st.p, w), ay[t] = wrap(ay[t] + st.q, h);
+          }
           for (std::size_t u = 0; u < nl; ++u) {
             const int x = xs[u], y = ys[u];
             float* z = &zs[u * N + std::size_t(m) * per];
-            z[0] = *f.vertex(x, y);
+            const float* v = f.z.data() + f.base(x, y);
+            z[0] = *v;
             vid[u * std::size_t(K) + std::size_t(m)] = y * w + x;
             for (int b = 1; b < per; ++b) {
               const Breakpoint& bp = bps[std::size_t(b - 1)];
-              const float* c = f.vertex(wrap(x + bp.ci, w), wrap(y + bp.cj, h));
-              z[b] = cell_height(c[0], c[1], c[W + 1], c[W], bp.fx, bp.fy);
+              const float* c = v + cell_off[std::size_t(b - 1)];
+              z[b] = cell_height(c[0], c[1], c[PW + 1], c[PW], bp.fx, bp.fy);
             }
+            for (int b = 0; b < per; ++b)
+              if (z[b] > ztop[u]) ztop[u] = z[b], top[u] = std::size_t(m) * per + std::size_t(b);
             xs[u] = wrap(x + st.p, w), ys[u] = wrap(y + st.q, h);
           }
+        }
         for (std::size_t u = 0; u < nl; ++u) {
           const float* zl = &zs[u * N];
           const int* vl = &vid[u * std::size_t(K)];
           // Sweep backwards from the profile's highest point once around: nothing beyond it (one period
           // further) rises above it, so it hides every point there from every point before it. (The highest
           // point may be a breakpoint: they interpolate vertices off the line.)
-          const std::size_t start = std::size_t(std::max_element(zl, zl + N) - zl);
+          const std::size_t start = top[u];
           std::size_t n_h = 0;
           double* const hsp = hs.data();
           double* const hzp = hz.data();
-          auto visit = [&](std::size_t idx, double shift) {
-            const double s = ss[idx] - shift, z = zl[idx];
-            // Drop the nearest hull point while the next one is at least as steep from here (it is then
-            // under the chord to it, for this point and every one before it): (zA − z)/(sA − s) ≥ (zB −
-            // z)/(sB − s), denominators > 0.
-            while (n_h >= 2 &&
-                   (hzp[n_h - 2] - z) * (hsp[n_h - 1] - s) >= (hzp[n_h - 1] - z) * (hsp[n_h - 2] - s))
-              --n_h;
-            if (idx % std::size_t(per) == 0)  // a vertex: its horizon
-              store(k, vl[idx / std::size_t(per)],
-                    n_h ? float(std::max((hzp[n_h - 1] - z) / (hsp[n_h - 1] - s), 0.0)) : 0.0f);
-            hsp[n_h] = s, hzp[n_h] = z, ++n_h;
+          // Points hi − 1 down to lo, shifted back by `shift`; point idx is breakpoint b = idx mod per of
+          // step m = idx / per (b = 0: the vertex), both counted down rather than divided.
+          auto sweep = [&](std::size_t hi, std::size_t lo, double shift) {
+            if (hi <= lo) return;
+            std::size_t m = (hi - 1) / std::size_t(per);
+            int b = int((hi - 1) % std::size_t(per));
+            for (std::size_t idx = hi; idx-- > lo;) {
+              const double s = ss[idx] - shift, z = zl[idx];
+              // Drop the nearest hull point while the next one is at least as steep from here (it is then
+              // under the chord to it, for this point and every one before it): (zA − z)/(sA − s) ≥ (zB −
+              // z)/(sB − s), denominators > 0.
+              while (n_h >= 2 &&
+                     (hzp[n_h - 2] - z) * (hsp[n_h - 1] - s) >= (hzp[n_h - 1] - z) * (hsp[n_h - 2] - s))
+                --n_h;
+              if (b == 0) {  // a vertex: its horizon
+                store(k, vl[m], n_h ? float(std::max((hzp[n_h - 1] - z) / (hsp[n_h - 1] - s), 0.0)) : 0.0f);
+                b = per, --m;
+              }
+              --b;
+              hsp[n_h] = s, hzp[n_h] = z, ++n_h;
+            }
           };
-          for (std::size_t idx = start + 1; idx-- > 0;) visit(idx, 0.0);
-          for (std::size_t idx = N; idx-- > start + 1;) visit(idx, L);
+          sweep(start + 1, 0, 0.0);
+          sweep(N, start + 1, L);
         }
       }
     });
