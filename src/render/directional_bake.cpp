@@ -266,11 +266,11 @@ DirectionalBakeAzimuths directional_bake_azimuths(int azimuths) {
 
 namespace {
 // What fit_directional's sums read: lit[a · wh + p] (the first lit elevation), the fine normals, the fit's
-// directions [a · ne + e], and the suffix sums S (below) of `rows` projection rows.
+// directions [a · ne + e], and the suffix sums S (below) of the projection rows.
 struct FitRows {
   const uint8_t* lit;
   std::size_t wh;
-  int w, na, ne, rows;
+  int w, na, ne;
   const Vec3f* n;
   const Vec3f* dirs;
   const double* S;
@@ -300,7 +300,8 @@ std::vector<double> fit_suffix_sums(const std::vector<Vec3f>& dirs, int na, int 
   return S;
 }
 
-// One texel's sums: the 9 of T (kTransport), then the 12 slope sums (kSlopes).
+// One texel's sums: the 9 of T (transport), then the 12 slope sums (slopes); kRows = the rows of S (9, 6 or
+// 15).
 template <int kRows>
 [[gnu::always_inline]] inline void fit_texel(const FitRows& R, std::size_t p, bool transport, bool slopes,
                                              double* out) {
@@ -397,7 +398,7 @@ Texture fit_directional(const Texture& height, float depth, int azimuths, float 
   for (int r = 0; slopes && r < ns; ++r) P.push_back(&slope_proj->P[std::size_t(r) * std::size_t(nd)]);
   const std::vector<double> S = fit_suffix_sums(proj.dirs, na, ne, P);
   Texture out(w, h, (transport ? nb : 0) + (slopes ? 2 * ns : 0));
-  const FitRows rows{lit.data(), wh, w, na, ne, int(P.size()), n.data(), proj.dirs.data(), S.data()};
+  const FitRows rows{lit.data(), wh, w, na, ne, n.data(), proj.dirs.data(), S.data()};
   tbb::parallel_for(0, h, [&](int j) {
     std::vector<double> sums(std::size_t(w) * std::size_t(out.channels()));
     fit_row(rows, j, transport, slopes, sums.data());
