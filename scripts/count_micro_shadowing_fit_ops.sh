@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Arithmetic instruction counts of the ALU-only micro-shadowing shaders (shaders/glsl/micro_shadowing_fit.glsl;
 # docs/micro-shadowing.md, "ALU-only approximation"): each function is compiled alone into a compute kernel
-# (glslangValidator -V), optimized (spirv-opt -O) and its float instructions counted by opcode. Needs
-# glslang-tools and spirv-tools. Usage: scripts/count_micro_shadowing_fit_ops.sh
+# (glslangValidator -V), optimized (spirv-opt -O) and its arithmetic instructions counted by opcode, by the
+# project's one counter (scripts/spirv_cost.py, whose rule says what is arithmetic). Needs glslang-tools,
+# spirv-tools and python3. Usage: scripts/count_micro_shadowing_fit_ops.sh
 set -euo pipefail
-inc="$(cd "$(dirname "$0")/.." && pwd)/shaders/glsl"  # micro_shadowing_fit.glsl includes its prelude and body
+here="$(cd "$(dirname "$0")" && pwd)"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 declare -A body=(
@@ -22,11 +23,7 @@ for f in one-call pixel light; do
     echo 'layout(std430, binding = 1) writeonly buffer Out { float o[]; };'
     echo "void main() { uint i = gl_GlobalInvocationID.x; vec4 r = rec[2u * i]; vec4 q = rec[2u * i + 1u]; ${body[$f]} }"
   } > "$tmp/k.comp"
-  glslangValidator -V -I"$inc" "$tmp/k.comp" -o "$tmp/k.spv" > /dev/null
-  spirv-opt -O "$tmp/k.spv" -o "$tmp/ko.spv"
   # The kernel's own glue (the pixel kernel's 7 adds summing the struct, the light kernel's q.x * q.y) is
   # counted too: subtract it (docs/micro-shadowing.md).
-  echo "$f: $(spirv-dis "$tmp/ko.spv" | sed -n '/OpFunction /,$p' | grep -E 'OpF(Add|Sub|Mul|Div|Negate|Ord|Unord)|OpExtInst |OpSelect ' |
-    awk '{for (i = 1; i <= NF; i++) if ($i ~ /^Op/) { op = $i; if (op == "OpExtInst") op = $(i + 3); print op; break } }' |
-    sort | uniq -c | awk '{printf "%s %s, ", $2, $1; n += $1} END {printf "total %d\n", n}')"
+  echo "$f: $(python3 "$here/spirv_cost.py" "$tmp/k.comp")"
 done

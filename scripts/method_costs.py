@@ -12,7 +12,7 @@ import json, subprocess, sys
 from spirv_cost import spirv_cost
 
 MODULES = ["micro_shadowing.glsl", "micro_shadowing_fit.glsl", "micro_shadowing_aware.glsl",
-           "micro_shadowing_aware_fit.glsl"]
+           "micro_shadowing_aware_fit.glsl", "directional.glsl"]
 HEAD = """#version 450
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
@@ -32,6 +32,12 @@ void main() {
   vec4 a = rec[3u * i], b = rec[3u * i + 1u], c = rec[3u * i + 2u];
   float vis = a.x, nl = a.y, nv = a.z, rough = a.w, alpha = rough * rough, cos_phi = b.w;
   vec3 v = b.xyz, l = c.xyz;
+  // The directional forms' inputs (the viewer's names): the channels and the tangent-space vectors, loaded
+  // from the record without arithmetic.
+  vec4 dir_c0 = a, dir_c1 = b;
+  float dir_c8 = c.w;
+  vec4 dir_v[6] = vec4[6](a, b, c, a.wzyx, b.wzyx, c.wzyx);
+  vec3 l_t = c.xyz, view_t = b.xyz, n_t = a.xyz;
   o[i] = %s;
 }
 """ % expr

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -623,14 +624,14 @@ TEST(ShadersDirectional, CompactFormsRunOnVulkanAndMatchCpp) {
   });
 }
 
-// The cost row of docs/shaders.md: a compute kernel calling only the function (the method of
-// scripts/lut_spirv_counts.py: glslangValidator → spirv-opt -O → spirv-dis), the instructions of the inlined
-// entry point (OpLine/OpName excluded; ≈ 20 of them are the kernel's 4 vec4 loads and its store) and the
-// arithmetic ones by opcode (float arithmetic, OpDot, OpExtInst, OpSelect, comparisons: as
-// scripts/count_micro_shadowing_fit_ops.sh, plus OpDot).
+// The cost row of docs/shaders.md: a compute kernel calling only the function, counted by the project's one
+// SPIR-V counter (scripts/spirv_cost.py: glslangValidator → spirv-opt -O → spirv-dis; its rule says which
+// instructions are arithmetic): the instructions of the inlined entry point (≈ 20 of them are the kernel's 4
+// vec4 loads and its store), the arithmetic ones by opcode and the image samples.
 TEST(ShadersDirectional, SpirvCost) {
-  if (sh("command -v spirv-opt > /dev/null 2>&1 && command -v spirv-dis > /dev/null 2>&1") != 0)
-    GTEST_SKIP() << "spirv-opt / spirv-dis not found (Debian: spirv-tools)";
+  if (sh("command -v spirv-opt > /dev/null 2>&1 && command -v spirv-dis > /dev/null 2>&1 && "
+         "command -v glslangValidator > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "spirv-opt / spirv-dis / glslangValidator not found (Debian: spirv-tools, glslang-tools)";
   const std::string lib = vk::read_source("shaders/glsl/directional.glsl");
   const std::map<std::string, std::string> calls = {
       {"term", "msh_dir_term(a, b, c.w, c.xyz, d.xyz)"},
@@ -665,50 +666,19 @@ TEST(ShadersDirectional, SpirvCost) {
         "  vec4 a = rec[4u * i], b = rec[4u * i + 1u], c = rec[4u * i + 2u], d = rec[4u * i + 3u];\n"
         "  o[i] = " +
         call + ";\n}\n";
-    std::vector<uint32_t> spv;
-    std::string log;
-    ASSERT_TRUE(vk::compile_shader(src, vk::Lang::kGlsl, &spv, &log)) << log;
     {
-      std::ofstream f(tmp / "k.spv", std::ios::binary);
-      f.write(reinterpret_cast<const char*>(spv.data()), std::streamsize(spv.size() * sizeof(uint32_t)));
+      std::ofstream f(tmp / "k.comp");
+      f << src;
     }
     const std::string t = tmp.string();
-    ASSERT_EQ(sh("spirv-opt -O " + t + "/k.spv -o " + t + "/o.spv && spirv-dis --raw-id " + t + "/o.spv -o " +
-                 t + "/o.txt"),
-              0);
-    std::ifstream in(tmp / "o.txt");
-    std::string line;
-    bool inside = false;
-    int total = 0, arith = 0, samples = 0;
-    std::map<std::string, int> ops;
-    while (std::getline(in, line)) {
-      if (line.find("OpFunction ") != std::string::npos) inside = true;
-      if (inside) {
-        std::istringstream ss(line);
-        std::string tok, op;
-        while (ss >> tok)
-          if (tok.rfind("Op", 0) == 0) {
-            op = tok;
-            break;
-          }
-        if (op == "OpLine" || op == "OpNoLine" || op == "OpName") continue;
-        ++total;
-        if (op == "OpExtInst") {
-          std::string type, set, inst;
-          ss >> type >> set >> inst;
-          op = inst;
-        }
-        const bool is_arith = (op.rfind("OpF", 0) == 0 && op != "OpFunction" && op != "OpFunctionEnd" &&
-                               op != "OpFunctionCall") ||
-                              op == "OpDot" || op == "OpSelect" || op == "OpVectorTimesScalar" ||
-                              op.find("Op") != 0;  // GLSL.std.450 instructions (FMax, …)
-        if (is_arith) ++arith, ++ops[op];
-        samples += op.rfind("OpImageSample", 0) == 0;
-      }
-      if (line.find("OpFunctionEnd") != std::string::npos) inside = false;
-    }
+    ASSERT_EQ(sh("/usr/bin/python3 " + std::string(MSH_SOURCE_DIR) + "/scripts/spirv_cost.py " + t +
+                 "/k.comp --json > " + t + "/counts.json"),
+              0)
+        << name;
+    const nlohmann::json c = nlohmann::json::parse(std::ifstream(tmp / "counts.json"));
+    const int total = c.at("instructions"), arith = c.at("arithmetic"), samples = c.at("image_samples");
     std::string hist;
-    for (const auto& [op, k] : ops) hist += " " + op + " " + std::to_string(k);
+    for (const auto& [op, k] : c.at("ops").items()) hist += " " + op + " " + std::to_string(int(k));
     std::printf("[ spirv-opt -O ] %s: %d instructions, %d arithmetic (%s ), %d image samples\n", name.c_str(),
                 total, arith, hist.c_str(), samples);
     EXPECT_EQ(samples, 0);
