@@ -4,10 +4,11 @@
 that expression from a loaded record; glslangValidator compiles it to Vulkan SPIR-V, spirv-opt -O inlines and
 optimizes it, and the static instruction count of main (OpLabel, OpPhi etc. included; OpLine/OpName/OpDecorate
 not; about 15 are the record load and the store) and its image samples are kept. A pair is the sum of its two
-lobes' forms (one light shades both lobes). Writes JSON to stdout (docs/measurements/spirv_costs.json).
-Usage: scripts/method_costs.py path/to/microshadow
+lobes' forms (one light shades both lobes). Writes JSON to stdout (docs/measurements/spirv_costs.json);
+with --check, compares instead with that committed file and exits 1 on any difference (test_spirv_costs).
+Usage: scripts/method_costs.py path/to/microshadow [--check]
 """
-import json, subprocess, sys
+import json, os, subprocess, sys
 
 from spirv_cost import spirv_cost
 
@@ -62,8 +63,22 @@ def main():
             out["methods"][m["name"]] = {"instructions": d["instructions"] + s["instructions"] - base,
                                          "image_samples": d["image_samples"] + s["image_samples"],
                                          "expr": d["expr"] + " ; " + s["expr"]}
+    if "--check" in sys.argv[2:]:
+        path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                            "docs/measurements/spirv_costs.json")
+        committed = json.load(open(path))
+        bad = [k for k in sorted(set(committed["methods"]) | set(out["methods"]))
+               if committed["methods"].get(k) != out["methods"].get(k)]
+        if committed["baseline"] != out["baseline"]:
+            bad.insert(0, "baseline")
+        for k in bad:
+            print(f"{k}: committed {committed['methods'].get(k, committed['baseline'] if k == 'baseline' else None)}"
+                  f", measured {out['methods'].get(k, out['baseline'] if k == 'baseline' else None)}")
+        print(f"{len(out['methods'])} forms, {len(bad)} differ from {path}")
+        return 1 if bad else 0
     print(json.dumps(out, indent=1, sort_keys=True))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
