@@ -197,6 +197,14 @@ ${compose}
 `;
 }
 
+// The light and the view in the directional channels' frame, for the texel terms (point and area lights alike).
+const DIR_FRAME = `#ifdef MSH_DIR
+  vec3 l_t = msh_dir_to_frame(lw), view_t = msh_dir_to_frame(vw), n_t = msh_dir_n;
+#ifdef MSH_DEBUG
+  if (msh_light_index == msh_debug_light) { msh_dbg_dir_l = vec4(l_t, 1.0); msh_dbg_dir_v = vec4(view_t, 1.0); }
+#endif
+#endif`;
+
 function parsBlock(lobes, luts, debug, visSource, dir, areaLights) {
   const areaCap = areaLights !== 'center';
   const lutDecl = luts.map((k) => {
@@ -233,24 +241,14 @@ vec4 msh_dbg_dir_l = vec4(0.0), msh_dbg_dir_v = vec4(0.0);
 // The method's terms (diffuse lobe, specular lobe) at one light direction; lw, vw: the light and the view in
 // view space (the texel terms take them into the channels' frame).
 vec2 msh_point_terms(float vis, float nl, float nv, float rough, float alpha, float cos_phi, vec3 v, vec3 l, vec3 lw, vec3 vw) {
-#ifdef MSH_DIR
-  vec3 l_t = msh_dir_to_frame(lw), view_t = msh_dir_to_frame(vw), n_t = msh_dir_n;
-#ifdef MSH_DEBUG
-  if (msh_light_index == msh_debug_light) { msh_dbg_dir_l = vec4(l_t, 1.0); msh_dbg_dir_v = vec4(view_t, 1.0); }
-#endif
-#endif
+${DIR_FRAME}
   return vec2(${lobes.diffuse.glsl}, ${lobes.specular.glsl});
 }
 #if NUM_RECT_AREA_LIGHTS > 0 && !defined(MSH_AREA_CENTER)
 vec2 msh_area_terms(float vis, float nl_cap, float rho, float nv, float rough, float alpha, vec3 v, vec3 l, vec3 lw, vec3 vw) {
   float nl = clamp(nl_cap, 0.0, 1.0);
   float cos_phi = msh_ms_relative_azimuth_cos(v, l);
-#ifdef MSH_DIR
-  vec3 l_t = msh_dir_to_frame(lw), view_t = msh_dir_to_frame(vw), n_t = msh_dir_n;
-#ifdef MSH_DEBUG
-  if (msh_light_index == msh_debug_light) { msh_dbg_dir_l = vec4(l_t, 1.0); msh_dbg_dir_v = vec4(view_t, 1.0); }
-#endif
-#endif
+${DIR_FRAME}
   return vec2(${lobes.diffuse.area}, ${lobes.specular.area});
 }
 #endif
