@@ -10,7 +10,7 @@ Usage: scripts/method_costs.py path/to/microshadow [--check]
 """
 import json, os, subprocess, sys
 
-from spirv_cost import spirv_cost
+from spirv_cost import ROOT, spirv_cost
 
 MODULES = ["micro_shadowing.glsl", "micro_shadowing_fit.glsl", "micro_shadowing_aware.glsl",
            "micro_shadowing_aware_fit.glsl", "directional.glsl"]
@@ -64,16 +64,14 @@ def main():
                                          "image_samples": d["image_samples"] + s["image_samples"],
                                          "expr": d["expr"] + " ; " + s["expr"]}
     if "--check" in sys.argv[2:]:
-        path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                            "docs/measurements/spirv_costs.json")
+        path = os.path.join(ROOT, "docs/measurements/spirv_costs.json")
         committed = json.load(open(path))
-        bad = [k for k in sorted(set(committed["methods"]) | set(out["methods"]))
-               if committed["methods"].get(k) != out["methods"].get(k)]
-        if committed["baseline"] != out["baseline"]:
-            bad.insert(0, "baseline")
+        # The baseline and every form, compared alike.
+        want = {"baseline": committed["baseline"], **committed["methods"]}
+        got = {"baseline": out["baseline"], **out["methods"]}
+        bad = [k for k in sorted(set(want) | set(got)) if want.get(k) != got.get(k)]
         for k in bad:
-            print(f"{k}: committed {committed['methods'].get(k, committed['baseline'] if k == 'baseline' else None)}"
-                  f", measured {out['methods'].get(k, out['baseline'] if k == 'baseline' else None)}")
+            print(f"{k}: committed {want.get(k)}, measured {got.get(k)}")
         print(f"{len(out['methods'])} forms, {len(bad)} differ from {path}")
         return 1 if bad else 0
     print(json.dumps(out, indent=1, sort_keys=True))
