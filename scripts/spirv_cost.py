@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The one SPIR-V static cost counter of the project (scripts/lut_spirv_counts.py, scripts/method_costs.py,
-scripts/count_micro_shadowing_fit_ops.sh and tests/test_shaders_directional.cpp all call it).
+"""The one SPIR-V static cost counter of the project (scripts/method_costs.py, tests/test_shaders_directional.cpp,
+tools/research/lut_spirv_counts.py and tools/research/count_micro_shadowing_fit_ops.sh all call it).
 
 glslangValidator compiles the GLSL compute source (includes from shaders/glsl) to Vulkan SPIR-V, spirv-opt -O
 inlines and optimizes it, and the instructions of the functions left are counted:

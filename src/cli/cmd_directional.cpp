@@ -1,10 +1,6 @@
 // CLI for directional micro-occlusion (include/microshadow/render/directional_bake.h,
 // docs/directional-occlusion.md):
-//   microshadow verify directional [--kinds plaster,bark,gravel] [--size 512] [--scales 1,4,16]
-//       [--elevations 5,10,25,45,70] [--azimuths 0,90] [--bake-azimuths 32] [--distances 0,-1] [--quantize]
-//       [--threads N] [--out FILE.md] [--json]
 //   microshadow bake directional HEIGHT.png|.exr --depth D --out DIR [--azimuths 32] [--distance 0] [--view]
-// The first measures every representation against the exact texture-space diffuse transport; the second
 // writes the 9 directional channels of a height map (21 with --view: the view correction's slope channels
 // follow) and their box-filtered mip chain as float32 NPY (one file per level, directional_mip<L>.npy, shape
 // (1, h, w, 9 or 21), io/texture.h's NPY layout) and directional.json (8-bit ranges).
@@ -27,55 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using render::Texture;
-
-struct StudyArgs {
-  std::string kinds = "plaster,bark,gravel", scales = "1,4,16", elevations = "5,10,25,45,70",
-              azimuths = "0,90", distances = "0", out;
-  int size = 512, bake_azimuths = 32, threads = 0;
-  bool quantize = false, json = false;
-};
-
-void run_study(const StudyArgs& a) {
-  const auto limit = thread_limit(a.threads);
-  render::DirectionalStudyOptions o;
-  o.kinds = split_list(a.kinds);
-  o.size = a.size;
-  o.scales.clear();
-  for (double k : parse_list(a.scales, "--scales")) {
-    if (k < 1 || k != std::floor(k) || a.size % int(k) != 0)
-      throw UsageError(fmt::format("--scales: {} must be a positive integer dividing --size", k));
-    o.scales.push_back(int(k));
-  }
-  o.elevations_deg.clear();
-  for (double e : parse_list(a.elevations, "--elevations")) {
-    require_range(e, 0.5, 89.5, "--elevations");
-    o.elevations_deg.push_back(float(e));
-  }
-  o.azimuths_deg.clear();
-  for (double z : parse_list(a.azimuths, "--azimuths")) o.azimuths_deg.push_back(float(z));
-  o.bake_distances.clear();
-  for (double d : parse_list(a.distances, "--distances")) o.bake_distances.push_back(float(d));
-  o.bake_azimuths = a.bake_azimuths;
-  o.quantize8 = a.quantize;
-  const auto rows = render::directional_study(o);
-  if (a.json) {
-    nlohmann::json j = nlohmann::json::array();
-    for (const auto& r : rows)
-      j.push_back({{"kind", r.kind},
-                   {"representation", r.representation},
-                   {"bake_distance", r.bake_distance},
-                   {"k", r.k},
-                   {"elevation_deg", r.elevation_deg},
-                   {"azimuth_deg", r.azimuth_deg},
-                   {"bias", r.bias},
-                   {"rmse_footprint", r.rmse_footprint},
-                   {"bytes", r.bytes}});
-    print_json(j);
-  }
-  const std::string md = render::directional_study_markdown(rows);
-  if (!a.out.empty()) io::write_file_atomic(a.out, md);
-  if (!a.json) std::cout << md;
-}
 
 struct BakeArgs {
   std::string height, out;
@@ -119,25 +66,6 @@ void run_bake(const BakeArgs& a) {
 }
 
 void add_directional(Groups& g) {
-  const auto [s, sa] = add_command<StudyArgs>(
-      g.verify, "directional",
-      "Directional micro-occlusion representations against the exact texture-space diffuse transport of the "
-      "procedural height fields (docs/directional-occlusion.md)",
-      run_study);
-  s->add_option("--kinds", sa->kinds, "Materials")->capture_default_str();
-  s->add_option("--size", sa->size, "Fine texels per side")->capture_default_str();
-  s->add_option("--scales", sa->scales, "Coarse scales k")->capture_default_str();
-  s->add_option("--elevations", sa->elevations, "Light elevations, degrees")->capture_default_str();
-  s->add_option("--azimuths", sa->azimuths, "Light azimuths from +u towards +v, degrees")
-      ->capture_default_str();
-  s->add_option("--bake-azimuths", sa->bake_azimuths, "Azimuths of the bakes")->capture_default_str();
-  s->add_option("--distances", sa->distances, "Bake ray lengths, texels (0 = unlimited, -1 = 8 % of size)")
-      ->capture_default_str();
-  s->add_flag("--quantize", sa->quantize, "Also rows with 8-bit UNORM channels (fine level and mips)");
-  s->add_option("--threads", sa->threads, "Worker threads (0 = all)");
-  s->add_option("--out", sa->out, "Also write the Markdown tables here");
-  s->add_flag("--json", sa->json, "Print every row as JSON instead of the tables");
-
   const auto [b, ba] = add_command<BakeArgs>(
       g.bake, "directional",
       "Directional-occlusion channels (9, or 21 with --view; docs/directional-occlusion.md) of a height map "

@@ -1,13 +1,13 @@
 // `plot micro-shadowing-fit`: the exact azimuth-mean generic VNDF term (generic_vndf_exact_azimuth_mean) at
 // stratified continuous random inputs, with the ALU-only approximation (micro_shadowing_fit.h) and the older
-// closed-form terms beside it; the training and validation data of scripts/fit_micro_shadowing.py and the
-// measured error table of docs/micro-shadowing.md ("ALU-only approximation").
+// closed-form terms beside it; the training and validation data of tools/research/fit_micro_shadowing.py and
+// the measured error table of docs/micro-shadowing.md ("ALU-only approximation").
 //
 //   microshadow plot micro-shadowing-fit --out FILE.csv [--samples N] [--seed S] [--near-step M]
 //       [--skip-early-out] [--term generic|diffuse-aware] [--rel-tol T]
 // --term diffuse-aware: the exact azimuth-mean diffuse micro-BRDF-aware term (reciprocal form,
 // diffuse_aware_exact_azimuth_mean, docs/micro-shadowing-aware.md) in place of the generic one, with its ALU
-// approximation (micro_shadowing_aware_fit.h) beside it; data of scripts/fit_micro_shadowing_aware.py.
+// approximation (micro_shadowing_aware_fit.h) beside it; data of tools/research/fit_micro_shadowing_aware.py.
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/math/sampling.h>
@@ -173,7 +173,8 @@ void add_micro_shadowing_fit(Groups& g) {
       g.plot, "micro-shadowing-fit",
       "The exact azimuth-mean micro-shadowing term at stratified random inputs (V, N.L, N.V, roughness in "
       "[0.1, 1]) with the ALU-only approximation and the older terms beside it: CSV for "
-      "scripts/fit_micro_shadowing.py and an error summary (RMS, p99, max in 1/255 per roughness band) on "
+      "tools/research/fit_micro_shadowing.py and an error summary (RMS, p99, max in 1/255 per roughness "
+      "band) on "
       "stdout (docs/micro-shadowing.md).",
       run_fit_data);
   p->add_option("--out", a->out, "Output CSV (written atomically)")->required();

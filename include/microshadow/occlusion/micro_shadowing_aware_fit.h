@@ -20,8 +20,8 @@
 // the Flux form has none yet (its run-time form is the estimator).
 // Exact properties: V = 1 gives 1; V = 0 gives 0; 2V + N·L < 1 and 2V + N·V < 1 give exactly 0 (exact_zero;
 // the cone region is a subset of the generic term's, for l and, by reciprocity, for v); the value is in
-// [0, 1]; symmetric in N·L and N·V. Coefficients: scripts/fit_micro_shadowing_aware.py on the exact term
-// (data: `microshadow plot micro-shadowing-fit --term diffuse-aware`), started from the generic term's
+// [0, 1]; symmetric in N·L and N·V. Coefficients: tools/research/fit_micro_shadowing_aware.py on the exact
+// term (data: `microshadow plot micro-shadowing-fit --term diffuse-aware`), started from the generic term's
 // two-stage coefficients.
 #pragma once
 
@@ -35,7 +35,7 @@
 namespace msh::micro_shadowing {
 
 // Three cubic forms (a, q, g) in (r, cos θc, w), 20 coefficients each, in fit_basis::fit_cubic's order.
-// Fitted over V ∈ [0,1], N·L, N·V ∈ (0,1], r ∈ [0.1, 1] (scripts/fit_micro_shadowing_aware.py).
+// Fitted over V ∈ [0,1], N·L, N·V ∈ (0,1], r ∈ [0.1, 1] (tools/research/fit_micro_shadowing_aware.py).
 inline constexpr std::array<double, 60> kDiffuseAwareAluReciprocal = {
     4.7413,   -9.98672, 5.60447,  2.29771,  10.7242,   14.5875,  -7.79898, -27.395,  4.65937,   -5.50467,
     1.63791,  -6.25831, 1.13435,  8.15713,  -19.3248,  2.49487,  -3.68374, 13.559,   -5.30555,  15.5449,

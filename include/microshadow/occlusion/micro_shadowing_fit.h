@@ -24,7 +24,7 @@
 //   2^{Q_q}, g = Q_g, with Q cubic forms in (r, cos θc, w_z), w_z = N·V / sqrt(N·V² + α²(1 − N·V²)) (the
 //   z of the stretched view direction, Heitz 2018, "Sampling the GGX Distribution of Visible Normals"), and
 //   the light's cone term pinned to 0 at θl = 2θc: P1 = 1 + S(tan(θc − θl)/a) / S(tan θc / a).
-// Coefficients: scripts/fit_micro_shadowing.py on the exact term (data: `microshadow plot
+// Coefficients: tools/research/fit_micro_shadowing.py on the exact term (data: `microshadow plot
 // micro-shadowing-fit`).
 #pragma once
 
@@ -36,7 +36,7 @@
 
 namespace msh::micro_shadowing {
 
-// Fitted over V ∈ [0,1], N·L ∈ (0,1], N·V ∈ (0,1], r ∈ [0.1, 1] (scripts/fit_micro_shadowing.py).
+// Fitted over V ∈ [0,1], N·L ∈ (0,1], N·V ∈ (0,1], r ∈ [0.1, 1] (tools/research/fit_micro_shadowing.py).
 inline constexpr std::array<double, 9> kGenericVndfAluFast = {
     1.39397, -0.796604, 0.332797, -0.467188, 6.28222, 0.384725, -6.03135, -0.00902245, 0.555965};
 // Three cubic forms (a, q, g) in (x, y, z) = (r, cos θc, w_z), 20 coefficients each, in the order

@@ -4,11 +4,13 @@
 For each method a minimal compute shader calls only that function; glslangValidator compiles it to Vulkan
 SPIR-V, spirv-opt -O inlines and optimizes it, and the static instruction count of main (OpLabel, OpPhi,
 OpLoopMerge etc. included; OpLine/OpName not) and its image-sample instructions (hardware-filtered fetches,
-before any runtime early-out) are printed as a Markdown table. Usage: scripts/lut_spirv_counts.py
+before any runtime early-out) are printed as a Markdown table. Usage: tools/research/lut_spirv_counts.py
 """
+import os
 import sys
 
-from spirv_cost import spirv_cost
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+from spirv_cost import spirv_cost  # noqa: E402
 
 LIB = '#include "micro_shadowing.glsl"\n'
 HEAD = """#version 450

@@ -7,14 +7,14 @@ view and scale (scripts/study_targets.py's aggregation); then the issue's two ta
 (material, component, k, view):
   - a form of <= 8 B and <= 2 fetches within +0.01 mean and +0.03 worst light of float directional-view;
   - a form of <= 4 B and 1 fetch at least 2x closer (mean |bias - 1|) than the best cone term at every k.
-Usage: /usr/bin/python3 scripts/compact_forms.py DIR/results.json [--json OUT.json]
+Usage: /usr/bin/python3 tools/research/compact_forms.py DIR/results.json [--json OUT.json]
 """
 import json
 import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
 from study_targets import aggregate, view_of  # noqa: E402
 
 FLOAT = "directional-view"

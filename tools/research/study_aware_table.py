@@ -8,7 +8,7 @@ sd / sqrt(n)), and the mean ground-truth noise floor of the footprint RMSE (rela
 where `diffuse-aware+specular-aware` is lower than each other method, and gives the mean paired difference aware - method with its
 standard error over cells, per metric.
 Components with gt_mean below 2 % of the total's are skipped per cell (as the study's ranking does).
-Usage: /usr/bin/python3 scripts/study_aware_table.py DIR/results.json [--methods a,b,...]
+Usage: /usr/bin/python3 tools/research/study_aware_table.py DIR/results.json [--methods a,b,...]
 """
 import json
 import math

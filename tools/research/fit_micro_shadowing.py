@@ -6,7 +6,7 @@ exact azimuth-mean term, and checks them on an independent validation set.
     microshadow plot micro-shadowing-fit --out train.csv --samples 40000 --seed 1 --near-step 8000 \\
         --skip-early-out
     microshadow plot micro-shadowing-fit --out val.csv --samples 20000 --seed 2
-    /usr/bin/python3 scripts/fit_micro_shadowing.py train.csv --validate val.csv
+    /usr/bin/python3 tools/research/fit_micro_shadowing.py train.csv --validate val.csv
 
 Two models, both f = Pcap * P1 * L / P2 (see the header for the formulas):
   fast       generic_vndf_alu: linear forms in (r, V, k = N.V/(N.V + alpha)), 9 coefficients, 40 operations;

@@ -3,7 +3,7 @@
 # docs/micro-shadowing.md, "ALU-only approximation"): each function is compiled alone into a compute kernel
 # (glslangValidator -V), optimized (spirv-opt -O) and its arithmetic instructions counted by opcode, by the
 # project's one counter (scripts/spirv_cost.py, whose rule says what is arithmetic). Needs glslang-tools,
-# spirv-tools and python3. Usage: scripts/count_micro_shadowing_fit_ops.sh
+# spirv-tools and python3. Usage: tools/research/count_micro_shadowing_fit_ops.sh
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 tmp="$(mktemp -d)"
@@ -25,5 +25,5 @@ for f in one-call pixel light; do
   } > "$tmp/k.comp"
   # The kernel's own glue (the pixel kernel's 7 adds summing the struct, the light kernel's q.x * q.y) is
   # counted too: subtract it (docs/micro-shadowing.md).
-  echo "$f: $(python3 "$here/spirv_cost.py" "$tmp/k.comp")"
+  echo "$f: $(python3 "$here/../../scripts/spirv_cost.py" "$tmp/k.comp")"
 done

@@ -3,9 +3,9 @@
 # left half without micro-shadowing, the right half with the recommended pair, rendered by headless chromium
 # (SwiftShader WebGL2) at 1280x720. Needs the build (CLI at build/bin/microshadow or $1), chromium, and
 # `npm ci` in tests/browser and integrations/three (scripts/install-deps.sh).
-#   bash scripts/three_figure.sh [path/to/microshadow] [OUT.png]
+#   bash tools/research/three_figure.sh [path/to/microshadow] [OUT.png]
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bin="${1:-$root/build/bin/microshadow}"
 png="$(realpath -m "${2:-$root/docs/figures/three_grazing.png}")"
 tmp="$(mktemp -d)"

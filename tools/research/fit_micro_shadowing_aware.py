@@ -5,7 +5,7 @@ the diffuse-aware term") to the exact azimuth-mean term diffuse_aware_exact_azim
 
     microshadow plot micro-shadowing-fit --term diffuse-aware --out rec.csv --samples 4000 --seed 1 \\
         --near-step 500 --skip-early-out
-    /usr/bin/python3 scripts/fit_micro_shadowing_aware.py rec.csv
+    /usr/bin/python3 tools/research/fit_micro_shadowing_aware.py rec.csv
 
 The model is the header's, in float64: f = Pcap * T_l L_l * T_v L_v, cubic forms in (r, cos_t, w), started
 from the generic term's two-stage coefficients (kGenericVndfAluTwoStage, read from micro_shadowing_fit.h).
@@ -55,7 +55,7 @@ def model(p, V, nl, nv, r):
 
 def generic_two_stage_coefficients():
     """kGenericVndfAluTwoStage from include/microshadow/occlusion/micro_shadowing_fit.h (the start)."""
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "include", "microshadow",
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "include", "microshadow",
                         "occlusion", "micro_shadowing_fit.h")
     text = open(path).read()
     body = text[text.index("kGenericVndfAluTwoStage = {"):]

@@ -3,7 +3,7 @@
 first), each labelled with its whole-view bias (term / ground truth of the mean radiance, total component).
 The images are the study's featured ones (DIR/images/<material>_<shape>_k<k>_<light>_<method>.png); methods
 may come from several study runs of the same configuration (the ground truth is the same in each).
-Usage: /usr/bin/python3 scripts/study_figure.py --out FIG.png --materials gravel,rock --scale 4
+Usage: /usr/bin/python3 tools/research/study_figure.py --out FIG.png --materials gravel,rock --scale 4
        --light dir-el10-az0 --methods ao,directional,directional-view DIR [DIR ...]
 """
 import argparse
