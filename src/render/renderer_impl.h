@@ -122,6 +122,11 @@ struct Renderer::Impl {
   // light0: replaces the scene's first light (a mosaic window's, Renderer::render_windows_components).
   void shade(const Hit& h, const Vec3f& wo, uint32_t seed, RenderStats& st, const Components& cs, Rgbf* out,
              const Light* light0 = nullptr) const;
+  // The material at a hit as the terms read it: base colour, roughness, metallic, the tangent frame, the
+  // normal-mapped shading normal, V and the directional channels the method reads (none on the ground truth).
+  ShadePoint shade_point(const Hit& h) const;
+  // One hit's direct lighting, per kind of light (integrator.cpp): what shade() does for each light.
+  class HitLighting;
   // Hanika 2021 (RTG II ch. 4): shadow-ray origin on the smooth surface implied by the vertex normals.
   static Vec3f hanika_offset(const Mesh& m, const Hit& h);
   // Mean of the pixel's spp samples, taken as `batches` independently scrambled Sobol batches of spp/batches

@@ -730,6 +730,156 @@ std::vector<LatticeStep> lattice_azimuths(int n, double max_error_deg) {
 }
 
 namespace {
+
+// Into [0, m): one add or subtract for the usual small offsets, the remainder otherwise (tiny maps).
+inline int wrap_index(int v, int m) {
+  if (v >= m) v -= m;
+  if (v < 0) v += m;
+  return v >= 0 && v < m ? v : ((v % m) + m) % m;
+}
+
+// What the sweeps of one step (p, q) share: its lines, and each line's profile points (a vertex, then its
+// breakpoints) with their distances and cell offsets, the same for every line.
+struct StepLines {
+  std::vector<Breakpoint> bps;
+  int per = 1;                           // profile points per step: the vertex, then its breakpoints
+  int K = 0;                             // vertices per line
+  std::size_t N = 0;                     // profile points per line, K · per
+  std::vector<int> starts;               // one start vertex per line, in memory order
+  std::vector<std::ptrdiff_t> cell_off;  // each breakpoint's cell corner from the vertex (padded heights)
+  int r0 = 0, r1 = 0, c0 = 0, c1 = 0;    // the rows and columns a step's cells span from its vertex
+  std::vector<double> ss;                // distances along the line
+  double L = 0;                          // the line's length (one period)
+};
+
+StepLines step_lines(LatticeStep st, int w, int h, int PW) {
+  StepLines sl;
+  sl.bps = step_breakpoints(st);
+  const double len = std::hypot(double(st.p), double(st.q));
+  // Vertices per line: the smallest K with K p ≡ 0 (mod w) and K q ≡ 0 (mod h).
+  const int kx = w / std::gcd(w, std::abs(st.p)), ky = h / std::gcd(h, std::abs(st.q));
+  sl.K = std::lcm(kx, ky);
+  // One start vertex per line, in memory order (neighbouring lines run side by side through memory).
+  std::vector<char> seen(std::size_t(w) * h, 0);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      if (seen[std::size_t(j) * w + i]) continue;
+      sl.starts.push_back(j * w + i);
+      int x = i, y = j;
+      for (int m = 0; m < sl.K; ++m) {
+        seen[std::size_t(y) * w + x] = 1;
+        x = wrap_index(x + st.p, w), y = wrap_index(y + st.q, h);
+      }
+    }
+  sl.per = 1 + int(sl.bps.size());
+  std::vector<double> s_off(std::size_t(sl.per), 0.0);  // the points' distances from the step's vertex
+  for (int b = 1; b < sl.per; ++b) s_off[std::size_t(b)] = sl.bps[std::size_t(b - 1)].t * len;
+  sl.cell_off.resize(sl.bps.size());
+  for (std::size_t b = 0; b < sl.bps.size(); ++b) {
+    sl.cell_off[b] = std::ptrdiff_t(sl.bps[b].cj) * PW + sl.bps[b].ci;
+    sl.r0 = std::min(sl.r0, sl.bps[b].cj), sl.r1 = std::max(sl.r1, sl.bps[b].cj + 1);
+    sl.c0 = std::min(sl.c0, sl.bps[b].ci), sl.c1 = std::max(sl.c1, sl.bps[b].ci + 1);
+  }
+  sl.N = std::size_t(sl.K) * sl.per;
+  sl.ss.resize(sl.N);
+  for (int m = 0; m < sl.K; ++m)
+    for (int b = 0; b < sl.per; ++b)
+      sl.ss[std::size_t(m) * sl.per + b] = double(m) * len + s_off[std::size_t(b)];
+  sl.L = double(sl.K) * len;
+  return sl;
+}
+
+// Lines go in bundles of kBundle neighbours (consecutive starts, side by side in memory), their profiles
+// read in lockstep so the rows a step crosses are read once for the whole bundle.
+constexpr std::size_t kBundle = 8;
+
+// Reads the profiles of the bundle's nl lines starting at starts[l0]: zs[u · N + i] the height of point i
+// of line u, vid[u · K + m] its m-th vertex, top[u] its highest point (the first if several).
+void read_bundle(const PaddedHeights& f, LatticeStep st, const StepLines& sl, int w, int h, std::size_t l0,
+                 std::size_t nl, float* zs, int* vid, std::size_t* top) {
+  const int PW = f.PW, per = sl.per, K = sl.K;
+  const std::size_t N = sl.N;
+  int xs[kBundle], ys[kBundle];
+  float ztop[kBundle];
+  for (std::size_t u = 0; u < nl; ++u) {
+    xs[u] = sl.starts[l0 + u] % w, ys[u] = sl.starts[l0 + u] / w;
+    top[u] = 0, ztop[u] = -std::numeric_limits<float>::infinity();
+  }
+  // The bundle's first and last lines kAhead steps ahead: their cells are prefetched (the lines cross the
+  // rows diagonally, which the hardware's stride prefetch does not follow).
+  constexpr int kAhead = 8;
+  int ax[2] = {wrap_index(xs[0] + kAhead * st.p, w), wrap_index(xs[nl - 1] + kAhead * st.p, w)};
+  int ay[2] = {wrap_index(ys[0] + kAhead * st.q, h), wrap_index(ys[nl - 1] + kAhead * st.q, h)};
+  for (int m = 0; m < K; ++m) {
+    {
+      const float* a = f.z.data() + f.base(ax[0], ay[0]);
+      const float* b = f.z.data() + f.base(ax[1], ay[1]);
+      // One span when the bundle's lines sit side by side in a row (the usual case), else each end.
+      const bool one_span = ay[0] == ay[1] && ax[1] >= ax[0] && ax[1] - ax[0] <= 2 * int(kBundle);
+      for (int rr = sl.r0; rr <= sl.r1; ++rr) {
+        const float* lo = a + std::ptrdiff_t(rr) * PW + sl.c0;
+        const float* hi = (one_span ? b : a) + std::ptrdiff_t(rr) * PW + sl.c1;
+        for (const float* q = lo; q <= hi; q += 16) __builtin_prefetch(q);
+        __builtin_prefetch(hi);
+        if (!one_span) {
+          __builtin_prefetch(b + std::ptrdiff_t(rr) * PW + sl.c0);
+          __builtin_prefetch(b + std::ptrdiff_t(rr) * PW + sl.c1);
+        }
+      }
+      for (int t = 0; t < 2; ++t) ax[t] = wrap_index(ax[t] + st.p, w), ay[t] = wrap_index(ay[t] + st.q, h);
+    }
+    for (std::size_t u = 0; u < nl; ++u) {
+      const int x = xs[u], y = ys[u];
+      float* z = &zs[u * N + std::size_t(m) * per];
+      const float* v = f.z.data() + f.base(x, y);
+      z[0] = *v;
+      vid[u * std::size_t(K) + std::size_t(m)] = y * w + x;
+      for (int b = 1; b < per; ++b) {
+        const Breakpoint& bp = sl.bps[std::size_t(b - 1)];
+        const float* c = v + sl.cell_off[std::size_t(b - 1)];
+        z[b] = cell_height(c[0], c[1], c[PW + 1], c[PW], bp.fx, bp.fy);
+      }
+      for (int b = 0; b < per; ++b)
+        if (z[b] > ztop[u]) ztop[u] = z[b], top[u] = std::size_t(m) * per + std::size_t(b);
+      xs[u] = wrap_index(x + st.p, w), ys[u] = wrap_index(y + st.q, h);
+    }
+  }
+}
+
+// The horizons of one line's vertices from its profile zl (vertices vl), by a convex hull swept backwards
+// from the profile's highest point `top` once around: nothing beyond it (one period further) rises above it,
+// so it hides every point there from every point before it. (The highest point may be a breakpoint: they
+// interpolate vertices off the line.) hs, hz: scratch of N points for the hull ahead, farthest first.
+template <class Store>
+void sweep_line(const StepLines& sl, int k, const float* zl, const int* vl, std::size_t top, double* hs,
+                double* hz, const Store& store) {
+  const int per = sl.per;
+  std::size_t n_h = 0;
+  // Points hi − 1 down to lo, shifted back by `shift`; point idx is breakpoint b = idx mod per of step
+  // m = idx / per (b = 0: the vertex), both counted down rather than divided.
+  auto sweep = [&](std::size_t hi, std::size_t lo, double shift) {
+    if (hi <= lo) return;
+    std::size_t m = (hi - 1) / std::size_t(per);
+    int b = int((hi - 1) % std::size_t(per));
+    for (std::size_t idx = hi; idx-- > lo;) {
+      const double s = sl.ss[idx] - shift, z = zl[idx];
+      // Drop the nearest hull point while the next one is at least as steep from here (it is then under the
+      // chord to it, for this point and every one before it): (zA − z)/(sA − s) ≥ (zB − z)/(sB − s),
+      // denominators > 0.
+      while (n_h >= 2 && (hz[n_h - 2] - z) * (hs[n_h - 1] - s) >= (hz[n_h - 1] - z) * (hs[n_h - 2] - s))
+        --n_h;
+      if (b == 0) {  // a vertex: its horizon
+        store(k, vl[m], n_h ? float(std::max((hz[n_h - 1] - z) / (hs[n_h - 1] - s), 0.0)) : 0.0f);
+        b = per, --m;
+      }
+      --b;
+      hs[n_h] = s, hz[n_h] = z, ++n_h;
+    }
+  };
+  sweep(top + 1, 0, 0.0);
+  sweep(sl.N, top + 1, sl.L);
+}
+
 // The sweeps of bake_horizon_tangents_lattice: store(k, v, T) receives tan H of vertex v = j·w + i along step
 // k, once per vertex and step.
 template <class Store>
@@ -745,143 +895,21 @@ void lattice_sweeps(const char* fn, const Texture& height, float depth, const st
   int pad = 2;
   for (const LatticeStep& st : steps) pad = std::max(pad, std::max(std::abs(st.p), std::abs(st.q)) + 2);
   const PaddedHeights f(height, depth, pad, false);
-  const int w = height.width(), h = height.height(), PW = f.PW, n = int(steps.size());
-  // Into [0, m): one add or subtract for the usual small offsets, the remainder otherwise (tiny maps).
-  auto wrap = [](int v, int m) {
-    if (v >= m) v -= m;
-    if (v < 0) v += m;
-    return v >= 0 && v < m ? v : ((v % m) + m) % m;
-  };
+  const int w = height.width(), h = height.height(), n = int(steps.size());
   for (int k = 0; k < n; ++k) {
     const LatticeStep st = steps[std::size_t(k)];
-    const auto bps = step_breakpoints(st);
-    const double len = std::hypot(double(st.p), double(st.q));
-    // Vertices per line: the smallest K with K p ≡ 0 (mod w) and K q ≡ 0 (mod h).
-    const int kx = w / std::gcd(w, std::abs(st.p)), ky = h / std::gcd(h, std::abs(st.q));
-    const int K = std::lcm(kx, ky);
-    // One start vertex per line, in memory order (neighbouring lines run side by side through memory).
-    std::vector<int> starts;
-    {
-      std::vector<char> seen(std::size_t(w) * h, 0);
-      for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i) {
-          if (seen[std::size_t(j) * w + i]) continue;
-          starts.push_back(j * w + i);
-          int x = i, y = j;
-          for (int m = 0; m < K; ++m) {
-            seen[std::size_t(y) * w + x] = 1;
-            x = wrap(x + st.p, w), y = wrap(y + st.q, h);
-          }
-        }
-    }
-    const int per = 1 + int(bps.size());  // profile points per step: the vertex, then its breakpoints
-    std::vector<double> s_off(std::size_t(per), 0.0);  // their distances from the step's vertex
-    for (int b = 1; b < per; ++b) s_off[std::size_t(b)] = bps[std::size_t(b - 1)].t * len;
-    std::vector<std::ptrdiff_t> cell_off(bps.size());  // each breakpoint's cell corner from the vertex
-    // The rows and columns a step's cells span from its vertex (the prefetch below).
-    int r0 = 0, r1 = 0, c0 = 0, c1 = 0;
-    for (std::size_t b = 0; b < bps.size(); ++b) {
-      cell_off[b] = std::ptrdiff_t(bps[b].cj) * PW + bps[b].ci;
-      r0 = std::min(r0, bps[b].cj), r1 = std::max(r1, bps[b].cj + 1);
-      c0 = std::min(c0, bps[b].ci), c1 = std::max(c1, bps[b].ci + 1);
-    }
-    // Distances along the line, the same for every line of the step.
-    const std::size_t N = std::size_t(K) * per;
-    std::vector<double> ss(N);
-    for (int m = 0; m < K; ++m)
-      for (int b = 0; b < per; ++b) ss[std::size_t(m) * per + b] = double(m) * len + s_off[std::size_t(b)];
-    const double L = double(K) * len;
-    // Lines go in bundles of kBundle neighbours (consecutive starts, side by side in memory), their profiles
-    // read in lockstep so the rows a step crosses are read once for the whole bundle.
-    constexpr std::size_t kBundle = 8;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, starts.size(), kBundle), [&](const auto& r) {
+    const StepLines sl = step_lines(st, w, h, f.PW);
+    const std::size_t N = sl.N, K = std::size_t(sl.K);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sl.starts.size(), kBundle), [&](const auto& r) {
       std::vector<float> zs(N * kBundle);
-      std::vector<int> vid(std::size_t(K) * kBundle);
-      std::vector<double> hs(N), hz(N);  // the hull ahead, farthest first: n_h points
+      std::vector<int> vid(K * kBundle);
+      std::vector<double> hs(N), hz(N);
       for (std::size_t l0 = r.begin(); l0 < r.end(); l0 += kBundle) {
         const std::size_t nl = std::min(kBundle, r.end() - l0);
-        int xs[kBundle], ys[kBundle];
-        // Each line's highest point, its first if several (found as the profile is read).
         std::size_t top[kBundle];
-        float ztop[kBundle];
-        for (std::size_t u = 0; u < nl; ++u) {
-          xs[u] = starts[l0 + u] % w, ys[u] = starts[l0 + u] / w;
-          top[u] = 0, ztop[u] = -std::numeric_limits<float>::infinity();
-        }
-        // The bundle's first and last lines kAhead steps ahead: their cells are prefetched (the lines cross
-        // the rows diagonally, which the hardware's stride prefetch does not follow).
-        constexpr int kAhead = 8;
-        int ax[2] = {wrap(xs[0] + kAhead * st.p, w), wrap(xs[nl - 1] + kAhead * st.p, w)};
-        int ay[2] = {wrap(ys[0] + kAhead * st.q, h), wrap(ys[nl - 1] + kAhead * st.q, h)};
-        for (int m = 0; m < K; ++m) {
-          {
-            const float* a = f.z.data() + f.base(ax[0], ay[0]);
-            const float* b = f.z.data() + f.base(ax[1], ay[1]);
-            // One span when the bundle's lines sit side by side in a row (the usual case), else each end.
-            const bool one_span = ay[0] == ay[1] && ax[1] >= ax[0] && ax[1] - ax[0] <= 2 * int(kBundle);
-            for (int rr = r0; rr <= r1; ++rr) {
-              const float* lo = a + std::ptrdiff_t(rr) * PW + c0;
-              const float* hi = (one_span ? b : a) + std::ptrdiff_t(rr) * PW + c1;
-              for (const float* q = lo; q <= hi; q += 16) __builtin_prefetch(q);
-              __builtin_prefetch(hi);
-              if (!one_span) {
-                __builtin_prefetch(b + std::ptrdiff_t(rr) * PW + c0);
-                __builtin_prefetch(b + std::ptrdiff_t(rr) * PW + c1);
-              }
-            }
-            for (int t = 0; t < 2; ++t) ax[t] = wrap(ax[t] + st.p, w), ay[t] = wrap(ay[t] + st.q, h);
-          }
-          for (std::size_t u = 0; u < nl; ++u) {
-            const int x = xs[u], y = ys[u];
-            float* z = &zs[u * N + std::size_t(m) * per];
-            const float* v = f.z.data() + f.base(x, y);
-            z[0] = *v;
-            vid[u * std::size_t(K) + std::size_t(m)] = y * w + x;
-            for (int b = 1; b < per; ++b) {
-              const Breakpoint& bp = bps[std::size_t(b - 1)];
-              const float* c = v + cell_off[std::size_t(b - 1)];
-              z[b] = cell_height(c[0], c[1], c[PW + 1], c[PW], bp.fx, bp.fy);
-            }
-            for (int b = 0; b < per; ++b)
-              if (z[b] > ztop[u]) ztop[u] = z[b], top[u] = std::size_t(m) * per + std::size_t(b);
-            xs[u] = wrap(x + st.p, w), ys[u] = wrap(y + st.q, h);
-          }
-        }
-        for (std::size_t u = 0; u < nl; ++u) {
-          const float* zl = &zs[u * N];
-          const int* vl = &vid[u * std::size_t(K)];
-          // Sweep backwards from the profile's highest point once around: nothing beyond it (one period
-          // further) rises above it, so it hides every point there from every point before it. (The highest
-          // point may be a breakpoint: they interpolate vertices off the line.)
-          const std::size_t start = top[u];
-          std::size_t n_h = 0;
-          double* const hsp = hs.data();
-          double* const hzp = hz.data();
-          // Points hi − 1 down to lo, shifted back by `shift`; point idx is breakpoint b = idx mod per of
-          // step m = idx / per (b = 0: the vertex), both counted down rather than divided.
-          auto sweep = [&](std::size_t hi, std::size_t lo, double shift) {
-            if (hi <= lo) return;
-            std::size_t m = (hi - 1) / std::size_t(per);
-            int b = int((hi - 1) % std::size_t(per));
-            for (std::size_t idx = hi; idx-- > lo;) {
-              const double s = ss[idx] - shift, z = zl[idx];
-              // Drop the nearest hull point while the next one is at least as steep from here (it is then
-              // under the chord to it, for this point and every one before it): (zA − z)/(sA − s) ≥ (zB −
-              // z)/(sB − s), denominators > 0.
-              while (n_h >= 2 &&
-                     (hzp[n_h - 2] - z) * (hsp[n_h - 1] - s) >= (hzp[n_h - 1] - z) * (hsp[n_h - 2] - s))
-                --n_h;
-              if (b == 0) {  // a vertex: its horizon
-                store(k, vl[m], n_h ? float(std::max((hzp[n_h - 1] - z) / (hsp[n_h - 1] - s), 0.0)) : 0.0f);
-                b = per, --m;
-              }
-              --b;
-              hsp[n_h] = s, hzp[n_h] = z, ++n_h;
-            }
-          };
-          sweep(start + 1, 0, 0.0);
-          sweep(N, start + 1, L);
-        }
+        read_bundle(f, st, sl, w, h, l0, nl, zs.data(), vid.data(), top);
+        for (std::size_t u = 0; u < nl; ++u)
+          sweep_line(sl, k, &zs[u * N], &vid[u * K], top[u], hs.data(), hz.data(), store);
       }
     });
   }
