@@ -309,3 +309,39 @@ TEST(IoHostile, OutputFolderRemovesTheEarlierRunsStaleFiles) {
   EXPECT_EQ(text.find("b.txt"), std::string::npos) << text;
   EXPECT_THROW(msh::io::OutputFolder(dir / "a.txt"), msh::InputError);
 }
+
+// A folder written whole under a temporary name and renamed (gen-material --gltf): the list names its files
+// where they end up, so it is the same on every run (no process id in it), and a later run without the folder
+// removes it.
+TEST(IoHostile, OutputFolderRecordsARenamedDirectoryUnderItsFinalName) {
+  namespace fs = std::filesystem;
+  const auto root = msh::io::test::scratch_dir();
+  const fs::path dir = root / "out";
+  const auto manifest = [&] {
+    std::ifstream in(dir / msh::io::OutputFolder::kManifest);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  fs::create_directories(dir);
+  std::string first;
+  for (int run = 0; run < 2; ++run) {
+    msh::io::OutputFolder f(dir);
+    msh::io::write_file_atomic(dir / "a.txt", std::string_view("a"));
+    const fs::path tmp = dir / (".sub.tmp-" + std::to_string(1000 + run));
+    fs::create_directories(tmp / "deep");
+    for (const char* n : {"x.gltf", "deep/y.png"}) msh::io::write_file_atomic(tmp / n, std::string_view(n));
+    if (fs::exists(dir / "sub")) fs::remove_all(dir / "sub");
+    msh::io::rename_recorded_directory(tmp, dir / "sub");
+    EXPECT_TRUE(f.finish().empty());
+    if (run == 0) first = manifest();
+  }
+  EXPECT_EQ(manifest(), first);
+  EXPECT_NE(first.find("\nsub/x.gltf\n"), std::string::npos) << first;
+  EXPECT_NE(first.find("\nsub/deep/y.png\n"), std::string::npos) << first;
+  EXPECT_EQ(first.find(".tmp-"), std::string::npos) << first;
+  {
+    msh::io::OutputFolder f(dir);
+    msh::io::write_file_atomic(dir / "a.txt", std::string_view("a"));
+    EXPECT_EQ(f.finish(), (std::vector<std::string>{"sub/deep/y.png", "sub/x.gltf"}));
+  }
+  EXPECT_FALSE(fs::exists(dir / "sub"));
+}

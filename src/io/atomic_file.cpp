@@ -179,6 +179,26 @@ void AtomicPath::commit() {
   record_commit(target_);
 }
 
+void rename_recorded_directory(const fs::path& from, const fs::path& to) {
+  fs::rename(from, to);
+  const std::lock_guard<std::mutex> lock(g_record_mutex);
+  const fs::path af = absolute_normal(from), at = absolute_normal(to);
+  for (auto& [id, r] : g_recorders) {
+    const std::string rf = relative_under(af, r.dir), rt = relative_under(at, r.dir);
+    if (rf.empty()) continue;
+    std::set<std::string> moved;
+    for (auto it = r.files.begin(); it != r.files.end();) {
+      if (it->size() > rf.size() && it->compare(0, rf.size(), rf) == 0 && (*it)[rf.size()] == '/') {
+        if (!rt.empty()) moved.insert(rt + it->substr(rf.size()));
+        it = r.files.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    r.files.insert(moved.begin(), moved.end());
+  }
+}
+
 void write_file_atomic(const fs::path& path, std::span<const std::byte> bytes) {
   AtomicPath ap(path);
   std::FILE* f = std::fopen(ap.temp().c_str(), "wb");

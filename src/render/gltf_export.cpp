@@ -238,7 +238,7 @@ void write_texture_set_gltf(const std::filesystem::path& dir, const TextureSet& 
         std::span<const std::byte>(reinterpret_cast<const std::byte*>(bin.data()), bin.size()));
     io::write_file_atomic(tmp / (name + ".gltf"), text);
     if (fs::exists(target)) fs::remove_all(target);
-    fs::rename(tmp, target);
+    io::rename_recorded_directory(tmp, target);
   } catch (...) {
     fs::remove_all(tmp, ec);
     throw;

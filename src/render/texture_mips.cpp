@@ -34,6 +34,48 @@ io::Volume channels(const Texture& t, int c0, int n, F f) {
         v.at(x, y, 0, c) = c0 + c < t.channels() ? f(t.at(x, y, c0 + c), c0 + c) : 0.0f;
   return v;
 }
+// The compact form's files (K coefficients, 4 per RGBA8 texture, each level the quantised code of that
+// level's channels; the writer rounds saturate(u) · 255 as quantize_coefficients does) and its mips.json
+// entry.
+nlohmann::json write_compact_form(const std::filesystem::path& dir, const std::filesystem::path& m,
+                                  const std::vector<const TextureSet*>& chain,
+                                  const DirectionalCodec& codec) {
+  const int K = codec.coefficients;
+  std::vector<Texture> coef;
+  for (const TextureSet* s : chain) coef.push_back(encode_directional(s->directional, codec));
+  nlohmann::json tex = nlohmann::json::array(), dds = nlohmann::json::array(), png = nlohmann::json::array();
+  for (int t = 0; 4 * t < K; ++t) {
+    const auto unorm = [&](float a, int k) {
+      return (a - codec.lo[std::size_t(k)]) / (codec.hi[std::size_t(k)] - codec.lo[std::size_t(k)]);
+    };
+    std::vector<io::Volume> levels;
+    for (const Texture& a : coef) levels.push_back(channels(a, 4 * t, 4, unorm));
+    const std::string name = fmt::format("directional_compact_{}", t);
+    io::write_texture_mips(m / (name + ".ktx2"), levels, io::PixelFormat::RGBA8Unorm);
+    io::write_texture_mips(m / (name + ".dds"), levels, io::PixelFormat::RGBA8Unorm);
+    io::write_volume(dir / (name + ".png"), levels[0], io::FileFormat::Png, io::PixelFormat::RGBA8Unorm);
+    tex.push_back(name + ".ktx2"), dds.push_back(name + ".dds"), png.push_back("../" + name + ".png");
+  }
+  return {{"form", codec.form},
+          {"coefficients", K},
+          {"channels", codec.channels},
+          {"textures", tex},
+          {"dds", dds},
+          {"png", png},
+          {"lo", codec.lo},
+          {"hi", codec.hi},
+          {"mean", codec.mean},
+          {"basis", codec.basis_rows()},
+          {"explained", codec.explained},
+          {"folded_mean", codec.folded_mean()},
+          {"folded_basis", codec.folded_basis_rows()},
+          {"decode",
+           "a_k = lo_k + (hi_k - lo_k) * unorm_k (coefficient 4t + c in channel c of texture t); channel_i = "
+           "mean_i + sum_k basis[i][k] * a_k (equivalently folded_mean_i + sum_k folded_basis[i][k] * "
+           "unorm_k); then "
+           "the channels as directional.h evaluates them"}};
+}
+
 }  // namespace
 
 void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& fine, bool directional_bc,
@@ -125,46 +167,7 @@ void write_texture_set_mips(const std::filesystem::path& dir, const TextureSet& 
                         {"hi", hi},
                         {"decode", "channel = lo + (hi - lo) * unorm (per channel, every level)"}};
   }
-  if (codec) {
-    // K coefficients, 4 per RGBA8 texture, each level the quantised code of that level's channels (the
-    // writer rounds saturate(u) · 255 as quantize_coefficients does).
-    const int K = codec->coefficients;
-    std::vector<Texture> coef;
-    for (const TextureSet* s : chain) coef.push_back(encode_directional(s->directional, *codec));
-    nlohmann::json tex = nlohmann::json::array(), dds = nlohmann::json::array(),
-                   png = nlohmann::json::array();
-    for (int t = 0; 4 * t < K; ++t) {
-      const auto unorm = [&](float a, int k) {
-        return (a - codec->lo[std::size_t(k)]) / (codec->hi[std::size_t(k)] - codec->lo[std::size_t(k)]);
-      };
-      std::vector<io::Volume> levels;
-      for (const Texture& a : coef) levels.push_back(channels(a, 4 * t, 4, unorm));
-      const std::string name = fmt::format("directional_compact_{}", t);
-      io::write_texture_mips(m / (name + ".ktx2"), levels, io::PixelFormat::RGBA8Unorm);
-      io::write_texture_mips(m / (name + ".dds"), levels, io::PixelFormat::RGBA8Unorm);
-      io::write_volume(dir / (name + ".png"), levels[0], io::FileFormat::Png, io::PixelFormat::RGBA8Unorm);
-      tex.push_back(name + ".ktx2"), dds.push_back(name + ".dds"), png.push_back("../" + name + ".png");
-    }
-    j["directional_compact"] = {
-        {"form", codec->form},
-        {"coefficients", K},
-        {"channels", codec->channels},
-        {"textures", tex},
-        {"dds", dds},
-        {"png", png},
-        {"lo", codec->lo},
-        {"hi", codec->hi},
-        {"mean", codec->mean},
-        {"basis", codec->basis_rows()},
-        {"explained", codec->explained},
-        {"folded_mean", codec->folded_mean()},
-        {"folded_basis", codec->folded_basis_rows()},
-        {"decode",
-         "a_k = lo_k + (hi_k - lo_k) * unorm_k (coefficient 4t + c in channel c of texture t); channel_i = "
-         "mean_i + sum_k basis[i][k] * a_k (equivalently folded_mean_i + sum_k folded_basis[i][k] * "
-         "unorm_k); then "
-         "the channels as directional.h evaluates them"}};
-  }
+  if (codec) j["directional_compact"] = write_compact_form(dir, m, chain, *codec);
   io::write_file_atomic(m / "mips.json", j.dump(2) + "\n");
 }
 

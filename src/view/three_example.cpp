@@ -93,12 +93,25 @@ void write_three_module(const fs::path& assets, const fs::path& dir) {
   io::write_file_atomic(dir / "glsl.js", glsl);
 }
 
-std::string three_example_gltf(const std::string& texture_prefix) {
-  constexpr int nu = 128, nv = 48;
-  constexpr float R = 0.7f, r = 0.3f, tile_u = 7, tile_v = 3;
-  const double pi = 3.14159265358979323846;
+namespace {
+
+// The example's torus (major radius 0.7, minor 0.3, 128 × 48 quads, the texture tiled 7 × 3): glTF
+// attributes (positions with their bounds, normals, tangents with w along +v, texture coordinates) and
+// triangle indices.
+struct TorusMesh {
+  static constexpr int nu = 128, nv = 48;
   std::vector<float> pos, nrm, tan, uv;
   float lo[3] = {1e9f, 1e9f, 1e9f}, hi[3] = {-1e9f, -1e9f, -1e9f};
+  std::vector<uint16_t> idx;
+};
+
+TorusMesh torus_mesh() {
+  constexpr int nu = TorusMesh::nu, nv = TorusMesh::nv;
+  constexpr float R = 0.7f, r = 0.3f, tile_u = 7, tile_v = 3;
+  const double pi = 3.14159265358979323846;
+  TorusMesh out;
+  auto &pos = out.pos, &nrm = out.nrm, &tan = out.tan, &uv = out.uv;
+  auto &lo = out.lo, &hi = out.hi;
   for (int j = 0; j <= nv; ++j) {
     const double b = 2 * pi * j / nv;
     for (int i = 0; i <= nu; ++i) {
@@ -123,12 +136,23 @@ std::string three_example_gltf(const std::string& texture_prefix) {
       uv.push_back(tile_v * float(j) / nv);
     }
   }
-  std::vector<uint16_t> idx;
+  auto& idx = out.idx;
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {
       const uint16_t a = uint16_t(j * (nu + 1) + i), b = uint16_t(a + nu + 1);
       for (uint16_t k : {a, uint16_t(a + 1), b, uint16_t(a + 1), uint16_t(b + 1), b}) idx.push_back(k);
     }
+  return out;
+}
+
+}  // namespace
+
+std::string three_example_gltf(const std::string& texture_prefix) {
+  const TorusMesh mesh = torus_mesh();
+  const auto &pos = mesh.pos, &nrm = mesh.nrm, &tan = mesh.tan, &uv = mesh.uv;
+  const auto &lo = mesh.lo, &hi = mesh.hi;
+  const auto& idx = mesh.idx;
+  constexpr int nu = TorusMesh::nu, nv = TorusMesh::nv;
   // One buffer: positions, normals, tangents, texture coordinates, indices (little-endian, 4-byte aligned).
   std::vector<unsigned char> buf;
   std::vector<std::pair<std::size_t, std::size_t>> views;  // offset, length

@@ -43,6 +43,11 @@ class AtomicPath {
 //    (a SIGKILL, a power cut).
 void install_temporary_cleanup();
 
+// Renames the directory `from` (a folder written whole under a temporary name) to `to`, and the files an
+// OutputFolder recorded under `from` are recorded under `to` instead: its list names the files where they
+// end up, not the temporary's (whose name holds the process id). Throws std::filesystem::filesystem_error.
+void rename_recorded_directory(const std::filesystem::path& from, const std::filesystem::path& to);
+
 // A run's output folder, replaced or completed as a whole. Every file committed under `dir` while the object
 // lives is recorded (every writer of the library goes through AtomicPath); finish() writes their list to
 // DIR/.microshadow-files (written last: a folder without it, or with an older one, is an incomplete run) and
