@@ -386,6 +386,21 @@ template <double (*F)(double, double), float (*G)(float, float)>
 Impl closed_entry(const MicroShadowingOptions&, const MicroShadowingMethodInfo&) {
   return closed_form(F, G);
 }
+// A closed form of (V, N·L) alone: its info names it (MicroShadowingMethodInfo::closed_form).
+template <double (*F)(double, double), float (*G)(float, float)>
+Entry closed(MicroShadowingMethodInfo i) {
+  i.closed_form = F;
+  return {std::move(i), closed_entry<F, G>};
+}
+// The registry's table sampled (3: at N·V; 2: at N·V = 1, the 2D slice).
+MicroShadowingMethodInfo table_sampler(MicroShadowingMethodInfo i, int dims) {
+  i.table_sample = dims;
+  return i;
+}
+template <class T>
+T visibility_term(T v, T) {
+  return v;
+}
 Impl constant_entry(double c) {
   Impl i{[c](const Point&) { return c; }, nullptr};
   i.shade = [c](const MicroShadowingShadeInput&) { return float(c); };
@@ -400,29 +415,25 @@ const std::vector<Entry>& entries() {
         {info("none", "none (term = 1)", "no micro-occlusion: the term is 1", kNoNdotl | kStudy,
               {glsl("1.0")}),
          [](auto&, auto&) { return constant_entry(1.0); }},
-        {info("ao", "AO on direct light (term = V)",
-              "the visibility V itself (ambient occlusion applied to direct light)", kNoNdotl | kStudy,
-              {glsl("vis")}),
-         [](auto&, auto&) {
-           Impl i{[](const Point& p) { return p.V; }, nullptr};
-           i.shade = [](const In& in) { return in.visibility; };
-           return i;
-         }},
-        {info("reference", "reference step (Zurita 2026)",
-              "step: 1 when the light is inside the visibility cone, else 0", kStudy,
-              {glsl("msh_ms_reference_step(vis, nl)", "msh_ms_reference_step")}),
-         closed_entry<ms::reference_step<double>, ms::reference_step<float>>},
-        {info("brinck-maximov-2016", "Brinck & Maximov 2016",
-              "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'", kStudy,
-              {glsl("msh_ms_brinck_maximov2016(vis, nl)", "msh_ms_brinck_maximov2016")}),
-         closed_entry<ms::brinck_maximov_2016<double>, ms::brinck_maximov_2016<float>>},
-        {info("chan-2018", "Chan 2018 (Filament)", "Chan 2018, 'Material Advances in Call of Duty: WWII'",
-              kStudy, {glsl("msh_ms_chan2018(vis, nl)", "msh_ms_chan2018")}),
-         closed_entry<ms::chan_2018<double>, ms::chan_2018<float>>},
-        {info("part1-analytic", "Part 1 analytic (Zurita 2026)",
-              "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'", kStudy,
-              {glsl("msh_ms_part1_analytic(vis, nl)", "msh_ms_part1_analytic")}),
-         closed_entry<ms::part1_analytic<double>, ms::part1_analytic<float>>},
+        closed<visibility_term<double>, visibility_term<float>>(
+            info("ao", "AO on direct light (term = V)",
+                 "the visibility V itself (ambient occlusion applied to direct light)", kNoNdotl | kStudy,
+                 {glsl("vis")})),
+        closed<ms::reference_step<double>, ms::reference_step<float>>(
+            info("reference", "reference step (Zurita 2026)",
+                 "step: 1 when the light is inside the visibility cone, else 0", kStudy,
+                 {glsl("msh_ms_reference_step(vis, nl)", "msh_ms_reference_step")})),
+        closed<ms::brinck_maximov_2016<double>, ms::brinck_maximov_2016<float>>(
+            info("brinck-maximov-2016", "Brinck & Maximov 2016",
+                 "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'", kStudy,
+                 {glsl("msh_ms_brinck_maximov2016(vis, nl)", "msh_ms_brinck_maximov2016")})),
+        closed<ms::chan_2018<double>, ms::chan_2018<float>>(
+            info("chan-2018", "Chan 2018 (Filament)", "Chan 2018, 'Material Advances in Call of Duty: WWII'",
+                 kStudy, {glsl("msh_ms_chan2018(vis, nl)", "msh_ms_chan2018")})),
+        closed<ms::part1_analytic<double>, ms::part1_analytic<float>>(
+            info("part1-analytic", "Part 1 analytic (Zurita 2026)",
+                 "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'", kStudy,
+                 {glsl("msh_ms_part1_analytic(vis, nl)", "msh_ms_part1_analytic")})),
         {info("generic-vndf", "generic VNDF (Zurita 2026)",
               "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator with "
               "samples",
@@ -446,24 +457,28 @@ const std::vector<Entry>& entries() {
                  return g;
                }()}),
          generic_vndf_alu},
-        {info("lut3d", "3D LUT (cone layout)", "the LUT sampler on a 3D table (V, N.L, N.V x roughness)",
-              kRough | kNdotV | kPhi | kLut | kStudy,
-              {glsl("msh_ms_lut_sample_cone(u_lut3d, u_lut3d_slabs, vis, nl, nv, rough)",
-                    "msh_ms_lut_sample_cone", "lut3d"),
-               [] {
-                 MicroShadowingGlsl g = glsl(
-                     "msh_ms_lut_sample_cone_azimuth(u_lut_az, u_lut_az_slabs, u_lut_az_harmonics, vis, nl, "
-                     "nv, "
-                     "rough, cos_phi)",
-                     "msh_ms_lut_sample_cone_azimuth", "lut_azimuth");
-                 g.id_suffix = "-azimuth", g.label_suffix = ", azimuth-aware (3 harmonics)", g.phi = true;
-                 return g;
-               }()}),
+        {table_sampler(
+             info("lut3d", "3D LUT (cone layout)", "the LUT sampler on a 3D table (V, N.L, N.V x roughness)",
+                  kRough | kNdotV | kPhi | kLut | kStudy,
+                  {glsl("msh_ms_lut_sample_cone(u_lut3d, u_lut3d_slabs, vis, nl, nv, rough)",
+                        "msh_ms_lut_sample_cone", "lut3d"),
+                   [] {
+                     MicroShadowingGlsl g = glsl(
+                         "msh_ms_lut_sample_cone_azimuth(u_lut_az, u_lut_az_slabs, u_lut_az_harmonics, vis, "
+                         "nl, "
+                         "nv, "
+                         "rough, cos_phi)",
+                         "msh_ms_lut_sample_cone_azimuth", "lut_azimuth");
+                     g.id_suffix = "-azimuth", g.label_suffix = ", azimuth-aware (3 harmonics)", g.phi = true;
+                     return g;
+                   }()}),
+             3),
          [](auto& o, auto& i) { return lut_method(o, i, false); }},
-        {info("lut2d", "2D LUT (N·V = 1 slice)", "the LUT sampler on the N.V = 1 slice",
-              kRough | kPhi | kLut | kStudy,
-              {glsl("msh_ms_lut_sample_cone(u_lut2d, u_lut2d_slabs, vis, nl, 1.0, rough)",
-                    "msh_ms_lut_sample_cone", "lut2d")}),
+        {table_sampler(info("lut2d", "2D LUT (N·V = 1 slice)", "the LUT sampler on the N.V = 1 slice",
+                            kRough | kPhi | kLut | kStudy,
+                            {glsl("msh_ms_lut_sample_cone(u_lut2d, u_lut2d_slabs, vis, nl, 1.0, rough)",
+                                  "msh_ms_lut_sample_cone", "lut2d")}),
+                       2),
          [](auto& o, auto& i) { return lut_method(o, i, true); }},
         {info("specular-aware", "specular-aware (indicator)",
               "micro-BRDF-aware, specular lobe: chi(n.h > c) chi(h.l > c); without --phi its "

@@ -58,18 +58,6 @@ std::shared_ptr<const MicroShadowingEvaluator> evaluator(const std::string& meth
   return e;
 }
 
-enum class Fast { None, Ao, Reference, BrinckMaximov, Chan, Part1, Lut };
-
-Fast fast_kind(const std::string& m) {
-  if (m == "ao") return Fast::Ao;
-  if (m == "reference") return Fast::Reference;
-  if (m == "brinck-maximov-2016") return Fast::BrinckMaximov;
-  if (m == "chan-2018") return Fast::Chan;
-  if (m == "part1-analytic") return Fast::Part1;
-  if (m == "lut3d" || m == "lut2d") return Fast::Lut;
-  return Fast::None;
-}
-
 constexpr double kPiD = 3.14159265358979323846;
 
 template <class T, class F>
@@ -169,63 +157,44 @@ pyb::object eval(const std::string& method_arg, pyb::handle visibility, pyb::han
     // Option errors (phi / samples / roughness_y where the method takes none, a LUT without harmonics for
     // phi, ...) come from the registry on the first element, with the CLI's message.
     if (b.n > 0) ev->eval(query(r, 0));
-    const Fast kind = path == "auto" ? fast_kind(method) : Fast::None;
-    if (kind == Fast::None || (kind != Fast::Lut && (has_phi || has_ry || o.samples > 0)) ||
-        (kind == Fast::Lut && (has_ry || o.samples > 0)))
+    // The registry says which terms have a fast form (MicroShadowingMethodInfo::closed_form, table_sample);
+    // an option only the per-element path takes (phi, samples, roughness_y) sends the call there.
+    const bool fast = path == "auto" && term && (term->closed_form || term->table_sample);
+    if (!fast || has_ry || o.samples > 0 || (term->closed_form && has_phi))
       return map_scalar(b, [&](const auto& rr, std::size_t i) { return ev->eval(query(rr, i)); });
 
     std::size_t bad = 0;
     pyb::object out;
-    // The terms of (V, N·L) alone.
-    const auto closed_form = [&](auto term) {
-      return fast_loop<T>(
-          b, [term](const auto&, std::size_t, double v, double nl, double, double) { return term(v, nl); },
+    if (const auto f = term->closed_form) {  // a term of (V, N·L) alone
+      out = fast_loop<T>(
+          b, [f](const auto&, std::size_t, double v, double nl, double, double) { return f(v, nl); }, bad);
+    } else {
+      // The registry's own table (a file loaded once, or the default table baked on first use).
+      const auto table = b.n > 0 ? ev->table(has_phi) : nullptr;
+      if (!table) return make_output<T>(b);
+      const lut::MicroShadowingLutView view = table->view();
+      // phi on a mean-only table is an error for every point outside the early-out: the registry reports
+      // it.
+      if (has_phi && view.harmonics == 0)
+        return map_scalar(b, [&](const auto& rr, std::size_t i) { return ev->eval(query(rr, i)); });
+      const bool two_d = term->table_sample == 2;
+      out = fast_loop<T>(
+          b,
+          [&](const auto& rr, std::size_t i, double v, double nl, double nv, double ro) -> double {
+            const double n = two_d ? 1.0 : nv;
+            if (!has_phi) return lut::sample_micro_shadowing(view, v, nl, n, ro);
+            const double p = read_phi(rr, i);
+            if (!(p >= 0 && p <= kPiD)) return std::numeric_limits<double>::quiet_NaN();  // reported below
+            return lut::sample_micro_shadowing_azimuth(view, v, nl, n, ro, std::cos(p));
+          },
           bad);
-    };
-    switch (kind) {
-      case Fast::Ao:
-        out = closed_form([](double v, double) { return v; });
-        break;
-      case Fast::Reference:
-        out = closed_form([](double v, double nl) { return micro_shadowing::reference_step(v, nl); });
-        break;
-      case Fast::BrinckMaximov:
-        out = closed_form([](double v, double nl) { return micro_shadowing::brinck_maximov_2016(v, nl); });
-        break;
-      case Fast::Chan:
-        out = closed_form([](double v, double nl) { return micro_shadowing::chan_2018(v, nl); });
-        break;
-      case Fast::Part1:
-        out = closed_form([](double v, double nl) { return micro_shadowing::part1_analytic(v, nl); });
-        break;
-      default: {
-        // The registry's own table (a file loaded once, or the default table baked on first use).
-        const auto table = b.n > 0 ? ev->table(has_phi) : nullptr;
-        if (!table) return make_output<T>(b);
-        const lut::MicroShadowingLutView view = table->view();
-        // phi on a mean-only table is an error for every point outside the early-out: the registry reports
-        // it.
-        if (has_phi && view.harmonics == 0)
-          return map_scalar(b, [&](const auto& rr, std::size_t i) { return ev->eval(query(rr, i)); });
-        const bool two_d = method == "lut2d";
-        out = fast_loop<T>(
-            b,
-            [&](const auto& rr, std::size_t i, double v, double nl, double nv, double ro) -> double {
-              const double n = two_d ? 1.0 : nv;
-              if (!has_phi) return lut::sample_micro_shadowing(view, v, nl, n, ro);
-              const double p = read_phi(rr, i);
-              if (!(p >= 0 && p <= kPiD)) return std::numeric_limits<double>::quiet_NaN();  // reported below
-              return lut::sample_micro_shadowing_azimuth(view, v, nl, n, ro, std::cos(p));
-            },
-            bad);
-        if (has_phi) {
-          // A phi out of [0, π] was written as NaN: the first bad element (of any input) is reported.
-          for (std::size_t i = 0; i < std::min(bad, b.n); ++i)
-            if (!(read_phi(r, i) >= 0 && read_phi(r, i) <= kPiD)) {
-              bad = i;
-              break;
-            }
-        }
+      if (has_phi) {
+        // A phi out of [0, π] was written as NaN: the first bad element (of any input) is reported.
+        for (std::size_t i = 0; i < std::min(bad, b.n); ++i)
+          if (!(read_phi(r, i) >= 0 && read_phi(r, i) <= kPiD)) {
+            bad = i;
+            break;
+          }
       }
     }
     if (bad != std::numeric_limits<std::size_t>::max()) {

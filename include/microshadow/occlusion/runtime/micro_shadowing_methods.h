@@ -84,6 +84,11 @@ struct MicroShadowingMethodInfo {
   int texel_channels = 0;
   // The viewer's forms (none: not in the viewer).
   std::vector<MicroShadowingGlsl> glsl;
+  // What a caller may run in its own loop instead of MicroShadowingEvaluator::eval, with the same values (the
+  // Python module's fast path): closed_form, the term as a function of (V, N·L) alone; table_sample, the
+  // registry's own table sampled at (V, N·L, N·V, roughness) (3) or at N·V = 1 (2; 0: not a table sampler).
+  double (*closed_form)(double visibility, double n_dot_l) = nullptr;
+  int table_sample = 0;
   bool is_pair() const { return !diffuse.empty(); }
 };
 
