@@ -345,6 +345,102 @@ std::vector<double> parse_list(const std::string& s, const char* what) {
   return out;
 }
 
+// The rows as JSON (ratios to the ground truth).
+void print_json(const std::vector<Row>& rows, int size, double view_elev, bool fits) {
+  nlohmann::json j;
+  j["size"] = size, j["view_elevation"] = view_elev;
+  for (const Row& r : rows)
+    j["rows"].push_back({{"kind", r.kind},
+                         {"elevation", r.elev},
+                         {"azimuth", r.az},
+                         {"gt", r.gt},
+                         {"view_independent", r.gt > 0 ? r.a / r.gt : 0},
+                         {"slope_corrected", r.gt > 0 ? r.b / r.gt : 0},
+                         {"no_masking", r.gt > 0 ? r.c / r.gt : 0},
+                         {"fit9", r.gt > 0 ? r.a9 / r.gt : 0},
+                         {"fit9_slope4", r.gt > 0 ? r.b94 / r.gt : 0},
+                         {"fit9_slope6", r.gt > 0 ? r.b96 / r.gt : 0},
+                         {"fit9_slope9", r.gt > 0 ? r.b99 / r.gt : 0}});
+  if (fits)
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      for (const auto& [name, value] : rows[i].cand)
+        j["rows"][i]["candidates"][name] = rows[i].gt > 0 ? value / rows[i].gt : 0;
+  std::cout << j.dump(1) << "\n";
+}
+
+// The rows as Markdown: the ratio to the ground truth of each form per light (unless summary), then the mean
+// (max) |ratio - 1| per material, and with fits the slope covariances.
+void print_tables(const std::vector<Row>& rows, double view_elev, bool fits, bool cand_only, bool summary) {
+  // Columns: ratio to GT of each form.
+  struct Col {
+    std::string name;
+    std::function<double(const Row&)> v;
+  };
+  std::vector<Col> cols;
+  auto member = [](double Row::*m) { return [m](const Row& r) { return r.*m; }; };
+  if (!cand_only) {
+    cols = {{"view-independent a", member(&Row::a)},
+            {"slope-corrected b", member(&Row::b)},
+            {"unmasked c", member(&Row::c)}};
+    if (fits) {
+      cols.push_back({"9-channel fit", member(&Row::a9)});
+      cols.push_back({"fit + slope band 1 (+8)", member(&Row::b94)});
+      cols.push_back({"fit + slope 6 functions (+12)", member(&Row::b96)});
+      cols.push_back({"fit + slope degree 2 (+18)", member(&Row::b99)});
+    }
+  } else {
+    cols.push_back({"unmasked c (exact)", member(&Row::c)});
+    for (std::size_t q = 0; q < rows.front().cand.size(); ++q)
+      cols.push_back({rows.front().cand[q].first, [q](const Row& r) { return r.cand[q].second; }});
+  }
+  std::string head = "| material | light (elev/az) |", rule = "|---|---|";
+  for (const Col& c : cols) head += fmt::format(" {} / GT |", c.name), rule += "---|";
+  if (!summary) {
+    std::cout << head << "\n" << rule << "\n";
+    for (const Row& r : rows) {
+      std::cout << fmt::format("| {} | {:g}/{:g} (GT {:.4f}) |", r.kind, r.elev, r.az, r.gt);
+      for (const Col& c : cols) std::cout << fmt::format(" {:.3f} |", c.v(r) / r.gt);
+      std::cout << "\n";
+    }
+    std::cout << "\n";
+  }
+  std::cout << "mean (max) |ratio - 1| over the lights, view elevation " << view_elev << "\n\n| material |";
+  for (const Col& c : cols) std::cout << " " << c.name << " |";
+  std::cout << "\n" << rule.substr(4) << "\n";
+  std::vector<double> am(cols.size()), ax(cols.size());
+  std::size_t nk = 0;
+  for (std::size_t i = 0; i < rows.size();) {
+    std::size_t j = i;
+    std::vector<double> m(cols.size()), x(cols.size());
+    for (; j < rows.size() && rows[j].kind == rows[i].kind; ++j)
+      for (std::size_t q = 0; q < cols.size(); ++q) {
+        const double d = std::abs(cols[q].v(rows[j]) / rows[j].gt - 1);
+        m[q] += d, x[q] = std::max(x[q], d);
+      }
+    std::cout << "| " << rows[i].kind << " |";
+    for (std::size_t q = 0; q < cols.size(); ++q) {
+      std::cout << fmt::format(" {:.3f} ({:.3f}) |", m[q] / double(j - i), x[q]);
+      am[q] += m[q] / double(j - i), ax[q] = std::max(ax[q], x[q]);
+    }
+    std::cout << "\n";
+    ++nk;
+    i = j;
+  }
+  std::cout << "| **all** |";
+  for (std::size_t q = 0; q < cols.size(); ++q)
+    std::cout << fmt::format(" {:.3f} ({:.3f}) |", am[q] / double(nk), ax[q]);
+  std::cout << "\n";
+  if (fits) {
+    std::cout << "\nslope covariance, exact (E[s sT]) and read off the slope channels (xx, xy, yy)\n";
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (i == 0 || rows[i].kind != rows[i - 1].kind)
+        std::cout << fmt::format(
+            "{}: exact {:.4f} {:.4f} {:.4f}; normals {:.4f} {:.4f} {:.4f}; channels {:.4f} {:.4f} {:.4f}\n",
+            rows[i].kind, rows[i].sxx, rows[i].sxy, rows[i].syy, rows[i].nxx, rows[i].nxy, rows[i].nyy,
+            rows[i].cxx, rows[i].cxy, rows[i].cyy);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -412,96 +508,10 @@ int main(int argc, char** argv) {
       }
     }
     if (fits) candidates(rows, view_elev);
-    if (json) {
-      nlohmann::json j;
-      j["size"] = size, j["view_elevation"] = view_elev;
-      for (const Row& r : rows)
-        j["rows"].push_back({{"kind", r.kind},
-                             {"elevation", r.elev},
-                             {"azimuth", r.az},
-                             {"gt", r.gt},
-                             {"view_independent", r.gt > 0 ? r.a / r.gt : 0},
-                             {"slope_corrected", r.gt > 0 ? r.b / r.gt : 0},
-                             {"no_masking", r.gt > 0 ? r.c / r.gt : 0},
-                             {"fit9", r.gt > 0 ? r.a9 / r.gt : 0},
-                             {"fit9_slope4", r.gt > 0 ? r.b94 / r.gt : 0},
-                             {"fit9_slope6", r.gt > 0 ? r.b96 / r.gt : 0},
-                             {"fit9_slope9", r.gt > 0 ? r.b99 / r.gt : 0}});
-      if (fits)
-        for (std::size_t i = 0; i < rows.size(); ++i)
-          for (const auto& [name, value] : rows[i].cand)
-            j["rows"][i]["candidates"][name] = rows[i].gt > 0 ? value / rows[i].gt : 0;
-      std::cout << j.dump(1) << "\n";
-      return 0;
-    }
-    // Columns: ratio to GT of each form.
-    struct Col {
-      std::string name;
-      std::function<double(const Row&)> v;
-    };
-    std::vector<Col> cols;
-    auto member = [](double Row::*m) { return [m](const Row& r) { return r.*m; }; };
-    if (!cand_only) {
-      cols = {{"view-independent a", member(&Row::a)},
-              {"slope-corrected b", member(&Row::b)},
-              {"unmasked c", member(&Row::c)}};
-      if (fits) {
-        cols.push_back({"9-channel fit", member(&Row::a9)});
-        cols.push_back({"fit + slope band 1 (+8)", member(&Row::b94)});
-        cols.push_back({"fit + slope 6 functions (+12)", member(&Row::b96)});
-        cols.push_back({"fit + slope degree 2 (+18)", member(&Row::b99)});
-      }
-    } else {
-      cols.push_back({"unmasked c (exact)", member(&Row::c)});
-      for (std::size_t q = 0; q < rows.front().cand.size(); ++q)
-        cols.push_back({rows.front().cand[q].first, [q](const Row& r) { return r.cand[q].second; }});
-    }
-    std::string head = "| material | light (elev/az) |", rule = "|---|---|";
-    for (const Col& c : cols) head += fmt::format(" {} / GT |", c.name), rule += "---|";
-    if (!summary) {
-      std::cout << head << "\n" << rule << "\n";
-      for (const Row& r : rows) {
-        std::cout << fmt::format("| {} | {:g}/{:g} (GT {:.4f}) |", r.kind, r.elev, r.az, r.gt);
-        for (const Col& c : cols) std::cout << fmt::format(" {:.3f} |", c.v(r) / r.gt);
-        std::cout << "\n";
-      }
-      std::cout << "\n";
-    }
-    std::cout << "mean (max) |ratio - 1| over the lights, view elevation " << view_elev << "\n\n| material |";
-    for (const Col& c : cols) std::cout << " " << c.name << " |";
-    std::cout << "\n" << rule.substr(4) << "\n";
-    std::vector<double> am(cols.size()), ax(cols.size());
-    std::size_t nk = 0;
-    for (std::size_t i = 0; i < rows.size();) {
-      std::size_t j = i;
-      std::vector<double> m(cols.size()), x(cols.size());
-      for (; j < rows.size() && rows[j].kind == rows[i].kind; ++j)
-        for (std::size_t q = 0; q < cols.size(); ++q) {
-          const double d = std::abs(cols[q].v(rows[j]) / rows[j].gt - 1);
-          m[q] += d, x[q] = std::max(x[q], d);
-        }
-      std::cout << "| " << rows[i].kind << " |";
-      for (std::size_t q = 0; q < cols.size(); ++q) {
-        std::cout << fmt::format(" {:.3f} ({:.3f}) |", m[q] / double(j - i), x[q]);
-        am[q] += m[q] / double(j - i), ax[q] = std::max(ax[q], x[q]);
-      }
-      std::cout << "\n";
-      ++nk;
-      i = j;
-    }
-    std::cout << "| **all** |";
-    for (std::size_t q = 0; q < cols.size(); ++q)
-      std::cout << fmt::format(" {:.3f} ({:.3f}) |", am[q] / double(nk), ax[q]);
-    std::cout << "\n";
-    if (fits) {
-      std::cout << "\nslope covariance, exact (E[s sT]) and read off the slope channels (xx, xy, yy)\n";
-      for (std::size_t i = 0; i < rows.size(); ++i)
-        if (i == 0 || rows[i].kind != rows[i - 1].kind)
-          std::cout << fmt::format(
-              "{}: exact {:.4f} {:.4f} {:.4f}; normals {:.4f} {:.4f} {:.4f}; channels {:.4f} {:.4f} {:.4f}\n",
-              rows[i].kind, rows[i].sxx, rows[i].sxy, rows[i].syy, rows[i].nxx, rows[i].nxy, rows[i].nyy,
-              rows[i].cxx, rows[i].cxy, rows[i].cyy);
-    }
+    if (json)
+      print_json(rows, size, view_elev, fits);
+    else
+      print_tables(rows, view_elev, fits, cand_only, summary);
   } catch (const std::exception& e) {
     std::cerr << "directional_view_probe: " << e.what() << "\n";
     return 2;

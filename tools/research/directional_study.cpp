@@ -189,6 +189,49 @@ float eval_rep(const std::string& rep, const float* ch, const Vec3f& nc, const V
   throw InputError("unknown representation " + rep);
 }
 
+struct Light {
+  float elev, az;
+  Vec3f l;
+  int ai;  // its azimuth's index in the horizon tangents
+};
+
+// The exact transport of each light per fine texel from horizon tangents along the lights' azimuths
+// (tan_h[p · n_az + ai]).
+std::vector<Texture> exact_per_light(const std::vector<Light>& lights, const std::vector<float>& tan_h,
+                                     std::size_t n_az, const std::vector<Vec3f>& n, int w, int h) {
+  std::vector<Texture> out;
+  for (const auto& L : lights) {
+    Texture t(w, h, 1);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const std::size_t p = std::size_t(j) * w + i;
+        t.at(i, j, 0) = transport_texel(tan_h[p * n_az + std::size_t(L.ai)], n[p], L.l);
+      }
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+// Σ approx / Σ exact over the texture, and the RMSE of their B × B block means relative to the mean.
+std::pair<double, double> bias_and_footprint_rmse(const Texture& tk, const Texture& approx, int B) {
+  const int W = tk.width(), H = tk.height();
+  double st = 0, sa = 0;
+  for (int J = 0; J < H; ++J)
+    for (int I = 0; I < W; ++I) st += tk.at(I, J, 0), sa += approx.at(I, J, 0);
+  double se = 0;
+  int nb = 0;
+  for (int J = 0; J + B <= H; J += B)
+    for (int I = 0; I + B <= W; I += B) {
+      double bt = 0, ba = 0;
+      for (int j = 0; j < B; ++j)
+        for (int i = 0; i < B; ++i) bt += tk.at(I + i, J + j, 0), ba += approx.at(I + i, J + j, 0);
+      const double d = (ba - bt) / (B * B);
+      se += d * d, ++nb;
+    }
+  const double mean_t = st / (double(W) * H);
+  return {st > 0 ? sa / st : 0, mean_t > 0 ? std::sqrt(se / std::max(nb, 1)) / mean_t : 0};
+}
+
 }  // namespace
 
 std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions& opt) {
@@ -215,25 +258,11 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
     std::vector<Vec2f> light_az;
     for (float a : opt.azimuths_deg) light_az.push_back(azimuth_dir(a));
     const auto tan_light = bake_horizon_tangents(set.height, depth, light_az, 0);
-    struct Light {
-      float elev, az;
-      Vec3f l;
-      int ai;
-    };
     std::vector<Light> lights;
     for (std::size_t ai = 0; ai < light_az.size(); ++ai)
       for (float e : opt.elevations_deg)
         lights.push_back({e, opt.azimuths_deg[ai], light_dir(e, light_az[ai]), int(ai)});
-    std::vector<Texture> exact;
-    for (const auto& L : lights) {
-      Texture t(w, h, 1);
-      for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i) {
-          const std::size_t p = std::size_t(j) * w + i;
-          t.at(i, j, 0) = transport_texel(tan_light[p * light_az.size() + std::size_t(L.ai)], n[p], L.l);
-        }
-      exact.push_back(std::move(t));
-    }
+    const std::vector<Texture> exact = exact_per_light(lights, tan_light, light_az.size(), n, w, h);
     Texture normals(w, h, 3);
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
@@ -245,19 +274,10 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
       const auto tan_h = bake_horizon_tangents(set.height, depth, bake_dirs, dist);
       const Texture fine_ch = bake_all_channels(set.height, bake_dirs, tan_h, n, lsq);
       // The exact transport with the bake's ray length: what a perfect representation of this bake gives.
-      std::vector<Texture> exact_limited;
-      if (dist > 0) {
-        const auto tl = bake_horizon_tangents(set.height, depth, light_az, dist);
-        for (const auto& L : lights) {
-          Texture t(w, h, 1);
-          for (int j = 0; j < h; ++j)
-            for (int i = 0; i < w; ++i) {
-              const std::size_t p = std::size_t(j) * w + i;
-              t.at(i, j, 0) = transport_texel(tl[p * light_az.size() + std::size_t(L.ai)], n[p], L.l);
-            }
-          exact_limited.push_back(std::move(t));
-        }
-      }
+      const std::vector<Texture> exact_limited =
+          dist > 0 ? exact_per_light(lights, bake_horizon_tangents(set.height, depth, light_az, dist),
+                                     light_az.size(), n, w, h)
+                   : std::vector<Texture>{};
       for (int q = 0; q < (opt.quantize8 ? 2 : 1); ++q) {
         Texture fc = fine_ch;
         const Ranges ranges = channel_ranges(fine_ch);
@@ -284,27 +304,12 @@ std::vector<DirectionalStudyRow> directional_study(const DirectionalStudyOptions
                     approx.at(I, J, 0) = eval_rep(name, &ck.at(I, J, 0), nc, lights[li].l);
                   }
               }
-              double st = 0, sa = 0;
-              for (int J = 0; J < H; ++J)
-                for (int I = 0; I < W; ++I) st += tk.at(I, J, 0), sa += approx.at(I, J, 0);
-              double se = 0;
-              int nb = 0;
-              for (int J = 0; J + B <= H; J += B)
-                for (int I = 0; I + B <= W; I += B) {
-                  double bt = 0, ba = 0;
-                  for (int j = 0; j < B; ++j)
-                    for (int i = 0; i < B; ++i)
-                      bt += tk.at(I + i, J + j, 0), ba += approx.at(I + i, J + j, 0);
-                  const double d = (ba - bt) / (B * B);
-                  se += d * d, ++nb;
-                }
-              const double mean_t = st / (double(W) * H);
+              const auto [bias, rmse] = bias_and_footprint_rmse(tk, approx, B);
               DirectionalStudyRow row;
               row.kind = kind, row.representation = q ? name + "@8bit" : name, row.bake_distance = dist,
               row.k = k;
               row.elevation_deg = lights[li].elev, row.azimuth_deg = lights[li].az;
-              row.bias = st > 0 ? sa / st : 0;
-              row.rmse_footprint = mean_t > 0 ? std::sqrt(se / std::max(nb, 1)) / mean_t : 0;
+              row.bias = bias, row.rmse_footprint = rmse;
               row.bytes = bytes;
               rows.push_back(row);
             }
