@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The decision guide, generated from committed measurement files (docs/measurements/): writes
-docs/choosing.md and the table between the guide markers at the top of README.md. --check compares instead of
+docs/choosing.md and the table between the guide markers at the top of README.md; and README's list of every
+micro-shadowing method, from the registry (`microshadow methods --json`). --check compares instead of
 writing and fails (exit 1) on any difference, or when a method of the study set (`microshadow methods --study
 --json`) has no entry in docs/measurements/methods.json (test_guide runs it).
 Usage: scripts/guide.py [--check] [--msh build/bin/microshadow]
@@ -10,6 +11,8 @@ import json, os, subprocess, sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MEAS = os.path.join(ROOT, "docs", "measurements")
 BEGIN, END = "<!-- guide:begin (scripts/guide.py writes this table; do not edit) -->", "<!-- guide:end -->"
+METHODS_BEGIN = "<!-- methods:begin (scripts/guide.py writes this list from the registry; do not edit) -->"
+METHODS_END = "<!-- methods:end -->"
 # The cases of the first screen: (case, method).
 CASES = [
     ("your texture set has a height map (relief: rock, brick, bark, gravel)", "directional-view"),
@@ -191,6 +194,36 @@ def build(msh):
     return "\n".join(readme) + "\n", "\n".join(doc), errors
 
 
+def methods_block(msh):
+    """README's list of every method of the registry, one row each: name, what it is, what it reads beyond
+    V and N·L, the options it takes, whether the study renders it by default."""
+    table = json.loads(subprocess.run([msh, "methods", "--json"], check=True, capture_output=True,
+                                      text=True).stdout)
+    rows = [METHODS_BEGIN, "| method | what it is | reads | options | study |", "|---|---|---|---|---|"]
+    for m in table:
+        if m["pair"]:
+            reads = f"`{m['diffuse']}` on the diffuse lobe, `{m['specular']}` on the specular lobe"
+        else:
+            r = (["roughness"] if m["uses_roughness"] else []) + (["N·V"] if m["uses_ndotv"] else [])
+            r += [f"{m['texel_channels']} texel channels"] if m.get("texel_channels") else []
+            r += [] if m["uses_ndotl"] else ["no N·L"]
+            reads = ", ".join(r) or "–"
+        opts = [o for o, k in (("phi", "accepts_phi"), ("samples", "accepts_samples"), ("lut", "accepts_lut"),
+                               ("roughness-y", "accepts_roughness_y")) if m[k]]
+        summary = m["summary"].replace("|", "\\|")
+        rows.append(f"| `{m['name']}` | {summary} | {reads} | {', '.join(opts) or '–'} | "
+                    f"{'yes' if m['in_study'] else ''} |")
+    return "\n".join(rows + [METHODS_END]) + "\n"
+
+
+def replace_block(text, begin, end, block, errors, what):
+    if begin not in text or end not in text:
+        errors.append(f"README.md lacks the {what} markers")
+        return text
+    a, b = text.index(begin), text.index(end) + len(end) + 1
+    return text[:a] + block + text[b:]
+
+
 def main():
     check = "--check" in sys.argv
     msh = sys.argv[sys.argv.index("--msh") + 1] if "--msh" in sys.argv else None
@@ -198,17 +231,18 @@ def main():
     choosing = os.path.join(ROOT, "docs", "choosing.md")
     readme = os.path.join(ROOT, "README.md")
     text = open(readme).read()
-    if BEGIN not in text or END not in text:
-        errors.append("README.md lacks the guide markers")
-        new_readme = text
+    new_readme = replace_block(text, BEGIN, END, readme_block, errors, "guide")
+    cli = msh or os.path.join(ROOT, "build", "bin", "microshadow")
+    if os.path.exists(cli):
+        new_readme = replace_block(new_readme, METHODS_BEGIN, METHODS_END, methods_block(cli), errors, "methods")
     else:
-        a, b = text.index(BEGIN), text.index(END) + len(END) + 1
-        new_readme = text[:a] + readme_block + text[b:]
+        errors.append(f"no CLI at {cli} for README's list of methods (pass --msh)")
     if check:
         if not os.path.exists(choosing) or open(choosing).read() != doc:
             errors.append("docs/choosing.md differs from what scripts/guide.py writes (run it)")
         if new_readme != text:
-            errors.append("README.md's guide table differs from what scripts/guide.py writes (run it)")
+            errors.append("README.md's guide table or list of methods differs from what scripts/guide.py writes "
+                          "(run it)")
     else:
         open(choosing, "w").write(doc)
         open(readme, "w").write(new_readme)

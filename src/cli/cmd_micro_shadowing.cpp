@@ -342,6 +342,8 @@ void run_methods(const MethodsArgs& a) {
                     {"accepts_roughness_y", i.accepts_roughness_y},
                     {"accepts_samples", i.accepts_samples},
                     {"accepts_lut", i.accepts_lut},
+                    {"needs_texel", i.needs_texel},
+                    {"texel_channels", i.texel_channels},
                     {"glsl", glsl}});
     text += a.names ? (text.empty() ? "" : ",") + i.name
                     : fmt::format("{:<38} {}{}\n", i.name, i.label, i.in_study ? "  [study]" : "");

@@ -228,6 +228,7 @@ void register_micro_shadowing(pyb::module_& m) {
           d["uses_ndotl"] = i.uses_ndotl;
           d["in_study"] = i.in_study;
           d["needs_texel"] = i.needs_texel;
+          d["texel_channels"] = i.texel_channels;
           out.append(d);
         }
         return out;
