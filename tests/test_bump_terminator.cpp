@@ -10,11 +10,15 @@
 #include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/occlusion/shadow_terminator_offset.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 using namespace msh;
@@ -561,6 +565,42 @@ TEST(BumpHanika, DegenerateNormalsDoNotMoveAndStayFinite) {
   const Vec3d b = hanika2021_shadow_origin(p, pos, nrm, std::array<double, 3>{0.5, 0.25, 0.25});
   EXPECT_EQ(a, b);
   EXPECT_TRUE(is_finite(a));
+}
+
+// The registry (bump::kMethods): every method once, names unique and round-tripping through
+// parse_method, each viewer expression calling its required function, which the GLSL port defines.
+TEST(BumpTerminator, RegistryListsEveryMethodOnce) {
+  std::vector<Method> seen;
+  std::vector<std::string_view> names;
+  for (const MethodInfo& i : kMethods) {
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), i.method), 0) << i.name;
+    EXPECT_EQ(std::count(names.begin(), names.end(), i.name), 0) << i.name;
+    seen.push_back(i.method), names.push_back(i.name);
+    Method m{};
+    ASSERT_TRUE(parse_method(i.name, m));
+    EXPECT_EQ(m, i.method);
+    EXPECT_EQ(method_name(i.method), i.name);
+    EXPECT_FALSE(i.label.empty() || i.summary.empty() || i.glsl.empty()) << i.name;
+    if (!i.requires_fn.empty()) {
+      EXPECT_NE(i.glsl.find(i.requires_fn), std::string_view::npos) << i.name;
+    }
+  }
+  for (Method m : {Method::kNone, Method::kConty2019, Method::kChiang2019})
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), m), 1);
+  Method m{};
+  EXPECT_FALSE(parse_method("conty2019", m));
+#ifdef MSH_SOURCE_DIR
+  std::ifstream in(std::string(MSH_SOURCE_DIR) + "/shaders/glsl/bump_terminator.glsl");
+  std::string glsl((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(glsl.empty());
+  std::ifstream pin(std::string(MSH_SOURCE_DIR) + "/shaders/portable/bump_terminator.h");
+  glsl += std::string((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
+  for (const MethodInfo& i : kMethods) {
+    if (!i.requires_fn.empty()) {
+      EXPECT_NE(glsl.find(std::string(i.requires_fn) + "("), std::string::npos) << i.requires_fn;
+    }
+  }
+#endif
 }
 
 // ---------------------------------------------------------------------------------------------------------

@@ -183,11 +183,14 @@ void add_bump(Groups& g) {
       "Bump-terminator shadowing factor for one light (Conty Estevez et al. 2019 or Chiang et al. 2019). "
       "Vectors need not be normalized; a zero or non-finite vector is an error.",
       run_eval);
-  e->add_option("--method", eo->method,
-                "conty-2019 (GGX G1 with alpha from the normal perturbation), "
-                "chiang-2019 (cubic-smoothed ratio), or none")
-      ->check(CLI::IsMember({"conty-2019", "chiang-2019", "none"}))
-      ->capture_default_str();
+  // The choices and their help from the registry (occlusion/bump_terminator.h).
+  std::vector<std::string> names;
+  std::string help;
+  for (const bump::MethodInfo& i : bump::kMethods) {
+    names.emplace_back(i.name);
+    help += fmt::format("{}{} ({})", help.empty() ? "" : "; ", i.name, i.summary);
+  }
+  e->add_option("--method", eo->method, help)->check(CLI::IsMember(names))->capture_default_str();
   e->add_option("--geometric-normal", eo->ng, "Geometric (unperturbed) normal N_g, X,Y,Z")
       ->capture_default_str();
   e->add_option("--shading-normal", eo->ns, "Shading (bumped) normal N_s, X,Y,Z")->required();

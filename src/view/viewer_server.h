@@ -59,6 +59,9 @@ bool is_allowed_host_header(const std::string& host_header, int port);
 // occlusion::micro_shadowing_methods()): one viewer entry per GLSL form of each single term, and one per pair
 // whose two terms have a GLSL form (each lobe its term's first form). docs/viewer.md describes the entries.
 std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& methods);
+// The page's bump_methods.js, generated from the bump-terminator registry (occlusion/bump_terminator.h
+// bump::kMethods): export const BUMP_TERMINATOR_METHODS = [{ id, label, glsl, requires? }, ...].
+std::string bump_methods_js();
 
 // The default cache directory: $XDG_CACHE_HOME/microshadow, else $HOME/.cache/microshadow, else the
 // system temporary directory.

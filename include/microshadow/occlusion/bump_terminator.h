@@ -39,21 +39,34 @@ enum class HemisphereTest { kOff, kOn };
 // The bump-terminator methods; kNone returns 1 (apart from the optional hemisphere test).
 enum class Method { kNone, kConty2019, kChiang2019 };
 
-// CLI / file names of the methods: "none", "conty-2019", "chiang-2019".
+// The registry of the bump-terminator methods: the one list the CLI, the renderer's scene files, the viewer
+// (its bump_methods.js is generated from it) and Python read. name is the CLI / file name; glsl the viewer's
+// float expression over vec3 ng, ns, wl (towards the light) and bool u_bump_hemi, calling requires_fn
+// (shaders/glsl/bump_terminator.glsl; empty: none).
+struct MethodInfo {
+  Method method;
+  std::string_view name, label, summary, glsl, requires_fn;
+};
+inline constexpr MethodInfo kMethods[] = {
+    {Method::kNone, "none", "none", "no correction: the term is 1", "1.0", ""},
+    {Method::kConty2019, "conty-2019", "Conty Estevez et al. 2019",
+     "GGX G1 of the light about N_g, alpha from the normal perturbation (Conty Estevez, Lecocq, Stein 2019)",
+     "msh_bump_conty2019(ng, ns, wl, u_bump_hemi)", "msh_bump_conty2019"},
+    {Method::kChiang2019, "chiang-2019", "Chiang et al. 2019",
+     "the cubic-smoothed ratio g = (N_g.L)/((N_s.L)(N_g.N_s)) (Chiang, Li, Burley 2019)",
+     "msh_bump_chiang2019(ng, ns, wl, u_bump_hemi)", "msh_bump_chiang2019"},
+};
+
+// The CLI / file name of a method (its registry entry's name).
 inline std::string_view method_name(Method m) {
-  switch (m) {
-    case Method::kConty2019:
-      return "conty-2019";
-    case Method::kChiang2019:
-      return "chiang-2019";
-    default:
-      return "none";
-  }
+  for (const MethodInfo& i : kMethods)
+    if (i.method == m) return i.name;
+  return "none";
 }
 // Inverse of method_name; returns false for an unknown name.
 inline bool parse_method(std::string_view s, Method& out) {
-  for (Method m : {Method::kNone, Method::kConty2019, Method::kChiang2019})
-    if (s == method_name(m)) return out = m, true;
+  for (const MethodInfo& i : kMethods)
+    if (s == i.name) return out = i.method, true;
   return false;
 }
 
