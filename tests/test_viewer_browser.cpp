@@ -358,7 +358,9 @@ TEST(ViewerServer, MethodsJsIsGeneratedFromTheRegistry) {
   auto more = reg;
   occlusion::MicroShadowingMethodInfo t;
   t.name = "test-term", t.label = "test term";
-  t.glsl.push_back({"msh_test(vis, nl)", "msh_test", "lut2d", "", "", false, false, false, false});
+  occlusion::MicroShadowingGlsl tg;
+  tg.expr = "msh_test(vis, nl)", tg.requires_fn = "msh_test", tg.lut = "lut2d";
+  t.glsl.push_back(tg);
   more.push_back(t);
   occlusion::MicroShadowingMethodInfo p1;
   p1.name = "chan-2018+lut3d", p1.label = "test pair", p1.diffuse = "chan-2018", p1.specular = "lut3d";

@@ -382,6 +382,11 @@ MicroShadowingGlsl glsl(const char* expr, const char* requires_fn = "", const ch
   g.expr = expr, g.requires_fn = requires_fn, g.lut = lut;
   return g;
 }
+// A point form with its spherical-cap form (MicroShadowingGlsl::area_cap).
+MicroShadowingGlsl with_area_cap(MicroShadowingGlsl g, const char* area_cap) {
+  g.area_cap = area_cap;
+  return g;
+}
 template <double (*F)(double, double), float (*G)(float, float)>
 Impl closed_entry(const MicroShadowingOptions&, const MicroShadowingMethodInfo&) {
   return closed_form(F, G);
@@ -422,18 +427,23 @@ const std::vector<Entry>& entries() {
         closed<ms::reference_step<double>, ms::reference_step<float>>(
             info("reference", "reference step (Zurita 2026)",
                  "step: 1 when the light is inside the visibility cone, else 0", kStudy,
-                 {glsl("msh_ms_reference_step(vis, nl)", "msh_ms_reference_step")})),
+                 {with_area_cap(glsl("msh_ms_reference_step(vis, nl)", "msh_ms_reference_step"),
+                                "msh_ms_reference_step_area_cap(vis, nl_cap, rho)")})),
         closed<ms::brinck_maximov_2016<double>, ms::brinck_maximov_2016<float>>(
             info("brinck-maximov-2016", "Brinck & Maximov 2016",
                  "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'", kStudy,
-                 {glsl("msh_ms_brinck_maximov2016(vis, nl)", "msh_ms_brinck_maximov2016")})),
+                 {with_area_cap(glsl("msh_ms_brinck_maximov2016(vis, nl)", "msh_ms_brinck_maximov2016"),
+                                "msh_ms_brinck_maximov2016_area_cap(vis, nl_cap, rho)")})),
         closed<ms::chan_2018<double>, ms::chan_2018<float>>(
             info("chan-2018", "Chan 2018 (Filament)", "Chan 2018, 'Material Advances in Call of Duty: WWII'",
-                 kStudy, {glsl("msh_ms_chan2018(vis, nl)", "msh_ms_chan2018")})),
+                 kStudy,
+                 {with_area_cap(glsl("msh_ms_chan2018(vis, nl)", "msh_ms_chan2018"),
+                                "msh_ms_chan2018_area_cap(vis, nl_cap, rho)")})),
         closed<ms::part1_analytic<double>, ms::part1_analytic<float>>(
             info("part1-analytic", "Part 1 analytic (Zurita 2026)",
                  "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'", kStudy,
-                 {glsl("msh_ms_part1_analytic(vis, nl)", "msh_ms_part1_analytic")})),
+                 {with_area_cap(glsl("msh_ms_part1_analytic(vis, nl)", "msh_ms_part1_analytic"),
+                                "msh_ms_part1_analytic_area_cap(vis, nl_cap, rho)")})),
         {info("generic-vndf", "generic VNDF (Zurita 2026)",
               "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator with "
               "samples",
@@ -448,7 +458,8 @@ const std::vector<Entry>& entries() {
         {info("generic-vndf-alu", "generic VNDF, ALU fit",
               "ALU-only fit of the generic term's azimuth mean (micro_shadowing_fit.h), float",
               kRough | kNdotV | kStudy,
-              {glsl("msh_ms_generic_vndf_alu(vis, nl, nv, rough)", "msh_ms_generic_vndf_alu"),
+              {with_area_cap(glsl("msh_ms_generic_vndf_alu(vis, nl, nv, rough)", "msh_ms_generic_vndf_alu"),
+                             "msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)"),
                [] {
                  MicroShadowingGlsl g =
                      glsl("msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(vis, nv, rough), nl)",

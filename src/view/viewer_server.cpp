@@ -600,6 +600,9 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
       "//            u_lut_az_harmonics\n"
       "//   requires the GLSL function it calls (left out of the menus when the shader files lack it)\n"
       "//   lut      the table it samples (manifest \"luts\" key; left out when the server has none)\n"
+      "//   area_cap the term's form for a spherical-cap light (over vis, nl_cap, rho, nv, rough), where it "
+      "has\n"
+      "//            one (the three.js module's rect-area lights)\n"
       "//   texel    \"directional\": reads the texture set's directional channels (dir_c0, dir_c1, dir_c8, "
       "l_t,\n"
       "//            n_t; left out when the texture set has none); \"directional_view\": the 21 of the view\n"
@@ -625,6 +628,7 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
         J e = {{"id", m.name + g.id_suffix}, {"label", m.label + g.label_suffix}, {"glsl", g.expr}};
         if (!g.requires_fn.empty()) e["requires"] = g.requires_fn;
         if (!g.lut.empty()) e["lut"] = g.lut;
+        if (!g.area_cap.empty()) e["area_cap"] = g.area_cap;
         if (g.texel) e["texel"] = texel_key(m);
         e["cpp"] = cpp(m.name, g);
         out += "  " + e.dump() + ",\n";

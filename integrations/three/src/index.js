@@ -24,16 +24,11 @@ export { MicroShadowGLTFPlugin, GLTF_DIRECTIONAL_EXTENSION, GLTF_DEFAULT_METHOD 
 // docs/choosing.md): the diffuse-aware ALU fit on the diffuse lobe, the generic ALU fit on the specular lobe.
 export const DEFAULT_METHOD = 'diffuse-aware-alu+generic-vndf-alu';
 
-// Area-light forms (shaders/glsl/micro_shadowing_area.glsl) of the registry terms that have one: over the
-// equivalent cap (nl_cap = N·L of its axis, rho = its angular radius), Lambertian receiver. Other terms are
-// evaluated at the cap's axis.
-export const AREA_FORMS = {
-  reference: 'msh_ms_reference_step_area_cap(vis, nl_cap, rho)',
-  'brinck-maximov-2016': 'msh_ms_brinck_maximov2016_area_cap(vis, nl_cap, rho)',
-  'chan-2018': 'msh_ms_chan2018_area_cap(vis, nl_cap, rho)',
-  'part1-analytic': 'msh_ms_part1_analytic_area_cap(vis, nl_cap, rho)',
-  'generic-vndf-alu': 'msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)',
-};
+// Area-light forms (shaders/glsl/micro_shadowing_area.glsl) of the registry terms that have one (the registry's
+// area_cap, generated/methods.js): over the equivalent cap (nl_cap = N·L of its axis, rho = its angular
+// radius), Lambertian receiver. Other terms are evaluated at the cap's axis.
+export const AREA_FORMS = Object.fromEntries(
+  REGISTRY_METHODS.filter((m) => m.area_cap).map((m) => [m.cpp.method, m.area_cap]));
 
 // How a RectAreaLight is micro-shadowed (options.areaLights): 'cap' (default) — the rectangle's vector form
 // factor, its equivalent cap and the term's cap form (AREA_FORMS) or the point term at the cap's axis; 'center'

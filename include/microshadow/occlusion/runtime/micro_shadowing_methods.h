@@ -61,6 +61,10 @@ struct MicroShadowingOptions {
 struct MicroShadowingGlsl {
   std::string expr, requires_fn, lut, id_suffix, label_suffix;
   bool phi = false, samples = false, frame = false, two_stage = false, texel = false;
+  // The term's form for a spherical-cap light (shaders/glsl/micro_shadowing_area.glsl; docs/area-lights.md):
+  // a float expression over vis, nl_cap (N·L of the cap's axis), rho (its angular radius), nv, rough; empty:
+  // none (an engine uses the point term at the cap's axis). The three.js module's rect-area lights use it.
+  std::string area_cap;
 };
 
 // What a method reads and accepts (the CLI, the Python module and the viewer use it to reject options that do
