@@ -382,9 +382,11 @@ MicroShadowingGlsl glsl(const char* expr, const char* requires_fn = "", const ch
   g.expr = expr, g.requires_fn = requires_fn, g.lut = lut;
   return g;
 }
-// A point form with its spherical-cap form (MicroShadowingGlsl::area_cap).
-MicroShadowingGlsl with_area_cap(MicroShadowingGlsl g, const char* area_cap) {
-  g.area_cap = area_cap;
+// The GLSL form of a closed form of (V, N·L) named fn in shaders/glsl: fn(vis, nl), and its spherical-cap
+// form fn_area_cap(vis, nl_cap, rho) (MicroShadowingGlsl::area_cap).
+MicroShadowingGlsl vnl_glsl(const std::string& fn) {
+  MicroShadowingGlsl g;
+  g.expr = fn + "(vis, nl)", g.requires_fn = fn, g.area_cap = fn + "_area_cap(vis, nl_cap, rho)";
   return g;
 }
 template <double (*F)(double, double), float (*G)(float, float)>
@@ -427,23 +429,18 @@ const std::vector<Entry>& entries() {
         closed<ms::reference_step<double>, ms::reference_step<float>>(
             info("reference", "reference step (Zurita 2026)",
                  "step: 1 when the light is inside the visibility cone, else 0", kStudy,
-                 {with_area_cap(glsl("msh_ms_reference_step(vis, nl)", "msh_ms_reference_step"),
-                                "msh_ms_reference_step_area_cap(vis, nl_cap, rho)")})),
+                 {vnl_glsl("msh_ms_reference_step")})),
         closed<ms::brinck_maximov_2016<double>, ms::brinck_maximov_2016<float>>(
             info("brinck-maximov-2016", "Brinck & Maximov 2016",
                  "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'", kStudy,
-                 {with_area_cap(glsl("msh_ms_brinck_maximov2016(vis, nl)", "msh_ms_brinck_maximov2016"),
-                                "msh_ms_brinck_maximov2016_area_cap(vis, nl_cap, rho)")})),
+                 {vnl_glsl("msh_ms_brinck_maximov2016")})),
         closed<ms::chan_2018<double>, ms::chan_2018<float>>(
             info("chan-2018", "Chan 2018 (Filament)", "Chan 2018, 'Material Advances in Call of Duty: WWII'",
-                 kStudy,
-                 {with_area_cap(glsl("msh_ms_chan2018(vis, nl)", "msh_ms_chan2018"),
-                                "msh_ms_chan2018_area_cap(vis, nl_cap, rho)")})),
+                 kStudy, {vnl_glsl("msh_ms_chan2018")})),
         closed<ms::part1_analytic<double>, ms::part1_analytic<float>>(
             info("part1-analytic", "Part 1 analytic (Zurita 2026)",
                  "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'", kStudy,
-                 {with_area_cap(glsl("msh_ms_part1_analytic(vis, nl)", "msh_ms_part1_analytic"),
-                                "msh_ms_part1_analytic_area_cap(vis, nl_cap, rho)")})),
+                 {vnl_glsl("msh_ms_part1_analytic")})),
         {info("generic-vndf", "generic VNDF (Zurita 2026)",
               "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator with "
               "samples",
@@ -458,8 +455,12 @@ const std::vector<Entry>& entries() {
         {info("generic-vndf-alu", "generic VNDF, ALU fit",
               "ALU-only fit of the generic term's azimuth mean (micro_shadowing_fit.h), float",
               kRough | kNdotV | kStudy,
-              {with_area_cap(glsl("msh_ms_generic_vndf_alu(vis, nl, nv, rough)", "msh_ms_generic_vndf_alu"),
-                             "msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)"),
+              {[] {
+                 MicroShadowingGlsl g =
+                     glsl("msh_ms_generic_vndf_alu(vis, nl, nv, rough)", "msh_ms_generic_vndf_alu");
+                 g.area_cap = "msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)";
+                 return g;
+               }(),
                [] {
                  MicroShadowingGlsl g =
                      glsl("msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(vis, nv, rough), nl)",
