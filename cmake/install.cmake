@@ -10,18 +10,21 @@ set(MSH_INSTALL_TABLEDIR ${CMAKE_INSTALL_DATADIR}/microshadow/tables)
 
 # --- The header-only core --------------------------------------------------------------------------------
 # The rule is by path (docs/architecture.md): the top level of math/, microfacet/, occlusion/, bsdf/, lut/,
-# reference/ and filter/; runtime/ subfolders are compiled into the library. tests/package/
-# check_core_headers.cmake proves that each of these headers, preprocessed, pulls in only the standard library
-# and other core headers, and that the umbrella header includes exactly this set.
+# reference/, filter/ and shader/ (with the shaders' shaders/portable/*.h it compiles as C++); runtime/
+# subfolders are compiled into the library. tests/package/check_core_headers.cmake proves that each of these
+# headers, preprocessed, pulls in only the standard library, other core headers and shaders/portable, and that
+# the umbrella header includes exactly this set.
 set(MSH_CORE_HEADERS)
-foreach(area math microfacet occlusion bsdf lut reference filter)
+foreach(area math microfacet occlusion bsdf lut reference filter shader)
   file(GLOB hs RELATIVE ${CMAKE_SOURCE_DIR}/include CONFIGURE_DEPENDS
        ${CMAKE_SOURCE_DIR}/include/microshadow/${area}/*.h)
   list(APPEND MSH_CORE_HEADERS ${hs})
 endforeach()
 list(SORT MSH_CORE_HEADERS)
 
-target_include_directories(microshadow_core INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+# <prefix>/share/microshadow holds shaders/portable, which <microshadow/shader/portable.h> includes.
+target_include_directories(microshadow_core INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
+                                                      $<INSTALL_INTERFACE:${CMAKE_INSTALL_DATADIR}/microshadow>)
 target_compile_features(microshadow_core INTERFACE cxx_std_20)
 set_target_properties(microshadow_core PROPERTIES EXPORT_NAME core)
 set_target_properties(microshadow_engine PROPERTIES EXPORT_NAME engine)
@@ -107,7 +110,7 @@ if(MSH_BUILD_TESTS)
   # engine's toolchain may differ from ours.
   find_program(MSH_OTHER_CXX NAMES clang++ clang++-14 g++)
   add_test(NAME test_core_headers COMMAND ${CMAKE_COMMAND} -DCXX=${CMAKE_CXX_COMPILER} -DOTHER_CXX=${MSH_OTHER_CXX}
-           -DINCLUDE_DIR=${CMAKE_SOURCE_DIR}/include "-DCORE_HEADERS=${MSH_CORE_HEADERS}"
+           -DINCLUDE_DIR=${CMAKE_SOURCE_DIR}/include -DSHADER_ROOT=${CMAKE_SOURCE_DIR} "-DCORE_HEADERS=${MSH_CORE_HEADERS}"
            -P ${CMAKE_SOURCE_DIR}/tests/package/check_core_headers.cmake)
   # Install into a fresh prefix, build examples/consumer against it with find_package, run it; pkg-config
   # builds of one-file programs.

@@ -110,7 +110,7 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
 }  // namespace
 
 TEST(ShadersMicroShadowingAreaShapes, Compiles) {
-  vk::expect_compiles(kKernel, {"float I0 = 6.28318530718 / D", "float I0 = 6.28318530718 / DD"});
+  vk::expect_compiles(kKernel, {"float I0 = 6.28318530718f / D", "float I0 = 6.28318530718f / DD"});
 }
 
 TEST(ShadersMicroShadowingAreaShapes, RunsOnVulkanAndMatchesCpp) {

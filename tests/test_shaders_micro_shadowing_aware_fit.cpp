@@ -55,7 +55,7 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<fl
 }  // namespace
 
 TEST(ShadersMicroShadowingAwareFit, Compiles) {
-  vk::expect_compiles(kKernel, {"float omv = 1.0 - v, c = sqrt(omv)", "float omv = 1.0 - vv, c = sqrt(omv)"});
+  vk::expect_compiles(kKernel, {"float omv = 1.0f - v, c = sqrt(omv)", "float omv = 1.0f - vv, c = sqrt(omv)"});
 }
 
 TEST(ShadersMicroShadowingAwareFit, RunsOnVulkanAndMatchesCpp) {

@@ -1,29 +1,19 @@
-// microshadow's engine surface: what shader-side engine code ports or calls at run time, and nothing else
-// (CMake: microshadow::engine; docs/packaging.md). C++20 standard library only, header-only, no I/O, no
-// threads; every function here has a GLSL/HLSL twin in shaders/ (docs/shaders.md) except where noted.
-//  - closed-form micro-shadowing terms and the exact early-out (occlusion/micro_shadowing.h,
-//    occlusion/micro_shadowing_early_out.h; the VNDF-sampled term there is Zurita 2026's shader loop);
-//  - the ALU-only fits of the generic and the diffuse-aware terms (micro_shadowing_fit.h,
-//    micro_shadowing_aware_fit.h) and the specular-aware closed form (micro_shadowing_aware.h);
-//  - the samplers of the tables we bake and install (lut/micro_shadowing_lut.h);
-//  - the area-light forms (occlusion/micro_shadowing_area.h, bsdf/ltc.h, bsdf/ltc_shading.h);
-//  - directional micro-occlusion's run-time reconstruction (occlusion/directional.h; shaders: directional.*);
-//  - the bump-terminator terms (occlusion/bump_terminator.h) and GGX (microfacet/ggx.h, roughness.h).
-// Not here: the exact references and quadratures (reference/), the bakers, loaders, renderer and study
-// (the library, microshadow::microshadow). tests/package/check_core_headers.cmake checks that this header's
-// include closure holds no reference/ or runtime/ header.
+// microshadow's engine surface: the run-time forms an engine calls, written once (CMake: microshadow::engine;
+// docs/packaging.md). They are the shaders' own source, shaders/portable/*.h, compiled as C++ through the C++
+// prelude of the portable dialect (<microshadow/shader/portable.h>, docs/shaders.md), in namespace
+// msh::shader with the shader names: a C++ engine and its GLSL/HLSL shaders run the same functions.
+//  - closed-form micro-shadowing terms and the exact early-out (msh_ms_reference_step, msh_ms_chan2018, ...,
+//    msh_ms_exact_zero), the generic term's VNDF estimator (msh_ms_generic_vndf_estimate) and the samplers of
+//    the tables we bake and install (msh_ms_lut_sample*, on a Texture2D/Texture3D view of the texels);
+//  - the ALU-only fits of the generic and the diffuse-aware terms, the specular-aware closed form;
+//  - the area-light forms (cap and LTC);
+//  - directional micro-occlusion's run-time reconstruction (msh_dir_*);
+//  - the bump-terminator terms (msh_bump_*) and GGX (msh_ggx_*).
+// float32, header-only, C++20 standard library only, no I/O, no threads. The templated C++ forms of the same
+// math (occlusion/, bsdf/, lut/, microfacet/; microshadow::core) are the references these are measured
+// against (tests/test_shader_portable_cpp.cpp), and the library's own (double-precision) path.
+// tests/package/check_core_headers.cmake checks that this header's include closure holds no reference/ or
+// runtime/ header.
 #pragma once
 
-#include <microshadow/bsdf/ltc.h>
-#include <microshadow/bsdf/ltc_shading.h>
-#include <microshadow/lut/micro_shadowing_lut.h>
-#include <microshadow/microfacet/ggx.h>
-#include <microshadow/microfacet/roughness.h>
-#include <microshadow/occlusion/bump_terminator.h>
-#include <microshadow/occlusion/directional.h>
-#include <microshadow/occlusion/micro_shadowing.h>
-#include <microshadow/occlusion/micro_shadowing_area.h>
-#include <microshadow/occlusion/micro_shadowing_aware.h>
-#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
-#include <microshadow/occlusion/micro_shadowing_early_out.h>
-#include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/shader/portable.h>

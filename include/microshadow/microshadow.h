@@ -49,3 +49,5 @@
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <microshadow/reference/micro_shadowing_ring.h>
 #include <microshadow/reference/micro_shadowing_vcavity.h>
+#include <microshadow/shader/cpp_prelude.h>
+#include <microshadow/shader/portable.h>

@@ -12,6 +12,12 @@
 #define MSH_ARRAY(T, N) {
 #define MSH_ARRAY_END }
 
+// Output parameters: MSH_OUT(float) x, MSH_INOUT(float3) y and an output array MSH_OUT_ARRAY(float3, p, 4)
+// (references in the C++ prelude, include/microshadow/shader/cpp_prelude.h).
+#define MSH_OUT(T) out T
+#define MSH_INOUT(T) inout T
+#define MSH_OUT_ARRAY(T, name, n) out T name[n]
+
 #define msh_saturate(x) saturate(x)
 #define msh_rsqrt(x) rsqrt(x)
 #define msh_atan2(y, x) atan2(y, x)

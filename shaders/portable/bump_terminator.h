@@ -19,51 +19,52 @@
 // eq. 12.2; tan theta_d = 2 sigma, GGX variance sigma^2 = 2 alpha^2). float32, exact 0 for ns parallel to ng.
 float msh_bump_alpha2(float3 ng, float3 ns) {
   // Written out and `precise` (no FMA contraction) so that ns = ng gives exactly 0, hence the term exactly 1.
-  MSH_PRECISE float3 x = ng.yzx * ns.zxy - ng.zxy * ns.yzx;  // cross(ng, ns)
+  MSH_PRECISE float3 x = float3(ng.y * ns.z - ng.z * ns.y, ng.z * ns.x - ng.x * ns.z, ng.x * ns.y - ng.y * ns.x);
   float s2 = dot(x, x);
   float c = dot(ng, ns);
-  float c8 = 8.0 * c * c;
+  float c8 = 8.0f * c * c;
   if (s2 < c8) return s2 / c8;
-  return s2 > 0.0 ? 1.0 : 0.0;
+  return s2 > 0.0f ? 1.0f : 0.0f;
 }
 
 // Smith GGX G1 of the light about ng: 2 / (1 + sqrt(1 + alpha^2 tan^2 theta_i)), |cos theta_i| >= 1e-6 as in
 // listing 12.1 (Conty 2019; RTR4 9.24 + 9.37). float32, see the precision note above.
 float msh_bump_smith_g1_light(float alpha2, float3 ng, float3 l) {
-  MSH_PRECISE float3 x = ng.yzx * l.zxy - ng.zxy * l.yzx;  // cross(ng, l); exactly 0 for l = ng
+  // cross(ng, l) written out; exactly 0 for l = ng
+  MSH_PRECISE float3 x = float3(ng.y * l.z - ng.z * l.y, ng.z * l.x - ng.x * l.z, ng.x * l.y - ng.y * l.x);
   float s2 = dot(x, x);
   float c = dot(ng, l);
   float c2 = c * c;
   float n2 = s2 + c2;
-  if (!(n2 > 0.0)) return 1.0;
-  float tan2 = min(s2 / max(c2, 1e-12 * n2), 1e12);
-  return 2.0 / (1.0 + sqrt(1.0 + msh_saturate(alpha2) * tan2));
+  if (!(n2 > 0.0f)) return 1.0f;
+  float tan2 = min(s2 / max(c2, 1e-12f * n2), 1e12f);
+  return 2.0f / (1.0f + sqrt(1.0f + msh_saturate(alpha2) * tan2));
 }
 
 // Light above both the geometric and the shading hemisphere (the optional hemisphere-validity test).
-bool msh_bump_above_both(float3 ng, float3 ns, float3 l) { return dot(ng, l) > 0.0 && dot(ns, l) > 0.0; }
+bool msh_bump_above_both(float3 ng, float3 ns, float3 l) { return dot(ng, l) > 0.0f && dot(ns, l) > 0.0f; }
 
 // Conty Estevez, Lecocq, Stein 2019 (Ray Tracing Gems ch. 12, listing 12.1) bump shadowing term. float32.
 float msh_bump_conty2019(float3 ng, float3 ns, float3 l, bool hemisphere_test) {
-  if (hemisphere_test && !msh_bump_above_both(ng, ns, l)) return 0.0;
+  if (hemisphere_test && !msh_bump_above_both(ng, ns, l)) return 0.0f;
   return msh_bump_smith_g1_light(msh_bump_alpha2(ng, ns), ng, l);
 }
 
 // Chiang, Li, Burley 2019 "Taming the Shadow Terminator": g = (ng.l)/((ns.l)(ng.ns)) (ns normalized), then
 // -g^3 + g^2 + g on [0,1]; a zero denominator gives 1. float32, see the precision note above.
 float msh_bump_chiang2019(float3 ng, float3 ns, float3 l, bool hemisphere_test) {
-  if (hemisphere_test && !msh_bump_above_both(ng, ns, l)) return 0.0;
+  if (hemisphere_test && !msh_bump_above_both(ng, ns, l)) return 0.0f;
   float num = dot(ng, l) * dot(ns, ns);
   float den = dot(ns, l) * dot(ng, ns);
-  if (den == 0.0) return 1.0;
-  if (den < 0.0) {
+  if (den == 0.0f) return 1.0f;
+  if (den < 0.0f) {
     num = -num;
     den = -den;
   }
-  if (num >= den) return 1.0;
-  if (!(num > 0.0)) return 0.0;
+  if (num >= den) return 1.0f;
+  if (!(num > 0.0f)) return 0.0f;
   float g = num / den;
-  return g * (1.0 + g * (1.0 - g));
+  return g * (1.0f + g * (1.0f - g));
 }
 
 // Hanika 2021 "Hacking the Shadow Terminator" (Ray Tracing Gems II ch. 4): shadow-ray origin for a
@@ -73,9 +74,9 @@ float3 msh_hanika2021_shadow_origin(float3 p, float3 p0, float3 p1, float3 p2, f
                                     float3 b) {
   float3 q = p;
   float n2_0 = dot(n0, n0), n2_1 = dot(n1, n1), n2_2 = dot(n2, n2);
-  if (n2_0 > 0.0) q -= b.x * min(0.0, dot(p - p0, n0) / n2_0) * n0;
-  if (n2_1 > 0.0) q -= b.y * min(0.0, dot(p - p1, n1) / n2_1) * n1;
-  if (n2_2 > 0.0) q -= b.z * min(0.0, dot(p - p2, n2) / n2_2) * n2;
+  if (n2_0 > 0.0f) q -= b.x * min(0.0f, dot(p - p0, n0) / n2_0) * n0;
+  if (n2_1 > 0.0f) q -= b.y * min(0.0f, dot(p - p1, n1) / n2_1) * n1;
+  if (n2_2 > 0.0f) q -= b.z * min(0.0f, dot(p - p2, n2) / n2_2) * n2;
   return q;
 }
 

@@ -33,7 +33,7 @@ float4 msh_dir_basis_hi(float3 l) { return float4(l.x * l.z, l.y * l.z, l.x * l.
 // sum_i c_i b_i(l) with the channels packed as c0 = (c_0..c_3), c1 = (c_4..c_7), c8 = c_8: the fitted
 // transport before the clamp. float32, 9 products summed (within 1e-6 * S of C++, see the top).
 float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
-  return dot(c0, float4(1.0, l)) + dot(c1, msh_dir_basis_hi(l)) + c8 * (l.z * l.z);
+  return dot(c0, float4(1.0f, l)) + dot(c1, msh_dir_basis_hi(l)) + c8 * (l.z * l.z);
 }
 
 // Mean diffuse transport over the texel's footprint, lit * max(n_fine . l, 0), of a directional light:
@@ -43,14 +43,14 @@ float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
 // Diffuse radiance = albedo / pi * E * transport, in place of max(n . l, 0) * micro-shadowing. float32,
 // within 1e-6 * S of C++; exactly 0 below the horizon.
 float msh_dir_transport(float4 c0, float4 c1, float c8, float3 l) {
-  if (!(l.z > 0.0)) return 0.0;
-  return max(msh_dir_poly(c0, c1, c8, l), 0.0);
+  if (!(l.z > 0.0f)) return 0.0f;
+  return max(msh_dir_poly(c0, c1, c8, l), 0.0f);
 }
 
 // The same with the channels as an array c[0..8] (the C++ order, summed in the C++ order). float32, within
 // 1e-6 * S of C++; exactly 0 below the horizon.
 float msh_dir_transport(float c[9], float3 l) {
-  if (!(l.z > 0.0)) return 0.0;
+  if (!(l.z > 0.0f)) return 0.0f;
   float4 h = msh_dir_basis_hi(l);
   float s = c[0];
   s += c[1] * l.x;
@@ -61,7 +61,7 @@ float msh_dir_transport(float c[9], float3 l) {
   s += c[6] * h.z;
   s += c[7] * h.w;
   s += c[8] * (l.z * l.z);
-  return max(s, 0.0);
+  return max(s, 0.0f);
 }
 
 // The transport as a factor on the engine's max(n . l, 0) (n = the coarse shading normal, tangent space):
@@ -70,14 +70,14 @@ float msh_dir_transport(float c[9], float3 l) {
 // the top of this file; exactly 0 at both early-outs.
 float msh_dir_term(float4 c0, float4 c1, float c8, float3 l, float3 n) {
   float nl = dot(n, l);
-  if (!(nl > 1e-4)) return 0.0;
+  if (!(nl > 1e-4f)) return 0.0f;
   return msh_dir_transport(c0, c1, c8, l) / nl;
 }
 
 // The same with the channels as an array c[0..8]. float32, as above.
 float msh_dir_term(float c[9], float3 l, float3 n) {
   float nl = dot(n, l);
-  if (!(nl > 1e-4)) return 0.0;
+  if (!(nl > 1e-4f)) return 0.0f;
   return msh_dir_transport(c, l) / nl;
 }
 
@@ -100,7 +100,7 @@ float msh_dir_term(float c[9], float3 l, float3 n) {
 // correction, which leaves masking out, would overshoot); each sum in the C++ order. float32, within 1e-6 *
 // S_v of C++.
 float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
-  if (!(l.z > 0.0)) return 0.0;
+  if (!(l.z > 0.0f)) return 0.0f;
   float4 h = msh_dir_basis_hi(l);
   float t = c[0].x;  // channels 0-8: T
   t += c[0].y * l.x;
@@ -123,8 +123,8 @@ float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
   gy += c[4].z * l.z;
   gy += c[4].w * h.x;
   gy += c[5].x * h.y;
-  float vz = max(v.z, 0.5);
-  return max(t + (gx * v.x + gy * v.y) / vz, 0.0);
+  float vz = max(v.z, 0.5f);
+  return max(t + (gx * v.x + gy * v.y) / vz, 0.0f);
 }
 
 // The same as a factor on the engine's max(n . l, 0): msh_dir_view_transport / (n . l), 0 where n . l <=
@@ -132,7 +132,7 @@ float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
 // (n . l) plus the n . l rounding (as msh_dir_term); exactly 0 at both early-outs.
 float msh_dir_view_term(float4 c[6], float3 l, float3 v, float3 n) {
   float nl = dot(n, l);
-  if (!(nl > 1e-4)) return 0.0;
+  if (!(nl > 1e-4f)) return 0.0f;
   return msh_dir_view_transport(c, l, v) / nl;
 }
 
@@ -147,19 +147,19 @@ float msh_dir_view_term(float4 c[6], float3 l, float3 v, float3 n) {
 // tests/test_shaders_directional.cpp on lavapipe).
 
 // K <= 4 coefficients (one fetch): fb[i] = (fb_i0, fb_i1, fb_i2, fb_i3), 24 rows.
-void msh_dir_code4_decode(float4 u, float4 fm[6], float4 fb[24], out float4 c[6]) {
+void msh_dir_code4_decode(float4 u, float4 fm[6], float4 fb[24], MSH_OUT_ARRAY(float4, c, 6)) {
   // Unrolled (as compilers would): 21 dot products, each row written once.
   c[0] = fm[0] + float4(dot(fb[0], u), dot(fb[1], u), dot(fb[2], u), dot(fb[3], u));
   c[1] = fm[1] + float4(dot(fb[4], u), dot(fb[5], u), dot(fb[6], u), dot(fb[7], u));
   c[2] = fm[2] + float4(dot(fb[8], u), dot(fb[9], u), dot(fb[10], u), dot(fb[11], u));
   c[3] = fm[3] + float4(dot(fb[12], u), dot(fb[13], u), dot(fb[14], u), dot(fb[15], u));
   c[4] = fm[4] + float4(dot(fb[16], u), dot(fb[17], u), dot(fb[18], u), dot(fb[19], u));
-  c[5] = fm[5] + float4(dot(fb[20], u), 0.0, 0.0, 0.0);
+  c[5] = fm[5] + float4(dot(fb[20], u), 0.0f, 0.0f, 0.0f);
 }
 
 // K <= 8 coefficients (two fetches u0 = u_0..3, u1 = u_4..7): fb[2 i] = (fb_i0 .. fb_i3), fb[2 i + 1] =
 // (fb_i4 .. fb_i7), 48 rows.
-void msh_dir_code8_decode(float4 u0, float4 u1, float4 fm[6], float4 fb[48], out float4 c[6]) {
+void msh_dir_code8_decode(float4 u0, float4 u1, float4 fm[6], float4 fb[48], MSH_OUT_ARRAY(float4, c, 6)) {
   // Unrolled: 42 dot products.
   c[0] = fm[0] + float4(dot(fb[0], u0) + dot(fb[1], u1), dot(fb[2], u0) + dot(fb[3], u1),
                         dot(fb[4], u0) + dot(fb[5], u1), dot(fb[6], u0) + dot(fb[7], u1));
@@ -171,7 +171,7 @@ void msh_dir_code8_decode(float4 u0, float4 u1, float4 fm[6], float4 fb[48], out
                         dot(fb[28], u0) + dot(fb[29], u1), dot(fb[30], u0) + dot(fb[31], u1));
   c[4] = fm[4] + float4(dot(fb[32], u0) + dot(fb[33], u1), dot(fb[34], u0) + dot(fb[35], u1),
                         dot(fb[36], u0) + dot(fb[37], u1), dot(fb[38], u0) + dot(fb[39], u1));
-  c[5] = fm[5] + float4(dot(fb[40], u0) + dot(fb[41], u1), 0.0, 0.0, 0.0);
+  c[5] = fm[5] + float4(dot(fb[40], u0) + dot(fb[41], u1), 0.0f, 0.0f, 0.0f);
 }
 
 // 8-bit storage: a channel fetched from a UNORM texture (u in [0, 1], already filtered) mapped back to

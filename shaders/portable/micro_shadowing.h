@@ -17,9 +17,9 @@
 #ifndef MSH_MICRO_SHADOWING_PORTABLE_H
 #define MSH_MICRO_SHADOWING_PORTABLE_H
 
-#define MSH_MS_PI 3.14159265358979323846
+#define MSH_MS_PI 3.14159265358979323846f
 // Smallest GGX alpha (GGX<T>::kMinAlpha): alpha 0 is a very sharp but finite lobe.
-#define MSH_MS_MIN_ALPHA 1e-4
+#define MSH_MS_MIN_ALPHA 1e-4f
 
 // ---- Closed-form terms -------------------------------------------------------------------------------------
 
@@ -29,27 +29,27 @@ float3 msh_ms_to_shading_frame(float3 w, float3 t, float3 b, float3 n) {
 }
 
 // Cosine of the visibility cone's half-angle, sqrt(1 - vis) (Zurita 2026 Part 2, Nusselt analog). |err| <= 1.2e-7.
-float msh_ms_cone_cos(float vis) { return sqrt(1.0 - clamp(vis, 0.0, 1.0)); }
+float msh_ms_cone_cos(float vis) { return sqrt(1.0f - clamp(vis, 0.0f, 1.0f)); }
 
 // Reference term (Zurita 2026 Part 2): step(cos_t, N.L), lit iff N.L > cos_t (strict). Exact except within ~1 ulp of
 // the cone boundary N.L = cos_t (where the GPU's sqrt may round differently).
 float msh_ms_reference_step(float vis, float n_dot_l) {
-  return clamp(n_dot_l, 0.0, 1.0) > msh_ms_cone_cos(vis) ? 1.0 : 0.0;
+  return clamp(n_dot_l, 0.0f, 1.0f) > msh_ms_cone_cos(vis) ? 1.0f : 0.0f;
 }
 
 // Brinck & Maximov 2016 (Naughty Dog, Uncharted 4), AO = vis: saturate(N.L + 2 vis^2 - 1). |err| <= 2.4e-7.
 float msh_ms_brinck_maximov2016(float vis, float n_dot_l) {
-  float v = clamp(vis, 0.0, 1.0);
-  return clamp(clamp(n_dot_l, 0.0, 1.0) + 2.0 * v * v - 1.0, 0.0, 1.0);
+  float v = clamp(vis, 0.0f, 1.0f);
+  return clamp(clamp(n_dot_l, 0.0f, 1.0f) + 2.0f * v * v - 1.0f, 0.0f, 1.0f);
 }
 
 // Chan 2018 (Activision, CoD WWII; Filament's computeMicroShadowing): saturate(N.L / sqrt(1 - vis))^2.
 // vis = 1 gives 1 for N.L > 0, else 0 (the limit). |err| <= 1e-6 (1.6e-7 measured).
 float msh_ms_chan2018(float vis, float n_dot_l) {
-  float nl = clamp(n_dot_l, 0.0, 1.0);
+  float nl = clamp(n_dot_l, 0.0f, 1.0f);
   float c = msh_ms_cone_cos(vis);
-  if (!(c > 0.0)) return nl > 0.0 ? 1.0 : 0.0;
-  float x = clamp(nl / c, 0.0, 1.0);
+  if (!(c > 0.0f)) return nl > 0.0f ? 1.0f : 0.0f;
+  float x = clamp(nl / c, 0.0f, 1.0f);
   return x * x;
 }
 
@@ -57,20 +57,20 @@ float msh_ms_chan2018(float vis, float n_dot_l) {
 // pow(saturate(N.L / sqrt(1 - vis^5)), 0.75 / vis). Precision limited by pow (exp2/log2): |err| <= 2e-6 for
 // vis >= 0.05 (1.1e-6 measured); below, the exponent 0.75/vis is large: |err| <= 2e-5 (6.5e-6 measured).
 float msh_ms_part1_analytic(float vis, float n_dot_l) {
-  float v = clamp(vis, 0.0, 1.0);
-  if (v == 0.0 || v == 1.0) return v;
-  float nl = clamp(n_dot_l, 0.0, 1.0);
+  float v = clamp(vis, 0.0f, 1.0f);
+  if (v == 0.0f || v == 1.0f) return v;
+  float nl = clamp(n_dot_l, 0.0f, 1.0f);
   float v2 = v * v;
-  float cp = sqrt(1.0 - v2 * v2 * v);
-  if (!(cp > 0.0)) return nl > 0.0 ? 1.0 : 0.0;  // vis^5 rounded to 1
-  float x = clamp(nl / cp, 0.0, 1.0);
-  return x > 0.0 ? pow(x, 0.75 / v) : 0.0;  // pow(0, y) avoided: exp2(y * log2(0)) is not portable
+  float cp = sqrt(1.0f - v2 * v2 * v);
+  if (!(cp > 0.0f)) return nl > 0.0f ? 1.0f : 0.0f;  // vis^5 rounded to 1
+  float x = clamp(nl / cp, 0.0f, 1.0f);
+  return x > 0.0f ? pow(x, 0.75f / v) : 0.0f;  // pow(0, y) avoided: exp2(y * log2(0)) is not portable
 }
 
 // Exact early-out (Zurita 2026 Part 2; proof in docs/micro-shadowing.md): 2 vis + N.L < 1 => the generic term is exactly 0 for every
 // roughness and view. Exact (two roundings, as in C++).
 bool msh_ms_exact_zero(float vis, float n_dot_l) {
-  return 2.0 * clamp(vis, 0.0, 1.0) + clamp(n_dot_l, 0.0, 1.0) < 1.0;
+  return 2.0f * clamp(vis, 0.0f, 1.0f) + clamp(n_dot_l, 0.0f, 1.0f) < 1.0f;
 }
 
 // ---- GGX VNDF sampling, Smith weights ---------------------------------------------------------------------
@@ -78,7 +78,7 @@ bool msh_ms_exact_zero(float vis, float n_dot_l) {
 // normalize() with the C++ fallback: a zero (or denormal-length) vector gives +z.
 float3 msh_ms_safe_normalize(float3 a) {
   float l2 = dot(a, a);
-  if (!(l2 > 1.17549435e-38)) return float3(0.0, 0.0, 1.0);
+  if (!(l2 > 1.17549435e-38f)) return float3(0.0f, 0.0f, 1.0f);
   return a / sqrt(l2);
 }
 
@@ -90,13 +90,13 @@ float3 msh_ms_safe_normalize(float3 a) {
 float3 msh_ggx_sample_vndf(float3 v, float2 alpha, float2 u) {
   float2 a = max(alpha, float2(MSH_MS_MIN_ALPHA, MSH_MS_MIN_ALPHA));
   float3 wi = msh_ms_safe_normalize(float3(a.x * v.x, a.y * v.y, v.z));
-  if (wi.z < 0.0) wi = -wi;
-  float phi = 2.0 * MSH_MS_PI * u.x;
+  if (wi.z < 0.0f) wi = -wi;
+  float phi = 2.0f * MSH_MS_PI * u.x;
   // sin^2 = (1 - z)(1 + z) from factors without cancellation (as ggx.h): exact near both poles.
-  float z = (1.0 - u.y) * (1.0 + wi.z) - wi.z;
-  float s = sqrt(max((u.y * (1.0 + wi.z)) * ((1.0 - u.y) * (1.0 + wi.z) + (1.0 - wi.z)), 0.0));
+  float z = (1.0f - u.y) * (1.0f + wi.z) - wi.z;
+  float s = sqrt(max((u.y * (1.0f + wi.z)) * ((1.0f - u.y) * (1.0f + wi.z) + (1.0f - wi.z)), 0.0f));
   float3 h = float3(s * cos(phi), s * sin(phi), z) + wi;
-  return msh_ms_safe_normalize(float3(a.x * h.x, a.y * h.y, max(0.0, h.z)));
+  return msh_ms_safe_normalize(float3(a.x * h.x, a.y * h.y, max(0.0f, h.z)));
 }
 // Isotropic GGX: msh_ggx_sample_vndf with alpha_x = alpha_y.
 float3 msh_ggx_sample_vndf_isotropic(float3 v, float alpha, float2 u) {
@@ -108,8 +108,8 @@ float3 msh_ggx_sample_vndf_isotropic(float3 v, float alpha, float2 u) {
 float msh_ggx_projected_alpha(float3 w, float2 alpha) {
   float2 a = max(alpha, float2(MSH_MS_MIN_ALPHA, MSH_MS_MIN_ALPHA));
   float s2 = w.x * w.x + w.y * w.y;
-  if (!(s2 > 0.0)) return sqrt(0.5 * (a.x * a.x + a.y * a.y));
-  float2 p = a * w.xy;
+  if (!(s2 > 0.0f)) return sqrt(0.5f * (a.x * a.x + a.y * a.y));
+  float2 p = a * float2(w.x, w.y);
   return sqrt(dot(p, p) / s2);
 }
 
@@ -119,7 +119,7 @@ float msh_ggx_projected_alpha(float3 w, float2 alpha) {
 // as-used error against the exact anisotropic term is in docs/micro-shadowing.md. |err| <= 1e-6 relative.
 float msh_ms_lut_roughness_anisotropic(float3 v, float3 l, float2 alpha) {
   float av = msh_ggx_projected_alpha(v, alpha), al = msh_ggx_projected_alpha(l, alpha);
-  return sqrt(sqrt(0.5 * (av * av + al * al)));
+  return sqrt(sqrt(0.5f * (av * av + al * al)));
 }
 
 // Smith GGX G1(w) = 1 / (1 + Lambda(w)) (RTR4 9.24, 9.37) from the projected roughness, written as
@@ -127,7 +127,7 @@ float msh_ms_lut_roughness_anisotropic(float3 v, float3 l, float2 alpha) {
 float msh_ggx_g1_projected(float3 w, float projected_alpha) {
   float z = abs(w.z);
   float den = z + sqrt(w.z * w.z + projected_alpha * projected_alpha * (w.x * w.x + w.y * w.y));
-  return den > 0.0 ? 2.0 * z / den : 1.0;
+  return den > 0.0f ? 2.0f * z / den : 1.0f;
 }
 
 // G2(v,l,m)/G1(v,m) for the Smith profile with m.l > 0, m.v > 0 (Zurita 2026 Part 2 table), from the G1 of l and v:
@@ -135,7 +135,7 @@ float msh_ggx_g1_projected(float3 w, float projected_alpha) {
 float msh_ms_smith_g2_over_g1(float g1_l, float g1_v, bool height_correlated) {
   if (!height_correlated) return g1_l;
   float den = g1_l + g1_v - g1_l * g1_v;
-  return den > 0.0 ? g1_l / den : 0.0;
+  return den > 0.0f ? g1_l / den : 0.0f;
 }
 
 // The seed's per-microfacet function GenericM_m (Zurita 2026 Part 2, MicroShadowingTermPZGenericVNDFBased), anisotropic
@@ -144,34 +144,34 @@ float msh_ms_smith_g2_over_g1(float g1_l, float g1_v, bool height_correlated) {
 // within ~1e-5 of cos_t (the sampler's precision; 0 mismatches measured away from 1e-4 of the thresholds);
 // weight |err| <= 1e-6 (1.8e-7 measured).
 void msh_ms_generic_vndf_sample(float cos_t, float2 alpha, float3 v, float3 l, float2 u, bool height_correlated,
-                                out float cone, out float hemisphere, out float weight) {
+                                MSH_OUT(float) cone, MSH_OUT(float) hemisphere, MSH_OUT(float) weight) {
   float3 m = msh_ggx_sample_vndf(v, alpha, u);
   float alpha_v = msh_ggx_projected_alpha(v, alpha);  // project GGX roughness onto v
   float alpha_l = msh_ggx_projected_alpha(l, alpha);  // ... and onto l
-  float n_dot_m = clamp(m.z, 0.0, 1.0);
-  float m_dot_l = clamp(dot(m, l), 0.0, 1.0);
-  float c = clamp(cos_t, 0.0, 1.0);
-  weight = m_dot_l > 0.0 ? msh_ms_smith_g2_over_g1(msh_ggx_g1_projected(l, alpha_l),
+  float n_dot_m = clamp(m.z, 0.0f, 1.0f);
+  float m_dot_l = clamp(dot(m, l), 0.0f, 1.0f);
+  float c = clamp(cos_t, 0.0f, 1.0f);
+  weight = m_dot_l > 0.0f ? msh_ms_smith_g2_over_g1(msh_ggx_g1_projected(l, alpha_l),
                                                    msh_ggx_g1_projected(v, alpha_v), height_correlated)
-                         : 0.0;
-  hemisphere = (n_dot_m > 0.0 && m_dot_l > 0.0) ? weight : 0.0;
-  cone = (n_dot_m - c > 0.0 && m_dot_l - c > 0.0) ? weight : 0.0;
+                         : 0.0f;
+  hemisphere = (n_dot_m > 0.0f && m_dot_l > 0.0f) ? weight : 0.0f;
+  cone = (n_dot_m - c > 0.0f && m_dot_l - c > 0.0f) ? weight : 0.0f;
 }
 
 // Isotropic GenericM_m (Zurita 2026 Part 2, MicroShadowingTermPZGenericVNDFBased_Isotropic): the same with one alpha.
 void msh_ms_generic_vndf_sample_isotropic(float cos_t, float alpha, float3 v, float3 l, float2 u,
-                                          bool height_correlated, out float cone, out float hemisphere,
-                                          out float weight) {
+                                          bool height_correlated, MSH_OUT(float) cone, MSH_OUT(float) hemisphere,
+                                          MSH_OUT(float) weight) {
   float3 m = msh_ggx_sample_vndf_isotropic(v, alpha, u);
   float a = max(alpha, MSH_MS_MIN_ALPHA);
-  float n_dot_m = clamp(m.z, 0.0, 1.0);
-  float m_dot_l = clamp(dot(m, l), 0.0, 1.0);
-  float c = clamp(cos_t, 0.0, 1.0);
-  weight = m_dot_l > 0.0 ? msh_ms_smith_g2_over_g1(msh_ggx_g1_projected(l, a), msh_ggx_g1_projected(v, a),
+  float n_dot_m = clamp(m.z, 0.0f, 1.0f);
+  float m_dot_l = clamp(dot(m, l), 0.0f, 1.0f);
+  float c = clamp(cos_t, 0.0f, 1.0f);
+  weight = m_dot_l > 0.0f ? msh_ms_smith_g2_over_g1(msh_ggx_g1_projected(l, a), msh_ggx_g1_projected(v, a),
                                                    height_correlated)
-                         : 0.0;
-  hemisphere = (n_dot_m > 0.0 && m_dot_l > 0.0) ? weight : 0.0;
-  cone = (n_dot_m - c > 0.0 && m_dot_l - c > 0.0) ? weight : 0.0;
+                         : 0.0f;
+  hemisphere = (n_dot_m > 0.0f && m_dot_l > 0.0f) ? weight : 0.0f;
+  cone = (n_dot_m - c > 0.0f && m_dot_l - c > 0.0f) ? weight : 0.0f;
 }
 
 // ---- Low-discrepancy points (bit-identical to msh::sobol_2d / msh::hammersley_2d) ---------------------------
@@ -204,7 +204,7 @@ uint msh_sobol_dim1(uint index) {
   return r;
 }
 // 32-bit fixed point to [0, 1): x 2^-32, at most the largest float below 1.
-float msh_u32_to_unit(uint x) { return min(float(x) * 2.3283064365386963e-10, msh_asfloat(0x3f7fffffu)); }
+float msh_u32_to_unit(uint x) { return min(float(x) * 2.3283064365386963e-10f, msh_asfloat(0x3f7fffffu)); }
 // Point `index` of the 2D Sobol sequence; seed 0: plain, else Owen-scrambled and index-shuffled (Burley 2020
 // §4). Bit-identical to msh::sobol_2d<float> (integer arithmetic; correctly rounded uint -> float).
 float2 msh_sobol_2d(uint index, uint seed) {
@@ -223,17 +223,17 @@ float2 msh_hammersley_2d(uint i, uint n) { return float2(float(i) / float(n), ms
 // (tested |diff| <= 2/n; 8e-7 measured, no flips). QMC error vs the exact term: docs/shaders.md.
 float msh_ms_generic_vndf_estimate(float vis, float2 alpha, float3 v, float3 l, int n, bool height_correlated,
                                    uint seed) {
-  float V = clamp(vis, 0.0, 1.0);
-  if (msh_ms_exact_zero(V, l.z)) return 0.0;
+  float V = clamp(vis, 0.0f, 1.0f);
+  if (msh_ms_exact_zero(V, l.z)) return 0.0f;
   float c = msh_ms_cone_cos(V);
-  float cone_sum = 0.0, hemi_sum = 0.0;
+  float cone_sum = 0.0f, hemi_sum = 0.0f;
   for (int i = 0; i < n; ++i) {
     float cone, hemi, w;
     msh_ms_generic_vndf_sample(c, alpha, v, l, msh_sobol_2d(uint(i), seed), height_correlated, cone, hemi, w);
     cone_sum += cone;
     hemi_sum += hemi;
   }
-  return hemi_sum > 0.0 ? min(1.0, cone_sum / hemi_sum) : 0.0;
+  return hemi_sum > 0.0f ? min(1.0f, cone_sum / hemi_sum) : 0.0f;
 }
 
 // ---- LUT sampling (Zurita 2026, "Improving Direct Lighting Material Occlusion - Part 2", "LUT-Based Approximation"; layout docs/lut.md) ---------------------------------
@@ -245,7 +245,7 @@ float msh_ms_generic_vndf_estimate(float vis, float2 alpha, float3 v, float3 l, 
 // 2^-(bits+1) times the difference of neighbouring texels.
 
 // Half-texel remap u' = (u (n-1) + 0.5) / n: the texel centres then hold the values at i/(n-1).
-float msh_ms_lut_coord(float u, float n) { return (clamp(u, 0.0, 1.0) * (n - 1.0) + 0.5) / n; }
+float msh_ms_lut_coord(float u, float n) { return (clamp(u, 0.0f, 1.0f) * (n - 1.0f) + 0.5f) / n; }
 
 // Linear interpolation across the roughness channels, as msh::lut::interpolate_roughness: roughness clamped to
 // [knots[0], knots[channels-1]], then a lerp between the two bracketing channels. Same arithmetic as C++.
@@ -257,12 +257,12 @@ float msh_ms_lut_roughness(float4 ch, float roughness, float4 knots, int channel
   int j = 0;
   while (j + 2 < channels && r > knots[j + 1]) ++j;
   float r0 = knots[j], r1 = knots[j + 1];
-  float t = r1 > r0 ? clamp((r - r0) / (r1 - r0), 0.0, 1.0) : 0.0;
+  float t = r1 > r0 ? clamp((r - r0) / (r1 - r0), 0.0f, 1.0f) : 0.0f;
   return ch[j] + t * (ch[j + 1] - ch[j]);
 }
 // The default channels r, g, b, a = roughness 0.1, 0.4, 0.7, 1.0 (Zurita 2026 Part 2).
 float msh_ms_lut_roughness_default(float4 ch, float roughness) {
-  return msh_ms_lut_roughness(ch, roughness, float4(0.1, 0.4, 0.7, 1.0), 4);
+  return msh_ms_lut_roughness(ch, roughness, float4(0.1f, 0.4f, 0.7f, 1.0f), 4);
 }
 
 // Trilinear fetch of the four roughness channels at (vis, N.L, N.V), with the half-texel remap (no early-out):
@@ -277,25 +277,25 @@ float4 msh_ms_lut_fetch(MSH_TEXTURE3D(lut, smp), float vis, float n_dot_l, float
 // mean over the relative azimuth. Perceptual roughness. |shader - C++| <= 1e-6 on lavapipe (1.8e-7 measured).
 float msh_ms_lut_sample(MSH_TEXTURE3D(lut, smp), float vis, float n_dot_l, float n_dot_v,
                         float roughness) {
-  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0f;
   float4 ch = msh_ms_lut_fetch(MSH_TEXTURE_ARGS(lut, smp), vis, n_dot_l, n_dot_v);
-  return clamp(msh_ms_lut_roughness_default(ch, roughness), 0.0, 1.0);
+  return clamp(msh_ms_lut_roughness_default(ch, roughness), 0.0f, 1.0f);
 }
 
 // 2D LUT (Zurita 2026 Part 2): the N.V = 1 slice, x = vis, y = N.L. |shader - C++| <= 1e-6 on lavapipe (1.2e-7 meas.).
 float msh_ms_lut_sample_2d(MSH_TEXTURE2D(lut, smp), float vis, float n_dot_l, float roughness) {
-  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0f;
   float2 n = float2(msh_texture_size2(lut));
   float2 uv = float2(msh_ms_lut_coord(vis, n.x), msh_ms_lut_coord(n_dot_l, n.y));
-  return clamp(msh_ms_lut_roughness_default(msh_sample_level0(lut, smp, uv), roughness), 0.0, 1.0);
+  return clamp(msh_ms_lut_roughness_default(msh_sample_level0(lut, smp, uv), roughness), 0.0f, 1.0f);
 }
 
 // Relative azimuth cosine of v and l (tangent-plane projections), 1 when either projection vanishes
 // (msh::lut::relative_azimuth_cos).
 float msh_ms_relative_azimuth_cos(float3 v, float3 l) {
   float d = sqrt((v.x * v.x + v.y * v.y) * (l.x * l.x + l.y * l.y));
-  if (!(d > 0.0)) return 1.0;
-  return clamp((v.x * l.x + v.y * l.y) / d, -1.0, 1.0);
+  if (!(d > 0.0f)) return 1.0f;
+  return clamp((v.x * l.x + v.y * l.y) / d, -1.0f, 1.0f);
 }
 
 // Azimuth-aware LUT (msh::lut::sample_micro_shadowing_azimuth, `bake micro-shadowing --azimuth H`): the depth
@@ -305,22 +305,22 @@ float msh_ms_relative_azimuth_cos(float3 v, float3 l) {
 // texture of depth H+1. |shader - C++| <= 1e-6 on lavapipe (1.8e-7 measured).
 float msh_ms_lut_sample_azimuth(MSH_TEXTURE3D(lut, smp), int harmonics, float vis,
                                 float n_dot_l, float n_dot_v, float roughness, float cos_phi) {
-  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0f;
   int3 size = msh_texture_size3(lut);
   int n_nv = size.z / (harmonics + 1);
   float2 uv = float2(msh_ms_lut_coord(vis, float(size.x)), msh_ms_lut_coord(n_dot_l, float(size.y)));
-  float zt = clamp(n_dot_v, 0.0, 1.0) * float(n_nv - 1) + 0.5;  // texel coordinate within a slab, + 0.5
-  float c1 = clamp(cos_phi, -1.0, 1.0);
+  float zt = clamp(n_dot_v, 0.0f, 1.0f) * float(n_nv - 1) + 0.5f;  // texel coordinate within a slab, + 0.5
+  float c1 = clamp(cos_phi, -1.0f, 1.0f);
   float sum = msh_ms_lut_roughness_default(msh_sample_level0(lut, smp, float3(uv, zt / float(size.z))), roughness);
-  float t_prev = 1.0, t = c1;  // cos((h-1) phi), cos(h phi)
+  float t_prev = 1.0f, t = c1;  // cos((h-1) phi), cos(h phi)
   for (int h = 1; h <= harmonics; ++h) {
     float3 uvw = float3(uv, (float(h * n_nv) + zt) / float(size.z));
     sum += t * msh_ms_lut_roughness_default(msh_sample_level0(lut, smp, uvw), roughness);
-    float next = 2.0 * c1 * t - t_prev;
+    float next = 2.0f * c1 * t - t_prev;
     t_prev = t;
     t = next;
   }
-  return clamp(sum, 0.0, 1.0);
+  return clamp(sum, 0.0f, 1.0f);
 }
 
 // ---- Cone-layout LUT (the default table; docs/lut.md) ----------------------------------------------------
@@ -331,24 +331,24 @@ float msh_ms_lut_sample_azimuth(MSH_TEXTURE3D(lut, smp), int harmonics, float vi
 // the shader. The constants are the baker's defaults (ConeLayoutParams); a table baked with other warps
 // needs the same values here. Same arithmetic as msh::lut::fetch_cone (C++ float); |shader - C++| on
 // lavapipe: docs/shaders.md.
-#define MSH_MS_CONE_ROUGHNESS_MIN 0.1
-#define MSH_MS_CONE_ROUGHNESS_MAX 1.0
-#define MSH_MS_CONE_WARP_SCALE 2.0
-#define MSH_MS_CONE_NV_SCALE 3.0
-#define MSH_MS_CONE_TOP_SCALE 3.0
+#define MSH_MS_CONE_ROUGHNESS_MIN 0.1f
+#define MSH_MS_CONE_ROUGHNESS_MAX 1.0f
+#define MSH_MS_CONE_WARP_SCALE 2.0f
+#define MSH_MS_CONE_NV_SCALE 3.0f
+#define MSH_MS_CONE_TOP_SCALE 3.0f
 
 // u(d) = d / (a + |d|): the warp of d = sin(theta - theta_l).
 float msh_ms_cone_warp_u(float d, float a) { return d / (a + abs(d)); }
 
 // t in [0, 1] for visibility vis, N.L and warp width a (msh::lut::cone_t).
 float msh_ms_cone_t(float vis, float n_dot_l, float a) {
-  float V = clamp(vis, 0.0, 1.0), zl = clamp(n_dot_l, 0.0, 1.0);
-  float sl = sqrt(max(0.0, 1.0 - zl * zl));
-  float d = sqrt(V) * zl - sqrt(1.0 - V) * sl;
-  float ulo = msh_ms_cone_warp_u(-sqrt(0.5 * (1.0 - zl)), a);
-  float e = MSH_MS_CONE_TOP_SCALE * a / (1.0 + MSH_MS_CONE_TOP_SCALE * a);
-  float utop = msh_ms_cone_warp_u(sqrt(zl * zl + e * e * (1.0 - zl * zl)), a);  // just past V = 1
-  return clamp((msh_ms_cone_warp_u(d, a) - ulo) / (utop - ulo), 0.0, 1.0);
+  float V = clamp(vis, 0.0f, 1.0f), zl = clamp(n_dot_l, 0.0f, 1.0f);
+  float sl = sqrt(max(0.0f, 1.0f - zl * zl));
+  float d = sqrt(V) * zl - sqrt(1.0f - V) * sl;
+  float ulo = msh_ms_cone_warp_u(-sqrt(0.5f * (1.0f - zl)), a);
+  float e = MSH_MS_CONE_TOP_SCALE * a / (1.0f + MSH_MS_CONE_TOP_SCALE * a);
+  float utop = msh_ms_cone_warp_u(sqrt(zl * zl + e * e * (1.0f - zl * zl)), a);  // just past V = 1
+  return clamp((msh_ms_cone_warp_u(d, a) - ulo) / (utop - ulo), 0.0f, 1.0f);
 }
 
 // The channels a_0..a_3 of a cone-layout table at (vis, N.L, N.V, roughness), no early-out; n_rough = the
@@ -360,19 +360,19 @@ float4 msh_ms_lut_fetch_cone(MSH_TEXTURE3D(lut, smp), int n_rough, float vis, fl
   float r = roughness;
   if (!(r > MSH_MS_CONE_ROUGHNESS_MIN)) r = MSH_MS_CONE_ROUGHNESS_MIN;
   if (r > MSH_MS_CONE_ROUGHNESS_MAX) r = MSH_MS_CONE_ROUGHNESS_MAX;
-  float alpha = max(r * r, 1e-4);
+  float alpha = max(r * r, 1e-4f);
   float t = msh_ms_cone_t(vis, n_dot_l, MSH_MS_CONE_WARP_SCALE * alpha);
-  float nlc = clamp(n_dot_l, 0.0, 1.0);
-  float s = 0.5 * (sqrt(nlc) + 1.0 - sqrt(1.0 - nlc));  // N.L warp: dense near N.L = 0 and 1
-  float c = clamp(n_dot_v, 0.0, 1.0), b = MSH_MS_CONE_NV_SCALE * alpha;
-  float w = clamp(c / sqrt(b * b + c * c) * sqrt(b * b + 1.0), 0.0, 1.0);  // N.V warp: dense below N.V ~ alpha
+  float nlc = clamp(n_dot_l, 0.0f, 1.0f);
+  float s = 0.5f * (sqrt(nlc) + 1.0f - sqrt(1.0f - nlc));  // N.L warp: dense near N.L = 0 and 1
+  float c = clamp(n_dot_v, 0.0f, 1.0f), b = MSH_MS_CONE_NV_SCALE * alpha;
+  float w = clamp(c / sqrt(b * b + c * c) * sqrt(b * b + 1.0f), 0.0f, 1.0f);  // N.V warp: dense below N.V ~ alpha
   float q = clamp((sqrt(r) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)) /
-                      (sqrt(MSH_MS_CONE_ROUGHNESS_MAX) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)), 0.0, 1.0) *
+                      (sqrt(MSH_MS_CONE_ROUGHNESS_MAX) - sqrt(MSH_MS_CONE_ROUGHNESS_MIN)), 0.0f, 1.0f) *
             float(n_rough - 1);  // slabs uniform in sqrt(roughness)
   int j = min(int(q), max(n_rough - 2, 0));
-  float f = n_rough > 1 ? clamp(q - float(j), 0.0, 1.0) : 0.0;
+  float f = n_rough > 1 ? clamp(q - float(j), 0.0f, 1.0f) : 0.0f;
   float2 uv = float2(msh_ms_lut_coord(t, float(size.x)), msh_ms_lut_coord(s, float(size.y)));
-  float zt = w * float(n_nv - 1) + 0.5;  // texel coordinate within a slab, + 0.5: slabs never bleed
+  float zt = w * float(n_nv - 1) + 0.5f;  // texel coordinate within a slab, + 0.5: slabs never bleed
   float4 a = msh_sample_level0(lut, smp, float3(uv, (float(j * n_nv) + zt) / float(size.z)));
   float4 bb = msh_sample_level0(lut, smp, float3(uv, (float((j + 1) * n_nv) + zt) / float(size.z)));
   return a + f * (bb - a);
@@ -382,9 +382,9 @@ float4 msh_ms_lut_fetch_cone(MSH_TEXTURE3D(lut, smp), int n_rough, float vis, fl
 // the azimuth mean a_0.
 float msh_ms_lut_sample_cone(MSH_TEXTURE3D(lut, smp), int n_rough, float vis, float n_dot_l,
                              float n_dot_v, float roughness) {
-  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
-  return clamp(msh_ms_lut_fetch_cone(MSH_TEXTURE_ARGS(lut, smp), n_rough, vis, n_dot_l, n_dot_v, roughness).x, 0.0,
-               1.0);
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0f;
+  return clamp(msh_ms_lut_fetch_cone(MSH_TEXTURE_ARGS(lut, smp), n_rough, vis, n_dot_l, n_dot_v, roughness).x, 0.0f,
+               1.0f);
 }
 
 // Azimuth-aware cone-layout table (`bake micro-shadowing --azimuth`, RGBA = a_0..a_3; harmonics <= 3):
@@ -392,17 +392,17 @@ float msh_ms_lut_sample_cone(MSH_TEXTURE3D(lut, smp), int n_rough, float vis, fl
 // (msh_ms_relative_azimuth_cos). Two fetches.
 float msh_ms_lut_sample_cone_azimuth(MSH_TEXTURE3D(lut, smp), int n_rough, int harmonics,
                                      float vis, float n_dot_l, float n_dot_v, float roughness, float cos_phi) {
-  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0;
+  if (msh_ms_exact_zero(vis, n_dot_l)) return 0.0f;
   float4 a = msh_ms_lut_fetch_cone(MSH_TEXTURE_ARGS(lut, smp), n_rough, vis, n_dot_l, n_dot_v, roughness);
-  float c1 = clamp(cos_phi, -1.0, 1.0);
-  float sum = a.x, t_prev = 1.0, t = c1;
+  float c1 = clamp(cos_phi, -1.0f, 1.0f);
+  float sum = a.x, t_prev = 1.0f, t = c1;
   for (int h = 1; h <= harmonics && h < 4; ++h) {
     sum += t * a[h];
-    float next = 2.0 * c1 * t - t_prev;
+    float next = 2.0f * c1 * t - t_prev;
     t_prev = t;
     t = next;
   }
-  return clamp(sum, 0.0, 1.0);
+  return clamp(sum, 0.0f, 1.0f);
 }
 
 #endif  // MSH_MICRO_SHADOWING_PORTABLE_H

@@ -15,12 +15,12 @@
 
 // Cubic forms a, q, g in (r, cos_t, w), 20 coefficients each (kDiffuseAwareAluReciprocal).
 MSH_STATIC_CONST float MSH_AWARE_ALU_P[60] = MSH_ARRAY(float, 60)
-    4.7413, -9.98672, 5.60447, 2.29771, 10.7242, 14.5875, -7.79898, -27.395, 4.65937, -5.50467,
-    1.63791, -6.25831, 1.13435, 8.15713, -19.3248, 2.49487, -3.68374, 13.559, -5.30555, 15.5449,
-    13.9158, -21.439, -1.45917, 7.31156, 16.3105, -56.2036, -6.02686, 14.636, -20.0127, 20.4968,
-    -3.89923, 47.3793, -6.68909, -11.7598, 4.66624, 19.3493, -37.9807, 9.45357, 18.7872, -4.47527,
-    -5.54821, -3.8796, 22.6404, 3.55435, -0.856421, -33.7625, -4.80667, 25.9747, -21.5183, 4.97385,
-    3.87288, 25.9899, 2.75697, -10.9443, 4.71002, -28.2844, -15.3595, -1.21187, -0.210605, 32.2277 MSH_ARRAY_END;
+    4.7413f, -9.98672f, 5.60447f, 2.29771f, 10.7242f, 14.5875f, -7.79898f, -27.395f, 4.65937f, -5.50467f,
+    1.63791f, -6.25831f, 1.13435f, 8.15713f, -19.3248f, 2.49487f, -3.68374f, 13.559f, -5.30555f, 15.5449f,
+    13.9158f, -21.439f, -1.45917f, 7.31156f, 16.3105f, -56.2036f, -6.02686f, 14.636f, -20.0127f, 20.4968f,
+    -3.89923f, 47.3793f, -6.68909f, -11.7598f, 4.66624f, 19.3493f, -37.9807f, 9.45357f, 18.7872f, -4.47527f,
+    -5.54821f, -3.8796f, 22.6404f, 3.55435f, -0.856421f, -33.7625f, -4.80667f, 25.9747f, -21.5183f, 4.97385f,
+    3.87288f, 25.9899f, 2.75697f, -10.9443f, 4.71002f, -28.2844f, -15.3595f, -1.21187f, -0.210605f, 32.2277f MSH_ARRAY_END;
 
 // fit_basis::fit_cubic at offset o (1, x, y, z, x2, y2, z2, xy, xz, yz, x3, y3, z3, x2y, x2z, y2x, y2z, z2x,
 // z2y, xyz), grouped as in C++.
@@ -37,25 +37,25 @@ float msh_ms_aware_alu_cubic(int o, float x, float y, float z) {
 
 // T_x L_x of one direction (aware_fit_terms::cone_factor).
 float msh_ms_aware_alu_cone(float v, float c, float s, float nx, float a, float g) {
-  float a2 = a * a, oma2 = 1.0 - a2;
-  float nx2 = nx * nx, sx = sqrt(1.0 - nx2);
+  float a2 = a * a, oma2 = 1.0f - a2;
+  float nx2 = nx * nx, sx = sqrt(1.0f - nx2);
   float d = s * nx - c * sx;
-  float inv_st = sqrt(a2 + oma2 * v) / max(s, 1e-6);
-  float p1 = 1.0 + d / sqrt(a2 + oma2 * (d * d)) * inv_st;
-  float p2 = 1.0 + nx / sqrt(a2 + oma2 * nx2);
-  return p1 * (v + g * (1.0 - v) * (nx - 1.0)) / (v * p2);
+  float inv_st = sqrt(a2 + oma2 * v) / max(s, 1e-6f);
+  float p1 = 1.0f + d / sqrt(a2 + oma2 * (d * d)) * inv_st;
+  float p2 = 1.0f + nx / sqrt(a2 + oma2 * nx2);
+  return p1 * (v + g * (1.0f - v) * (nx - 1.0f)) / (v * p2);
 }
 
 // Precision vs the C++ float function: |diff| <= 1e-5, measured 3.6e-7 (tests/test_shaders_micro_shadowing_aware_fit.cpp,
 // lavapipe, 19,123 random, boundary and degenerate inputs).
 float msh_ms_diffuse_aware_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
   float v = msh_saturate(vis), nl = msh_saturate(n_dot_l), nv = msh_saturate(n_dot_v);
-  float r = clamp(roughness, 0.01, 1.0);
-  if (!(nl > 0.0) || 2.0 * v + nl < 1.0 || 2.0 * v + nv < 1.0 || !(v > 0.0)) return 0.0;  // exact early-outs
-  if (!(v < 1.0)) return 1.0;
-  float omv = 1.0 - v, c = sqrt(omv), s = sqrt(v), alpha = r * r;
-  float wl = nl / sqrt(nl * nl + alpha * alpha * (1.0 - nl * nl));
-  float wv = nv / sqrt(nv * nv + alpha * alpha * (1.0 - nv * nv));
+  float r = clamp(roughness, 0.01f, 1.0f);
+  if (!(nl > 0.0f) || 2.0f * v + nl < 1.0f || 2.0f * v + nv < 1.0f || !(v > 0.0f)) return 0.0f;  // exact early-outs
+  if (!(v < 1.0f)) return 1.0f;
+  float omv = 1.0f - v, c = sqrt(omv), s = sqrt(v), alpha = r * r;
+  float wl = nl / sqrt(nl * nl + alpha * alpha * (1.0f - nl * nl));
+  float wv = nv / sqrt(nv * nv + alpha * alpha * (1.0f - nv * nv));
   float a_l = alpha * exp2(msh_ms_aware_alu_cubic(0, r, c, wv));
   float a_v = alpha * exp2(msh_ms_aware_alu_cubic(0, r, c, wl));
   float q = alpha * alpha * exp2(msh_ms_aware_alu_cubic(20, r, c, wl * wv));

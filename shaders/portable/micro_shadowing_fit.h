@@ -21,21 +21,21 @@
 // RMS 4.2/255, p99 17/255, max 37/255 (docs/micro-shadowing.md).
 float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
   float v = msh_saturate(vis), nl = msh_saturate(n_dot_l), nv = msh_saturate(n_dot_v);
-  float r = clamp(roughness, 0.01, 1.0);
-  if (2.0 * v + nl < 1.0) return 0.0;  // exact early-out (msh::ms::exact_zero)
-  float omv = 1.0 - v;
+  float r = clamp(roughness, 0.01f, 1.0f);
+  if (2.0f * v + nl < 1.0f) return 0.0f;  // exact early-out (msh::ms::exact_zero)
+  float omv = 1.0f - v;
   float c = sqrt(omv), s = sqrt(v);              // cos, sin of the cone half-angle
-  float nl2 = nl * nl, sl = sqrt(1.0 - nl2);
+  float nl2 = nl * nl, sl = sqrt(1.0f - nl2);
   float d = s * nl - c * sl;                     // sin(theta_c - theta_l)
   float alpha = r * r;
   float k = nv / (nv + alpha);
-  float a = alpha * (1.39397 - 0.796604 * r + 0.332797 * v - 0.467188 * k);
-  float a2 = a * a, oma2 = 1.0 - a2;
-  float q = a2 * (6.28222 + 0.384725 * v - 6.03135 * k);
-  float g = (-0.00902245 + 0.555965 * r) * omv;
-  float p1 = 1.0 + d * msh_rsqrt(msh_mad(oma2, d * d, a2));
-  float p2 = 1.0 + nl * msh_rsqrt(msh_mad(oma2, nl2, a2));
-  return msh_saturate(p1 * (v + g * (nl - 1.0)) / ((v + omv * q) * p2));
+  float a = alpha * (1.39397f - 0.796604f * r + 0.332797f * v - 0.467188f * k);
+  float a2 = a * a, oma2 = 1.0f - a2;
+  float q = a2 * (6.28222f + 0.384725f * v - 6.03135f * k);
+  float g = (-0.00902245f + 0.555965f * r) * omv;
+  float p1 = 1.0f + d * msh_rsqrt(msh_mad(oma2, d * d, a2));
+  float p2 = 1.0f + nl * msh_rsqrt(msh_mad(oma2, nl2, a2));
+  return msh_saturate(p1 * (v + g * (nl - 1.0f)) / ((v + omv * q) * p2));
 }
 
 // Two stages: ports of msh::ms::generic_vndf_alu_pixel (once per pixel, 80 operations) and
@@ -46,58 +46,58 @@ struct MshMsAluPixel {
 };
 
 float msh_ms_alu_cubic_a(float x, float y, float z) {
-  float px = -2.9439 + x * (0.471315 + 0.396493 * x - 0.427877 * y - 0.437596 * z) + y * (1.08175 + 0.634181 * y - 1.61536 * z) +
-             z * (1.66018 + 1.05468 * z);
-  float py = 2.9061 + y * (-3.2708 + 0.342605 * y + 2.39379 * z) + z * (-2.8354 + 0.407305 * z);
-  float pz = -0.670065 + z * (-0.396618 + 0.0423424 * z);
-  return 1.0217 + x * px + y * py + z * pz;
+  float px = -2.9439f + x * (0.471315f + 0.396493f * x - 0.427877f * y - 0.437596f * z) + y * (1.08175f + 0.634181f * y - 1.61536f * z) +
+             z * (1.66018f + 1.05468f * z);
+  float py = 2.9061f + y * (-3.2708f + 0.342605f * y + 2.39379f * z) + z * (-2.8354f + 0.407305f * z);
+  float pz = -0.670065f + z * (-0.396618f + 0.0423424f * z);
+  return 1.0217f + x * px + y * py + z * pz;
 }
 
 float msh_ms_alu_cubic_q(float x, float y, float z) {
-  float px = -9.6416 + x * (7.56448 - 2.27743 * x - 0.05405 * y - 2.87783 * z) + y * (6.01259 - 1.88619 * y - 1.3212 * z) +
-             z * (0.966796 + 2.61554 * z);
-  float py = -26.1472 + y * (26.5267 - 9.77157 * y - 6.78087 * z) + z * (8.15792 + 3.37417 * z);
-  float pz = -0.739559 + z * (-4.27069 - 1.07619 * z);
-  return 11.644 + x * px + y * py + z * pz;
+  float px = -9.6416f + x * (7.56448f - 2.27743f * x - 0.05405f * y - 2.87783f * z) + y * (6.01259f - 1.88619f * y - 1.3212f * z) +
+             z * (0.966796f + 2.61554f * z);
+  float py = -26.1472f + y * (26.5267f - 9.77157f * y - 6.78087f * z) + z * (8.15792f + 3.37417f * z);
+  float pz = -0.739559f + z * (-4.27069f - 1.07619f * z);
+  return 11.644f + x * px + y * py + z * pz;
 }
 
 float msh_ms_alu_cubic_g(float x, float y, float z) {
-  float px = 3.81808 + x * (1.04404 - 0.682536 * x - 0.962631 * y + 0.460372 * z) + y * (-5.48228 + 2.19737 * y + 2.98356 * z) +
-             z * (-3.36957 + 0.488589 * z);
-  float py = 2.24386 + y * (-2.27448 + 1.15732 * y - 0.0851906 * z) + z * (-0.812951 + 0.139112 * z);
-  float pz = 0.55774 + z * (0.640291 - 0.665058 * z);
-  return -0.9204 + x * px + y * py + z * pz;
+  float px = 3.81808f + x * (1.04404f - 0.682536f * x - 0.962631f * y + 0.460372f * z) + y * (-5.48228f + 2.19737f * y + 2.98356f * z) +
+             z * (-3.36957f + 0.488589f * z);
+  float py = 2.24386f + y * (-2.27448f + 1.15732f * y - 0.0851906f * z) + z * (-0.812951f + 0.139112f * z);
+  float pz = 0.55774f + z * (0.640291f - 0.665058f * z);
+  return -0.9204f + x * px + y * py + z * pz;
 }
 
 MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roughness) {
   float v = msh_saturate(vis), nv = msh_saturate(n_dot_v);
-  float r = clamp(roughness, 0.01, 1.0);
+  float r = clamp(roughness, 0.01f, 1.0f);
   MshMsAluPixel px;
-  float omv = 1.0 - v;
+  float omv = 1.0f - v;
   px.vis = v;
   px.c = sqrt(omv);
   px.s = sqrt(v);
   float alpha = r * r, nv2 = nv * nv;
-  float wz = nv * msh_rsqrt(nv2 + alpha * alpha * (1.0 - nv2));  // z of the stretched view direction
+  float wz = nv * msh_rsqrt(nv2 + alpha * alpha * (1.0f - nv2));  // z of the stretched view direction
   float a = alpha * exp2(msh_ms_alu_cubic_a(r, px.c, wz));
   px.a2 = a * a;
-  px.oma2 = 1.0 - px.a2;
+  px.oma2 = 1.0f - px.a2;
   float q = px.a2 * exp2(msh_ms_alu_cubic_q(r, px.c, wz));
   px.g = msh_ms_alu_cubic_g(r, px.c, wz) * omv;
-  px.inv_st = sqrt(msh_mad(px.oma2, v, px.a2)) / max(px.s, 1e-6);
+  px.inv_st = sqrt(msh_mad(px.oma2, v, px.a2)) / max(px.s, 1e-6f);
   px.den = v + omv * q;
   return px;
 }
 
 float msh_ms_generic_vndf_alu_light(MshMsAluPixel px, float n_dot_l) {
   float nl = msh_saturate(n_dot_l);
-  if (2.0 * px.vis + nl < 1.0) return 0.0;  // exact early-out (msh::ms::exact_zero)
-  if (!(px.vis < 1.0)) return 1.0;
-  float nl2 = nl * nl, sl = sqrt(1.0 - nl2);
+  if (2.0f * px.vis + nl < 1.0f) return 0.0f;  // exact early-out (msh::ms::exact_zero)
+  if (!(px.vis < 1.0f)) return 1.0f;
+  float nl2 = nl * nl, sl = sqrt(1.0f - nl2);
   float d = px.s * nl - px.c * sl;
-  float p1 = 1.0 + d * msh_rsqrt(msh_mad(px.oma2, d * d, px.a2)) * px.inv_st;
-  float p2 = 1.0 + nl * msh_rsqrt(msh_mad(px.oma2, nl2, px.a2));
-  return msh_saturate(p1 * (px.vis + px.g * (nl - 1.0)) / (px.den * p2));
+  float p1 = 1.0f + d * msh_rsqrt(msh_mad(px.oma2, d * d, px.a2)) * px.inv_st;
+  float p2 = 1.0f + nl * msh_rsqrt(msh_mad(px.oma2, nl2, px.a2));
+  return msh_saturate(p1 * (px.vis + px.g * (nl - 1.0f)) / (px.den * p2));
 }
 
 #endif  // MSH_MICRO_SHADOWING_FIT_PORTABLE_H

@@ -3,12 +3,12 @@
 # umbrella header <microshadow/microshadow.h> includes exactly the core set; the engine surface
 # <microshadow/engine.h> includes core headers only and none of reference/.
 # With -DOTHER_CXX=a second compiler, the umbrella also compiles there with -Wall -Wextra -Werror.
-# -DCXX=compiler -DINCLUDE_DIR=<repo>/include -DCORE_HEADERS=microshadow/a.h;... [-DOTHER_CXX=clang++]
+# -DCXX=compiler -DINCLUDE_DIR=<repo>/include -DSHADER_ROOT=<repo> -DCORE_HEADERS=microshadow/a.h;... [-DOTHER_CXX=clang++]
 cmake_policy(VERSION 3.25)
 set(core ${CORE_HEADERS})
 set(errors "")
 foreach(h ${core} microshadow/microshadow.h microshadow/engine.h)
-  execute_process(COMMAND ${CXX} -std=c++20 -I${INCLUDE_DIR} -M -x c++ ${INCLUDE_DIR}/${h}
+  execute_process(COMMAND ${CXX} -std=c++20 -I${INCLUDE_DIR} -I${SHADER_ROOT} -M -x c++ ${INCLUDE_DIR}/${h}
                   OUTPUT_VARIABLE deps ERROR_VARIABLE err RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
     string(APPEND errors "${h}: does not preprocess on its own: ${err}\n")
@@ -29,6 +29,8 @@ foreach(h ${core} microshadow/microshadow.h microshadow/engine.h)
       if(h STREQUAL "microshadow/engine.h" AND rel MATCHES "/(reference|runtime)/")
         string(APPEND errors "${h}: includes ${rel}, which is not engine code\n")
       endif()
+    elseif(d MATCHES "^${SHADER_ROOT}/shaders/portable/[a-z_]+\\.h$")
+      # the shaders' portable source, compiled as C++ by <microshadow/shader/portable.h>
     elseif(d MATCHES "(fmt|tbb|oneapi|nlohmann|OpenEXR|Imath|png|embree|hwy|CLI|gtest|benchmark)")
       string(APPEND errors "${h}: includes a dependency: ${d}\n")
     elseif(NOT d MATCHES "^/usr/(include|lib)/")
@@ -49,7 +51,7 @@ foreach(h ${umbrella})
   endif()
 endforeach()
 if(OTHER_CXX)
-  execute_process(COMMAND ${OTHER_CXX} -std=c++20 -Wall -Wextra -Werror -fsyntax-only -I${INCLUDE_DIR} -x c++
+  execute_process(COMMAND ${OTHER_CXX} -std=c++20 -Wall -Wextra -Werror -fsyntax-only -I${INCLUDE_DIR} -I${SHADER_ROOT} -x c++
                   ${INCLUDE_DIR}/../tests/package/core_umbrella.cpp RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     string(APPEND errors "the umbrella does not compile with ${OTHER_CXX}:\n${err}\n")
