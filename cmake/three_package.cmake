@@ -22,7 +22,8 @@ if(NOT MSH_THREE_PACKAGE)
   message(STATUS "three.js package: MSH_THREE_PACKAGE=OFF: "
                  "three/${MSH_THREE_NAME}-${MSH_THREE_VERSION}.tgz is not built and not installed")
 elseif(MSH_NODE AND MSH_NPM)
-  file(GLOB MSH_THREE_DEPENDS CONFIGURE_DEPENDS ${MSH_THREE_SOURCE}/src/*.js ${CMAKE_SOURCE_DIR}/shaders/glsl/*.glsl)
+  file(GLOB MSH_THREE_DEPENDS CONFIGURE_DEPENDS ${MSH_THREE_SOURCE}/src/*.js ${CMAKE_SOURCE_DIR}/shaders/glsl/*.glsl
+       ${CMAKE_SOURCE_DIR}/shaders/portable/*.h)
   add_custom_command(OUTPUT ${MSH_THREE_TGZ}
     COMMAND ${CMAKE_COMMAND} -DSOURCE=${MSH_THREE_SOURCE} -DSTAGE=${MSH_THREE_PACKAGE_DIR}/${MSH_THREE_NAME}
             -DTGZ=${MSH_THREE_TGZ} -DCLI=$<TARGET_FILE:microshadow_cli> -DNPM=${MSH_NPM}
