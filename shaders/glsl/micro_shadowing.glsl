@@ -8,5 +8,6 @@
 #ifndef MSH_MICRO_SHADOWING_GLSL
 #define MSH_MICRO_SHADOWING_GLSL
 #include "msh_prelude.glsl"
+#include "../portable/hash.h"
 #include "../portable/micro_shadowing.h"
 #endif  // MSH_MICRO_SHADOWING_GLSL

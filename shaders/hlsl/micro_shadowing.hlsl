@@ -6,5 +6,6 @@
 #ifndef MSH_MICRO_SHADOWING_HLSL
 #define MSH_MICRO_SHADOWING_HLSL
 #include "msh_prelude.hlsl"
+#include "../portable/hash.h"
 #include "../portable/micro_shadowing.h"
 #endif  // MSH_MICRO_SHADOWING_HLSL

@@ -12,6 +12,11 @@
 #define MSH_ARRAY(T, N) {
 #define MSH_ARRAY_END }
 
+// Every function definition starts with MSH_FN and a constant at global scope with MSH_GLOBAL_CONST (C++:
+// `inline` and `inline constexpr`, one definition across translation units).
+#define MSH_FN
+#define MSH_GLOBAL_CONST static const
+
 // Output parameters: MSH_OUT(float) x, MSH_INOUT(float3) y and an output array MSH_OUT_ARRAY(float3, p, 4)
 // (references in the C++ prelude, include/microshadow/shader/cpp_prelude.h).
 #define MSH_OUT(T) out T

@@ -17,7 +17,7 @@
 
 // GGX alpha^2 from the normal perturbation: clamp(tan^2(theta_d)/8, 0, 1) (Conty Estevez et al. 2019, RTG
 // eq. 12.2; tan theta_d = 2 sigma, GGX variance sigma^2 = 2 alpha^2). float32, exact 0 for ns parallel to ng.
-float msh_bump_alpha2(float3 ng, float3 ns) {
+MSH_FN float msh_bump_alpha2(float3 ng, float3 ns) {
   // Written out and `precise` (no FMA contraction) so that ns = ng gives exactly 0, hence the term exactly 1.
   MSH_PRECISE float3 x = float3(ng.y * ns.z - ng.z * ns.y, ng.z * ns.x - ng.x * ns.z, ng.x * ns.y - ng.y * ns.x);
   float s2 = dot(x, x);
@@ -29,7 +29,7 @@ float msh_bump_alpha2(float3 ng, float3 ns) {
 
 // Smith GGX G1 of the light about ng: 2 / (1 + sqrt(1 + alpha^2 tan^2 theta_i)), |cos theta_i| >= 1e-6 as in
 // listing 12.1 (Conty 2019; RTR4 9.24 + 9.37). float32, see the precision note above.
-float msh_bump_smith_g1_light(float alpha2, float3 ng, float3 l) {
+MSH_FN float msh_bump_smith_g1_light(float alpha2, float3 ng, float3 l) {
   // cross(ng, l) written out; exactly 0 for l = ng
   MSH_PRECISE float3 x = float3(ng.y * l.z - ng.z * l.y, ng.z * l.x - ng.x * l.z, ng.x * l.y - ng.y * l.x);
   float s2 = dot(x, x);
@@ -42,17 +42,17 @@ float msh_bump_smith_g1_light(float alpha2, float3 ng, float3 l) {
 }
 
 // Light above both the geometric and the shading hemisphere (the optional hemisphere-validity test).
-bool msh_bump_above_both(float3 ng, float3 ns, float3 l) { return dot(ng, l) > 0.0f && dot(ns, l) > 0.0f; }
+MSH_FN bool msh_bump_above_both(float3 ng, float3 ns, float3 l) { return dot(ng, l) > 0.0f && dot(ns, l) > 0.0f; }
 
 // Conty Estevez, Lecocq, Stein 2019 (Ray Tracing Gems ch. 12, listing 12.1) bump shadowing term. float32.
-float msh_bump_conty2019(float3 ng, float3 ns, float3 l, bool hemisphere_test) {
+MSH_FN float msh_bump_conty2019(float3 ng, float3 ns, float3 l, bool hemisphere_test) {
   if (hemisphere_test && !msh_bump_above_both(ng, ns, l)) return 0.0f;
   return msh_bump_smith_g1_light(msh_bump_alpha2(ng, ns), ng, l);
 }
 
 // Chiang, Li, Burley 2019 "Taming the Shadow Terminator": g = (ng.l)/((ns.l)(ng.ns)) (ns normalized), then
 // -g^3 + g^2 + g on [0,1]; a zero denominator gives 1. float32, see the precision note above.
-float msh_bump_chiang2019(float3 ng, float3 ns, float3 l, bool hemisphere_test) {
+MSH_FN float msh_bump_chiang2019(float3 ng, float3 ns, float3 l, bool hemisphere_test) {
   if (hemisphere_test && !msh_bump_above_both(ng, ns, l)) return 0.0f;
   float num = dot(ng, l) * dot(ns, ns);
   float den = dot(ns, l) * dot(ng, ns);
@@ -70,7 +70,7 @@ float msh_bump_chiang2019(float3 ng, float3 ns, float3 l, bool hemisphere_test) 
 // Hanika 2021 "Hacking the Shadow Terminator" (Ray Tracing Gems II ch. 4): shadow-ray origin for a
 // smooth-shaded triangle, p' = p - sum_i b_i min(0, (p - p_i).n_i) n_i / |n_i|^2. b = barycentrics of p.
 // float32; use p' only as the origin of shadow rays.
-float3 msh_hanika2021_shadow_origin(float3 p, float3 p0, float3 p1, float3 p2, float3 n0, float3 n1, float3 n2,
+MSH_FN float3 msh_hanika2021_shadow_origin(float3 p, float3 p0, float3 p1, float3 p2, float3 n0, float3 n1, float3 n2,
                                     float3 b) {
   float3 q = p;
   float n2_0 = dot(n0, n0), n2_1 = dot(n1, n1), n2_2 = dot(n2, n2);

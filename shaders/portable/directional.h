@@ -28,11 +28,11 @@
 
 // The 9 basis functions at l: (1, x, y, z) and (x z, y z, x^2 - y^2, x y); z^2 is l.z * l.z. Port of
 // msh::directional::poly2_basis. Exact up to one rounding per product.
-float4 msh_dir_basis_hi(float3 l) { return float4(l.x * l.z, l.y * l.z, l.x * l.x - l.y * l.y, l.x * l.y); }
+MSH_FN float4 msh_dir_basis_hi(float3 l) { return float4(l.x * l.z, l.y * l.z, l.x * l.x - l.y * l.y, l.x * l.y); }
 
 // sum_i c_i b_i(l) with the channels packed as c0 = (c_0..c_3), c1 = (c_4..c_7), c8 = c_8: the fitted
 // transport before the clamp. float32, 9 products summed (within 1e-6 * S of C++, see the top).
-float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
+MSH_FN float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
   return dot(c0, float4(1.0f, l)) + dot(c1, msh_dir_basis_hi(l)) + c8 * (l.z * l.z);
 }
 
@@ -42,14 +42,14 @@ float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
 // "Efficient self-shadowed radiosity normal mapping" stores the same kind of projection on 3 directions).
 // Diffuse radiance = albedo / pi * E * transport, in place of max(n . l, 0) * micro-shadowing. float32,
 // within 1e-6 * S of C++; exactly 0 below the horizon.
-float msh_dir_transport(float4 c0, float4 c1, float c8, float3 l) {
+MSH_FN float msh_dir_transport(float4 c0, float4 c1, float c8, float3 l) {
   if (!(l.z > 0.0f)) return 0.0f;
   return max(msh_dir_poly(c0, c1, c8, l), 0.0f);
 }
 
 // The same with the channels as an array c[0..8] (the C++ order, summed in the C++ order). float32, within
 // 1e-6 * S of C++; exactly 0 below the horizon.
-float msh_dir_transport(float c[9], float3 l) {
+MSH_FN float msh_dir_transport(float c[9], float3 l) {
   if (!(l.z > 0.0f)) return 0.0f;
   float4 h = msh_dir_basis_hi(l);
   float s = c[0];
@@ -68,14 +68,14 @@ float msh_dir_transport(float c[9], float3 l) {
 // transport / (n . l), 0 where n . l <= 1e-4. Not clamped to 1: near the coarse terminator lit facets can
 // exceed the coarse cosine. Port of msh::directional::directional_term. float32, within the term's bound at
 // the top of this file; exactly 0 at both early-outs.
-float msh_dir_term(float4 c0, float4 c1, float c8, float3 l, float3 n) {
+MSH_FN float msh_dir_term(float4 c0, float4 c1, float c8, float3 l, float3 n) {
   float nl = dot(n, l);
   if (!(nl > 1e-4f)) return 0.0f;
   return msh_dir_transport(c0, c1, c8, l) / nl;
 }
 
 // The same with the channels as an array c[0..8]. float32, as above.
-float msh_dir_term(float c[9], float3 l, float3 n) {
+MSH_FN float msh_dir_term(float c[9], float3 l, float3 n) {
   float nl = dot(n, l);
   if (!(nl > 1e-4f)) return 0.0f;
   return msh_dir_transport(c, l) / nl;
@@ -99,7 +99,7 @@ float msh_dir_term(float c[9], float3 l, float3 n) {
 // G_y v_y) / max(v_z, 0.5)), 0 for l.z <= 0 (v_z at least 0.5: beyond 60 deg off the normal the linear
 // correction, which leaves masking out, would overshoot); each sum in the C++ order. float32, within 1e-6 *
 // S_v of C++.
-float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
+MSH_FN float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
   if (!(l.z > 0.0f)) return 0.0f;
   float4 h = msh_dir_basis_hi(l);
   float t = c[0].x;  // channels 0-8: T
@@ -130,7 +130,7 @@ float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
 // The same as a factor on the engine's max(n . l, 0): msh_dir_view_transport / (n . l), 0 where n . l <=
 // 1e-4; not clamped to 1. Port of msh::directional::directional_view_term. float32, within 1e-6 * S_v /
 // (n . l) plus the n . l rounding (as msh_dir_term); exactly 0 at both early-outs.
-float msh_dir_view_term(float4 c[6], float3 l, float3 v, float3 n) {
+MSH_FN float msh_dir_view_term(float4 c[6], float3 l, float3 v, float3 n) {
   float nl = dot(n, l);
   if (!(nl > 1e-4f)) return 0.0f;
   return msh_dir_view_transport(c, l, v) / nl;
@@ -147,7 +147,7 @@ float msh_dir_view_term(float4 c[6], float3 l, float3 v, float3 n) {
 // tests/test_shaders_directional.cpp on lavapipe).
 
 // K <= 4 coefficients (one fetch): fb[i] = (fb_i0, fb_i1, fb_i2, fb_i3), 24 rows.
-void msh_dir_code4_decode(float4 u, float4 fm[6], float4 fb[24], MSH_OUT_ARRAY(float4, c, 6)) {
+MSH_FN void msh_dir_code4_decode(float4 u, float4 fm[6], float4 fb[24], MSH_OUT_ARRAY(float4, c, 6)) {
   // Unrolled (as compilers would): 21 dot products, each row written once.
   c[0] = fm[0] + float4(dot(fb[0], u), dot(fb[1], u), dot(fb[2], u), dot(fb[3], u));
   c[1] = fm[1] + float4(dot(fb[4], u), dot(fb[5], u), dot(fb[6], u), dot(fb[7], u));
@@ -159,7 +159,7 @@ void msh_dir_code4_decode(float4 u, float4 fm[6], float4 fb[24], MSH_OUT_ARRAY(f
 
 // K <= 8 coefficients (two fetches u0 = u_0..3, u1 = u_4..7): fb[2 i] = (fb_i0 .. fb_i3), fb[2 i + 1] =
 // (fb_i4 .. fb_i7), 48 rows.
-void msh_dir_code8_decode(float4 u0, float4 u1, float4 fm[6], float4 fb[48], MSH_OUT_ARRAY(float4, c, 6)) {
+MSH_FN void msh_dir_code8_decode(float4 u0, float4 u1, float4 fm[6], float4 fb[48], MSH_OUT_ARRAY(float4, c, 6)) {
   // Unrolled: 42 dot products.
   c[0] = fm[0] + float4(dot(fb[0], u0) + dot(fb[1], u1), dot(fb[2], u0) + dot(fb[3], u1),
                         dot(fb[4], u0) + dot(fb[5], u1), dot(fb[6], u0) + dot(fb[7], u1));
@@ -178,9 +178,9 @@ void msh_dir_code8_decode(float4 u0, float4 u1, float4 fm[6], float4 fb[48], MSH
 // the material's range [lo, hi] (the fine level's min and max, the same for every mip level):
 // lo + (hi - lo) * u (`unorm` is an HLSL keyword). Port of msh::directional::decode_unorm8. float32, within 2 roundings of C++ (one
 // if the compiler fuses it). Decode after filtering: the map is affine, so it commutes with the box mean.
-float msh_dir_decode_unorm8(float u, float lo, float hi) { return lo + (hi - lo) * u; }
+MSH_FN float msh_dir_decode_unorm8(float u, float lo, float hi) { return lo + (hi - lo) * u; }
 
 // Four channels at once (one RGBA8 fetch). float32, as above.
-float4 msh_dir_decode_unorm8(float4 u, float4 lo, float4 hi) { return lo + (hi - lo) * u; }
+MSH_FN float4 msh_dir_decode_unorm8(float4 u, float4 lo, float4 hi) { return lo + (hi - lo) * u; }
 
 #endif  // MSH_DIRECTIONAL_PORTABLE_H

@@ -19,18 +19,18 @@
 
 // Texture coordinate of the table for (perceptual roughness, N.V), with the texel-centre scale and bias for an
 // n x n table (texel i holds i/(n-1)). Exact to float rounding.
-float2 msh_ltc_uv(float roughness, float n_dot_v, float n) {
+MSH_FN float2 msh_ltc_uv(float roughness, float n_dot_v, float n) {
   float2 c = float2(msh_saturate(roughness), sqrt(1.0f - msh_saturate(n_dot_v)));
   return c * ((n - 1.0f) / n) + 0.5f / n;
 }
 
 // M^-1 from a texel of ltc_mat (rows (a,0,b), (0,1,0), (c,0,d)).
-float3x3 msh_ltc_minv(float4 t) {
+MSH_FN float3x3 msh_ltc_minv(float4 t) {
   return msh_float3x3_rows(float3(t.x, 0.0f, t.y), float3(0.0f, 1.0f, 0.0f), float3(t.z, 0.0f, t.w));
 }
 
 // The LTC frame (rows: tangent toward v, bitangent, n). For v along n any tangent.
-float3x3 msh_ltc_view_frame(float3 n, float3 v) {
+MSH_FN float3x3 msh_ltc_view_frame(float3 n, float3 v) {
   float3 t = v - n * dot(n, v);
   if (dot(t, t) > 1e-12f) {
     t = normalize(t);
@@ -44,7 +44,7 @@ float3x3 msh_ltc_view_frame(float3 n, float3 v) {
 }
 
 // D(w) of the LTC (Heitz et al. 2016, eq. 3), w unit in the table's frame. Relative error <= 1e-5.
-float msh_ltc_eval(float3x3 minv, float3 w) {
+MSH_FN float msh_ltc_eval(float3x3 minv, float3 w) {
   float3 lo = msh_mul(minv, w);
   float l2 = dot(lo, lo);
   float l = sqrt(l2);
@@ -55,7 +55,7 @@ float msh_ltc_eval(float3x3 minv, float3 w) {
 
 // theta/sin(theta) * cross(a, b) / (2 pi) for unit a, b (Baum et al. 1989), with Hill & Heitz 2016's rational fit of
 // theta/sin(theta) / (2 pi) ("Real-Time Area Lighting: a Journey from Research to Production", IntegrateEdgeVec).
-float3 msh_ltc_edge(float3 a, float3 b) {
+MSH_FN float3 msh_ltc_edge(float3 a, float3 b) {
   float x = dot(a, b);
   float y = abs(x);
   float p = 0.8543985f + (0.4965155f + 0.0145206f * y) * y;
@@ -68,7 +68,7 @@ float3 msh_ltc_edge(float3 a, float3 b) {
 // One edge a -> b of the streamed vector-form-factor sum (Sutherland-Hodgman to z >= 0 in the cosine's space, then
 // the edge sum; ltc.h ltc_integrate_polygon_o): emits a if above, and the edge's crossing of z = 0. Shared by
 // msh_ltc_polygon_vff and msh_ltc_cone_weight.
-void msh_ltc_vff_edge(float3 a, float3 b, MSH_INOUT(float3) sum, MSH_INOUT(float3) first, MSH_INOUT(float3) last,
+MSH_FN void msh_ltc_vff_edge(float3 a, float3 b, MSH_INOUT(float3) sum, MSH_INOUT(float3) first, MSH_INOUT(float3) last,
                       MSH_INOUT(int) emitted) {
   bool ia = a.z >= 0.0f, ib = b.z >= 0.0f;
   for (int k = 0; k < 2; ++k) {
@@ -87,13 +87,13 @@ void msh_ltc_vff_edge(float3 a, float3 b, MSH_INOUT(float3) sum, MSH_INOUT(float
 }
 
 // Closes the streamed sum (msh_ltc_vff_edge): fewer than 3 emitted vertices is an empty polygon.
-float3 msh_ltc_vff_close(float3 sum, float3 first, float3 last, int emitted) {
+MSH_FN float3 msh_ltc_vff_close(float3 sum, float3 first, float3 last, int emitted) {
   return emitted < 3 ? float3(0.0f, 0.0f, 0.0f) : sum + msh_ltc_edge(last, first);  // msh_ltc_edge carries 1/(2 pi)
 }
 
 // Vector form factor (in the cosine's space) of the polygon carried by minv and clipped to z >= 0 (streamed
 // Sutherland-Hodgman); .z is the signed integral of D over the polygon. count <= 17.
-float3 msh_ltc_polygon_vff(float3x3 minv, float3 p[MSH_LTC_MAX_VERTS], int count) {
+MSH_FN float3 msh_ltc_polygon_vff(float3x3 minv, float3 p[MSH_LTC_MAX_VERTS], int count) {
   float3 sum = float3(0.0f, 0.0f, 0.0f), first = sum, last = sum;
   int emitted = 0;
   for (int i = 0; i < count; ++i)
@@ -103,7 +103,7 @@ float3 msh_ltc_polygon_vff(float3x3 minv, float3 p[MSH_LTC_MAX_VERTS], int count
 
 // Clips the polygon p[0..count-1] (shading frame, n = +z) to the surface's horizon z >= 0 into q; returns the new
 // count (ltc.h ltc_integrate_polygon's clip_surface: the LTC's mass below the surface is dropped). Exact.
-int msh_ltc_clip_surface(float3 p[MSH_LTC_MAX_SIDES], int count, MSH_OUT_ARRAY(float3, q, MSH_LTC_MAX_VERTS)) {
+MSH_FN int msh_ltc_clip_surface(float3 p[MSH_LTC_MAX_SIDES], int count, MSH_OUT_ARRAY(float3, q, MSH_LTC_MAX_VERTS)) {
   for (int k = 0; k < MSH_LTC_MAX_VERTS; ++k) q[k] = float3(0.0f, 0.0f, 0.0f);
   int m = 0;
   for (int i = 0; i < count; ++i) {
@@ -120,7 +120,7 @@ int msh_ltc_clip_surface(float3 p[MSH_LTC_MAX_SIDES], int count, MSH_OUT_ARRAY(f
 
 // The regular N-gon (N <= 16) of the same area as the disk of radius tan(sigma) that subtends a sphere light of
 // sin(sigma) = sin_sigma around unit `axis` (ltc.h ltc_sphere_polygon). Vertices to float rounding.
-void msh_ltc_sphere_polygon(float3 axis, float sin_sigma, int sides, MSH_OUT_ARRAY(float3, p, MSH_LTC_MAX_SIDES)) {
+MSH_FN void msh_ltc_sphere_polygon(float3 axis, float sin_sigma, int sides, MSH_OUT_ARRAY(float3, p, MSH_LTC_MAX_SIDES)) {
   float s = clamp(sin_sigma, 0.0f, 0.9999f);
   float rc = s / sqrt(1.0f - s * s) * sqrt(2.0f * MSH_LTC_PI / (float(sides) * sin(2.0f * MSH_LTC_PI / float(sides))));
   float sg = axis.z >= 0.0f ? 1.0f : -1.0f;  // Duff et al. 2017 frame (msh::Frame::from_z)
@@ -136,7 +136,7 @@ void msh_ltc_sphere_polygon(float3 axis, float sin_sigma, int sides, MSH_OUT_ARR
 
 // .x = integral of D over the light (clamped to [0,1]), .yzw = representative direction normalize(M F).
 // Integral: absolute error <= 5e-5 vs the C++ double code (measured max 1.5e-5); direction: 1 - cos <= 1e-6.
-float4 msh_ltc_finish(float3x3 frame, float4 t, float3 f) {
+MSH_FN float4 msh_ltc_finish(float3x3 frame, float4 t, float3 f) {
   float integral = msh_saturate(abs(f.z));
   if (f.z < 0.0f) f = -f;
   float det = t.x * t.w - t.y * t.z;  // M f up to a positive scale: adjugate times sign(det)
@@ -148,7 +148,7 @@ float4 msh_ltc_finish(float3x3 frame, float4 t, float3 f) {
 // Rectangle (any planar quad) light: corners relative to the shading point, clipped to the surface's horizon and
 // to the LTC's (ltc_shade_polygon with clip_surface). t = the ltc_mat texel.
 // Integral: absolute error <= 5e-5 vs the C++ double code (measured max 1.5e-5); direction: 1 - cos <= 1e-6.
-float4 msh_ltc_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3) {
+MSH_FN float4 msh_ltc_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3) {
   float3x3 fr = msh_ltc_view_frame(n, v);
   float3 p[MSH_LTC_MAX_SIDES];
   for (int k = 0; k < MSH_LTC_MAX_SIDES; ++k) p[k] = float3(0.0f, 0.0f, 0.0f);
@@ -160,7 +160,7 @@ float4 msh_ltc_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p
 
 // Sphere light: unit centre direction to_light, sin(sigma) = radius / distance, polygon of `sides` (3..16), clipped
 // to the surface's horizon and to the LTC's (ltc_shade_sphere with clip_surface).
-float4 msh_ltc_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides) {
+MSH_FN float4 msh_ltc_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides) {
   float3x3 fr = msh_ltc_view_frame(n, v);
   float3 p[MSH_LTC_MAX_SIDES];
   sides = clamp(sides, 3, MSH_LTC_MAX_SIDES);
@@ -171,7 +171,7 @@ float4 msh_ltc_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_s
 }
 
 // The shaded value per unit radiance (Schlick F0), times the light's micro-shadowing factor ms_area (docs/ltc.md).
-float msh_ltc_specular(float4 ltc, float2 amp, float f0, float ms_area) {
+MSH_FN float msh_ltc_specular(float4 ltc, float2 amp, float f0, float ms_area) {
   return (f0 * amp.x + (1.0f - f0) * amp.y) * ltc.x * ms_area;
 }
 
@@ -201,14 +201,14 @@ struct MshLtcCone {
 
 // The weight of the cosine tail beside the LTC for a GGX receiver of alpha = roughness^2: 1.5 alpha^1.5
 // (ltc_shading.h ltc_tail_weight; chosen and measured in docs/area-lights.md sec. 5). Exact to float rounding.
-float msh_ltc_tail_weight(float alpha) {
+MSH_FN float msh_ltc_tail_weight(float alpha) {
   float a = clamp(alpha, 0.0f, 1.0f);
   return 1.5f * a * sqrt(a);
 }
 
 // Keeps the part of src[0..n-1] with dot(d, p) >= 0 (a plane through the shading point) in dst; returns the count,
 // 0 if fewer than 3 are left (ltc_shading.h ltc_clip_polygon). Exact up to float rounding of the crossings.
-int msh_ltc_clip_plane(float3 src[MSH_LTC_CLIP_VERTS], int n, float3 d, MSH_OUT_ARRAY(float3, dst, MSH_LTC_CLIP_VERTS)) {
+MSH_FN int msh_ltc_clip_plane(float3 src[MSH_LTC_CLIP_VERTS], int n, float3 d, MSH_OUT_ARRAY(float3, dst, MSH_LTC_CLIP_VERTS)) {
   int m = 0;
   float3 a = src[0];
   float da = dot(d, a);
@@ -226,7 +226,7 @@ int msh_ltc_clip_plane(float3 src[MSH_LTC_CLIP_VERTS], int n, float3 d, MSH_OUT_
 // The weight of q[0..m-1] (shading frame, above the horizon; LtcLightCone::weight): the LTC's integral (carried by
 // minv, clipped to z >= 0 in the cosine's space: ltc.h ltc_integrate_polygon_o) plus tail times the polygon's own
 // form factor, both streamed in one pass over the vertices. Each integral as msh_ltc_polygon_vff (the edge fit).
-float msh_ltc_cone_weight(float3x3 minv, float tail, float3 q[MSH_LTC_CLIP_VERTS], int m) {
+MSH_FN float msh_ltc_cone_weight(float3x3 minv, float tail, float3 q[MSH_LTC_CLIP_VERTS], int m) {
   float3 s0 = float3(0.0f, 0.0f, 0.0f), f0 = s0, l0 = s0, s1 = s0, f1 = s0, l1 = s0;
   int e0 = 0, e1 = 0;
   float3 a = q[0];
@@ -245,7 +245,7 @@ float msh_ltc_cone_weight(float3x3 minv, float tail, float3 q[MSH_LTC_CLIP_VERTS
 // (float4(1, 0, 0, 1): identity), tail >= 0. A light the LTC misses falls back to the tail (identity, tail 1); the n.l
 // range is the corners' minimum and the arcs' maximum (1 if the polygon holds n): |diff| vs C++ double <= 1e-4
 // (3.6e-7 measured).
-MshLtcCone msh_ltc_cone_make(float4 t, float3 p[MSH_LTC_MAX_SIDES], int count, float tail) {
+MSH_FN MshLtcCone msh_ltc_cone_make(float4 t, float3 p[MSH_LTC_MAX_SIDES], int count, float tail) {
   MshLtcCone c;
   c.minv = msh_ltc_minv(t);
   c.tail = tail > 0.0f ? tail : 0.0f;
@@ -289,7 +289,7 @@ MshLtcCone msh_ltc_cone_make(float4 t, float3 p[MSH_LTC_MAX_SIDES], int count, f
 // S(z) (LtcLightCone::ccdf): the share of the light's weight with n.l > z; 1 for z <= z_lo, 0 for z >= z_hi and for a
 // light below the horizon. The K-gon's corners are scaled by cos(t) (same planes, no tan(t) overflow near z = 0).
 // |diff| vs C++ double <= 1e-3 (5.7e-4 measured, see msh_ltc_ms_step_sphere).
-float msh_ltc_cone_ccdf(MshLtcCone c, float z) {
+MSH_FN float msh_ltc_cone_ccdf(MshLtcCone c, float z) {
   if (!(c.den > 0.0f)) return 0.0f;
   if (!(z > c.z_lo)) return 1.0f;
   if (!(z < c.z_hi)) return 0.0f;
@@ -312,14 +312,14 @@ float msh_ltc_cone_ccdf(MshLtcCone c, float z) {
 
 // The lights of msh_ltc_sphere / msh_ltc_rect as cones (ltc_shading.h ltc_light_cone_sphere / _polygon): a sphere
 // light as its area-matched `sides`-gon (3..16), a quad as given; n, v, to_light, corners as in msh_ltc_sphere/rect.
-MshLtcCone msh_ltc_cone_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides, float tail) {
+MSH_FN MshLtcCone msh_ltc_cone_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides, float tail) {
   float3x3 fr = msh_ltc_view_frame(n, v);
   float3 p[MSH_LTC_MAX_SIDES];
   sides = clamp(sides, 3, MSH_LTC_MAX_SIDES);
   msh_ltc_sphere_polygon(msh_mul(fr, to_light), sin_sigma, sides, p);
   return msh_ltc_cone_make(t, p, sides, tail);
 }
-MshLtcCone msh_ltc_cone_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3, float tail) {
+MSH_FN MshLtcCone msh_ltc_cone_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3, float tail) {
   float3x3 fr = msh_ltc_view_frame(n, v);
   float3 p[MSH_LTC_MAX_SIDES];
   for (int k = 0; k < MSH_LTC_MAX_SIDES; ++k) p[k] = float3(0.0f, 0.0f, 0.0f);
@@ -331,11 +331,11 @@ MshLtcCone msh_ltc_cone_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1,
 // (ltc_reference_step_area). t: the ltc_mat texel, float4(1, 0, 0, 1) for a Lambertian receiver; tail: 0 for Lambert,
 // msh_ltc_tail_weight(alpha) for GGX. |diff| vs C++ double <= 1e-3 (5.7e-4 measured, Lambert 3.6e-5; the largest
 // for low-roughness GGX lights far off the highlight, float cancellation in the edge sums: docs/area-lights.md sec. 7).
-float msh_ltc_ms_step_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides, float tail,
+MSH_FN float msh_ltc_ms_step_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides, float tail,
                              float cos_t) {
   return msh_ltc_cone_ccdf(msh_ltc_cone_sphere(t, n, v, to_light, sin_sigma, sides, tail), cos_t);
 }
-float msh_ltc_ms_step_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3, float tail, float cos_t) {
+MSH_FN float msh_ltc_ms_step_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3, float tail, float cos_t) {
   return msh_ltc_cone_ccdf(msh_ltc_cone_rect(t, n, v, p0, p1, p2, p3, tail), cos_t);
 }
 
@@ -345,7 +345,7 @@ float msh_ltc_ms_step_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, f
 // M(z_lo) + integral of S over its sloped panel [max(z_lo, 1 - 2 vis^2), min(z_hi, 2 - 2 vis^2)], by `nodes` (1..4)
 // Gauss-Legendre points (the C++ rule's arithmetic: exact for the linear piece). |diff| vs C++ double <= 1e-3
 // (2.5e-4 measured).
-float msh_ltc_cone_brinck_maximov(MshLtcCone c, float vis, int nodes) {
+MSH_FN float msh_ltc_cone_brinck_maximov(MshLtcCone c, float vis, int nodes) {
   if (!(c.den > 0.0f)) return 0.0f;
   float v2 = 2.0f * clamp(vis, 0.0f, 1.0f) * clamp(vis, 0.0f, 1.0f);
   float sum = clamp(c.z_lo + v2 - 1.0f, 0.0f, 1.0f);
@@ -365,11 +365,11 @@ float msh_ltc_cone_brinck_maximov(MshLtcCone c, float vis, int nodes) {
   for (int j = 0; j < n; ++j) s += w[j] * msh_ltc_cone_ccdf(c, a + (b - a) * x[j]);
   return clamp(sum + (b - a) * s, 0.0f, 1.0f);
 }
-float msh_ltc_ms_brinck_maximov_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides, float tail,
+MSH_FN float msh_ltc_ms_brinck_maximov_sphere(float4 t, float3 n, float3 v, float3 to_light, float sin_sigma, int sides, float tail,
                                        float vis, int nodes) {
   return msh_ltc_cone_brinck_maximov(msh_ltc_cone_sphere(t, n, v, to_light, sin_sigma, sides, tail), vis, nodes);
 }
-float msh_ltc_ms_brinck_maximov_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3, float tail,
+MSH_FN float msh_ltc_ms_brinck_maximov_rect(float4 t, float3 n, float3 v, float3 p0, float3 p1, float3 p2, float3 p3, float tail,
                                      float vis, int nodes) {
   return msh_ltc_cone_brinck_maximov(msh_ltc_cone_rect(t, n, v, p0, p1, p2, p3, tail), vis, nodes);
 }

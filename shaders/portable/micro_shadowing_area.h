@@ -18,27 +18,27 @@
 
 // Defined in micro_shadowing_fit; declared here so that the files also work concatenated in name order
 // (the browser viewer), where this file comes first.
-float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float roughness);
+MSH_FN float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float roughness);
 // Half-angle of the visibility cone, atan(sqrt(vis), sqrt(1 - vis)).
-float msh_ms_cone_angle(float vis) {
+MSH_FN float msh_ms_cone_angle(float vis) {
   float v = clamp(vis, 0.0f, 1.0f);
   return msh_atan2(sqrt(v), sqrt(1.0f - v));
 }
 
 // The spherical triangle with sides a, b, c in the float-stable forms of msh::ms::spherical_geometry::ThinTriangle:
 // x = sqrt(G) (Gram determinant), y = cos a - cos b cos c, z = cos b - cos a cos c.
-float3 msh_ms_thin_triangle(float a, float b, float c) {
+MSH_FN float3 msh_ms_thin_triangle(float a, float b, float c) {
   float s = 0.5f * (a + b + c);
   float A = sin(s), B = sin(s - a), C = sin(s - b), D = sin(s - c);
   return float3(2.0f * sqrt(max(0.0f, A * B * C * D)), A * B - C * D, A * C - B * D);
 }
-float msh_ms_atan2_safe(float y, float x) { return (x == 0.0f && y == 0.0f) ? 0.0f : msh_atan2(y, x); }
+MSH_FN float msh_ms_atan2_safe(float y, float x) { return (x == 0.0f && y == 0.0f) ? 0.0f : msh_atan2(y, x); }
 
 // Solid angle of the intersection of two caps of radii r1, r2 in [0, pi/2], axes gamma apart (Mazonka 2012,
 // "Solid Angle of Conical Surfaces, Polyhedral Cones, and Intersecting Spherical Caps"), in the float-stable
 // form 4 w1 sin^2(r1/2) + 4 w2 sin^2(r2/2) - 2 E (E by L'Huilier). |diff| vs C++ double <= 1e-4 sr
 // (2.0e-5 measured).
-float msh_ms_cap_intersection_solid_angle(float r1, float r2, float gamma) {
+MSH_FN float msh_ms_cap_intersection_solid_angle(float r1, float r2, float gamma) {
   r1 = clamp(r1, 0.0f, 0.5f * MSH_MS_PI), r2 = clamp(r2, 0.0f, 0.5f * MSH_MS_PI), gamma = clamp(gamma, 0.0f, MSH_MS_PI);
   if (gamma >= r1 + r2) return 0.0f;
   float sm = sin(0.5f * min(r1, r2));
@@ -56,7 +56,7 @@ float msh_ms_cap_intersection_solid_angle(float r1, float r2, float gamma) {
 // Oat & Sander 2007 ("Ambient Aperture Lighting"): the smaller cap's area times smoothstep(0, 1, 1 - (gamma -
 // |r1 - r2|)/(r1 + r2 - |r1 - r2|)). An approximation of the above (error: docs/area-lights.md).
 // |diff| vs C++ double <= 1e-4 sr (8.7e-6 measured).
-float msh_ms_cap_intersection_solid_angle_oat_sander(float r1, float r2, float gamma) {
+MSH_FN float msh_ms_cap_intersection_solid_angle_oat_sander(float r1, float r2, float gamma) {
   r1 = clamp(r1, 0.0f, 0.5f * MSH_MS_PI), r2 = clamp(r2, 0.0f, 0.5f * MSH_MS_PI), gamma = clamp(gamma, 0.0f, MSH_MS_PI);
   float sm = sin(0.5f * min(r1, r2));
   float full = 4.0f * MSH_MS_PI * sm * sm;
@@ -71,7 +71,7 @@ float msh_ms_cap_intersection_solid_angle_oat_sander(float r1, float r2, float g
 // (t = pi/2: the horizon): exact, from the boundary formula (Arvo 1995, "Applications of Irradiance
 // Tensors"), E = cos(theta_c) w1 sin^2(rho) - cos(rho) sqrt(G) + w2 sin^2(t). |diff| vs C++ double <= 5e-5
 // (6.4e-6 measured).
-float msh_ms_cap_cone_projected_solid_angle(float rho, float theta_c, float t) {
+MSH_FN float msh_ms_cap_cone_projected_solid_angle(float rho, float theta_c, float t) {
   rho = clamp(rho, 0.0f, 0.5f * MSH_MS_PI), t = clamp(t, 0.0f, 0.5f * MSH_MS_PI), theta_c = clamp(theta_c, 0.0f, MSH_MS_PI);
   float sr = sin(rho), st = sin(t), cc = cos(theta_c);
   if (theta_c >= rho + t) return 0.0f;
@@ -84,23 +84,23 @@ float msh_ms_cap_cone_projected_solid_angle(float rho, float theta_c, float t) {
 
 // acos as atan(sqrt((1 - x)(1 + x)), x): GPU acos may be a coarse polynomial (1.6e-4 rad error measured on
 // lavapipe, within the Vulkan precision rules); atan is ~3e-6 there.
-float msh_ms_acos_accurate(float x) {
+MSH_FN float msh_ms_acos_accurate(float x) {
   x = clamp(x, -1.0f, 1.0f);
   return msh_atan2(sqrt(max(0.0f, (1.0f - x) * (1.0f + x))), x);
 }
-float msh_ms_cap_theta(float n_dot_l) { return msh_ms_acos_accurate(n_dot_l); }
+MSH_FN float msh_ms_cap_theta(float n_dot_l) { return msh_ms_acos_accurate(n_dot_l); }
 
 // The cap-over-cone measure of the three cap forms below, of the cone of half-angle t and the cap of angular
 // radius rho whose axis is th from the normal: 0 = (n.l)-weighted (projected) solid angle, 1 = solid angle
 // (Mazonka 2012), 2 = Oat & Sander 2007's solid angle. Precision: stated per form below.
-float msh_ms_cap_measure(int form, float rho, float t, float th) {
+MSH_FN float msh_ms_cap_measure(int form, float rho, float t, float th) {
   if (form == 0) return msh_ms_cap_cone_projected_solid_angle(rho, th, t);
   if (form == 1) return msh_ms_cap_intersection_solid_angle(rho, t, th);
   return msh_ms_cap_intersection_solid_angle_oat_sander(rho, t, th);
 }
 // measure(cap within the visibility cone) / measure(cap above the horizon) for msh_ms_cap_measure's form;
 // rho = 0 returns the point term. Precision: stated per form below.
-float msh_ms_reference_step_area_cap_form(int form, float vis, float n_dot_l, float rho) {
+MSH_FN float msh_ms_reference_step_area_cap_form(int form, float vis, float n_dot_l, float rho) {
   rho = clamp(rho, 0.0f, 0.5f * MSH_MS_PI);
   if (!(rho > 0.0f)) return msh_ms_reference_step(vis, n_dot_l);
   float th = msh_ms_cap_theta(n_dot_l), t = msh_ms_cone_angle(vis);
@@ -112,20 +112,20 @@ float msh_ms_reference_step_area_cap_form(int form, float vis, float n_dot_l, fl
 // E(cap, horizon). |diff| vs C++ double <= 1.5e-3 = 0.4/255 for rho >= 1 degree (6.6e-4 measured; a light
 // straddling the cone amplifies the GPU's trigonometric error by ~1/rho); accuracy vs the exact quadrature:
 // docs/area-lights.md.
-float msh_ms_reference_step_area_cap(float vis, float n_dot_l, float rho) {
+MSH_FN float msh_ms_reference_step_area_cap(float vis, float n_dot_l, float rho) {
   return msh_ms_reference_step_area_cap_form(0, vis, n_dot_l, rho);
 }
 
 // The same ratio with plain solid angles (Mazonka 2012): drops the (n.l) weight inside the light (what an
 // ambient-aperture style engine computes; its error: docs/area-lights.md). |diff| vs C++ double <= 1.5e-3
 // for rho >= 1 degree (1.1e-4 measured).
-float msh_ms_reference_step_area_cap_solid_angle(float vis, float n_dot_l, float rho) {
+MSH_FN float msh_ms_reference_step_area_cap_solid_angle(float vis, float n_dot_l, float rho) {
   return msh_ms_reference_step_area_cap_form(1, vis, n_dot_l, rho);
 }
 
 // The same with Oat & Sander 2007 for both solid angles. |diff| vs C++ double <= 1.5e-3 for rho >= 1 degree
 // (1.2e-4 measured).
-float msh_ms_reference_step_area_cap_oat_sander(float vis, float n_dot_l, float rho) {
+MSH_FN float msh_ms_reference_step_area_cap_oat_sander(float vis, float n_dot_l, float rho) {
   return msh_ms_reference_step_area_cap_form(2, vis, n_dot_l, rho);
 }
 
@@ -136,7 +136,7 @@ float msh_ms_reference_step_area_cap_oat_sander(float vis, float n_dot_l, float 
 #define MSH_MS_AREA_PART1_ANALYTIC 3
 #define MSH_MS_AREA_GENERIC_VNDF_ALU 4
 
-float msh_ms_area_point_term(int term, float vis, float z, float n_dot_v, float roughness) {
+MSH_FN float msh_ms_area_point_term(int term, float vis, float z, float n_dot_v, float roughness) {
   if (term == MSH_MS_AREA_BRINCK_MAXIMOV_2016) return msh_ms_brinck_maximov2016(vis, z);
   if (term == MSH_MS_AREA_CHAN_2018) return msh_ms_chan2018(vis, z);
   if (term == MSH_MS_AREA_PART1_ANALYTIC) return msh_ms_part1_analytic(vis, z);
@@ -144,7 +144,7 @@ float msh_ms_area_point_term(int term, float vis, float z, float n_dot_v, float 
 }
 // The N.L values where the term kinks or turns sharply (panel edges), -1: none. Part 1: its kink and where it
 // reaches 0.03; generic: the early-out, the cone and the cone +- 4 max(alpha, 0.02) sin t.
-float4 msh_ms_area_term_kinks(int term, float vis, float roughness) {
+MSH_FN float4 msh_ms_area_term_kinks(int term, float vis, float roughness) {
   float v = clamp(vis, 0.0f, 1.0f);
   if (term == MSH_MS_AREA_BRINCK_MAXIMOV_2016) return float4(1.0f - 2.0f * v * v, 2.0f - 2.0f * v * v, -1.0f, -1.0f);
   if (term == MSH_MS_AREA_CHAN_2018) return float4(msh_ms_cone_cos(v), -1.0f, -1.0f, -1.0f);
@@ -158,7 +158,7 @@ float4 msh_ms_area_term_kinks(int term, float vis, float roughness) {
 }
 
 // Complementary CDF in z = n.l of the cosine-weighted cap: S(z) = E(cap, n.l > z) / E(cap, n.l > 0).
-float msh_ms_cap_ccdf(float z, float rho, float th, float den, float z_lo, float z_hi) {
+MSH_FN float msh_ms_cap_ccdf(float z, float rho, float th, float den, float z_lo, float z_hi) {
   if (!(z > z_lo)) return 1.0f;
   if (!(z < z_hi) || !(den > 0.0f)) return 0.0f;
   return clamp(msh_ms_cap_cone_projected_solid_angle(rho, th, msh_ms_acos_accurate(z)) / den, 0.0f, 1.0f);
@@ -170,7 +170,7 @@ float msh_ms_cap_ccdf(float z, float rho, float th, float den, float z_lo, float
 // n_dot_v and roughness are read by the generic ALU term only. 4 evaluations of the term and 5 of the CDF per
 // panel (at most 6 panels). |diff| vs C++ double <= 2e-3 = 0.5/255 for rho >= 1 degree (9.4e-4 measured);
 // accuracy vs the exact quadrature: docs/area-lights.md.
-float msh_ms_area_cap_lambert(int term, float vis, float n_dot_l, float n_dot_v, float roughness, float rho) {
+MSH_FN float msh_ms_area_cap_lambert(int term, float vis, float n_dot_l, float n_dot_v, float roughness, float rho) {
   rho = clamp(rho, 0.0f, 0.5f * MSH_MS_PI);
   float nl = clamp(n_dot_l, -1.0f, 1.0f);
   if (!(rho > 0.0f)) return msh_ms_area_point_term(term, vis, nl, n_dot_v, roughness);
@@ -219,16 +219,16 @@ float msh_ms_area_cap_lambert(int term, float vis, float n_dot_l, float n_dot_v,
 }
 
 // Convenience forms (Lambertian receiver, cap light of radius rho).
-float msh_ms_brinck_maximov2016_area_cap(float vis, float n_dot_l, float rho) {
+MSH_FN float msh_ms_brinck_maximov2016_area_cap(float vis, float n_dot_l, float rho) {
   return msh_ms_area_cap_lambert(MSH_MS_AREA_BRINCK_MAXIMOV_2016, vis, n_dot_l, 1.0f, 0.5f, rho);
 }
-float msh_ms_chan2018_area_cap(float vis, float n_dot_l, float rho) {
+MSH_FN float msh_ms_chan2018_area_cap(float vis, float n_dot_l, float rho) {
   return msh_ms_area_cap_lambert(MSH_MS_AREA_CHAN_2018, vis, n_dot_l, 1.0f, 0.5f, rho);
 }
-float msh_ms_part1_analytic_area_cap(float vis, float n_dot_l, float rho) {
+MSH_FN float msh_ms_part1_analytic_area_cap(float vis, float n_dot_l, float rho) {
   return msh_ms_area_cap_lambert(MSH_MS_AREA_PART1_ANALYTIC, vis, n_dot_l, 1.0f, 0.5f, rho);
 }
-float msh_ms_generic_vndf_alu_area_cap(float vis, float n_dot_l, float n_dot_v, float roughness, float rho) {
+MSH_FN float msh_ms_generic_vndf_alu_area_cap(float vis, float n_dot_l, float n_dot_v, float roughness, float rho) {
   return msh_ms_area_cap_lambert(MSH_MS_AREA_GENERIC_VNDF_ALU, vis, n_dot_l, n_dot_v, roughness, rho);
 }
 
@@ -240,7 +240,7 @@ float msh_ms_generic_vndf_alu_area_cap(float vis, float n_dot_l, float n_dot_v, 
 // F of a quad light with corners v0..v3 (directions from the shading point, any length, either winding):
 // Lambert's formula 0.5 sum theta_i n_i (Arvo 1995). |diff| vs C++ double <= 2e-5 (per component; F and
 // the disk's below together 2.7e-6 measured).
-float3 msh_ms_quad_vector_form_factor(float3 v0, float3 v1, float3 v2, float3 v3) {
+MSH_FN float3 msh_ms_quad_vector_form_factor(float3 v0, float3 v1, float3 v2, float3 v3) {
   float3 p[4] =
       MSH_ARRAY(float3, 4) normalize(v0), normalize(v1), normalize(v2), normalize(v3) MSH_ARRAY_END;
   float3 F = float3(0.0f, 0.0f, 0.0f), m = float3(0.0f, 0.0f, 0.0f);
@@ -258,7 +258,7 @@ float3 msh_ms_quad_vector_form_factor(float3 v0, float3 v1, float3 v2, float3 v3
 // F of a disk light: centre c (from the shading point, any distance > 0), normal nd (either sign), radius R;
 // the closed form of occlusion/micro_shadowing_area.h (boundary formula on the rim). |diff| vs C++ double
 // <= 2e-5 (per component).
-float3 msh_ms_disk_vector_form_factor(float3 c, float3 nd, float R) {
+MSH_FN float3 msh_ms_disk_vector_form_factor(float3 c, float3 nd, float R) {
   float3 n = normalize(nd);
   // Orthonormal frame about n (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
   float sgn = n.z >= 0.0f ? 1.0f : -1.0f;
@@ -279,7 +279,7 @@ float3 msh_ms_disk_vector_form_factor(float3 c, float3 nd, float R) {
 // The equivalent cap of F: float2(N.L of its axis, its angular radius). F = 0 (a light of zero size): the
 // zero-size cap at `center` (so the cap forms give the point value there). |diff| vs C++ double <= 1e-4 for
 // lights of at least 0.5 degree (4.3e-5 measured).
-float2 msh_ms_equivalent_cap(float3 F, float3 center) {
+MSH_FN float2 msh_ms_equivalent_cap(float3 F, float3 center) {
   float len = length(F);
   if (!(len > 0.0f)) {
     float lc = length(center);
@@ -292,7 +292,7 @@ float2 msh_ms_equivalent_cap(float3 F, float3 center) {
 // The reference step over a disk or quad light through its equivalent cap (error vs the exact quadrature:
 // docs/area-lights.md sec. 5). |diff| vs C++ double <= 1.5e-3 for lights of at least 1 degree (5.6e-4
 // measured).
-float msh_ms_reference_step_area_equivalent_cap(float vis, float3 F, float3 center) {
+MSH_FN float msh_ms_reference_step_area_equivalent_cap(float vis, float3 F, float3 center) {
   float2 e = msh_ms_equivalent_cap(F, center);
   return msh_ms_reference_step_area_cap(vis, e.x, e.y);
 }

@@ -13,7 +13,7 @@
 
 // Specular-aware term (micro_shadowing_aware.h, specular_aware): chi+(n.h - c) chi+(h.l - c), h = normalize(l + v).
 // Exact (0 or 1) except within ~1 ulp of the two cone boundaries.
-float msh_ms_specular_aware(float vis, float3 v, float3 l) {
+MSH_FN float msh_ms_specular_aware(float vis, float3 v, float3 l) {
   float V = clamp(vis, 0.0f, 1.0f);
   if (!(v.z > 0.0f) || !(l.z > 0.0f)) return 0.0f;
   if (V >= 1.0f) return 1.0f;
@@ -27,7 +27,7 @@ float msh_ms_specular_aware(float vis, float3 v, float3 l) {
 // Specular-aware term averaged over the relative azimuth with the GGX lobe's weight D(h) (micro_shadowing_aware.h,
 // specular_aware_azimuth_mean, closed form). |shader - C++ float| <= 2e-4 (measured 9.7e-5) (the float closed form's own error
 // against the exact mean is larger at low roughness: docs/micro-shadowing-aware.md).
-float msh_ms_specular_aware_azimuth_mean(float vis, float alpha, float n_dot_l, float n_dot_v) {
+MSH_FN float msh_ms_specular_aware_azimuth_mean(float vis, float alpha, float n_dot_l, float n_dot_v) {
   float V = clamp(vis, 0.0f, 1.0f), cl = clamp(n_dot_l, 0.0f, 1.0f), cv = clamp(n_dot_v, 0.0f, 1.0f);
   if (!(cl > 0.0f) || !(cv > 0.0f)) return 0.0f;
   if (V >= 1.0f) return 1.0f;
@@ -61,7 +61,7 @@ float msh_ms_specular_aware_azimuth_mean(float vis, float alpha, float n_dot_l, 
 // Fraction of a Lambertian facet's reflected flux leaving through the cone n.w > c (micro_shadowing_aware.h,
 // lambert_cap_fraction; Snyder 1996 cap form factor with horizon). |shader - C++ float| <= 1e-4 (measured 4.8e-5 on lavapipe:
 // the GPU acos and atan).
-float msh_ms_lambert_cap_fraction(float cos_m, float c) {
+MSH_FN float msh_ms_lambert_cap_fraction(float cos_m, float c) {
   float cm = clamp(cos_m, -1.0f, 1.0f), cc = clamp(c, 0.0f, 1.0f);
   float s2 = 1.0f - cc * cc, ss = sqrt(s2);
   float sm = sqrt(max(0.0f, 1.0f - cm * cm));
@@ -77,7 +77,7 @@ float msh_ms_lambert_cap_fraction(float cos_m, float c) {
 // reciprocal = true weights each facet by (m.l)+ and tests n.m, m.l and m.v against the cone; false (flux) weights
 // by (m.l)+ times the cap fraction. Matches the C++ float estimator to 1e-4 except where a sample sits within
 // rounding of a cone boundary (then by one sample's weight).
-float msh_ms_diffuse_aware_estimate(float vis, float2 alpha, float3 v, float3 l, int n, bool reciprocal, uint seed) {
+MSH_FN float msh_ms_diffuse_aware_estimate(float vis, float2 alpha, float3 v, float3 l, int n, bool reciprocal, uint seed) {
   float V = clamp(vis, 0.0f, 1.0f);
   if (msh_ms_exact_zero(V, l.z) || V == 0.0f) return 0.0f;
   if (V >= 1.0f) return 1.0f;

@@ -14,7 +14,7 @@
 #define MSH_MICRO_SHADOWING_AWARE_FIT_PORTABLE_H
 
 // Cubic forms a, q, g in (r, cos_t, w), 20 coefficients each (kDiffuseAwareAluReciprocal).
-MSH_STATIC_CONST float MSH_AWARE_ALU_P[60] = MSH_ARRAY(float, 60)
+MSH_GLOBAL_CONST float MSH_AWARE_ALU_P[60] = MSH_ARRAY(float, 60)
     4.7413f, -9.98672f, 5.60447f, 2.29771f, 10.7242f, 14.5875f, -7.79898f, -27.395f, 4.65937f, -5.50467f,
     1.63791f, -6.25831f, 1.13435f, 8.15713f, -19.3248f, 2.49487f, -3.68374f, 13.559f, -5.30555f, 15.5449f,
     13.9158f, -21.439f, -1.45917f, 7.31156f, 16.3105f, -56.2036f, -6.02686f, 14.636f, -20.0127f, 20.4968f,
@@ -24,7 +24,7 @@ MSH_STATIC_CONST float MSH_AWARE_ALU_P[60] = MSH_ARRAY(float, 60)
 
 // fit_basis::fit_cubic at offset o (1, x, y, z, x2, y2, z2, xy, xz, yz, x3, y3, z3, x2y, x2z, y2x, y2z, z2x,
 // z2y, xyz), grouped as in C++.
-float msh_ms_aware_alu_cubic(int o, float x, float y, float z) {
+MSH_FN float msh_ms_aware_alu_cubic(int o, float x, float y, float z) {
   float px = MSH_AWARE_ALU_P[o + 1] + x * (MSH_AWARE_ALU_P[o + 4] + MSH_AWARE_ALU_P[o + 10] * x +
              MSH_AWARE_ALU_P[o + 13] * y + MSH_AWARE_ALU_P[o + 14] * z) +
              y * (MSH_AWARE_ALU_P[o + 7] + MSH_AWARE_ALU_P[o + 15] * y + MSH_AWARE_ALU_P[o + 19] * z) +
@@ -36,7 +36,7 @@ float msh_ms_aware_alu_cubic(int o, float x, float y, float z) {
 }
 
 // T_x L_x of one direction (aware_fit_terms::cone_factor).
-float msh_ms_aware_alu_cone(float v, float c, float s, float nx, float a, float g) {
+MSH_FN float msh_ms_aware_alu_cone(float v, float c, float s, float nx, float a, float g) {
   float a2 = a * a, oma2 = 1.0f - a2;
   float nx2 = nx * nx, sx = sqrt(1.0f - nx2);
   float d = s * nx - c * sx;
@@ -48,7 +48,7 @@ float msh_ms_aware_alu_cone(float v, float c, float s, float nx, float a, float 
 
 // Precision vs the C++ float function: |diff| <= 1e-5, measured 3.6e-7 (tests/test_shaders_micro_shadowing_aware_fit.cpp,
 // lavapipe, 19,123 random, boundary and degenerate inputs).
-float msh_ms_diffuse_aware_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
+MSH_FN float msh_ms_diffuse_aware_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
   float v = msh_saturate(vis), nl = msh_saturate(n_dot_l), nv = msh_saturate(n_dot_v);
   float r = clamp(roughness, 0.01f, 1.0f);
   if (!(nl > 0.0f) || 2.0f * v + nl < 1.0f || 2.0f * v + nv < 1.0f || !(v > 0.0f)) return 0.0f;  // exact early-outs

@@ -19,7 +19,7 @@
 // One call: port of msh::ms::generic_vndf_alu. 40 arithmetic operations after the input clamps
 // (docs/micro-shadowing.md). Error vs the exact azimuth mean (20000 stratified random inputs over the domain):
 // RMS 4.2/255, p99 17/255, max 37/255 (docs/micro-shadowing.md).
-float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
+MSH_FN float msh_ms_generic_vndf_alu(float vis, float n_dot_l, float n_dot_v, float roughness) {
   float v = msh_saturate(vis), nl = msh_saturate(n_dot_l), nv = msh_saturate(n_dot_v);
   float r = clamp(roughness, 0.01f, 1.0f);
   if (2.0f * v + nl < 1.0f) return 0.0f;  // exact early-out (msh::ms::exact_zero)
@@ -45,7 +45,7 @@ struct MshMsAluPixel {
   float vis, c, s, a2, oma2, inv_st, g, den;
 };
 
-float msh_ms_alu_cubic_a(float x, float y, float z) {
+MSH_FN float msh_ms_alu_cubic_a(float x, float y, float z) {
   float px = -2.9439f + x * (0.471315f + 0.396493f * x - 0.427877f * y - 0.437596f * z) + y * (1.08175f + 0.634181f * y - 1.61536f * z) +
              z * (1.66018f + 1.05468f * z);
   float py = 2.9061f + y * (-3.2708f + 0.342605f * y + 2.39379f * z) + z * (-2.8354f + 0.407305f * z);
@@ -53,7 +53,7 @@ float msh_ms_alu_cubic_a(float x, float y, float z) {
   return 1.0217f + x * px + y * py + z * pz;
 }
 
-float msh_ms_alu_cubic_q(float x, float y, float z) {
+MSH_FN float msh_ms_alu_cubic_q(float x, float y, float z) {
   float px = -9.6416f + x * (7.56448f - 2.27743f * x - 0.05405f * y - 2.87783f * z) + y * (6.01259f - 1.88619f * y - 1.3212f * z) +
              z * (0.966796f + 2.61554f * z);
   float py = -26.1472f + y * (26.5267f - 9.77157f * y - 6.78087f * z) + z * (8.15792f + 3.37417f * z);
@@ -61,7 +61,7 @@ float msh_ms_alu_cubic_q(float x, float y, float z) {
   return 11.644f + x * px + y * py + z * pz;
 }
 
-float msh_ms_alu_cubic_g(float x, float y, float z) {
+MSH_FN float msh_ms_alu_cubic_g(float x, float y, float z) {
   float px = 3.81808f + x * (1.04404f - 0.682536f * x - 0.962631f * y + 0.460372f * z) + y * (-5.48228f + 2.19737f * y + 2.98356f * z) +
              z * (-3.36957f + 0.488589f * z);
   float py = 2.24386f + y * (-2.27448f + 1.15732f * y - 0.0851906f * z) + z * (-0.812951f + 0.139112f * z);
@@ -69,7 +69,7 @@ float msh_ms_alu_cubic_g(float x, float y, float z) {
   return -0.9204f + x * px + y * py + z * pz;
 }
 
-MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roughness) {
+MSH_FN MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roughness) {
   float v = msh_saturate(vis), nv = msh_saturate(n_dot_v);
   float r = clamp(roughness, 0.01f, 1.0f);
   MshMsAluPixel px;
@@ -89,7 +89,7 @@ MshMsAluPixel msh_ms_generic_vndf_alu_pixel(float vis, float n_dot_v, float roug
   return px;
 }
 
-float msh_ms_generic_vndf_alu_light(MshMsAluPixel px, float n_dot_l) {
+MSH_FN float msh_ms_generic_vndf_alu_light(MshMsAluPixel px, float n_dot_l) {
   float nl = msh_saturate(n_dot_l);
   if (2.0f * px.vis + nl < 1.0f) return 0.0f;  // exact early-out (msh::ms::exact_zero)
   if (!(px.vis < 1.0f)) return 1.0f;

@@ -3,8 +3,14 @@
 #pragma once
 
 #include <microshadow/math/vec.h>
+#include <microshadow/shader/cpp_prelude.h>
 
 #include <cstdint>
+
+// The seed hashes, written once for the shaders and this library (shaders/portable/hash.h).
+namespace msh::shader {
+#include <shaders/portable/hash.h>
+}  // namespace msh::shader
 
 namespace msh {
 
@@ -47,18 +53,9 @@ class Pcg32 {
   uint64_t state_, inc_;
 };
 
-// 64→32 bit mixing hash (a variant of MurmurHash3's finalizer), for deriving seeds.
-constexpr uint32_t hash_u32(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
-constexpr uint32_t hash_combine(uint32_t seed, uint32_t v) {
-  return seed ^ (hash_u32(v) + 0x9e3779b9u + (seed << 6) + (seed >> 2));
-}
+// 32-bit mixing hash and seed combination, for deriving seeds (shaders/portable/hash.h: the shaders' own).
+inline uint32_t hash_u32(uint32_t x) { return shader::msh_hash_u32(x); }
+inline uint32_t hash_combine(uint32_t seed, uint32_t v) { return shader::msh_hash_combine(seed, v); }
 
 constexpr uint32_t reverse_bits(uint32_t x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);

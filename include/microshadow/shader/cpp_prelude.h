@@ -7,9 +7,11 @@
 // Where C++ pins what the shading languages leave open (stated so that CPU and GPU results can be compared):
 //  - min, max and clamp return the non-NaN operand (IEEE 754-2008 minNum/maxNum, as Direct3D requires), so a
 //    NaN input clamps to the lower bound instead of propagating;
-//  - msh_mad is a fused multiply-add (std::fma), GLSL's fma(); `precise` (MSH_PRECISE) is empty: C++ compilers
-//    contract a * b + c only where told to (-ffp-contract=fast on a target with FMA), never under the default
-//    ISO mode;
+//  - msh_mad is a fused multiply-add (std::fma), GLSL's fma(); `precise` (MSH_PRECISE) is empty: on a target
+//    with FMA instructions (e.g. -march=x86-64-v3) GCC contracts a * b + c under -ffp-contract=fast (its default
+//    in the GNU modes, -std=gnu++20, not in -std=c++20) and clang within an expression by default
+//    (-ffp-contract=on); compile with -ffp-contract=off where the bodies' `precise` matters (the bump
+//    terminator's exact 1 at an unperturbed normal). Baseline x86-64 has no FMA: nothing is contracted;
 //  - textures are filtered exactly (float weights; GPUs quantize them, lavapipe to 8 bits): see Texture2D.
 // Header-only, no I/O, no threads, C++ standard library only.
 #pragma once
@@ -301,6 +303,8 @@ inline float4 msh_cpp_sample(const Texture3D& t, float3 uvw) {
 }  // namespace msh::shader
 
 // The dialect's macros (docs/shaders.md has the table of all three preludes).
+#define MSH_FN inline
+#define MSH_GLOBAL_CONST inline constexpr
 #define MSH_STATIC_CONST static const
 #define MSH_ARRAY(T, N) {
 #define MSH_ARRAY_END }

@@ -6,21 +6,14 @@
 // against the double-precision references (include/microshadow/occlusion, bsdf, lut).
 // Include directory: the folder holding shaders/portable (the repository root; installed,
 // <prefix>/share/microshadow), which the CMake targets microshadow::core and microshadow::engine and
-// microshadow-core.pc add. Functions have internal linkage (an unnamed namespace): each translation unit
-// that calls one compiles its own copy, as a shader does.
+// microshadow-core.pc add. Every function is `inline` (MSH_FN).
 #pragma once
 
 #include <microshadow/shader/cpp_prelude.h>
 
-#if defined(__GNUC__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wunused-variable"
-#endif
-
 namespace msh::shader {
-namespace {
 // In the order the GLSL entry points require (each module's top comment names what it needs first).
+#include <shaders/portable/hash.h>
 #include <shaders/portable/micro_shadowing.h>
 #include <shaders/portable/micro_shadowing_fit.h>
 #include <shaders/portable/micro_shadowing_area.h>
@@ -29,9 +22,4 @@ namespace {
 #include <shaders/portable/ltc.h>
 #include <shaders/portable/directional.h>
 #include <shaders/portable/bump_terminator.h>
-}  // namespace
 }  // namespace msh::shader
-
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
