@@ -11,12 +11,13 @@
 
 #include <array>
 
-#include "support/ltc_test_table.h"
+#include "support/ltc_inputs.h"
 #include "support/shader_kernel.h"
 
 using namespace msh;
 using namespace msh::bsdf;
 namespace vk = msh::test::vk;
+using namespace msh::test::ltc_inputs::integrals;
 
 namespace {
 
@@ -49,47 +50,6 @@ const vk::Kernel kKernel = vk::framed_kernel(
   float3 c = r.c.xyz, ex = r.ex.xyz * r.ex.w, ey = r.ey.xyz * r.ey.w;
   o[k + 3u] = msh_ltc_rect(t, r.n.xyz, r.v.xyz, c - ex - ey, c + ex - ey, c + ex + ey, c - ex + ey);
 )");
-
-struct Record {
-  float a[4];  // roughness, N.V, and a, b of the matrix of the D check (c = w[3], d = 1)
-  float n[4], v[4], l[4], w[4], c[4], ex[4], ey[4];
-};
-
-const LtcTable& table() {
-  static const LtcTable t = test::small_ltc_table(8, 16, 60, 512);
-  return t;
-}
-
-using vk::get;
-using vk::put;
-
-std::vector<Record> make_records() {
-  std::vector<Record> rs;
-  Pcg32 rng(77);
-  auto u = [&] { return rng.next_double(); };
-  for (int i = 0; i < 2048; ++i) {
-    Record r{};
-    const Vec3d n = sample_uniform_sphere(Vec2d(u(), u()));
-    const Frame<double> f = Frame<double>::from_z(n);
-    double mu = i % 64 == 0 ? 1.0 : 0.02 + 0.98 * u();
-    const Vec3d v = f.to_world(spherical_direction(mu, 2 * kPi<double> * u()));
-    r.a[0] = float(i % 50 == 0 ? 0.0 : u()), r.a[1] = float(mu), r.a[2] = float(0.3 + u()),
-    r.a[3] = float(0.2 + u());
-    if (i % 2) r.a[3] = -r.a[3];  // also selects the 8-gon
-    put(r.n, n), put(r.v, v);
-    const double el = (u() * 100 - 10) * kPi<double> / 180, sig = (1 + 39 * u()) * kPi<double> / 180;
-    const Vec3d l = f.to_world(
-        Vec3d(std::cos(el) * std::cos(6.3 * u()), std::cos(el) * std::sin(6.3 * u()), std::sin(el)));
-    put(r.l, normalize(l), std::sin(sig));
-    put(r.w, sample_uniform_sphere(Vec2d(u(), u())), u() - 0.5);
-    const double d = 0.5 + 3 * u();
-    const Frame<double> lf = Frame<double>::from_z(normalize(l));
-    put(r.c, normalize(l) * d), put(r.ex, lf.s, d * std::tan(sig) * (0.5 + u())),
-        put(r.ey, lf.t, d * std::tan(sig) * (0.5 + u()));
-    rs.push_back(r);
-  }
-  return rs;
-}
 
 void check(const char* lang, const std::vector<Record>& recs, const std::vector<std::array<float, 4>>& o) {
   const LtcTable& t = table();

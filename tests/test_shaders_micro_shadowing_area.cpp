@@ -13,10 +13,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "support/area_inputs.h"
 #include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
+using namespace msh::test::area_inputs::cap;
 
 namespace {
 
@@ -35,55 +37,6 @@ const vk::Kernel kKernel =
   o[3u * i + 2u] = vec4(msh_ms_cap_intersection_solid_angle(rho, t, th),
                         msh_ms_cap_intersection_solid_angle_oat_sander(rho, t, th), t, th);
 )");
-
-struct Rec {
-  float vis, nl, nv, r, rho, pad[3];
-};
-
-// 2^13 random inputs (ρ over [0°, 90°], most in [1°, 40°]), lights straddling the cone boundary, and
-// degenerate values (ρ = 0, N.L = 0 or 1, vis = 0 or 1).
-std::vector<Rec> make_records() {
-  std::vector<Rec> recs;
-  Pcg32 rng(2024);
-  auto u = [&] { return rng.next_float(); };
-  const float deg = 3.14159265f / 180;
-  for (int i = 0; i < (1 << 13); ++i) {
-    const float rho = i % 8 == 0 ? 90 * deg * u() : (1 + 39 * u()) * deg;
-    recs.push_back({u(), u(), u(), u(), rho, {0, 0, 0}});
-  }
-  for (int i = 0; i < 512; ++i) {  // centre near the cone boundary
-    const float vis = u(), rho = (1 + 39 * u()) * deg;
-    const float nl = std::cos(std::acos(std::sqrt(1 - vis)) + (2 * u() - 1) * rho);
-    recs.push_back({vis, nl, u(), u(), rho, {0, 0, 0}});
-  }
-  for (float vis : {0.0f, 0.3f, 1.0f})
-    for (float nl : {0.0f, 0.5f, 1.0f})
-      for (float rho : {0.0f, 1e-4f, 10 * deg, 90 * deg})
-        recs.push_back({vis, nl, 0.7f, 0.5f, rho, {0, 0, 0}});
-  return recs;
-}
-
-// The ten outputs of the kernels, evaluated in C++ in scalar T at the same (float) inputs.
-template <class T>
-std::array<T, 10> cpu_outputs(const Rec& x) {
-  const T vis = x.vis, nl = x.nl, nv = x.nv, r = x.r, rho = x.rho;
-  const T th = micro_shadowing::cap_theta(nl), t = micro_shadowing::cone_angle(vis);
-  return {micro_shadowing::reference_step_area_cap(vis, nl, rho),
-          micro_shadowing::reference_step_area_cap_solid_angle(vis, nl, rho),
-          micro_shadowing::reference_step_area_cap_oat_sander(vis, nl, rho),
-          micro_shadowing::cap_cone_projected_solid_angle(rho, th, t),
-          micro_shadowing::brinck_maximov_2016_area_cap(vis, nl, rho),
-          micro_shadowing::chan_2018_area_cap(vis, nl, rho),
-          micro_shadowing::part1_analytic_area_cap(vis, nl, rho),
-          // The ALU fit is float code: in T = double only the area rule runs in double.
-          micro_shadowing::area_cap_lambert(
-              [&](T z) {
-                return T(micro_shadowing::generic_vndf_alu(float(vis), float(z), float(nv), float(r)));
-              },
-              nl, rho, micro_shadowing::generic_vndf_kinks(vis, r)),
-          micro_shadowing::cap_intersection_solid_angle(rho, t, th),
-          micro_shadowing::cap_intersection_solid_angle_oat_sander(rho, t, th)};
-}
 
 void check(const char* label, const std::vector<Rec>& recs, const std::vector<float>& out) {
   // max |shader − C++ double at the same float inputs| over lights of at least 1° (the C++ float code is

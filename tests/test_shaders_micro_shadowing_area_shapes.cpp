@@ -12,10 +12,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "support/area_inputs.h"
 #include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
+using namespace msh::test::area_inputs::shapes;
 
 namespace {
 
@@ -34,40 +36,6 @@ const vk::Kernel kKernel =
   o[3u * i + 1u] = vec4(Fd, msh_ms_reference_step_area_equivalent_cap(vis, Fd, c));
   o[3u * i + 2u] = vec4(msh_ms_equivalent_cap(Fq, qc), msh_ms_equivalent_cap(Fd, c));
 )");
-
-struct Rec {
-  float q[4][4];
-  float c[3], R, nd[3], vis;
-};
-
-Vec3d v3(const float* p) { return Vec3d(p[0], p[1], p[2]); }
-
-std::vector<Rec> make_records() {
-  std::vector<Rec> recs;
-  Pcg32 rng(4242);
-  auto u = [&] { return rng.next_double(); };
-  const double deg = kPi<double> / 180;
-  auto add = [&](const area::Quad& q, const area::Disk& d, double vis) {
-    Rec r{};
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 3; ++j) r.q[k][j] = float((&q.corners[size_t(k)].x)[j]);
-    for (int j = 0; j < 3; ++j) r.c[j] = float((&d.center.x)[j]), r.nd[j] = float((&d.normal.x)[j]);
-    r.R = float(d.radius), r.vis = float(vis);
-    recs.push_back(r);
-  };
-  for (int i = 0; i < 4096; ++i) {
-    const Vec3d c = spherical_direction(u(), 2 * kPi<double> * u());
-    const double rho = (1 + 39 * u()) * deg, tilt = (120 * u() - 60) * deg, roll = 2 * kPi<double> * u();
-    add(area::rect_tilted(c, rho, rho * (0.25 + 0.75 * u()), tilt, roll),
-        area::disk_tilted(c, rho, tilt, roll), u());
-  }
-  // Degenerate: zero size (F = 0: the point value at the centre), a disk seen edge-on, the pole.
-  const Vec3d c = spherical_direction(0.6, 0.3);
-  add(area::Quad{{c, c, c, c}}, area::Disk{c, -1.0 * c, 0.0}, 0.5);
-  add(area::rect_tilted(Vec3d(0, 0, 1), 0.2, 0.1), area::Disk{c, normalize(cross(c, Vec3d(0, 1, 0))), 0.5},
-      0.3);
-  return recs;
-}
 
 void check(const char* label, const std::vector<Rec>& recs, const std::vector<float>& out) {
   // max |shader − C++ double at the same float inputs|; tolerances as the shader file states.

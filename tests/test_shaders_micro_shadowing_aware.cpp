@@ -9,10 +9,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "support/aware_inputs.h"
 #include "support/shader_kernel.h"
 
 using namespace msh;
 namespace vk = msh::test::vk;
+using namespace msh::test::aware_inputs;
 
 namespace {
 
@@ -29,45 +31,6 @@ const vk::Kernel kKernel = vk::framed_kernel({"micro_shadowing", "micro_shadowin
   o[2u * i + 1u] = vec4(msh_ms_diffuse_aware_estimate(r.a.x, vec2(r.a.y, r.a.y), r.v.xyz, r.l.xyz, pc.n_est, false, 1u),
                         0.0, 0.0, 0.0);
 )");
-
-struct Rec {
-  float vis, alpha, nl, nv;
-  Vec3f v;
-  float cos_m;
-  Vec3f l;
-  float c;
-};
-
-Vec3f unit(double ct, double phi) {
-  const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
-  return Vec3f(Vec3d(st * std::cos(phi), st * std::sin(phi), ct));
-}
-
-std::vector<Rec> make_records() {
-  std::vector<Rec> r;
-  Pcg32 rng(77);
-  auto u = [&] { return rng.next_double(); };
-  for (int i = 0; i < 4096; ++i) {
-    Rec x{};
-    x.vis = float(u());
-    x.alpha = float(sqr(0.1 + 0.9 * u()));
-    x.nl = float(1 - u()), x.nv = float(1 - u());
-    x.v = unit(x.nv, 0.0), x.l = unit(x.nl, kPi<double> * u());
-    x.cos_m = float(2 * u() - 1), x.c = float(u());
-    r.push_back(x);
-  }
-  const float vals[] = {0.0f, 1.0f, -0.5f, 1.5f, 1e-7f, 0.5f};
-  for (float a : vals)
-    for (float b : vals)
-      for (float c : vals) {
-        Rec x{};
-        x.vis = a, x.alpha = std::clamp(c, 0.0f, 1.0f), x.nl = b, x.nv = c;
-        x.v = Vec3f(0, 0, 1), x.l = unit(std::clamp(b, -1.0f, 1.0f), 0.3);
-        x.cos_m = b, x.c = c;
-        r.push_back(x);
-      }
-  return r;
-}
 
 void check(const char* label, const std::vector<Rec>& recs, const std::vector<float>& out) {
   int spec_flip = 0, est_off = 0;
