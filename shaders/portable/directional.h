@@ -36,6 +36,18 @@ MSH_FN float msh_dir_poly(float4 c0, float4 c1, float c8, float3 l) {
   return dot(c0, float4(1.0f, l)) + dot(c1, msh_dir_basis_hi(l)) + c8 * (l.z * l.z);
 }
 
+// a0 + a1 x + a2 y + a3 z + a4 xz + a5 yz (l = (x, y, z), h = msh_dir_basis_hi(l)), summed in the C++ order:
+// the first six functions of the basis, shared by T and the slopes G_x, G_y. Exact (the same operations).
+MSH_FN float msh_dir_sum6(float a0, float a1, float a2, float a3, float a4, float a5, float3 l, float4 h) {
+  float s = a0;
+  s += a1 * l.x;
+  s += a2 * l.y;
+  s += a3 * l.z;
+  s += a4 * h.x;
+  s += a5 * h.y;
+  return s;
+}
+
 // Mean diffuse transport over the texel's footprint, lit * max(n_fine . l, 0), of a directional light:
 // max(0, sum_i c_i b_i(l)), 0 for l.z <= 0. Port of msh::directional::directional_transport (degree-2
 // weighted least-squares transport, docs/shaders.md "Directional micro-occlusion"; SSBump, Green 2007
@@ -52,12 +64,7 @@ MSH_FN float msh_dir_transport(float4 c0, float4 c1, float c8, float3 l) {
 MSH_FN float msh_dir_transport(float c[9], float3 l) {
   if (!(l.z > 0.0f)) return 0.0f;
   float4 h = msh_dir_basis_hi(l);
-  float s = c[0];
-  s += c[1] * l.x;
-  s += c[2] * l.y;
-  s += c[3] * l.z;
-  s += c[4] * h.x;
-  s += c[5] * h.y;
+  float s = msh_dir_sum6(c[0], c[1], c[2], c[3], c[4], c[5], l, h);
   s += c[6] * h.z;
   s += c[7] * h.w;
   s += c[8] * (l.z * l.z);
@@ -102,27 +109,12 @@ MSH_FN float msh_dir_term(float c[9], float3 l, float3 n) {
 MSH_FN float msh_dir_view_transport(float4 c[6], float3 l, float3 v) {
   if (!(l.z > 0.0f)) return 0.0f;
   float4 h = msh_dir_basis_hi(l);
-  float t = c[0].x;  // channels 0-8: T
-  t += c[0].y * l.x;
-  t += c[0].z * l.y;
-  t += c[0].w * l.z;
-  t += c[1].x * h.x;
-  t += c[1].y * h.y;
+  float t = msh_dir_sum6(c[0].x, c[0].y, c[0].z, c[0].w, c[1].x, c[1].y, l, h);  // channels 0-8: T
   t += c[1].z * h.z;
   t += c[1].w * h.w;
   t += c[2].x * (l.z * l.z);
-  float gx = c[2].y;  // channels 9-14: G_x on (1, x, y, z, xz, yz)
-  gx += c[2].z * l.x;
-  gx += c[2].w * l.y;
-  gx += c[3].x * l.z;
-  gx += c[3].y * h.x;
-  gx += c[3].z * h.y;
-  float gy = c[3].w;  // channels 15-20: G_y
-  gy += c[4].x * l.x;
-  gy += c[4].y * l.y;
-  gy += c[4].z * l.z;
-  gy += c[4].w * h.x;
-  gy += c[5].x * h.y;
+  float gx = msh_dir_sum6(c[2].y, c[2].z, c[2].w, c[3].x, c[3].y, c[3].z, l, h);  // channels 9-14: G_x
+  float gy = msh_dir_sum6(c[3].w, c[4].x, c[4].y, c[4].z, c[4].w, c[5].x, l, h);  // channels 15-20: G_y
   float vz = max(v.z, 0.5f);
   return max(t + (gx * v.x + gy * v.y) / vz, 0.0f);
 }
