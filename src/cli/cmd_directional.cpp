@@ -84,7 +84,7 @@ void add_directional(Groups& g) {
   b->add_flag("--view", ba->view,
               "Also the view correction's 12 slope channels G_x, G_y (21 channels: what the directional-view "
               "method reads)");
-  b->add_option("--threads", ba->threads, "Worker threads (0 = all)");
+  add_threads_option(b, ba->threads);
 }
 
 }  // namespace

@@ -140,8 +140,7 @@ void add_ltc(Groups& g) {
   c->add_option("--iterations", b->iterations, "Nelder-Mead iterations per texel")->capture_default_str();
   c->add_option("--moment-samples", b->moment_samples, "QMC samples for magnitude, fresnel, mean direction")
       ->capture_default_str();
-  c->add_option("--threads", b->threads, "Worker threads (0 = all); the output does not depend on it")
-      ->capture_default_str();
+  add_threads_option(c, b->threads);
   c->add_flag("--quiet", b->quiet, "No progress on stderr");
 
   const auto [vc, v] =
@@ -164,8 +163,7 @@ void add_ltc(Groups& g) {
   vc->add_flag(
       "--no-surface-clip", [v](int64_t) { v->v.clip_surface = false; },
       "Clip lights in the LTC's space only (Heitz et al. 2016), not also to the surface's horizon");
-  vc->add_option("--threads", v->threads, "Worker threads (0 = all); results do not depend on it")
-      ->capture_default_str();
+  add_threads_option(vc, v->threads);
 }
 
 }  // namespace

@@ -289,8 +289,7 @@ void add_lut(Groups& g) {
   c->add_option("--phi-nodes", o->phi_nodes, "Gauss-Legendre nodes over the relative azimuth [0, pi]")
       ->capture_default_str();
   c->add_option("--seed", o->seed, "Scrambling seed")->capture_default_str();
-  c->add_option("--threads", o->threads, "Worker threads (0 = all); the output does not depend on it")
-      ->capture_default_str();
+  add_threads_option(c, o->threads);
   c->add_option("--symbol", o->symbol, "C identifier for the .h output")->capture_default_str();
   c->add_flag("--quiet", o->quiet, "No progress on stderr");
 

@@ -215,7 +215,7 @@ void add_aware(Groups& g) {
                 "Relative tolerance of the exact diffuse-aware azimuth mean (reference of the -alu methods)")
       ->check(CLI::Range(1e-9, 1e-2))
       ->capture_default_str();
-  v->add_option("--threads", va->threads, "Worker threads (0 = all)")->check(CLI::Range(0, 1024));
+  add_threads_option(v, va->threads);
   v->add_flag("--json", va->json, "Print one JSON object");
 
   const auto [p, pa] =
@@ -226,7 +226,7 @@ void add_aware(Groups& g) {
                             run_plot);
   p->add_option("--out", pa->out, "Output directory")->required();
   p->add_option("--size", pa->size, "Grid points per axis")->capture_default_str();
-  p->add_option("--threads", pa->threads, "Worker threads (0 = all)")->check(CLI::Range(0, 1024));
+  add_threads_option(p, pa->threads);
 }
 
 }  // namespace

@@ -153,8 +153,7 @@ void add_render(Groups& g) {
   r->add_option("--width", a->width, "Override settings.width")->check(CLI::Range(1, 16384));
   r->add_option("--height", a->height, "Override settings.height")->check(CLI::Range(1, 16384));
   r->add_option("--spp", a->spp, "Samples per pixel")->check(CLI::Range(1, 65536));
-  r->add_option("--threads", a->threads, "Worker threads (0 = all cores); the image does not depend on it")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(r, a->threads);
   r->add_option(
       "--method", a->method,
       "Micro-shadowing: a method of `microshadow methods` (D+S: a pair, D on the diffuse lobe and S on the "
@@ -325,8 +324,7 @@ void add_gen_material(Groups& g) {
       "extension (docs/gltf.md)");
   gm->add_flag("--no-mips", a->no_mips,
                "Do not write mips/ (every map's mip chain as KTX2 and DDS, and each level as float32 NPY)");
-  gm->add_option("--threads", a->threads, "Worker threads (0 = all); output does not depend on it")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(gm, a->threads);
   gm->callback([a] { run_gen_material(*a); });
 }
 

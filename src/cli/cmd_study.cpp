@@ -271,8 +271,7 @@ void add_study(Groups& g) {
       "Cache the fine texture sets in DIR (float NPY) and reuse them on later runs (keyed by material, "
       "size, seed or height-map hash and depth, bake settings and bake version; an entry whose maps "
       "or depth do not match its key or hold non-finite values is baked again)");
-  s->add_option("--threads", a->threads, "Worker threads (0 = all cores); results do not depend on it")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(s, a->threads);
   s->add_flag("--quiet", a->quiet, "No progress on stderr");
   s->callback([a] { run_study_command(*a); });
 }

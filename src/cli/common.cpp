@@ -46,6 +46,13 @@ Vec3d parse_vec3(const std::string& text, const std::string& what) {
   return {v[0], v[1], v[2]};
 }
 
+CLI::Option* add_threads_option(CLI::App* command, int& threads) {
+  return command
+      ->add_option("--threads", threads, "Worker threads (0 = all cores); the output does not depend on it")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+}
+
 std::unique_ptr<tbb::global_control> thread_limit(int threads) {
   if (threads <= 0) return nullptr;
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,

@@ -33,6 +33,10 @@ using ::msh::require_range;
 // Caps TBB at `threads` workers while the result lives; threads <= 0: no cap (nullptr).
 std::unique_ptr<tbb::global_control> thread_limit(int threads);
 
+// The one --threads option of every command that runs in parallel: 0 = all cores, at most 1024; every
+// output is bit-identical whatever the count (the project's rule), which the help says.
+CLI::Option* add_threads_option(CLI::App* command, int& threads);
+
 // Prints one JSON object on stdout, one line, with full double precision.
 void print_json(const nlohmann::json& j);
 

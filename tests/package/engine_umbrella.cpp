@@ -19,7 +19,8 @@ int main() {
   check(msh_ms_chan2018(0.75f, 0.25f) == 0.25f, "chan_2018 at V = 0.75");
   // The ALU fit of the generic term is 0 inside the early-out and 1 at V = 1.
   check(msh_ms_generic_vndf_alu(0.2f, 0.5f, 0.7f, 0.5f) == 0.0f, "generic_vndf_alu early-out");
-  check(std::abs(msh_ms_generic_vndf_alu(1.0f, 0.5f, 0.7f, 0.5f) - 1.0f) < 1e-3f, "generic_vndf_alu at V = 1");
+  check(std::abs(msh_ms_generic_vndf_alu(1.0f, 0.5f, 0.7f, 0.5f) - 1.0f) < 1e-3f,
+        "generic_vndf_alu at V = 1");
   // Directional occlusion of a flat surface (transport = N·L): the term is 1.
   float flat[9] = {0, 0, 0, 1, 0, 0, 0, 0, 0};
   const float3 l(0.6f, 0.0f, 0.8f), n(0, 0, 1);

@@ -8,8 +8,8 @@
 //  - min, max and clamp return the non-NaN operand (IEEE 754-2008 minNum/maxNum, as Direct3D requires), so a
 //    NaN input clamps to the lower bound instead of propagating;
 //  - msh_mad is a fused multiply-add (std::fma), GLSL's fma(); `precise` (MSH_PRECISE) is empty: on a target
-//    with FMA instructions (e.g. -march=x86-64-v3) GCC contracts a * b + c under -ffp-contract=fast (its default
-//    in the GNU modes, -std=gnu++20, not in -std=c++20) and clang within an expression by default
+//    with FMA instructions (e.g. -march=x86-64-v3) GCC contracts a * b + c under -ffp-contract=fast (its
+//    default in the GNU modes, -std=gnu++20, not in -std=c++20) and clang within an expression by default
 //    (-ffp-contract=on); compile with -ffp-contract=off where the bodies' `precise` matters (the bump
 //    terminator's exact 1 at an unperturbed normal). Baseline x86-64 has no FMA: nothing is contracted;
 //  - textures are filtered exactly (float weights; GPUs quantize them, lavapipe to 8 bits): see Texture2D.
@@ -95,26 +95,26 @@ constexpr Vec<T, N> msh_cpp_map(Vec<T, N> a, Vec<T, N> b, F f) {
 }
 
 // Component-wise arithmetic, vector with vector and with a scalar on either side.
-#define MSH_CPP_BINARY_OP(op)                                                                    \
-  template <class T, int N>                                                                      \
-  constexpr Vec<T, N> operator op(Vec<T, N> a, Vec<T, N> b) {                                    \
-    return msh_cpp_map(a, b, [](T p, T q) { return p op q; });                                   \
-  }                                                                                              \
-  template <class T, int N>                                                                      \
-  constexpr Vec<T, N> operator op(Vec<T, N> a, T s) {                                            \
-    return a op Vec<T, N>(s);                                                                    \
-  }                                                                                              \
-  template <class T, int N>                                                                      \
-  constexpr Vec<T, N> operator op(T s, Vec<T, N> b) {                                            \
-    return Vec<T, N>(s) op b;                                                                    \
-  }                                                                                              \
-  template <class T, int N>                                                                      \
-  constexpr Vec<T, N>& operator op##=(Vec<T, N>& a, Vec<T, N> b) {                               \
-    return a = a op b;                                                                           \
-  }                                                                                              \
-  template <class T, int N>                                                                      \
-  constexpr Vec<T, N>& operator op##=(Vec<T, N>& a, T s) {                                       \
-    return a = a op Vec<T, N>(s);                                                                \
+#define MSH_CPP_BINARY_OP(op)                                      \
+  template <class T, int N>                                        \
+  constexpr Vec<T, N> operator op(Vec<T, N> a, Vec<T, N> b) {      \
+    return msh_cpp_map(a, b, [](T p, T q) { return p op q; });     \
+  }                                                                \
+  template <class T, int N>                                        \
+  constexpr Vec<T, N> operator op(Vec<T, N> a, T s) {              \
+    return a op Vec<T, N>(s);                                      \
+  }                                                                \
+  template <class T, int N>                                        \
+  constexpr Vec<T, N> operator op(T s, Vec<T, N> b) {              \
+    return Vec<T, N>(s) op b;                                      \
+  }                                                                \
+  template <class T, int N>                                        \
+  constexpr Vec<T, N>& operator op##=(Vec<T, N>& a, Vec<T, N> b) { \
+    return a = a op b;                                             \
+  }                                                                \
+  template <class T, int N>                                        \
+  constexpr Vec<T, N>& operator op##=(Vec<T, N>& a, T s) {         \
+    return a = a op Vec<T, N>(s);                                  \
   }
 MSH_CPP_BINARY_OP(+)
 MSH_CPP_BINARY_OP(-)
@@ -161,10 +161,10 @@ inline float pow(float x, float y) { return std::pow(x, y); }
 inline float floor(float x) { return std::floor(x); }
 inline float ceil(float x) { return std::ceil(x); }
 
-#define MSH_CPP_UNARY_FN(fn)                                \
-  template <int N>                                          \
-  Vec<float, N> fn(Vec<float, N> a) {                       \
-    return msh_cpp_map(a, [](float p) { return fn(p); });   \
+#define MSH_CPP_UNARY_FN(fn)                              \
+  template <int N>                                        \
+  Vec<float, N> fn(Vec<float, N> a) {                     \
+    return msh_cpp_map(a, [](float p) { return fn(p); }); \
   }
 MSH_CPP_UNARY_FN(abs)
 MSH_CPP_UNARY_FN(sign)
@@ -176,14 +176,14 @@ MSH_CPP_UNARY_FN(log2)
 MSH_CPP_UNARY_FN(floor)
 #undef MSH_CPP_UNARY_FN
 
-#define MSH_CPP_BINARY_FN(fn)                                                          \
-  template <class T, int N>                                                            \
-  Vec<T, N> fn(Vec<T, N> a, Vec<T, N> b) {                                             \
-    return msh_cpp_map(a, b, [](T p, T q) { return fn(p, q); });                       \
-  }                                                                                    \
-  template <class T, int N>                                                            \
-  Vec<T, N> fn(Vec<T, N> a, T s) {                                                     \
-    return fn(a, Vec<T, N>(s));                                                        \
+#define MSH_CPP_BINARY_FN(fn)                                    \
+  template <class T, int N>                                      \
+  Vec<T, N> fn(Vec<T, N> a, Vec<T, N> b) {                       \
+    return msh_cpp_map(a, b, [](T p, T q) { return fn(p, q); }); \
+  }                                                              \
+  template <class T, int N>                                      \
+  Vec<T, N> fn(Vec<T, N> a, T s) {                               \
+    return fn(a, Vec<T, N>(s));                                  \
   }
 MSH_CPP_BINARY_FN(min)
 MSH_CPP_BINARY_FN(max)
@@ -251,17 +251,20 @@ struct float3x3 {
   float3 r[3];
 };
 inline float3x3 msh_float3x3_rows(float3 a, float3 b, float3 c) { return float3x3{{a, b, c}}; }
-inline float3 msh_mul(const float3x3& m, float3 v) { return float3(dot(m.r[0], v), dot(m.r[1], v), dot(m.r[2], v)); }
+inline float3 msh_mul(const float3x3& m, float3 v) {
+  return float3(dot(m.r[0], v), dot(m.r[1], v), dot(m.r[2], v));
+}
 inline float3 msh_mul(float3 v, const float3x3& m) {
-  return float3(v.x * m.r[0].x + v.y * m.r[1].x + v.z * m.r[2].x, v.x * m.r[0].y + v.y * m.r[1].y + v.z * m.r[2].y,
+  return float3(v.x * m.r[0].x + v.y * m.r[1].x + v.z * m.r[2].x,
+                v.x * m.r[0].y + v.y * m.r[1].y + v.z * m.r[2].y,
                 v.x * m.r[0].z + v.y * m.r[1].z + v.z * m.r[2].z);
 }
 inline float determinant(const float3x3& m) { return dot(m.r[0], cross(m.r[1], m.r[2])); }
 
 // ---- Textures ---------------------------------------------------------------------------------------------
 // A table on the CPU: RGBA float texels, x fastest, then y, then z; sampled like the shaders' sampler
-// (linear filtering, clamp-to-edge addressing, normalized coordinates with texel centres at (i + 0.5) / size),
-// at mip 0. The texels are not owned.
+// (linear filtering, clamp-to-edge addressing, normalized coordinates with texel centres at (i + 0.5) /
+// size), at mip 0. The texels are not owned.
 struct Texture2D {
   const float4* texels = nullptr;
   int width = 0, height = 0;
@@ -285,7 +288,9 @@ inline MshCppTexelPair msh_cpp_texel_pair(float u, int n) {
 }
 inline float4 msh_cpp_sample(const Texture2D& t, float2 uv) {
   const MshCppTexelPair a = msh_cpp_texel_pair(uv.x, t.width), b = msh_cpp_texel_pair(uv.y, t.height);
-  const auto at = [&](int i, int j) { return t.texels[std::size_t(j) * std::size_t(t.width) + std::size_t(i)]; };
+  const auto at = [&](int i, int j) {
+    return t.texels[std::size_t(j) * std::size_t(t.width) + std::size_t(i)];
+  };
   const float4 lo = at(a.i0, b.i0) + a.f * (at(a.i1, b.i0) - at(a.i0, b.i0));
   const float4 hi = at(a.i0, b.i1) + a.f * (at(a.i1, b.i1) - at(a.i0, b.i1));
   return lo + b.f * (hi - lo);

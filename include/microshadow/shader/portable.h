@@ -13,6 +13,7 @@
 
 namespace msh::shader {
 // In the order the GLSL entry points require (each module's top comment names what it needs first).
+// clang-format off
 #include <shaders/portable/hash.h>
 #include <shaders/portable/micro_shadowing.h>
 #include <shaders/portable/micro_shadowing_fit.h>
@@ -22,4 +23,5 @@ namespace msh::shader {
 #include <shaders/portable/ltc.h>
 #include <shaders/portable/directional.h>
 #include <shaders/portable/bump_terminator.h>
+// clang-format on
 }  // namespace msh::shader
