@@ -19,6 +19,7 @@
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <microshadow/reference/micro_shadowing_vcavity.h>
+#include <microshadow/shader/portable.h>
 
 #include <algorithm>
 #include <cmath>
@@ -382,12 +383,21 @@ MicroShadowingGlsl glsl(const char* expr, const char* requires_fn = "", const ch
   g.expr = expr, g.requires_fn = requires_fn, g.lut = lut;
   return g;
 }
-// The GLSL form of a closed form of (V, N·L) named fn in shaders/glsl: fn(vis, nl), and its spherical-cap
-// form fn_area_cap(vis, nl_cap, rho) (MicroShadowingGlsl::area_cap).
-MicroShadowingGlsl vnl_glsl(const std::string& fn) {
+// The GLSL form of a closed form of (V, N·L) named fn in shaders/glsl: fn(vis, nl), and, where
+// shaders/portable/micro_shadowing_area.h has it (cap), its spherical-cap form fn_area_cap(vis, nl_cap, rho)
+// (MicroShadowingGlsl::area_cap; without it the three.js module's area lights take the term at the light's
+// axis).
+MicroShadowingGlsl vnl_glsl(const std::string& fn, bool cap = true) {
   MicroShadowingGlsl g;
-  g.expr = fn + "(vis, nl)", g.requires_fn = fn, g.area_cap = fn + "_area_cap(vis, nl_cap, rho)";
+  g.expr = fn + "(vis, nl)", g.requires_fn = fn;
+  if (cap) g.area_cap = fn + "_area_cap(vis, nl_cap, rho)";
   return g;
+}
+// The double path of a closed form written only once, in shaders/portable (msh::shader, float32): closed<
+// in_float<msh::shader::fn>, msh::shader::fn>(...) evaluates the shader's own function, in float.
+template <float (*G)(float, float)>
+double in_float(double v, double n_dot_l) {
+  return double(G(float(v), float(n_dot_l)));
 }
 template <double (*F)(double, double), float (*G)(float, float)>
 Impl closed_entry(const MicroShadowingOptions&, const MicroShadowingMethodInfo&) {
