@@ -244,16 +244,12 @@ TEST(ShadersDirectional, Compiles) {
 TEST(ShadersDirectional, RunsOnVulkanAndMatchesCpp) {
   const auto recs = make_records();
   const auto decs = make_decodes();
-  vk::Dispatch d;
-  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size() * 4), vk::to_floats(decs),
-               std::vector<float>(decs.size() * 8)};
-  d.invocations = std::max(recs.size(), decs.size());
-  d.push = vk::push_constants(
-      std::array<uint32_t, 3>{uint32_t(d.invocations), uint32_t(recs.size()), uint32_t(decs.size())});
-  vk::run_glsl_and_hlsl(kKernel, d, [&](const char* label, const vk::Buffers& out) {
-    check(label, recs, decs, vk::from_floats<std::array<float, 4>>(out[1]),
-          vk::from_floats<std::array<float, 4>>(out[3]));
-  });
+  vk::run_two_record_sets(
+      kKernel, {vk::to_floats(recs), recs.size(), 4}, {vk::to_floats(decs), decs.size(), 8},
+      [&](const char* label, const std::vector<float>& res, const std::vector<float>& decoded) {
+        check(label, recs, decs, vk::from_floats<std::array<float, 4>>(res),
+              vk::from_floats<std::array<float, 4>>(decoded));
+      });
 }
 
 TEST(ShadersDirectional, ViewCompiles) {
