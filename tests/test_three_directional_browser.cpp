@@ -30,24 +30,17 @@
 #include <random>
 
 #include "support/cli_test_util.h"
+#include "support/probe_stats.h"
 #include "support/view_server_util.h"
 
 namespace fs = std::filesystem;
 using namespace msh;
-using msh::test::run_cli;
-using msh::test::scratch_dir;
-using msh::test::slurp;
+using namespace msh::test;  // the browser tests' helpers (support/view_server_util.h) and run_cli, slurp, ...
 using nlohmann::json;
 
 namespace {
 
-const fs::path kSource = fs::path(MSH_SOURCE_DIR);
-const fs::path kBrowserDir = kSource / "tests" / "browser";
-const fs::path kThree = kSource / "integrations" / "three" / "node_modules" / "three";
-const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
 constexpr int kCompactK = 8;
-
-std::string missing_browser() { return msh::test::missing_three_browser(kBrowserDir, kThree); }
 
 Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
 
@@ -130,11 +123,6 @@ json write_compact_fixture(const fs::path& material, const fs::path& out) {
   return j["directional_compact"];
 }
 
-struct Stat {
-  double max_float = 0, max_8bit = 0;
-  int n = 0;
-};
-
 const fs::path kCopy = fs::path(MSH_BINARY_DIR) / "three_directional_example";
 const fs::path kShots = fs::path(MSH_BINARY_DIR) / "three_directional_screenshots";
 const fs::path kMat = kCopy / "data" / "dirmat";
@@ -156,7 +144,8 @@ const DriverRun& driver_run() {
     fs::remove_all(kShots);
     fs::remove_all(kCopy);
     {
-      const auto r = run_cli("view --three --export " + kCopy.string() + " --cache " + kCache.string(), dir);
+      const auto r =
+          run_cli("view --three --export " + kCopy.string() + " --cache " + kViewerCache.string(), dir);
       if (r.code != 0) return fail("view --three --export: " + r.err);
     }
     // The texture set as a user makes it (KTX2 mips and mips.json; the glTF asset with the compact form
@@ -208,23 +197,12 @@ const DriverRun& driver_run() {
     fs::copy_file(kCopy / "data" / "dircompact" / "mips" / "directional_compact_0.ktx2",
                   kCopy / "data" / "bad_missing" / "mips" / "directional_compact_0.ktx2");
 
-    msh::test::ViewServer server = msh::test::start_view({"--root", kCopy.string(), "--port", "0"}, dir);
-    const std::string url = server.url;
-    std::string node_out;
-    int rc = -1;
-    if (!url.empty()) {
-      const std::string cmd =
-          "cd " + kBrowserDir.string() + " && node three_directional_test.mjs --url " + url + " --out " +
-          kShots.string() + " --material data/dirmat --compact data/dircompact --bad " + bads +
-          " --gltf data/dirmat/gltf/material.gltf --bad-gltf " + bad_gltf + " --chromium " +
-          msh::test::chromium_path() + " > " + (dir / "node.out").string() + " 2>&1";
-      rc = std::system(cmd.c_str());
-      node_out = slurp(dir / "node.out");
-    }
-    const int code = msh::test::stop_view(server);
-    if (url.empty()) return fail("the server printed no URL: " + slurp(server.err));
-    if (code != 0) return fail("the server: " + slurp(server.err));
-    if (rc != 0) return fail("the driver: " + node_out);
+    const std::string failure = serve_and_drive(
+        kCopy, "three_directional_test.mjs",
+        "--out " + kShots.string() + " --material data/dirmat --compact data/dircompact --bad " + bads +
+            " --gltf data/dirmat/gltf/material.gltf --bad-gltf " + bad_gltf,
+        dir);
+    if (!failure.empty()) return fail(failure);
     out.res = json::parse(slurp(kShots / "results.json"));
     return out;
   }();
@@ -232,7 +210,7 @@ const DriverRun& driver_run() {
 }
 
 TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
-  MSH_REQUIRE_BROWSER(missing_browser());
+  MSH_REQUIRE_BROWSER(missing_three_browser());
   const DriverRun& run = driver_run();
   ASSERT_TRUE(run.failure.empty()) << run.failure;
   const json& res = run.res;
@@ -300,7 +278,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   const Vec3d sphere_c = vec3(ob["sphere"]), cyl_c = vec3(ob["cylinder"]);
   occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
 
-  std::map<std::string, std::map<std::string, Stat>> stats;  // [light][run lobe]
+  ProbeStats stats;  // [light][run lobe]
   double frame_err = 0, ortho_err = 0, lt_err = 0, vt_err = 0, nl_err = 0, uv_err = 0, compose_err = 0,
          direct_err = 0;
   int frame_n[3] = {0, 0, 0}, direct_n = 0;
@@ -398,10 +376,8 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
           EXPECT_NEAR(got, want, tol)
               << what << " (" << type << ") l_t " << l_t.x << " " << l_t.y << " " << l_t.z;
           EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255) << what << " 8-bit (" << type << ")";
-          Stat& st = stats[type][what];
-          st.max_float = std::max(st.max_float, std::abs(got - want) / std::max(1.0, std::abs(want)));
-          st.max_8bit = std::max(st.max_8bit, std::abs(got8 - std::clamp(want, 0.0, 1.0)));
-          ++st.n;
+          stats[type][what].add(std::abs(got - want) / std::max(1.0, std::abs(want)),
+                                std::abs(got8 - std::clamp(want, 0.0, 1.0)));
         }
         if (L.contains("direct_on")) {
           for (int lobe = 0; lobe < 2; ++lobe) {
@@ -470,17 +446,13 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
       frame_n[2], lt_err, vt_err, nl_err, uv_err, compose_err, near_err, near_n, direct_err, direct_n,
       res["timing"]["done"].get<double>());
   std::printf("max |three.js - C++|: 8-bit output in 1/255 (float32, relative to max(1, |term|)) n:\n");
-  json table;
-  for (const auto& [what, unused] : stats[order[0]]) {
-    std::printf("  %-62s", what.c_str());
-    for (const auto& t : order) {
-      const Stat& st = stats[t][what];
-      std::printf(" %s %4.2f (%.1e) %3d", t.c_str(), st.max_8bit * 255, st.max_float, st.n);
-      table[what][t] = {{"max_8bit_255", st.max_8bit * 255}, {"max_float_rel", st.max_float}, {"n", st.n}};
-    }
-    std::printf("\n");
-  }
-  std::ofstream(shots / "comparison.json") << table.dump(1) << "\n";
+  print_probe_table(
+      stats, order, 62,
+      [](const std::string& t, const ProbeStat& st) {
+        std::printf(" %s %4.2f (%.1e) %3d", t.c_str(), st.max_8bit * 255, st.max_float, st.n);
+        return json{{"max_8bit_255", st.max_8bit * 255}, {"max_float_rel", st.max_float}, {"n", st.n}};
+      },
+      shots / "comparison.json");
 }
 
 // The glTF asset of gen-material --gltf through three's GLTFLoader and the module's MicroShadowGLTFPlugin
@@ -490,7 +462,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
 // fetched nearest against the PNG texels decoded with the extension's ranges (the PNGs unflipped, not
 // premultiplied, not colour-converted); direct light on/off against the terms.
 TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
-  MSH_REQUIRE_BROWSER(missing_browser());
+  MSH_REQUIRE_BROWSER(missing_three_browser());
   const DriverRun& run = driver_run();
   ASSERT_TRUE(run.failure.empty()) << run.failure;
   ASSERT_TRUE(run.res.contains("gltf")) << run.res["errors"].dump(1);
@@ -535,7 +507,7 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   const Vec3d cam_pos(cw[12].get<double>(), cw[13].get<double>(), cw[14].get<double>());
   const double scale = G["scale"];
   occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
-  std::map<std::string, Stat> stats;
+  std::map<std::string, ProbeStat> stats;
   double frame_err = 0, uv_err = 0, lt_err = 0, vt_err = 0, nl_err = 0, direct_err = 0;
   int n_pix = 0, direct_n = 0;
   for (int p = 0; p < npts; ++p) {
@@ -574,10 +546,9 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
         EXPECT_NEAR(got, want, tol) << (lobe ? "specular" : "diffuse") << " (" << type << ")";
         EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255)
             << (lobe ? "specular" : "diffuse") << " 8-bit";
-        Stat& st = stats[type + (lobe ? " specular" : " diffuse")];
-        st.max_float = std::max(st.max_float, std::abs(got - want) / std::max(1.0, std::abs(want)));
-        st.max_8bit = std::max(st.max_8bit, std::abs(got8 - std::clamp(want, 0.0, 1.0)));
-        ++st.n;
+        stats[type + (lobe ? " specular" : " diffuse")].add(
+            std::abs(got - want) / std::max(1.0, std::abs(want)),
+            std::abs(got8 - std::clamp(want, 0.0, 1.0)));
         const double o = L["direct_off"][p][lobe];
         if (o > 1e-4) {
           direct_err = std::max(direct_err, std::abs(L["direct_on"][p][lobe].get<double>() - o * got) /
