@@ -44,6 +44,49 @@ constexpr int kCompactK = 8;
 
 Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
 
+// A camera's matrixWorld as three.js gives it (column-major 4x4): view-space directions to world (its
+// rotation) and its position.
+struct CameraWorld {
+  explicit CameraWorld(const json& matrix) : m(matrix) {}
+  Vec3d to_world(const Vec3d& v) const {
+    return Vec3d(m[0].get<double>() * v.x + m[4].get<double>() * v.y + m[8].get<double>() * v.z,
+                 m[1].get<double>() * v.x + m[5].get<double>() * v.y + m[9].get<double>() * v.z,
+                 m[2].get<double>() * v.x + m[6].get<double>() * v.y + m[10].get<double>() * v.z);
+  }
+  Vec3d position() const { return Vec3d(m[12].get<double>(), m[13].get<double>(), m[14].get<double>()); }
+  const json& m;
+};
+
+// The coefficients a run fetched nearest (N: its position, dir_uv and a read-backs over npts probes) against
+// the level-0 texels of tex (4 coefficients a texture) at each lit probe's UV, decoded with the ranges lo,
+// hi: the largest |fetched − texel| / max(1, hi − lo) goes to err, the probes compared are counted in n.
+// Probes within 0.05 texel of a texel edge are left out (the fetch may take either texel).
+void compare_nearest(const json& N, const std::vector<io::Volume>& tex, const json& lo, const json& hi, int K,
+                     int npts, double& err, int& n) {
+  for (int p = 0; p < npts; ++p) {
+    if (!(N["position"][p][3].get<double>() > 0.5)) continue;
+    const double u = N["dir_uv"][p][0], v = N["dir_uv"][p][1];
+    const int w = tex[0].width, h = tex[0].height;
+    const double fu = (u - std::floor(u)) * w, fv = (v - std::floor(v)) * h;
+    if (std::abs(fu - std::round(fu)) < 0.05 || std::abs(fv - std::round(fv)) < 0.05) continue;
+    const int tx = std::min(int(fu), w - 1), ty = std::min(int(fv), h - 1);
+    for (int k = 0; k < K; ++k) {
+      const double l = lo[k], range = hi[k].get<double>() - l;
+      const double want = l + range * tex[std::size_t(k / 4)].at(tx, ty, 0, k % 4);
+      err = std::max(err, std::abs(N["a"][k / 4][p][k % 4].get<double>() - want) / std::max(1.0, range));
+    }
+    ++n;
+  }
+}
+
+// A bad input's error (errors[k]): it threw, one line holding each of parts.
+void expect_error_line(const json& errors, const char* k, const std::vector<std::string>& parts) {
+  ASSERT_TRUE(errors.contains(k) && errors[k].is_string()) << k << " did not throw: " << errors.dump(1);
+  const std::string m = errors[k];
+  EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
+}
+
 // 2x2 box means of a level (even sizes), the mip chain gen-material writes.
 io::Volume half_level(const io::Volume& v) {
   io::Volume o(v.width / 2, v.height / 2, 1, v.channels);
@@ -234,12 +277,8 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   EXPECT_EQ(ids, (std::vector<std::string>{"directional-view", "directional-view+generic-vndf-alu"}));
 
   // Bad input: one clear line each.
-  const json& be = res.at("errors_by_case");
   const auto has = [&](const char* k, const std::vector<std::string>& parts) {
-    ASSERT_TRUE(be.contains(k) && be[k].is_string()) << k << " did not throw: " << be.dump(1);
-    const std::string m = be[k];
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
+    expect_error_line(res.at("errors_by_case"), k, parts);
   };
   has("bad_json", {"bad_json/mips/mips.json", "not valid JSON"});
   has("bad_missing", {"no_such_file.ktx2"});
@@ -266,14 +305,8 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   const std::vector<std::string> order = res["light_order"];
   const auto& lights = res["lights"];
   const int npts = int(res["points"].size());
-  // View space -> world (the camera's rotation).
-  const auto& cw = res["camera_world"];  // column-major 4x4
-  const auto to_world = [&](const Vec3d& v) {
-    return Vec3d(cw[0].get<double>() * v.x + cw[4].get<double>() * v.y + cw[8].get<double>() * v.z,
-                 cw[1].get<double>() * v.x + cw[5].get<double>() * v.y + cw[9].get<double>() * v.z,
-                 cw[2].get<double>() * v.x + cw[6].get<double>() * v.y + cw[10].get<double>() * v.z);
-  };
-  const Vec3d cam_pos(cw[12].get<double>(), cw[13].get<double>(), cw[14].get<double>());
+  const CameraWorld cam(res["camera_world"]);
+  const Vec3d cam_pos = cam.position();
   const auto& ob = res["objects"];
   const Vec3d sphere_c = vec3(ob["sphere"]), cyl_c = vec3(ob["cylinder"]);
   occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
@@ -297,7 +330,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
       ortho_err =
           std::max({ortho_err, std::abs(length(x) - 1), std::abs(length(y) - 1), std::abs(length(z) - 1),
                     std::abs(dot(x, y)), std::abs(dot(y, z)), std::abs(dot(x, z))});
-      const Vec3d Pw = to_world(P) + cam_pos;
+      const Vec3d Pw = cam.to_world(P) + cam_pos;
       Vec3d ex, ey, ez;
       int obj = -1;
       if (std::abs(Pw.y) < 1e-3) {
@@ -319,8 +352,8 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
         ey = normalize(up - ez * dot(ez, up));
       }
       ++frame_n[obj];
-      frame_err =
-          std::max({frame_err, length(to_world(x) - ex), length(to_world(y) - ey), length(to_world(z) - ez)});
+      frame_err = std::max({frame_err, length(cam.to_world(x) - ex), length(cam.to_world(y) - ey),
+                            length(cam.to_world(z) - ez)});
       // The channels: the compact form's are mean + basis · a.
       float c[21];
       for (int i = 0; i < 21; ++i) c[i] = R["c"][i / 4][p][i % 4];
@@ -419,21 +452,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
           io::read_texture_level(mdir / (is_compact ? "directional_compact_" + std::to_string(t) + ".ktx2"
                                                     : "directional_" + std::to_string(t) + ".ktx2"),
                                  0));
-    for (int p = 0; p < npts; ++p) {
-      if (!(N["position"][p][3].get<double>() > 0.5)) continue;
-      const double u = N["dir_uv"][p][0], v = N["dir_uv"][p][1];
-      const int w = tex[0].width, h = tex[0].height;
-      const double fu = (u - std::floor(u)) * w, fv = (v - std::floor(v)) * h;
-      if (std::abs(fu - std::round(fu)) < 0.05 || std::abs(fv - std::round(fv)) < 0.05) continue;
-      const int tx = std::min(int(fu), w - 1), ty = std::min(int(fv), h - 1);
-      for (int k = 0; k < K; ++k) {
-        const double lo = cd["lo"][k], hi = cd["hi"][k];
-        const double want = lo + (hi - lo) * tex[k / 4].at(tx, ty, 0, k % 4);
-        const double got = N["a"][k / 4][p][k % 4];
-        near_err = std::max(near_err, std::abs(got - want) / std::max(1.0, std::abs(hi - lo)));
-      }
-      ++near_n;
-    }
+    compare_nearest(N, tex, cd["lo"], cd["hi"], K, npts, near_err, near_n);
   }
   EXPECT_LE(near_err, 1e-5) << "the fetched channels are not the files' texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
@@ -480,12 +499,8 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   EXPECT_TRUE(G["aomap"].get<bool>() && G["normalmap"].get<bool>() && G["tangents"].get<bool>());
   EXPECT_EQ(G["gl_error"], 0);
   // Bad assets: the load rejects with one line naming the problem.
-  const json& be = run.res["gltf_errors"];
   const auto has = [&](const char* k, const std::vector<std::string>& parts) {
-    ASSERT_TRUE(be.contains(k) && be[k].is_string()) << k << " did not throw: " << be.dump(1);
-    const std::string m = be[k];
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
+    expect_error_line(run.res["gltf_errors"], k, parts);
   };
   has("bad_k", {"glTF material 0", "K = 9 needs 3 textures, the extension lists 2"});
   has("bad_channels", {"'channels' must be 21, got 20"});
@@ -498,13 +513,8 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
     EXPECT_NE(l.get<std::string>().find("THREE.GLTFLoader: Couldn't load texture"), std::string::npos) << l;
   const std::vector<std::string> order = G["light_order"];
   const int npts = int(G["points"].size());
-  const auto& cw = G["camera_world"];
-  const auto to_world = [&](const Vec3d& v) {
-    return Vec3d(cw[0].get<double>() * v.x + cw[4].get<double>() * v.y + cw[8].get<double>() * v.z,
-                 cw[1].get<double>() * v.x + cw[5].get<double>() * v.y + cw[9].get<double>() * v.z,
-                 cw[2].get<double>() * v.x + cw[6].get<double>() * v.y + cw[10].get<double>() * v.z);
-  };
-  const Vec3d cam_pos(cw[12].get<double>(), cw[13].get<double>(), cw[14].get<double>());
+  const CameraWorld cam(G["camera_world"]);
+  const Vec3d cam_pos = cam.position();
   const double scale = G["scale"];
   occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
   std::map<std::string, ProbeStat> stats;
@@ -514,10 +524,11 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
     const auto& pos = G["position"][p];
     if (!(pos[3].get<double>() > 0.5)) continue;
     ++n_pix;
-    const Vec3d P = vec3(pos), Pw = to_world(P) + cam_pos;
+    const Vec3d P = vec3(pos), Pw = cam.to_world(P) + cam_pos;
     const Vec3d x = vec3(G["dir_x"][p]), y = vec3(G["dir_y"][p]), z = vec3(G["dir_z"][p]);
-    frame_err = std::max({frame_err, length(to_world(x) - Vec3d(1, 0, 0)),
-                          length(to_world(y) - Vec3d(0, 0, 1)), length(to_world(z) - Vec3d(0, 1, 0))});
+    frame_err =
+        std::max({frame_err, length(cam.to_world(x) - Vec3d(1, 0, 0)),
+                  length(cam.to_world(y) - Vec3d(0, 0, 1)), length(cam.to_world(z) - Vec3d(0, 1, 0))});
     uv_err = std::max({uv_err, std::abs(G["dir_uv"][p][0].get<double>() - (Pw.x / scale + 0.5)),
                        std::abs(G["dir_uv"][p][1].get<double>() - (Pw.z / scale + 0.5))});
     float c[21];
@@ -575,22 +586,7 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
     const int src = gj["textures"][t["index"].get<int>()]["source"];
     png.push_back(io::read_image(kMat / "gltf" / gj["images"][src]["uri"].get<std::string>()));
   }
-  const int K = ext["coefficients"];
-  for (int p = 0; p < npts; ++p) {
-    if (!(G["nearest"]["position"][p][3].get<double>() > 0.5)) continue;
-    const double u = G["nearest"]["dir_uv"][p][0], v = G["nearest"]["dir_uv"][p][1];
-    const int w = png[0].width, h = png[0].height;
-    const double fu = (u - std::floor(u)) * w, fv = (v - std::floor(v)) * h;
-    if (std::abs(fu - std::round(fu)) < 0.05 || std::abs(fv - std::round(fv)) < 0.05) continue;
-    const int tx = std::min(int(fu), w - 1), ty = std::min(int(fv), h - 1);
-    for (int k = 0; k < K; ++k) {
-      const double lo = ext["lo"][k], hi = ext["hi"][k];
-      const double want = lo + (hi - lo) * png[std::size_t(k / 4)].at(tx, ty, 0, k % 4);
-      near_err = std::max(near_err, std::abs(G["nearest"]["a"][k / 4][p][k % 4].get<double>() - want) /
-                                        std::max(1.0, hi - lo));
-    }
-    ++near_n;
-  }
+  compare_nearest(G["nearest"], png, ext["lo"], ext["hi"], ext["coefficients"], npts, near_err, near_n);
   EXPECT_LE(near_err, 1e-5) << "the fetched coefficients are not the PNG texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
   std::printf(
