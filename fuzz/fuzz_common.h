@@ -28,6 +28,14 @@ inline void write_bytes(const std::filesystem::path& p, const std::uint8_t* data
   f.write(reinterpret_cast<const char*>(data), std::streamsize(size));
 }
 
+// The input written to this process's scratch file "…_<tag><ext>" (scratch_path): its path, for the reader.
+inline std::filesystem::path input_file(const std::string& tag, const std::string& ext,
+                                        const std::uint8_t* data, std::size_t size) {
+  const std::filesystem::path p = scratch_path(tag, ext);
+  write_bytes(p, data, size);
+  return p;
+}
+
 // The readers' contract for a returned volume (docs/formats.md): positive sizes, as many values as the sizes
 // say, every one finite. Anything else aborts (a finding).
 inline void check_volume(const io::Volume& v) {

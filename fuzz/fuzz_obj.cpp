@@ -7,8 +7,7 @@
 #include "fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const auto path = msh::fuzz::scratch_path("mesh", ".obj");
-  msh::fuzz::write_bytes(path, data, size);
+  const auto path = msh::fuzz::input_file("mesh", ".obj", data, size);
   try {
     (void)msh::render::load_obj(path);
   } catch (const msh::InputError&) {

@@ -11,8 +11,7 @@
 #endif
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const auto path = msh::fuzz::scratch_path("volume", MSH_FUZZ_EXT);
-  msh::fuzz::write_bytes(path, data, size);
+  const auto path = msh::fuzz::input_file("volume", MSH_FUZZ_EXT, data, size);
   try {
     msh::fuzz::check_volume(msh::io::read_volume(path));
   } catch (const msh::InputError&) {

@@ -16,8 +16,7 @@
 #endif
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const auto path = msh::fuzz::scratch_path("level", MSH_FUZZ_EXT);
-  msh::fuzz::write_bytes(path, data, size);
+  const auto path = msh::fuzz::input_file("level", MSH_FUZZ_EXT, data, size);
   int w0 = 0, h0 = 0;
   for (int level = 0; level < 16; ++level) {
     try {

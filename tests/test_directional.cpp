@@ -13,38 +13,39 @@
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/heightfield.h>
 #include <microshadow/render/texture_gen.h>
+#include <support/texture_test_util.h>
 #include <tbb/global_control.h>
 
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <random>
 
 using namespace msh;
 using namespace msh::render;
+using msh::test::depth_field;
 namespace dir = msh::directional;
 
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-Texture field(int w, int h, double depth, const std::function<double(int, int)>& z) {
-  Texture t(w, h, 1);
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i) t.at(i, j, 0) = float(1.0 + z(i, j) / depth);
-  return t;
-}
-
 Vec3f light(double elev_deg, double az_deg) {
   const double e = elev_deg * kPiD / 180, a = az_deg * kPiD / 180;
   return Vec3f(float(std::cos(e) * std::cos(a)), float(std::cos(e) * std::sin(a)), float(std::sin(e)));
 }
 
+// A generated texture set of `kind`, size² (one AO ray: the tests read its height field and depth).
+TextureSet texture_set(const std::string& kind, int size) {
+  GenOptions g;
+  g.kind = kind, g.size = size, g.ao_rays = 1;
+  return generate_texture_set(g);
+}
+
 }  // namespace
 
 TEST(DirectionalExact, FlatFieldIsCosine) {
-  const Texture flat = field(32, 16, 4, [](int, int) { return -2.0; });
+  const Texture flat = depth_field(32, 16, 4, [](int, int) { return -2.0; });
   for (double e : {5.0, 25.0, 70.0})
     for (double a : {0.0, 37.0, 90.0, 211.0}) {
       const Vec3f l = light(e, a);
@@ -60,7 +61,7 @@ TEST(DirectionalExact, FlatFieldIsCosine) {
 // −u, the other wall's top at distance i − 31. Floor vertices away from the ramps have n = +z.
 TEST(DirectionalExact, StepCastsShadowOfKnownLength) {
   const double D = 8;
-  const Texture step = field(64, 4, 16, [&](int i, int) { return i < 32 ? 0.0 : -D; });
+  const Texture step = depth_field(64, 4, 16, [&](int i, int) { return i < 32 ? 0.0 : -D; });
   for (double e : {10.0, 20.0, 45.0}) {
     const double tan_e = std::tan(e * kPiD / 180);
     for (double az : {0.0, 180.0}) {
@@ -97,7 +98,7 @@ TEST(DirectionalExact, StepCastsShadowOfKnownLength) {
 TEST(DirectionalExact, GrooveBottomLitAboveWallAngle) {
   const double beta = 30 * kPiD / 180, tb = std::tan(beta);
   const Texture groove =
-      field(128, 4, 64, [&](int i, int) { return -tb * (32 - std::min(std::abs(i - 64), 32)); });
+      depth_field(128, 4, 64, [&](int i, int) { return -tb * (32 - std::min(std::abs(i - 64), 32)); });
   for (double e : {20.0, 29.0, 31.0, 60.0}) {
     const Vec3f l = light(e, 0);
     const Texture t = exact_diffuse_transport(groove, 64, l, 0);
@@ -108,7 +109,7 @@ TEST(DirectionalExact, GrooveBottomLitAboveWallAngle) {
 }
 
 TEST(DirectionalChannels, FlatFieldGivesZeroChannelsAndExactTransport) {
-  const Texture flat = field(16, 16, 4, [](int, int) { return -1.0; });
+  const Texture flat = depth_field(16, 16, 4, [](int, int) { return -1.0; });
   const Texture ch = bake_horizon_moment_channels(flat, 4, 16, 0);
   ASSERT_EQ(ch.channels(), dir::kHorizonChannels);
   float c[dir::kHorizonChannels];
@@ -206,9 +207,7 @@ TEST(DirectionalRuntime, FloatMatchesDoubleThroughChannels) {
 }
 
 TEST(DirectionalChannels, MipChainIsBoxMeans) {
-  GenOptions g;
-  g.kind = "bark", g.size = 64, g.ao_rays = 1;
-  const TextureSet s = generate_texture_set(g);
+  const TextureSet s = texture_set("bark", 64);
   const Texture ch = bake_horizon_moment_channels(s.height, s.depth_texels, 16, 0);
   const auto chain = box_mip_chain(ch);
   ASSERT_EQ(chain.size(), 7u);
@@ -222,9 +221,7 @@ TEST(DirectionalChannels, MipChainIsBoxMeans) {
 }
 
 TEST(DirectionalChannels, DeterministicWhateverTheThreadCount) {
-  GenOptions g;
-  g.kind = "gravel", g.size = 64, g.ao_rays = 1;
-  const TextureSet s = generate_texture_set(g);
+  const TextureSet s = texture_set("gravel", 64);
   Texture a, b;
   {
     tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
@@ -237,7 +234,7 @@ TEST(DirectionalChannels, DeterministicWhateverTheThreadCount) {
 }
 
 TEST(DirectionalChannels, RejectsBadInput) {
-  const Texture flat = field(16, 16, 4, [](int, int) { return -1.0; });
+  const Texture flat = depth_field(16, 16, 4, [](int, int) { return -1.0; });
   EXPECT_THROW(bake_horizon_moment_channels(flat, 4, 2, 0), InputError);
   EXPECT_THROW(box_downsample(flat, 3), InputError);
   EXPECT_THROW(exact_diffuse_transport(flat, 4, Vec3f(0, 0, -1), 0), InputError);
@@ -248,7 +245,7 @@ TEST(DirectionalChannels, RejectsBadInput) {
 // A flat field: f(l) = l.z, in the span of the basis, so the fit is exact: c = (0, 0, 0, 1, 0, …) and the
 // run-time transport is l.z at any continuous direction.
 TEST(DirectionalPoly2, FlatFieldFitIsExact) {
-  const Texture flat = field(16, 16, 4, [](int, int) { return -1.0; });
+  const Texture flat = depth_field(16, 16, 4, [](int, int) { return -1.0; });
   const Texture ch = bake_directional_channels(flat, 4, 32, 0);
   ASSERT_EQ(ch.channels(), dir::kDirectionalChannels);
   float c[dir::kDirectionalChannels];
@@ -300,9 +297,7 @@ std::vector<double> lsq_solve(const std::vector<std::array<double, 9>>& B, const
 // texel; then the run-time reconstruction at continuous directions off the fit grid, in float, against the
 // reference polynomial, on a gravel field with real cast shadows.
 TEST(DirectionalPoly2, BakerMatchesIndependentFitOffTheGrid) {
-  GenOptions g;
-  g.kind = "gravel", g.size = 16, g.ao_rays = 1;
-  const TextureSet s = generate_texture_set(g);
+  const TextureSet s = texture_set("gravel", 16);
   const int na = 8;
   const Texture ch = bake_directional_channels(s.height, s.depth_texels, na, 0);
   // The fit's azimuths: lattice steps near the uniform ones, weighted by their share of the circle.
@@ -390,7 +385,7 @@ TEST(DirectionalPoly2, BakerMatchesIndependentFitOffTheGrid) {
 // gave all-NaN channels; every bake refuses it, and from kMinDirectionalAzimuths = 5 on the channels are
 // finite and fit a flat field exactly (T = l.z: c = e₃).
 TEST(DirectionalBake, FewestAzimuthsRefusedOrFinite) {
-  const Texture flat = field(8, 8, 4, [](int, int) { return -1.0; });
+  const Texture flat = depth_field(8, 8, 4, [](int, int) { return -1.0; });
   const Texture rough = generate_texture_set([] {
                           GenOptions o;
                           o.kind = "gravel", o.size = 16, o.ao_rays = 4, o.directional_azimuths = 0;
@@ -421,13 +416,11 @@ TEST(DirectionalBake, FewestAzimuthsRefusedOrFinite) {
 // camera-weighted value with masking, Σ f w / Σ w, w = vis_v (n · v)⁺/n_z; T alone (the 9 channels) is
 // farther from the latter on average. A flat field has zero slope channels.
 TEST(DirectionalView, SlopeChannelsCorrectTheViewOnRelief) {
-  const Texture flat = field(16, 16, 4, [](int, int) { return -1.0; });
+  const Texture flat = depth_field(16, 16, 4, [](int, int) { return -1.0; });
   const Texture fz = bake_directional_slope_channels(flat, 4, 32, 0);
   for (int k = 0; k < dir::kSlopeChannels; ++k) EXPECT_NEAR(fz.at(5, 9, k), 0.0f, 1e-6f) << k;
 
-  GenOptions g;
-  g.kind = "gravel", g.size = 64, g.ao_rays = 1;
-  const TextureSet s = generate_texture_set(g);
+  const TextureSet s = texture_set("gravel", 64);
   const int N = 64;
   const Texture c9 = box_downsample(bake_directional_channels(s.height, s.depth_texels, 32, 0), N);
   const Texture c12 = box_downsample(bake_directional_slope_channels(s.height, s.depth_texels, 32, 0), N);
@@ -473,9 +466,7 @@ TEST(DirectionalView, SlopeChannelsCorrectTheViewOnRelief) {
 // (io/bc4.h: ≤ 4 b, b = max(0.5, (255 · block span + 1) / 14) / 255 of the range) and, on average, within the
 // mean of b (a rounding to a grid of step 2 b errs by b/2 on average); ranges are per channel.
 TEST(DirectionalStorage, FloatUnorm8AndBc4AsAnEngineReadsThem) {
-  GenOptions g;
-  g.kind = "gravel", g.size = 64, g.ao_rays = 1;
-  const TextureSet s = generate_texture_set(g);
+  const TextureSet s = texture_set("gravel", 64);
   const Texture fine = bake_directional_view_channels(s.height, s.depth_texels, 32, 0);
   const ChannelRanges r = channel_ranges(fine);
   const Texture coarse = box_downsample(fine, 4);  // 16², every value inside the fine ranges
@@ -526,9 +517,7 @@ TEST(DirectionalStorage, FloatUnorm8AndBc4AsAnEngineReadsThem) {
 // channels is the box mean of the per-texel reconstructions, at any direction; and the mip chain is the box
 // means.
 TEST(DirectionalPoly2, BoxMeanOfChannelsIsMeanOfReconstructions) {
-  GenOptions g;
-  g.kind = "bark", g.size = 32, g.ao_rays = 1;
-  const TextureSet s = generate_texture_set(g);
+  const TextureSet s = texture_set("bark", 32);
   const Texture ch = bake_directional_channels(s.height, s.depth_texels, 16, 0);
   const Texture c8 = box_downsample(ch, 8);
   const auto chain = box_mip_chain(ch);
@@ -556,9 +545,7 @@ TEST(DirectionalPoly2, BoxMeanOfChannelsIsMeanOfReconstructions) {
 // a regression of the fit).
 TEST(DirectionalPoly2, WholeTextureBiasAtContinuousLights) {
   for (const char* kind : {"bark", "gravel"}) {
-    GenOptions g;
-    g.kind = kind, g.size = 128, g.ao_rays = 1;
-    const TextureSet s = generate_texture_set(g);
+    const TextureSet s = texture_set(kind, 128);
     const Texture ch = bake_directional_channels(s.height, s.depth_texels, 32, 0);
     for (int k : {1, 16}) {
       const Texture ck = box_downsample(ch, k);

@@ -25,21 +25,12 @@
 
 namespace fs = std::filesystem;
 using namespace msh;
-using msh::test::run_cli;
-using msh::test::scratch_dir;
-using msh::test::slurp;
+using namespace msh::test;  // run_cli, slurp, ... and the browser tests' kBrowserDir, missing_node_package
 using nlohmann::json;
 
 namespace {
 
-const fs::path kBrowserDir = fs::path(MSH_SOURCE_DIR) / "tests" / "browser";
-
-std::string missing_validator() {
-  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node on PATH (Debian package nodejs)";
-  if (!fs::exists(kBrowserDir / "node_modules" / "gltf-validator" / "package.json"))
-    return "gltf-validator is not installed: run `npm ci` in tests/browser (scripts/install-deps.sh does)";
-  return "";
-}
+std::string missing_validator() { return missing_node_package(kBrowserDir, "gltf-validator"); }
 
 // The validator's report on a .gltf (its JSON), or a failure naming the output.
 json validate(const fs::path& gltf, const fs::path& dir) {

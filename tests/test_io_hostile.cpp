@@ -37,6 +37,16 @@ void write_all(const fs::path& p, const std::vector<char>& b) {
   std::ofstream f(p, std::ios::binary);
   f.write(b.data(), std::streamsize(b.size()));
 }
+// v written in pixel format pf as stem.dds and as stem.ktx2: their paths.
+std::vector<fs::path> write_dds_and_ktx2(const fs::path& stem, const Volume& v, PixelFormat pf) {
+  std::vector<fs::path> paths;
+  for (FileFormat f : {FileFormat::Dds, FileFormat::Ktx2}) {
+    paths.push_back(stem.string() + (f == FileFormat::Dds ? ".dds" : ".ktx2"));
+    write_volume(paths.back(), v, f, pf);
+  }
+  return paths;
+}
+
 std::uint32_t u32_at(const std::vector<char>& b, std::size_t o) {
   std::uint32_t v;
   std::memcpy(&v, b.data() + o, 4);
@@ -123,10 +133,8 @@ TEST(IoHostile, NonRegularFilesAreRefusedBeforeOpening) {
 
 TEST(IoHostile, DdsAndKtx2ReadOnlyTheBytesTheHeaderDescribes) {
   const auto dir = scratch_dir();
-  const Volume v = make_volume(64, 64, 1, 4, 0.f, 1.f);
-  for (FileFormat f : {FileFormat::Dds, FileFormat::Ktx2}) {
-    const fs::path p = dir / (f == FileFormat::Dds ? "big.dds" : "big.ktx2");
-    write_volume(p, v, f, PixelFormat::RGBA8Unorm);
+  for (const fs::path& p :
+       write_dds_and_ktx2(dir / "big", make_volume(64, 64, 1, 4, 0.f, 1.f), PixelFormat::RGBA8Unorm)) {
     const Volume expected = read_texture_level(p, 0);
     // A sparse 3 GiB tail (no disk blocks): the reader must take the 64² payload and stop there.
     fs::resize_file(p, std::uintmax_t(3) << 30);
@@ -140,10 +148,8 @@ TEST(IoHostile, DdsAndKtx2ReadOnlyTheBytesTheHeaderDescribes) {
 
 TEST(IoHostile, TruncatedDdsAndKtx2AreRefused) {
   const auto dir = scratch_dir();
-  const Volume v = make_volume(16, 16, 1, 4, 0.f, 1.f);
-  for (FileFormat f : {FileFormat::Dds, FileFormat::Ktx2}) {
-    const fs::path p = dir / (f == FileFormat::Dds ? "t.dds" : "t.ktx2");
-    write_volume(p, v, f, PixelFormat::RGBA32Float);
+  for (const fs::path& p :
+       write_dds_and_ktx2(dir / "t", make_volume(16, 16, 1, 4, 0.f, 1.f), PixelFormat::RGBA32Float)) {
     std::vector<char> b = read_all(p);
     b.resize(b.size() - 5);
     write_all(p, b);

@@ -13,6 +13,21 @@ namespace {
 
 using msh::test::Uniforms;
 
+// The samplers under test, each drawing from u's next pair (never rejecting).
+auto cosine_draws(Uniforms& u) {
+  return [&u](uint32_t) { return std::optional<Vec3d>(sample_cosine_hemisphere(u.next())); };
+}
+auto sphere_draws(Uniforms& u) {
+  return [&u](uint32_t) { return std::optional<Vec3d>(sample_uniform_sphere(u.next())); };
+}
+auto vndf_draws(const GGX<double>& g, const Vec3d& wo, Uniforms& u) {
+  return [&g, wo, &u](uint32_t) { return std::optional<Vec3d>(g.Sample_wm(wo, u.next())); };
+}
+
+// The uniform pdfs of the whole sphere and of the upper hemisphere (zero below).
+double sphere_pdf(const Vec3d&) { return 0.25 * kInvPi<double>; }
+double upper_hemisphere_pdf(const Vec3d& w) { return w.z > 0 ? 0.5 * kInvPi<double> : 0.0; }
+
 }  // namespace
 
 TEST(Chi2Support, GammaQMatchesClosedForms) {
@@ -36,18 +51,14 @@ TEST(Chi2Support, QuadratureIntegratesPeakedPdf) {
 
 TEST(Chi2Support, CosineHemispherePasses) {
   Uniforms u(1);
-  auto r =
-      chi2_test_directions([&](uint32_t) { return std::optional<Vec3d>(sample_cosine_hemisphere(u.next())); },
-                           [](const Vec3d& w) { return cosine_hemisphere_pdf(w.z); });
+  auto r = chi2_test_directions(cosine_draws(u), [](const Vec3d& w) { return cosine_hemisphere_pdf(w.z); });
   EXPECT_TRUE(r.pass) << r.table;
   EXPECT_GT(r.dof, 1000);
 }
 
 TEST(Chi2Support, UniformSpherePasses) {
   Uniforms u(2);
-  auto r =
-      chi2_test_directions([&](uint32_t) { return std::optional<Vec3d>(sample_uniform_sphere(u.next())); },
-                           [](const Vec3d&) { return 0.25 * kInvPi<double>; }, 200000);
+  auto r = chi2_test_directions(sphere_draws(u), sphere_pdf, 200000);
   EXPECT_TRUE(r.pass) << r.table;
 }
 
@@ -61,16 +72,14 @@ TEST(Chi2Support, RejectedSamplesCountTowardNothing) {
         if (w.z < 0) return std::nullopt;
         return w;
       },
-      [](const Vec3d& w) { return w.z >= 0 ? 0.25 * kInvPi<double> : 0.0; }, 200000);
+      [](const Vec3d& w) { return w.z >= 0 ? sphere_pdf(w) : 0.0; }, 200000);
   EXPECT_TRUE(r.pass) << r.table;
 }
 
 TEST(Chi2Support, WrongPdfFails) {
   Uniforms u(4);
   // Cosine-distributed samples against the uniform-hemisphere pdf.
-  auto r =
-      chi2_test_directions([&](uint32_t) { return std::optional<Vec3d>(sample_cosine_hemisphere(u.next())); },
-                           [](const Vec3d& w) { return w.z > 0 ? 0.5 * kInvPi<double> : 0.0; }, 100000);
+  auto r = chi2_test_directions(cosine_draws(u), upper_hemisphere_pdf, 100000);
   EXPECT_FALSE(r.pass);
   EXPECT_LT(r.p_value, 1e-10);
   EXPECT_FALSE(r.table.empty());
@@ -82,8 +91,7 @@ TEST(Chi2Support, SubtlyWrongPeakedPdfFails) {
   const GGX<double> g(0.05), wrong(0.0525);
   const Vec3d wo = normalize(Vec3d(0.6, 0.2, 0.75));
   auto r = msh::test::chi2_test_directions_stretched(
-      [&](uint32_t) { return std::optional<Vec3d>(g.Sample_wm(wo, u.next())); },
-      [&](const Vec3d& m) { return wrong.PDF(wo, m); }, 0.05, 0.05);
+      vndf_draws(g, wo, u), [&](const Vec3d& m) { return wrong.PDF(wo, m); }, 0.05, 0.05);
   EXPECT_FALSE(r.pass) << "p = " << r.p_value;
 }
 
@@ -91,8 +99,7 @@ TEST(Chi2Support, PeakedVndfPasses) {
   Uniforms u(6);
   const GGX<double> g(0.05);
   const Vec3d wo = normalize(Vec3d(0.6, 0.2, 0.75));
-  auto r = chi2_test_directions([&](uint32_t) { return std::optional<Vec3d>(g.Sample_wm(wo, u.next())); },
-                                [&](const Vec3d& m) { return g.PDF(wo, m); });
+  auto r = chi2_test_directions(vndf_draws(g, wo, u), [&](const Vec3d& m) { return g.PDF(wo, m); });
   EXPECT_TRUE(r.pass) << r.table;
 }
 
@@ -101,26 +108,21 @@ TEST(Chi2Support, PeakedVndfPassesStretched) {
   const GGX<double> g(0.05, 0.02);
   const Vec3d wo = normalize(Vec3d(0.6, 0.2, 0.75));
   auto r = msh::test::chi2_test_directions_stretched(
-      [&](uint32_t) { return std::optional<Vec3d>(g.Sample_wm(wo, u.next())); },
-      [&](const Vec3d& m) { return g.PDF(wo, m); }, 0.05, 0.02);
+      vndf_draws(g, wo, u), [&](const Vec3d& m) { return g.PDF(wo, m); }, 0.05, 0.02);
   EXPECT_TRUE(r.pass) << r.table;
 }
 
 TEST(Chi2Support, StretchedUniformSpherePasses) {
   // The stretch is a bijection of the sphere with a known Jacobian: uniform samples still match 1/(4π).
   Uniforms u(10);
-  auto r = msh::test::chi2_test_directions_stretched(
-      [&](uint32_t) { return std::optional<Vec3d>(sample_uniform_sphere(u.next())); },
-      [](const Vec3d&) { return 0.25 * kInvPi<double>; }, 0.3, 0.6, 200000);
+  auto r = msh::test::chi2_test_directions_stretched(sphere_draws(u), sphere_pdf, 0.3, 0.6, 200000);
   EXPECT_TRUE(r.pass) << r.table;
 }
 
 TEST(Chi2Support, SampleInZeroMassCellFails) {
   Uniforms u(7);
   // Uniform sphere samples against a pdf that is zero below the horizon (and twice as large above).
-  auto r =
-      chi2_test_directions([&](uint32_t) { return std::optional<Vec3d>(sample_uniform_sphere(u.next())); },
-                           [](const Vec3d& w) { return w.z > 0 ? 0.5 * kInvPi<double> : 0.0; }, 100000);
+  auto r = chi2_test_directions(sphere_draws(u), upper_hemisphere_pdf, 100000);
   EXPECT_FALSE(r.pass);
   EXPECT_NE(r.table.find("has pdf 0"), std::string::npos);
 }
@@ -132,7 +134,7 @@ TEST(Chi2Support, NonUnitSampleFails) {
         const Vec3d w = sample_uniform_sphere(u.next());
         return std::optional<Vec3d>(i == 17 ? w * 2.0 : w);
       },
-      [](const Vec3d&) { return 0.25 * kInvPi<double>; }, 50000);
+      sphere_pdf, 50000);
   EXPECT_FALSE(r.pass);
 }
 
@@ -142,7 +144,7 @@ TEST(Chi2Support, SidakCorrectionLowersThreshold) {
   auto run = [](int n_tests) {
     Uniforms u(9);
     return chi2_test_directions(
-        [&](uint32_t) { return std::optional<Vec3d>(sample_cosine_hemisphere(u.next())); },
+        cosine_draws(u),
         [](const Vec3d& w) {
           return w.z > 0 ? 0.99 * cosine_hemisphere_pdf(w.z) + 0.01 * 0.5 * kInvPi<double> : 0.0;
         },

@@ -115,13 +115,10 @@ TEST(ShadersBump, RunsOnVulkanAndMatches) {
   for (const Record& r : recs) put(in, r.ng), put(in, r.ns), put(in, r.l);
   for (const TriRecord& t : tris)
     for (const Vec3f& v : {t.p, t.p0, t.p1, t.p2, t.n0, t.n1, t.n2, t.b}) put(in_t, v);
-  vk::Dispatch d;
-  d.buffers = {in, std::vector<float>(recs.size() * 4), in_t, std::vector<float>(tris.size() * 4)};
-  d.invocations = std::max(recs.size(), tris.size());
-  d.push = vk::push_constants(
-      std::array<uint32_t, 3>{uint32_t(d.invocations), uint32_t(recs.size()), uint32_t(tris.size())});
-  vk::run_glsl_and_hlsl(kKernel, d, [&](const char* label, const vk::Buffers& out) {
-    check_results(label, recs, tris, vk::from_floats<std::array<float, 4>>(out[1]),
-                  vk::from_floats<std::array<float, 4>>(out[3]));
-  });
+  vk::run_two_record_sets(
+      kKernel, {in, recs.size(), 4}, {in_t, tris.size(), 4},
+      [&](const char* label, const std::vector<float>& res, const std::vector<float>& moved) {
+        check_results(label, recs, tris, vk::from_floats<std::array<float, 4>>(res),
+                      vk::from_floats<std::array<float, 4>>(moved));
+      });
 }

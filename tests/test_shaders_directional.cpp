@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -67,11 +68,47 @@ constexpr double kSumTol = 1e-6;
 // Σ|n_i l_i|; relative to n · l that matters only near the coarse terminator.
 constexpr double kDotTol = 2.5e-7;
 
+// The term at one record, its shader forms against the C++ float term, across the records of a run. n · l
+// within rounding of the 1e-4 early-out (4e-7 Σ|n_i l_i|): not compared, either side is right (counted in
+// boundary); below it: every form and the C++ term exactly 0 (counted in early); above: each form within
+// kSumTol · S / (n · l) + (1e-6 + kDotTol Σ|n_i l_i| / (n · l)) · term, its error relative to
+// S / (n · l) + term (1 + Σ|n_i l_i| / (n · l)) kept in max_scaled. After each record: d, the largest
+// |form − C++| compared there (−1: none), and nl, its n · l.
+struct TermCheck {
+  int boundary = 0, early = 0;
+  double max_scaled = 0, d = -1, nl = 0;
+
+  void record(const Vec3f& n, const Vec3f& l, double s, float term_cpp, std::initializer_list<float> forms) {
+    d = -1;
+    nl = double(n.x) * l.x + double(n.y) * l.y + double(n.z) * l.z;
+    const double nl_abs =
+        std::abs(double(n.x) * l.x) + std::abs(double(n.y) * l.y) + std::abs(double(n.z) * l.z);
+    if (std::abs(nl - 1e-4) < 4e-7 * nl_abs) {
+      ++boundary;
+      return;
+    }
+    if (!(nl > 1e-4)) {
+      ++early;
+      ASSERT_EQ(term_cpp, 0.0f);
+      for (float f : forms) ASSERT_EQ(f, 0.0f);
+      return;
+    }
+    int k = 0;
+    for (float f : forms) {
+      const double e = std::abs(double(f) - term_cpp);
+      ASSERT_LE(e, kSumTol * s / nl + (1e-6 + kDotTol * nl_abs / nl) * term_cpp)
+          << "term form " << k++ << ": shader " << f << " C++ " << term_cpp;
+      max_scaled = std::max(max_scaled, e / (s / nl + term_cpp * (1 + nl_abs / nl)));
+      d = std::max(d, e);
+    }
+  }
+};
+
 void check(const char* label, const std::vector<Rec>& recs, const std::vector<Dec>& decs,
            const std::vector<std::array<float, 4>>& res, const std::vector<std::array<float, 4>>& decoded) {
-  double max_t = 0, max_term = 0, max_rel_t = 0, max_rel_term = 0, max_baked_t = 0, max_baked_rel_t = 0,
-         max_baked_term = 0;
-  int below = 0, nl_early = 0, boundary_skipped = 0, positive = 0;
+  double max_t = 0, max_rel_t = 0, max_rel_term = 0, max_baked_t = 0, max_baked_rel_t = 0, max_baked_term = 0;
+  int below = 0, positive = 0;
+  TermCheck terms;
   for (std::size_t i = 0; i < recs.size(); ++i) {
     const Rec& r = recs[i];
     SCOPED_TRACE(testing::Message() << label << " record " << i << " l " << r.l[0] << "," << r.l[1] << ","
@@ -101,33 +138,15 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<De
       }
     }
     if (t_cpp > 0) ++positive;
-    const double nl = double(n.x) * l.x + double(n.y) * l.y + double(n.z) * l.z;
-    const double nl_abs =
-        std::abs(double(n.x) * l.x) + std::abs(double(n.y) * l.y) + std::abs(double(n.z) * l.z);
-    if (std::abs(nl - 1e-4) < 4e-7 * nl_abs) {  // a rounding of n · l decides: either is right
-      ++boundary_skipped;
-      continue;
-    }
-    if (!(nl > 1e-4)) {
-      ++nl_early;
-      ASSERT_EQ(term_cpp, 0.0f);
-      ASSERT_EQ(res[i][2], 0.0f);
-      ASSERT_EQ(res[i][3], 0.0f);
-      continue;
-    }
-    for (int k : {2, 3}) {
-      const double d = std::abs(double(res[i][std::size_t(k)]) - term_cpp);
-      ASSERT_LE(d, kSumTol * s / nl + (1e-6 + kDotTol * nl_abs / nl) * term_cpp)
-          << "term form " << k << ": shader " << res[i][std::size_t(k)] << " C++ " << term_cpp;
-      max_term = std::max(max_term, d / (s / nl + term_cpp * (1 + nl_abs / nl)));
-      if (t_cpp > 0.1 * s) max_rel_term = std::max(max_rel_term, d / term_cpp);
-      if (r.c[9] != 0 && nl > 0.01) max_baked_term = std::max(max_baked_term, d);
-    }
+    ASSERT_NO_FATAL_FAILURE(terms.record(n, l, s, term_cpp, {res[i][2], res[i][3]}));
+    if (terms.d < 0) continue;
+    if (t_cpp > 0.1 * s) max_rel_term = std::max(max_rel_term, terms.d / term_cpp);
+    if (r.c[9] != 0 && terms.nl > 0.01) max_baked_term = std::max(max_baked_term, terms.d);
   }
   EXPECT_GT(below, 2000) << label;
-  EXPECT_GT(nl_early, 500) << label;
+  EXPECT_GT(terms.early, 500) << label;
   EXPECT_GT(positive, 5000) << label;
-  EXPECT_LT(boundary_skipped, 64) << label;
+  EXPECT_LT(terms.boundary, 64) << label;
 
   double max_dec = 0;
   for (std::size_t i = 0; i < decs.size(); ++i) {
@@ -151,8 +170,8 @@ void check(const char* label, const std::vector<Rec>& recs, const std::vector<De
       "relative where T > 0.1 S: transport %.2e, term %.2e; flat and baked channels: transport %.2e "
       "absolute, %.2e relative where T > 0.01, term %.2e absolute where n.l > 0.01; decode %zu x 8: %.2e of "
       "|lo| + |hi - lo|\n",
-      label, recs.size(), below, nl_early, boundary_skipped, max_t, max_term, max_rel_t, max_rel_term,
-      max_baked_t, max_baked_rel_t, max_baked_term, decs.size(), max_dec);
+      label, recs.size(), below, terms.early, terms.boundary, max_t, terms.max_scaled, max_rel_t,
+      max_rel_term, max_baked_t, max_baked_rel_t, max_baked_term, decs.size(), max_dec);
 }
 
 // ---- The view correction (21 channels packed in 6 vec4, msh_dir_view_transport / msh_dir_view_term) ----
@@ -172,8 +191,9 @@ const vk::Kernel kViewKernel = vk::framed_kernel({"directional"}, {{"in VRec rec
 
 void check_view(const char* label, const std::vector<VRec>& recs,
                 const std::vector<std::array<float, 4>>& res) {
-  double max_t = 0, max_term = 0, max_baked_rel = 0;
-  int below = 0, nl_early = 0, boundary_skipped = 0, positive = 0, clamped_view = 0, free_view = 0;
+  double max_t = 0, max_baked_rel = 0;
+  int below = 0, positive = 0, clamped_view = 0, free_view = 0;
+  TermCheck terms;
   for (std::size_t i = 0; i < recs.size(); ++i) {
     const VRec& r = recs[i];
     SCOPED_TRACE(testing::Message() << label << " view record " << i);
@@ -197,35 +217,19 @@ void check_view(const char* label, const std::vector<VRec>& recs,
     max_t = std::max(max_t, d / s);
     if (r.c[23] == 2 && t_cpp > 0.01) max_baked_rel = std::max(max_baked_rel, d / t_cpp);
     positive += t_cpp > 0;
-    const double nl = double(n.x) * l.x + double(n.y) * l.y + double(n.z) * l.z;
-    const double nl_abs =
-        std::abs(double(n.x) * l.x) + std::abs(double(n.y) * l.y) + std::abs(double(n.z) * l.z);
-    if (std::abs(nl - 1e-4) < 4e-7 * nl_abs) {
-      ++boundary_skipped;
-      continue;
-    }
-    if (!(nl > 1e-4)) {
-      ++nl_early;
-      ASSERT_EQ(term_cpp, 0.0f);
-      ASSERT_EQ(res[i][1], 0.0f);
-      continue;
-    }
-    const double dt = std::abs(double(res[i][1]) - term_cpp);
-    ASSERT_LE(dt, kSumTol * s / nl + (1e-6 + kDotTol * nl_abs / nl) * term_cpp)
-        << "term: shader " << res[i][1] << " C++ " << term_cpp;
-    max_term = std::max(max_term, dt / (s / nl + term_cpp * (1 + nl_abs / nl)));
+    ASSERT_NO_FATAL_FAILURE(terms.record(n, l, s, term_cpp, {res[i][1]}));
   }
   EXPECT_GT(below, 500) << label;
-  EXPECT_GT(nl_early, 200) << label;
+  EXPECT_GT(terms.early, 200) << label;
   EXPECT_GT(positive, 2000) << label;
   EXPECT_GT(clamped_view, 200) << label;
   EXPECT_GT(free_view, 200) << label;  // both sides of the view clamp
-  EXPECT_LT(boundary_skipped, 16) << label;
+  EXPECT_LT(terms.boundary, 16) << label;
   std::printf(
       "[ %s ] view correction: %zu records (%d below the horizon, %d n.l early-outs, exactly 0; %d with v_z "
       "< 0.1): max |shader - C++ float| / S_v: transport %.2e, term %.2e; baked channels: %.2e relative "
       "where T > 0.01\n",
-      label, recs.size(), below, nl_early, clamped_view, max_t, max_term, max_baked_rel);
+      label, recs.size(), below, terms.early, clamped_view, max_t, terms.max_scaled, max_baked_rel);
 }
 
 // Runs a command, returns its exit status.
@@ -240,16 +244,12 @@ TEST(ShadersDirectional, Compiles) {
 TEST(ShadersDirectional, RunsOnVulkanAndMatchesCpp) {
   const auto recs = make_records();
   const auto decs = make_decodes();
-  vk::Dispatch d;
-  d.buffers = {vk::to_floats(recs), std::vector<float>(recs.size() * 4), vk::to_floats(decs),
-               std::vector<float>(decs.size() * 8)};
-  d.invocations = std::max(recs.size(), decs.size());
-  d.push = vk::push_constants(
-      std::array<uint32_t, 3>{uint32_t(d.invocations), uint32_t(recs.size()), uint32_t(decs.size())});
-  vk::run_glsl_and_hlsl(kKernel, d, [&](const char* label, const vk::Buffers& out) {
-    check(label, recs, decs, vk::from_floats<std::array<float, 4>>(out[1]),
-          vk::from_floats<std::array<float, 4>>(out[3]));
-  });
+  vk::run_two_record_sets(
+      kKernel, {vk::to_floats(recs), recs.size(), 4}, {vk::to_floats(decs), decs.size(), 8},
+      [&](const char* label, const std::vector<float>& res, const std::vector<float>& decoded) {
+        check(label, recs, decs, vk::from_floats<std::array<float, 4>>(res),
+              vk::from_floats<std::array<float, 4>>(decoded));
+      });
 }
 
 TEST(ShadersDirectional, ViewCompiles) {

@@ -6,6 +6,7 @@
 #include <microshadow/study/metrics.h>
 #include <microshadow/study/study.h>
 #include <support/cli_test_util.h>
+#include <support/study_test_util.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
 
@@ -508,20 +509,7 @@ TEST(Study, TinyAreaLightRun) {
 // over seeds, SD 0.022, agrees with it), none 2.90–2.98 ± 0.025. Asserted: ao > 1 + 10 SE (≈ 1.2) and > 1.5
 // (38 seed-SDs below the measured 2.33), none − ao > 10 combined SE (≈ 0.33; measured 0.57). 0.2 s.
 TEST(Study, GrazingLightOnReliefAoIsBrighterThanGroundTruth) {
-  StudyConfig c = quick_config();
-  c.name = "tiny-verdict";
-  c.materials = {"bark"};
-  c.shapes = {"plane"};
-  c.fine_size = 256;
-  c.ao_rays = 4;
-  c.scales = {4};
-  c.elevations = {5};
-  c.azimuths = {0};
-  c.point_light = c.sphere_light = false;
-  c.image_size = 32;
-  c.footprint = 4;
-  c.gt_spp = 16;
-  c.gt_max_spp = 32;
+  StudyConfig c = msh::test::tiny_plane_study("tiny-verdict", "bark", 256, {4}, {5}, 32);
   c.terms = {"none", "ao"};
   c.widened = c.normal_ablation = false;
   c.featured_lights = {"dir-el5-az0"};

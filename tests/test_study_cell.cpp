@@ -5,6 +5,7 @@
 #include <microshadow/io/error.h>
 #include <microshadow/study/study.h>
 #include <support/cli_test_util.h>
+#include <support/study_test_util.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -20,20 +21,7 @@ namespace {
 
 // Plaster on the plane, k = 1 and 4, directional lights at 25° and 45°: four cells.
 StudyConfig tiny_plaster() {
-  StudyConfig c = quick_config();
-  c.name = "tiny-cell";
-  c.materials = {"plaster"};
-  c.shapes = {"plane"};
-  c.fine_size = 128;
-  c.ao_rays = 4;
-  c.scales = {1, 4};
-  c.elevations = {25, 45};
-  c.azimuths = {0};
-  c.point_light = c.sphere_light = false;
-  c.image_size = 16;
-  c.footprint = 4;
-  c.gt_spp = 16;
-  c.gt_max_spp = 32;
+  StudyConfig c = msh::test::tiny_plane_study("tiny-cell", "plaster", 128, {1, 4}, {25, 45}, 16);
   c.terms = {"none", "ao", "reference"};
   c.featured_lights = {"dir-el45-az0"};
   return c;

@@ -47,26 +47,20 @@
 #include "../src/view/three_example.h"
 #include "../src/view/viewer_server.h"
 #include "support/cli_test_util.h"
+#include "support/probe_stats.h"
 #include "support/view_server_util.h"
 
 namespace fs = std::filesystem;
 using namespace msh;
-using msh::test::run_cli;
-using msh::test::scratch_dir;
-using msh::test::slurp;
+using namespace msh::test;  // the browser tests' helpers (support/view_server_util.h) and run_cli, slurp, ...
 using nlohmann::json;
 
 namespace {
 
 const fs::path kSource = fs::path(MSH_SOURCE_DIR);
-const fs::path kBrowserDir = kSource / "tests" / "browser";
-const fs::path kThree = kSource / "integrations" / "three" / "node_modules" / "three";
-// The built-in plaster's cache, shared with the viewer test (generated once).
-const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
 
-// Why the browser part cannot run here ("" = it can).
-std::string missing_browser() { return msh::test::missing_three_browser(kBrowserDir, kThree); }
-#define REQUIRE_BROWSER() MSH_REQUIRE_BROWSER(missing_browser())
+// Fails (or skips, see MSH_REQUIRE_BROWSER) where the browser part cannot run.
+#define REQUIRE_BROWSER() MSH_REQUIRE_BROWSER(missing_three_browser())
 
 int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
@@ -74,19 +68,28 @@ int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end()
 const fs::path& example_copy() {
   static const fs::path dir = [] {
     const fs::path d = fs::path(MSH_BINARY_DIR) / "three_example";
-    const auto r =
-        run_cli("view --three --export " + d.string() + " --cache " + kCache.string(), scratch_dir("three"));
+    const auto r = run_cli("view --three --export " + d.string() + " --cache " + kViewerCache.string(),
+                           scratch_dir("three"));
     EXPECT_EQ(r.code, 0) << r.err;
     return d;
   }();
   return dir;
 }
 
-using msh::test::chromium_path;
-using msh::test::http_get;
-using msh::test::start_view;
-using msh::test::stop_view;
-using Server = msh::test::ViewServer;
+using Server = ViewServer;
+
+// three_test.mjs on the served static copy (its module) with `args`, its output in `out`: its results.json,
+// or null after a failure.
+json run_three_test(const fs::path& copy, const fs::path& out, const std::string& args, const fs::path& dir) {
+  const std::string failure = serve_and_drive(
+      copy, "three_test.mjs",
+      "--out " + out.string() + " --module " + (copy / "microshadow-three").string() + " " + args, dir);
+  if (!failure.empty()) {
+    ADD_FAILURE() << failure;
+    return json();
+  }
+  return json::parse(slurp(out / "results.json"));
+}
 
 // ---- without a browser --------------------------------------------------------------------------------
 
@@ -223,12 +226,12 @@ TEST(ThreeExample, ExportsAStaticCopy) {
 TEST(ThreeExample, ServesTheExampleAndCleansUp) {
   REQUIRE_BROWSER();
   const fs::path dir = scratch_dir("three");
-  Server s = start_view({"--three", "--port", "0", "--cache", kCache.string()}, dir);
+  Server s = start_view({"--three", "--port", "0", "--cache", kViewerCache.string()}, dir);
   if (s.url.empty()) {
     stop_view(s);
     FAIL() << "the server printed no URL: " << slurp(s.err);
   }
-  const fs::path served = kCache / ("three-example-" + std::to_string(s.pid));
+  const fs::path served = kViewerCache / ("three-example-" + std::to_string(s.pid));
   EXPECT_TRUE(fs::is_regular_file(served / "index.html"));
   const auto [st, page] = http_get(s.url, "/");
   EXPECT_NE(st.find("200"), std::string::npos) << st;
@@ -256,11 +259,6 @@ std::string docs_gltf_block(const std::string& model) {
   if (glb == std::string::npos) return "";
   return block.replace(glb, 11, model);
 }
-
-struct Stat {
-  double max_float = 0, max_8bit = 0;
-  int n = 0;
-};
 
 Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
 
@@ -342,23 +340,8 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
          "r.info.programs.length };\n"
          "} catch (e) { window.mshSnippet = { error: e.message }; }\n";
   // The static copy served as is (`microshadow view --root`), the driver in the browser.
-  Server server = start_view({"--root", copy.string(), "--port", "0"}, dir);
-  const std::string url = server.url;
-  std::string node_out;
-  int rc = -1;
-  if (!url.empty()) {
-    const std::string cmd =
-        "cd " + kBrowserDir.string() + " && node three_test.mjs --url " + url + " --out " + shots.string() +
-        " --module " + (copy / "microshadow-three").string() + " --chromium " + chromium_path() +
-        " --snippet " + (dir / "snippet.js").string() + " > " + (dir / "node.out").string() + " 2>&1";
-    rc = std::system(cmd.c_str());
-    node_out = slurp(dir / "node.out");
-  }
-  const int code = stop_view(server);
-  ASSERT_FALSE(url.empty()) << "the server printed no URL: " << slurp(server.err);
-  EXPECT_EQ(code, 0) << slurp(server.err);
-  ASSERT_EQ(rc, 0) << node_out;
-  const json res = json::parse(slurp(shots / "results.json"));
+  const json res = run_three_test(copy, shots, "--snippet " + (dir / "snippet.js").string(), dir);
+  ASSERT_TRUE(res.is_object());
 
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
   ASSERT_TRUE(res.value("example_loaded", false)) << res["errors"].dump(1);
@@ -432,7 +415,7 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
   const int samples = res["samples"];
   Reference ref;
   // [light type][method + lobe] -> deviation; scene checks per light type.
-  std::map<std::string, std::map<std::string, Stat>> stats;
+  ProbeStats stats;
   std::map<std::string, double> scene_nl, scene_nv, scene_cap;
   std::map<std::string, int> lit_count;
   double direct_max = 0;
@@ -524,10 +507,7 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
               << what << " (" << type << ") at V=" << V << " N.L=" << nl << " N.V=" << nv << " r=" << r
               << (rect ? " cap N.L=" + std::to_string(nl_cap) + " rho=" + std::to_string(rho) : "");
           EXPECT_NEAR(got8, want, tol8) << what << " 8-bit (" << type << ")";
-          Stat& st = stats[type][what];
-          st.max_float = std::max(st.max_float, std::abs(got - want));
-          st.max_8bit = std::max(st.max_8bit, std::abs(got8 - want));
-          ++st.n;
+          stats[type][what].add(std::abs(got - want), std::abs(got8 - want));
         }
         // Micro-shadowing multiplies this light's direct diffuse and specular by the two lobes' terms.
         if (variant) {
@@ -685,18 +665,13 @@ TEST(ThreeBrowser, EveryLightAndMethodMatchesTheLibrary) {
       "method, lobe");
   for (const auto& t : order) std::printf(" %-17s", t.c_str());
   std::printf("\n");
-  json table;
-  for (const auto& [what, unused] : stats[order[0]]) {
-    std::printf("  %-58s", what.c_str());
-    for (const auto& t : order) {
-      const Stat& st = stats[t][what];
-      std::printf(" %5.2f (%6.3f) %3d", st.max_8bit * 255, st.max_float * 255, st.n);
-      table[what][t] = {
-          {"max_8bit_255", st.max_8bit * 255}, {"max_float_255", st.max_float * 255}, {"n", st.n}};
-    }
-    std::printf("\n");
-  }
-  std::ofstream(shots / "comparison.json") << table.dump(1) << "\n";
+  print_probe_table(
+      stats, order, 58,
+      [](const std::string&, const ProbeStat& st) {
+        std::printf(" %5.2f (%6.3f) %3d", st.max_8bit * 255, st.max_float * 255, st.n);
+        return json{{"max_8bit_255", st.max_8bit * 255}, {"max_float_255", st.max_float * 255}, {"n", st.n}};
+      },
+      shots / "comparison.json");
 }
 
 // docs/three.md's glTF block on an asset with what ordinary models hold (tests/browser/three_scene_probe.js
@@ -720,24 +695,8 @@ TEST(ThreeBrowser, GltfBlockPatchesEachSceneMaterialOnce) {
   std::ofstream(dir / "scene_snippet.js")
       << "const scene = window.mshScene.scene;\n"
       << block << "\nwindow.mshSnippet = window.mshScene.check(gltf, report, options);\n";
-  Server server = start_view({"--root", copy.string(), "--port", "0"}, dir);
-  const std::string url = server.url;
-  std::string node_out;
-  int rc = -1;
-  if (!url.empty()) {
-    const std::string cmd = "cd " + kBrowserDir.string() + " && node three_test.mjs --url " + url +
-                            " --out " + out.string() + " --module " + (copy / "microshadow-three").string() +
-                            " --chromium " + chromium_path() + " --scene-snippet " +
-                            (dir / "scene_snippet.js").string() + " > " + (dir / "node.out").string() +
-                            " 2>&1";
-    rc = std::system(cmd.c_str());
-    node_out = slurp(dir / "node.out");
-  }
-  const int code = stop_view(server);
-  ASSERT_FALSE(url.empty()) << "the server printed no URL: " << slurp(server.err);
-  EXPECT_EQ(code, 0) << slurp(server.err);
-  ASSERT_EQ(rc, 0) << node_out;
-  const json res = json::parse(slurp(out / "results.json"));
+  const json res = run_three_test(copy, out, "--scene-snippet " + (dir / "scene_snippet.js").string(), dir);
+  ASSERT_TRUE(res.is_object());
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
   ASSERT_TRUE(res["scene"].is_object()) << res["errors"].dump(1);
   const json& sc = res["scene"];

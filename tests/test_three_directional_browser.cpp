@@ -30,26 +30,62 @@
 #include <random>
 
 #include "support/cli_test_util.h"
+#include "support/probe_stats.h"
 #include "support/view_server_util.h"
 
 namespace fs = std::filesystem;
 using namespace msh;
-using msh::test::run_cli;
-using msh::test::scratch_dir;
-using msh::test::slurp;
+using namespace msh::test;  // the browser tests' helpers (support/view_server_util.h) and run_cli, slurp, ...
 using nlohmann::json;
 
 namespace {
 
-const fs::path kSource = fs::path(MSH_SOURCE_DIR);
-const fs::path kBrowserDir = kSource / "tests" / "browser";
-const fs::path kThree = kSource / "integrations" / "three" / "node_modules" / "three";
-const fs::path kCache = fs::path(MSH_BINARY_DIR) / "viewer_cache";
 constexpr int kCompactK = 8;
 
-std::string missing_browser() { return msh::test::missing_three_browser(kBrowserDir, kThree); }
-
 Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
+
+// A camera's matrixWorld as three.js gives it (column-major 4x4): view-space directions to world (its
+// rotation) and its position.
+struct CameraWorld {
+  explicit CameraWorld(const json& matrix) : m(matrix) {}
+  Vec3d to_world(const Vec3d& v) const {
+    return Vec3d(m[0].get<double>() * v.x + m[4].get<double>() * v.y + m[8].get<double>() * v.z,
+                 m[1].get<double>() * v.x + m[5].get<double>() * v.y + m[9].get<double>() * v.z,
+                 m[2].get<double>() * v.x + m[6].get<double>() * v.y + m[10].get<double>() * v.z);
+  }
+  Vec3d position() const { return Vec3d(m[12].get<double>(), m[13].get<double>(), m[14].get<double>()); }
+  const json& m;
+};
+
+// The coefficients a run fetched nearest (N: its position, dir_uv and a read-backs over npts probes) against
+// the level-0 texels of tex (4 coefficients a texture) at each lit probe's UV, decoded with the ranges lo,
+// hi: the largest |fetched − texel| / max(1, hi − lo) goes to err, the probes compared are counted in n.
+// Probes within 0.05 texel of a texel edge are left out (the fetch may take either texel).
+void compare_nearest(const json& N, const std::vector<io::Volume>& tex, const json& lo, const json& hi, int K,
+                     int npts, double& err, int& n) {
+  for (int p = 0; p < npts; ++p) {
+    if (!(N["position"][p][3].get<double>() > 0.5)) continue;
+    const double u = N["dir_uv"][p][0], v = N["dir_uv"][p][1];
+    const int w = tex[0].width, h = tex[0].height;
+    const double fu = (u - std::floor(u)) * w, fv = (v - std::floor(v)) * h;
+    if (std::abs(fu - std::round(fu)) < 0.05 || std::abs(fv - std::round(fv)) < 0.05) continue;
+    const int tx = std::min(int(fu), w - 1), ty = std::min(int(fv), h - 1);
+    for (int k = 0; k < K; ++k) {
+      const double l = lo[k], range = hi[k].get<double>() - l;
+      const double want = l + range * tex[std::size_t(k / 4)].at(tx, ty, 0, k % 4);
+      err = std::max(err, std::abs(N["a"][k / 4][p][k % 4].get<double>() - want) / std::max(1.0, range));
+    }
+    ++n;
+  }
+}
+
+// A bad input's error (errors[k]): it threw, one line holding each of parts.
+void expect_error_line(const json& errors, const char* k, const std::vector<std::string>& parts) {
+  ASSERT_TRUE(errors.contains(k) && errors[k].is_string()) << k << " did not throw: " << errors.dump(1);
+  const std::string m = errors[k];
+  EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
+}
 
 // 2x2 box means of a level (even sizes), the mip chain gen-material writes.
 io::Volume half_level(const io::Volume& v) {
@@ -130,11 +166,6 @@ json write_compact_fixture(const fs::path& material, const fs::path& out) {
   return j["directional_compact"];
 }
 
-struct Stat {
-  double max_float = 0, max_8bit = 0;
-  int n = 0;
-};
-
 const fs::path kCopy = fs::path(MSH_BINARY_DIR) / "three_directional_example";
 const fs::path kShots = fs::path(MSH_BINARY_DIR) / "three_directional_screenshots";
 const fs::path kMat = kCopy / "data" / "dirmat";
@@ -156,7 +187,8 @@ const DriverRun& driver_run() {
     fs::remove_all(kShots);
     fs::remove_all(kCopy);
     {
-      const auto r = run_cli("view --three --export " + kCopy.string() + " --cache " + kCache.string(), dir);
+      const auto r =
+          run_cli("view --three --export " + kCopy.string() + " --cache " + kViewerCache.string(), dir);
       if (r.code != 0) return fail("view --three --export: " + r.err);
     }
     // The texture set as a user makes it (KTX2 mips and mips.json; the glTF asset with the compact form
@@ -208,23 +240,12 @@ const DriverRun& driver_run() {
     fs::copy_file(kCopy / "data" / "dircompact" / "mips" / "directional_compact_0.ktx2",
                   kCopy / "data" / "bad_missing" / "mips" / "directional_compact_0.ktx2");
 
-    msh::test::ViewServer server = msh::test::start_view({"--root", kCopy.string(), "--port", "0"}, dir);
-    const std::string url = server.url;
-    std::string node_out;
-    int rc = -1;
-    if (!url.empty()) {
-      const std::string cmd =
-          "cd " + kBrowserDir.string() + " && node three_directional_test.mjs --url " + url + " --out " +
-          kShots.string() + " --material data/dirmat --compact data/dircompact --bad " + bads +
-          " --gltf data/dirmat/gltf/material.gltf --bad-gltf " + bad_gltf + " --chromium " +
-          msh::test::chromium_path() + " > " + (dir / "node.out").string() + " 2>&1";
-      rc = std::system(cmd.c_str());
-      node_out = slurp(dir / "node.out");
-    }
-    const int code = msh::test::stop_view(server);
-    if (url.empty()) return fail("the server printed no URL: " + slurp(server.err));
-    if (code != 0) return fail("the server: " + slurp(server.err));
-    if (rc != 0) return fail("the driver: " + node_out);
+    const std::string failure = serve_and_drive(
+        kCopy, "three_directional_test.mjs",
+        "--out " + kShots.string() + " --material data/dirmat --compact data/dircompact --bad " + bads +
+            " --gltf data/dirmat/gltf/material.gltf --bad-gltf " + bad_gltf,
+        dir);
+    if (!failure.empty()) return fail(failure);
     out.res = json::parse(slurp(kShots / "results.json"));
     return out;
   }();
@@ -232,7 +253,7 @@ const DriverRun& driver_run() {
 }
 
 TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
-  MSH_REQUIRE_BROWSER(missing_browser());
+  MSH_REQUIRE_BROWSER(missing_three_browser());
   const DriverRun& run = driver_run();
   ASSERT_TRUE(run.failure.empty()) << run.failure;
   const json& res = run.res;
@@ -256,12 +277,8 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   EXPECT_EQ(ids, (std::vector<std::string>{"directional-view", "directional-view+generic-vndf-alu"}));
 
   // Bad input: one clear line each.
-  const json& be = res.at("errors_by_case");
   const auto has = [&](const char* k, const std::vector<std::string>& parts) {
-    ASSERT_TRUE(be.contains(k) && be[k].is_string()) << k << " did not throw: " << be.dump(1);
-    const std::string m = be[k];
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
+    expect_error_line(res.at("errors_by_case"), k, parts);
   };
   has("bad_json", {"bad_json/mips/mips.json", "not valid JSON"});
   has("bad_missing", {"no_such_file.ktx2"});
@@ -288,19 +305,13 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   const std::vector<std::string> order = res["light_order"];
   const auto& lights = res["lights"];
   const int npts = int(res["points"].size());
-  // View space -> world (the camera's rotation).
-  const auto& cw = res["camera_world"];  // column-major 4x4
-  const auto to_world = [&](const Vec3d& v) {
-    return Vec3d(cw[0].get<double>() * v.x + cw[4].get<double>() * v.y + cw[8].get<double>() * v.z,
-                 cw[1].get<double>() * v.x + cw[5].get<double>() * v.y + cw[9].get<double>() * v.z,
-                 cw[2].get<double>() * v.x + cw[6].get<double>() * v.y + cw[10].get<double>() * v.z);
-  };
-  const Vec3d cam_pos(cw[12].get<double>(), cw[13].get<double>(), cw[14].get<double>());
+  const CameraWorld cam(res["camera_world"]);
+  const Vec3d cam_pos = cam.position();
   const auto& ob = res["objects"];
   const Vec3d sphere_c = vec3(ob["sphere"]), cyl_c = vec3(ob["cylinder"]);
   occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
 
-  std::map<std::string, std::map<std::string, Stat>> stats;  // [light][run lobe]
+  ProbeStats stats;  // [light][run lobe]
   double frame_err = 0, ortho_err = 0, lt_err = 0, vt_err = 0, nl_err = 0, uv_err = 0, compose_err = 0,
          direct_err = 0;
   int frame_n[3] = {0, 0, 0}, direct_n = 0;
@@ -319,7 +330,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
       ortho_err =
           std::max({ortho_err, std::abs(length(x) - 1), std::abs(length(y) - 1), std::abs(length(z) - 1),
                     std::abs(dot(x, y)), std::abs(dot(y, z)), std::abs(dot(x, z))});
-      const Vec3d Pw = to_world(P) + cam_pos;
+      const Vec3d Pw = cam.to_world(P) + cam_pos;
       Vec3d ex, ey, ez;
       int obj = -1;
       if (std::abs(Pw.y) < 1e-3) {
@@ -341,8 +352,8 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
         ey = normalize(up - ez * dot(ez, up));
       }
       ++frame_n[obj];
-      frame_err =
-          std::max({frame_err, length(to_world(x) - ex), length(to_world(y) - ey), length(to_world(z) - ez)});
+      frame_err = std::max({frame_err, length(cam.to_world(x) - ex), length(cam.to_world(y) - ey),
+                            length(cam.to_world(z) - ez)});
       // The channels: the compact form's are mean + basis · a.
       float c[21];
       for (int i = 0; i < 21; ++i) c[i] = R["c"][i / 4][p][i % 4];
@@ -398,10 +409,8 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
           EXPECT_NEAR(got, want, tol)
               << what << " (" << type << ") l_t " << l_t.x << " " << l_t.y << " " << l_t.z;
           EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255) << what << " 8-bit (" << type << ")";
-          Stat& st = stats[type][what];
-          st.max_float = std::max(st.max_float, std::abs(got - want) / std::max(1.0, std::abs(want)));
-          st.max_8bit = std::max(st.max_8bit, std::abs(got8 - std::clamp(want, 0.0, 1.0)));
-          ++st.n;
+          stats[type][what].add(std::abs(got - want) / std::max(1.0, std::abs(want)),
+                                std::abs(got8 - std::clamp(want, 0.0, 1.0)));
         }
         if (L.contains("direct_on")) {
           for (int lobe = 0; lobe < 2; ++lobe) {
@@ -443,21 +452,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
           io::read_texture_level(mdir / (is_compact ? "directional_compact_" + std::to_string(t) + ".ktx2"
                                                     : "directional_" + std::to_string(t) + ".ktx2"),
                                  0));
-    for (int p = 0; p < npts; ++p) {
-      if (!(N["position"][p][3].get<double>() > 0.5)) continue;
-      const double u = N["dir_uv"][p][0], v = N["dir_uv"][p][1];
-      const int w = tex[0].width, h = tex[0].height;
-      const double fu = (u - std::floor(u)) * w, fv = (v - std::floor(v)) * h;
-      if (std::abs(fu - std::round(fu)) < 0.05 || std::abs(fv - std::round(fv)) < 0.05) continue;
-      const int tx = std::min(int(fu), w - 1), ty = std::min(int(fv), h - 1);
-      for (int k = 0; k < K; ++k) {
-        const double lo = cd["lo"][k], hi = cd["hi"][k];
-        const double want = lo + (hi - lo) * tex[k / 4].at(tx, ty, 0, k % 4);
-        const double got = N["a"][k / 4][p][k % 4];
-        near_err = std::max(near_err, std::abs(got - want) / std::max(1.0, std::abs(hi - lo)));
-      }
-      ++near_n;
-    }
+    compare_nearest(N, tex, cd["lo"], cd["hi"], K, npts, near_err, near_n);
   }
   EXPECT_LE(near_err, 1e-5) << "the fetched channels are not the files' texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
@@ -470,17 +465,13 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
       frame_n[2], lt_err, vt_err, nl_err, uv_err, compose_err, near_err, near_n, direct_err, direct_n,
       res["timing"]["done"].get<double>());
   std::printf("max |three.js - C++|: 8-bit output in 1/255 (float32, relative to max(1, |term|)) n:\n");
-  json table;
-  for (const auto& [what, unused] : stats[order[0]]) {
-    std::printf("  %-62s", what.c_str());
-    for (const auto& t : order) {
-      const Stat& st = stats[t][what];
-      std::printf(" %s %4.2f (%.1e) %3d", t.c_str(), st.max_8bit * 255, st.max_float, st.n);
-      table[what][t] = {{"max_8bit_255", st.max_8bit * 255}, {"max_float_rel", st.max_float}, {"n", st.n}};
-    }
-    std::printf("\n");
-  }
-  std::ofstream(shots / "comparison.json") << table.dump(1) << "\n";
+  print_probe_table(
+      stats, order, 62,
+      [](const std::string& t, const ProbeStat& st) {
+        std::printf(" %s %4.2f (%.1e) %3d", t.c_str(), st.max_8bit * 255, st.max_float, st.n);
+        return json{{"max_8bit_255", st.max_8bit * 255}, {"max_float_rel", st.max_float}, {"n", st.n}};
+      },
+      shots / "comparison.json");
 }
 
 // The glTF asset of gen-material --gltf through three's GLTFLoader and the module's MicroShadowGLTFPlugin
@@ -490,7 +481,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
 // fetched nearest against the PNG texels decoded with the extension's ranges (the PNGs unflipped, not
 // premultiplied, not colour-converted); direct light on/off against the terms.
 TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
-  MSH_REQUIRE_BROWSER(missing_browser());
+  MSH_REQUIRE_BROWSER(missing_three_browser());
   const DriverRun& run = driver_run();
   ASSERT_TRUE(run.failure.empty()) << run.failure;
   ASSERT_TRUE(run.res.contains("gltf")) << run.res["errors"].dump(1);
@@ -508,12 +499,8 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   EXPECT_TRUE(G["aomap"].get<bool>() && G["normalmap"].get<bool>() && G["tangents"].get<bool>());
   EXPECT_EQ(G["gl_error"], 0);
   // Bad assets: the load rejects with one line naming the problem.
-  const json& be = run.res["gltf_errors"];
   const auto has = [&](const char* k, const std::vector<std::string>& parts) {
-    ASSERT_TRUE(be.contains(k) && be[k].is_string()) << k << " did not throw: " << be.dump(1);
-    const std::string m = be[k];
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const auto& p : parts) EXPECT_NE(m.find(p), std::string::npos) << k << ": " << m;
+    expect_error_line(run.res["gltf_errors"], k, parts);
   };
   has("bad_k", {"glTF material 0", "K = 9 needs 3 textures, the extension lists 2"});
   has("bad_channels", {"'channels' must be 21, got 20"});
@@ -526,26 +513,22 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
     EXPECT_NE(l.get<std::string>().find("THREE.GLTFLoader: Couldn't load texture"), std::string::npos) << l;
   const std::vector<std::string> order = G["light_order"];
   const int npts = int(G["points"].size());
-  const auto& cw = G["camera_world"];
-  const auto to_world = [&](const Vec3d& v) {
-    return Vec3d(cw[0].get<double>() * v.x + cw[4].get<double>() * v.y + cw[8].get<double>() * v.z,
-                 cw[1].get<double>() * v.x + cw[5].get<double>() * v.y + cw[9].get<double>() * v.z,
-                 cw[2].get<double>() * v.x + cw[6].get<double>() * v.y + cw[10].get<double>() * v.z);
-  };
-  const Vec3d cam_pos(cw[12].get<double>(), cw[13].get<double>(), cw[14].get<double>());
+  const CameraWorld cam(G["camera_world"]);
+  const Vec3d cam_pos = cam.position();
   const double scale = G["scale"];
   occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
-  std::map<std::string, Stat> stats;
+  std::map<std::string, ProbeStat> stats;
   double frame_err = 0, uv_err = 0, lt_err = 0, vt_err = 0, nl_err = 0, direct_err = 0;
   int n_pix = 0, direct_n = 0;
   for (int p = 0; p < npts; ++p) {
     const auto& pos = G["position"][p];
     if (!(pos[3].get<double>() > 0.5)) continue;
     ++n_pix;
-    const Vec3d P = vec3(pos), Pw = to_world(P) + cam_pos;
+    const Vec3d P = vec3(pos), Pw = cam.to_world(P) + cam_pos;
     const Vec3d x = vec3(G["dir_x"][p]), y = vec3(G["dir_y"][p]), z = vec3(G["dir_z"][p]);
-    frame_err = std::max({frame_err, length(to_world(x) - Vec3d(1, 0, 0)),
-                          length(to_world(y) - Vec3d(0, 0, 1)), length(to_world(z) - Vec3d(0, 1, 0))});
+    frame_err =
+        std::max({frame_err, length(cam.to_world(x) - Vec3d(1, 0, 0)),
+                  length(cam.to_world(y) - Vec3d(0, 0, 1)), length(cam.to_world(z) - Vec3d(0, 1, 0))});
     uv_err = std::max({uv_err, std::abs(G["dir_uv"][p][0].get<double>() - (Pw.x / scale + 0.5)),
                        std::abs(G["dir_uv"][p][1].get<double>() - (Pw.z / scale + 0.5))});
     float c[21];
@@ -574,10 +557,9 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
         EXPECT_NEAR(got, want, tol) << (lobe ? "specular" : "diffuse") << " (" << type << ")";
         EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255)
             << (lobe ? "specular" : "diffuse") << " 8-bit";
-        Stat& st = stats[type + (lobe ? " specular" : " diffuse")];
-        st.max_float = std::max(st.max_float, std::abs(got - want) / std::max(1.0, std::abs(want)));
-        st.max_8bit = std::max(st.max_8bit, std::abs(got8 - std::clamp(want, 0.0, 1.0)));
-        ++st.n;
+        stats[type + (lobe ? " specular" : " diffuse")].add(
+            std::abs(got - want) / std::max(1.0, std::abs(want)),
+            std::abs(got8 - std::clamp(want, 0.0, 1.0)));
         const double o = L["direct_off"][p][lobe];
         if (o > 1e-4) {
           direct_err = std::max(direct_err, std::abs(L["direct_on"][p][lobe].get<double>() - o * got) /
@@ -604,22 +586,7 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
     const int src = gj["textures"][t["index"].get<int>()]["source"];
     png.push_back(io::read_image(kMat / "gltf" / gj["images"][src]["uri"].get<std::string>()));
   }
-  const int K = ext["coefficients"];
-  for (int p = 0; p < npts; ++p) {
-    if (!(G["nearest"]["position"][p][3].get<double>() > 0.5)) continue;
-    const double u = G["nearest"]["dir_uv"][p][0], v = G["nearest"]["dir_uv"][p][1];
-    const int w = png[0].width, h = png[0].height;
-    const double fu = (u - std::floor(u)) * w, fv = (v - std::floor(v)) * h;
-    if (std::abs(fu - std::round(fu)) < 0.05 || std::abs(fv - std::round(fv)) < 0.05) continue;
-    const int tx = std::min(int(fu), w - 1), ty = std::min(int(fv), h - 1);
-    for (int k = 0; k < K; ++k) {
-      const double lo = ext["lo"][k], hi = ext["hi"][k];
-      const double want = lo + (hi - lo) * png[std::size_t(k / 4)].at(tx, ty, 0, k % 4);
-      near_err = std::max(near_err, std::abs(G["nearest"]["a"][k / 4][p][k % 4].get<double>() - want) /
-                                        std::max(1.0, hi - lo));
-    }
-    ++near_n;
-  }
+  compare_nearest(G["nearest"], png, ext["lo"], ext["hi"], ext["coefficients"], npts, near_err, near_n);
   EXPECT_LE(near_err, 1e-5) << "the fetched coefficients are not the PNG texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
   std::printf(

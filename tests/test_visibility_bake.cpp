@@ -11,33 +11,26 @@
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
 #include <microshadow/render/texture_gen.h>
+#include <support/texture_test_util.h>
 #include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <numeric>
 #include <tuple>
 
 using namespace msh;
 using namespace msh::render;
+using msh::test::depth_field;
 
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-// A height map from z(x, y) in texel units (z ≤ 0), depth D: h = 1 + z/D.
-Texture field(int w, int h, double depth, const std::function<double(int, int)>& z) {
-  Texture t(w, h, 1);
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i) t.at(i, j, 0) = float(1.0 + z(i, j) / depth);
-  return t;
-}
-
 // Ridge along y at x = 64 with slopes tan β down to a flat floor at |x − 64| = 32 (period 128 in x).
 Texture ridge(double beta, double depth) {
   const double t = std::tan(beta);
-  return field(128, 4, depth, [t](int i, int) { return -t * std::min(std::abs(i - 64), 32); });
+  return depth_field(128, 4, depth, [t](int i, int) { return -t * std::min(std::abs(i - 64), 32); });
 }
 
 // Height of vertex (i, j) (wrapped) in texel units, and of the triangulated surface at (x, y): triangle
@@ -118,7 +111,7 @@ TEST(VisibilityBake, ClassifiedHorizonsAgreeWithExactOnes) {
 }  // namespace
 
 TEST(VisibilityBake, FlatIsOne) {
-  const Texture f = field(32, 32, 4, [](int, int) { return -1.0; });
+  const Texture f = depth_field(32, 32, 4, [](int, int) { return -1.0; });
   for (float R : {8.0f, 0.0f}) {
     const Texture v = bake_visibility(f, 4, 16, R);
     for (int j = 0; j < 32; ++j)
@@ -129,8 +122,8 @@ TEST(VisibilityBake, FlatIsOne) {
 // Cone of slope 0.48 with flat outskirts: the apex sees nothing above it.
 TEST(VisibilityBake, ConvexApexIsOne) {
   const double m = 0.48;
-  const Texture f =
-      field(64, 64, 40, [m](int i, int j) { return -m * std::min(std::hypot(i - 32.0, j - 32.0), 24.0); });
+  const Texture f = depth_field(
+      64, 64, 40, [m](int i, int j) { return -m * std::min(std::hypot(i - 32.0, j - 32.0), 24.0); });
   const Texture v = bake_visibility(f, 40, 64, 40);
   EXPECT_EQ(v.at(32, 32, 0), 1.0f);
   // Mid-slope of the triangulated cone: close to the tangent plane's (1 + cos β)/2; the triangle slopes
@@ -161,7 +154,8 @@ TEST(VisibilityBake, VGrooveBottomAndRim) {
     // block level, the cell-only walk) as well as 64 × 8.
     for (const auto& [w, h, R] :
          {std::tuple{64, 8, 0.0f}, std::tuple{64, 8, 6.0f}, std::tuple{65, 7, 0.0f}}) {
-      const Texture f = field(w, h, 100, [t](int i, int) { return -t * std::max(0, 10 - std::abs(i - 32)); });
+      const Texture f =
+          depth_field(w, h, 100, [t](int i, int) { return -t * std::max(0, 10 - std::abs(i - 32)); });
       const Texture v = bake_visibility(f, 100, 128, R);
       EXPECT_NEAR(v.at(32, 3, 0), std::cos(beta_deg * kPiD / 180), 1e-5) << beta_deg << " R=" << R;
       EXPECT_EQ(v.at(22, 3, 0), 1.0f) << beta_deg;  // rim
@@ -174,7 +168,7 @@ TEST(VisibilityBake, VGrooveBottomAndRim) {
 // floor, ray length R: blocked where the ray reaches the wall, R cos e cos φ ≥ d.
 TEST(VisibilityBake, WallAtFiniteDistance) {
   const double H = 1e5;
-  const Texture f = field(256, 8, H, [H](int i, int) { return i >= 105 && i <= 200 ? 0.0 : -H; });
+  const Texture f = depth_field(256, 8, H, [H](int i, int) { return i >= 105 && i <= 200 ? 0.0 : -H; });
   for (double d : {1.0, 2.0, 4.0, 6.0}) {
     const double R = 8, q = d / R;
     const Texture v = bake_visibility(f, float(H), 512, float(R));
@@ -185,7 +179,7 @@ TEST(VisibilityBake, WallAtFiniteDistance) {
 }
 
 TEST(VisibilityBake, ThreadIndependentAndBadInput) {
-  const Texture f = field(
+  const Texture f = depth_field(
       48, 40, 12, [](int i, int j) { return -6 - 5 * std::sin(0.4 * i) * std::cos(0.3 * j + 0.2 * i); });
   Texture a;
   {
@@ -363,7 +357,7 @@ TEST(LatticeSweep, EqualsExactWalksAndBruteForce) {
 }
 
 TEST(LatticeSweep, ThreadIndependentAndBadInput) {
-  const Texture f = field(
+  const Texture f = depth_field(
       48, 40, 12, [](int i, int j) { return -6 - 5 * std::sin(0.4 * i) * std::cos(0.3 * j + 0.2 * i); });
   const auto steps = lattice_azimuths(32, 0.5);
   std::vector<float> a;
@@ -382,7 +376,7 @@ TEST(LatticeSweep, ThreadIndependentAndBadInput) {
 // first threshold above tan H, per step and vertex, step-major; thresholds that the tangents hit exactly
 // (so "above" must be strict), an empty list and a list with a NaN-free repeat.
 TEST(LatticeSweep, ClassesEqualClassifiedTangents) {
-  const Texture f = field(
+  const Texture f = depth_field(
       48, 40, 12, [](int i, int j) { return -6 - 5 * std::sin(0.4 * i) * std::cos(0.3 * j + 0.2 * i); });
   const auto steps = lattice_azimuths(7, 0.5);
   const auto tan_h = bake_horizon_tangents_lattice(f, 12, steps);

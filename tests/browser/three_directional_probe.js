@@ -13,6 +13,7 @@ import * as THREE from 'three';
 import { RectAreaLightUniformsLib } from 'three/addons/lights/RectAreaLightUniformsLib.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import * as MSH from 'microshadow-three';
+import { probeRenderer, renderTargets, probePoints, readProbes, renderShaded, probeScene } from './msh-test/probe_common.js';
 
 const LIGHT_ORDER = ['point', 'spot', 'directional', 'rect'];
 const ROUGH = [0.45, 0.6, 0.8];
@@ -44,10 +45,7 @@ async function errorOf(f) {
 
 async function setup({ width, height, grid, material, compact, bad }) {
   RectAreaLightUniformsLib.init();
-  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(1);
-  renderer.setSize(width, height);
-  document.body.appendChild(renderer.domElement);
+  const renderer = probeRenderer(width, height);
   renderer.domElement.style.cssText = 'position: fixed; left: 0; top: 0; z-index: 10';  // above the example's panel (screenshots)
   const dir21 = await MSH.loadDirectionalOcclusion(`${material}/mips/mips.json`, { renderer, prefer: 'directional' });
   const dirCompact = compact ? await MSH.loadDirectionalOcclusion(`${compact}/mips/mips.json`, { renderer }) : null;
@@ -69,44 +67,10 @@ async function setup({ width, height, grid, material, compact, bad }) {
   const cylinder = new THREE.CylinderGeometry(0.6, 0.6, 1.6, 64, 1, true);
   const cuv = cylinder.attributes.uv;  // mirrored in u: +v is then −cross(normal, +u), the frame's sign must follow
   for (let i = 0; i < cuv.count; ++i) cuv.setX(i, 1 - cuv.getX(i));
-  const scene = new THREE.Scene();
-  const objs = [new THREE.Mesh(plane, mats[0]), new THREE.Mesh(sphere, mats[1]), new THREE.Mesh(cylinder, mats[2])];
-  objs[1].position.set(-1.2, 0.8, 0);
-  objs[2].position.set(1.3, 0.8, 0.2);
-  for (const o of objs) scene.add(o);
-  const point = new THREE.PointLight(0xffffff, 8, 0, 2);
-  point.position.set(-2.5, 2, 1.5);
-  const spot = new THREE.SpotLight(0xffffff, 20, 0, THREE.MathUtils.degToRad(40), 0.2, 2);
-  spot.position.set(2.5, 3, 2);
-  spot.target.position.set(0.5, 0, 0);
-  const dir = new THREE.DirectionalLight(0xffffff, 2);
-  const el = THREE.MathUtils.degToRad(20), az = THREE.MathUtils.degToRad(60);
-  dir.position.set(Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az)).multiplyScalar(10);
-  const rect = new THREE.RectAreaLight(0xffffff, 5, 2, 0.8);
-  rect.position.set(0, 1.2, 2.5);
-  rect.lookAt(0, 0.3, 0);
-  scene.add(point, spot, spot.target, dir, dir.target, rect, new THREE.AmbientLight(0xffffff, 0.5));
-  const camera = new THREE.PerspectiveCamera(45, width / height, 0.1, 50);
-  camera.position.set(0, 3.5, 6);
-  camera.lookAt(0, 0.5, 0);
-  scene.updateMatrixWorld(true);
-  camera.updateMatrixWorld(true);
-  const rt = (type) => new THREE.WebGLRenderTarget(width, height, { type, depthBuffer: true, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter });
-  S = { renderer, scene, camera, mats, width, height, rtF: rt(THREE.FloatType), rt8: rt(THREE.UnsignedByteType), handles: [],
-    codes: { channels21: dir21, compact: dirCompact, channels21_nearest: nearest(dir21), compact_nearest: dirCompact ? nearest(dirCompact) : null } };
-  S.points = [];
-  for (let j = 0; j < grid[1]; ++j)
-    for (let i = 0; i < grid[0]; ++i) S.points.push([Math.floor(width * (i + 0.5) / grid[0]), Math.floor(height * (j + 0.5) / grid[1])]);
-  const view = camera.matrixWorldInverse;
-  const vpos = (o) => new THREE.Vector3().setFromMatrixPosition(o.matrixWorld).applyMatrix4(view).toArray();
-  const rot = new THREE.Matrix4().extractRotation(new THREE.Matrix4().multiplyMatrices(view, rect.matrixWorld));
-  const lights = {
-    point: { position: vpos(point) },
-    spot: { position: vpos(spot) },
-    directional: { direction: new THREE.Vector3().subVectors(dir.position, dir.target.position).transformDirection(view).toArray() },
-    rect: { position: vpos(rect), half_width: new THREE.Vector3(rect.width / 2, 0, 0).applyMatrix4(rot).toArray(),
-      half_height: new THREE.Vector3(0, rect.height / 2, 0).applyMatrix4(rot).toArray() },
-  };
+  const { scene, camera, objs, lights } = probeScene(width, height, [plane, sphere, cylinder], mats);
+  S = { renderer, scene, camera, mats, width, height, ...renderTargets(width, height), handles: [],
+    codes: { channels21: dir21, compact: dirCompact, channels21_nearest: nearest(dir21), compact_nearest: dirCompact ? nearest(dirCompact) : null },
+    points: probePoints(width, height, grid) };
   // Bad input: each must throw one clear line (the C++ test checks the messages).
   const errors = {};
   for (const [k, url] of Object.entries(bad || {}))
@@ -129,19 +93,7 @@ function attach(method, code) {
   S.handles = S.mats.map((m) => MSH.addMicroShadowing(m, { method, directional: S.codes[code], debug: true }));
 }
 
-function read(mode, k, float, enabled = true) {
-  for (const h of S.handles) { h.setDebug(mode, k); h.enabled = enabled; }
-  const rt = float ? S.rtF : S.rt8, { width: w, height: h } = S;
-  S.renderer.setRenderTarget(rt);
-  S.renderer.setClearColor(0x000000, 0);
-  S.renderer.clear();
-  S.renderer.render(S.scene, S.camera);
-  const buf = float ? new Float32Array(w * h * 4) : new Uint8Array(w * h * 4);
-  S.renderer.readRenderTargetPixels(rt, 0, 0, w, h, buf);
-  S.renderer.setRenderTarget(null);
-  for (const x of S.handles) { x.setDebug(null); x.enabled = true; }
-  return S.points.map(([x, y]) => Array.from(buf.subarray(4 * ((h - 1 - y) * w + x), 4 * ((h - 1 - y) * w + x) + 4)));
-}
+function read(mode, k, float, enabled = true) { return readProbes(S, S.handles, mode, k, float, enabled); }
 
 // One method with one code: the terms of the four lights (float, 8-bit); per light: the inputs, l_t, view_t;
 // once: n_t, the channels, the coefficients, uv, the frame, position, normal; with o.direct the direct light
@@ -178,11 +130,7 @@ function channels(method, code) {
 function shaded(method, code, enabled) {
   attach(method, code);
   for (const h of S.handles) { h.setDebug(null); h.enabled = enabled; }
-  S.renderer.setRenderTarget(null);
-  S.renderer.setClearColor(0x101014, 1);
-  S.renderer.render(S.scene, S.camera);
-  S.renderer.getContext().finish();
-  return S.renderer.getContext().getError();
+  return renderShaded(S);
 }
 
 window.mshDirProbe = { setup, run, channels, shaded, points: () => S.points };

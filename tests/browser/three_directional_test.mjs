@@ -13,12 +13,8 @@
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { arg, CHROMIUM_ARGS, openProbe } from './probe_page.mjs';
 
-const arg = (name, def) => {
-  const i = process.argv.indexOf(`--${name}`);
-  return i > 0 ? process.argv[i + 1] : def;
-};
 const url = arg('url'), out = arg('out'), material = arg('material'), compact = arg('compact'), gltf = arg('gltf');
 const exe = arg('chromium', '/usr/bin/chromium');
 const list = (name) => Object.fromEntries((arg(name, '') || '').split(',').filter((s) => s).map((s) => s.split('=')));
@@ -28,8 +24,6 @@ if (!url || !out || !material) {
   process.exit(2);
 }
 fs.mkdirSync(out, { recursive: true });
-const here = path.dirname(fileURLToPath(import.meta.url));
-const CHROMIUM_ARGS = ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist', '--no-sandbox', '--disable-dev-shm-usage'];
 const results = { url, errors: [], screenshots: [], timing: {} };
 const T0 = Date.now();
 const mark = (k) => { results.timing[k] = (Date.now() - T0) / 1000; };
@@ -64,10 +58,7 @@ async function open(tag, script, flag, sink) {
   const W = 192, H = 108;
   const page = await browser.newPage({ viewport: { width: W + 40, height: H + 40 } });
   watch(page, tag, sink);
-  await page.goto(`${url}?probe`);
-  await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 120000 });
-  await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, script), 'utf8') });
-  await page.waitForFunction((f) => window[f] === true, flag, { timeout: 60000 });
+  await openProbe(page, url, script, flag, 120000);
   return { page, W, H };
 }
 

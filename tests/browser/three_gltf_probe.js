@@ -8,15 +8,13 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import * as MSH from 'microshadow-three';
+import { probeRenderer, renderTargets, probePoints, readProbes, viewPosition, viewDirection } from './msh-test/probe_common.js';
 
 const LIGHT_ORDER = ['point', 'spot', 'directional'];
 
 async function run({ width, height, grid, url }) {
   try {
-    const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
-    renderer.setPixelRatio(1);
-    renderer.setSize(width, height);
-    document.body.appendChild(renderer.domElement);
+    const renderer = probeRenderer(width, height);
     renderer.domElement.style.cssText = 'position: fixed; left: 0; top: 0; z-index: 10';  // above the example's panel (screenshots)
     // The documented lines (docs/three.md, "glTF"), with the debug outputs on for the read-backs.
     const loader = new GLTFLoader().register((parser) => new MSH.MicroShadowGLTFPlugin(parser, { debug: true }));
@@ -42,32 +40,16 @@ async function run({ width, height, grid, url }) {
     camera.lookAt(0, 0, -0.3);
     scene.updateMatrixWorld(true);
     camera.updateMatrixWorld(true);
-    const rt = (type) => new THREE.WebGLRenderTarget(width, height, { type, depthBuffer: true, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter });
-    const rtF = rt(THREE.FloatType), rt8 = rt(THREE.UnsignedByteType);
-    const points = [];
-    for (let j = 0; j < grid[1]; ++j)
-      for (let i = 0; i < grid[0]; ++i) points.push([Math.floor(width * (i + 0.5) / grid[0]), Math.floor(height * (j + 0.5) / grid[1])]);
+    const points = probePoints(width, height, grid);
+    const P = { renderer, scene, camera, ...renderTargets(width, height), width, height, points };
     let hs = handles;
-    const read = (mode, k, float, enabled = true) => {
-      for (const h of hs) { h.setDebug(mode, k); h.enabled = enabled; }
-      const target = float ? rtF : rt8;
-      renderer.setRenderTarget(target);
-      renderer.setClearColor(0x000000, 0);
-      renderer.clear();
-      renderer.render(scene, camera);
-      const buf = float ? new Float32Array(width * height * 4) : new Uint8Array(width * height * 4);
-      renderer.readRenderTargetPixels(target, 0, 0, width, height, buf);
-      renderer.setRenderTarget(null);
-      for (const h of hs) { h.setDebug(null); h.enabled = true; }
-      return points.map(([x, y]) => Array.from(buf.subarray(4 * ((height - 1 - y) * width + x), 4 * ((height - 1 - y) * width + x) + 4)));
-    };
+    const read = (mode, k, float, enabled = true) => readProbes(P, hs, mode, k, float, enabled);
     const code = handles[0].directional;
     const out = { method: handles[0].method, points, light_order: LIGHT_ORDER, revision: THREE.REVISION,
       code: { form: code.form, K: code.K, textures: code.textures, identity: code.identity },
       camera_world: camera.matrixWorld.toArray(), scale: 4,
-      lights: { point: { position: new THREE.Vector3().setFromMatrixPosition(point.matrixWorld).applyMatrix4(camera.matrixWorldInverse).toArray() },
-        spot: { position: new THREE.Vector3().setFromMatrixPosition(spot.matrixWorld).applyMatrix4(camera.matrixWorldInverse).toArray() },
-        directional: { direction: new THREE.Vector3().subVectors(dir.position, dir.target.position).transformDirection(camera.matrixWorldInverse).toArray() } },
+      lights: { point: { position: viewPosition(point, camera) }, spot: { position: viewPosition(spot, camera) },
+        directional: { direction: viewDirection(dir, camera) } },
       aomap: !!meshes[0].material.aoMap, normalmap: !!meshes[0].material.normalMap, tangents: !!meshes[0].geometry.attributes.tangent,
       map_color_space: meshes[0].material.map ? meshes[0].material.map.colorSpace : null };
     out.terms_d = read('terms_diffuse', -1, true);

@@ -9,6 +9,7 @@
 import * as THREE from 'three';
 import { RectAreaLightUniformsLib } from 'three/addons/lights/RectAreaLightUniformsLib.js';
 import * as MSH from 'microshadow-three';
+import { probeRenderer, renderTargets, probePoints, readProbes, renderShaded, viewRect, probeScene } from './msh-test/probe_common.js';
 
 const V_LEVELS = [38, 77, 115, 140, 158, 179, 204, 230, 255];  // the visibility texture's bytes
 const V_CONST = 0.62;                                           // the cylinder's constant V
@@ -34,10 +35,7 @@ async function setup({ width, height, grid, tables = true }) {
   const man = await (await fetch('data/manifest.json')).json();
   const luts = {};
   for (const [k, L] of Object.entries(man.luts || {})) luts[k] = await MSH.loadMicroShadowingLut(L.url);
-  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(1);
-  renderer.setSize(width, height);
-  document.body.appendChild(renderer.domElement);
+  const renderer = probeRenderer(width, height);
   const vis = dataTexture(8, 8, (i, j) => { const v = V_LEVELS[(3 * i + 5 * j) % V_LEVELS.length]; return [v, v, v, 255]; }, { nearest: true });
   // Smooth bumps: h = 0.12 (sin 2πu sin 2πv + 0.5 sin 6πu), normal = normalize(−∂h/∂u, −∂h/∂v, 1).
   const N = 64;
@@ -51,47 +49,10 @@ async function setup({ width, height, grid, tables = true }) {
   const mat = (r) => new THREE.MeshStandardMaterial({ color: 0xcccccc, roughness: r, metalness: 0, normalMap: nmap });
   const mats = ROUGH.map(mat);
   for (const m of mats) m.aoMap = vis;
-  const scene = new THREE.Scene();
-  const objs = [new THREE.Mesh(new THREE.PlaneGeometry(5, 5).rotateX(-Math.PI / 2), mats[0]),
-    new THREE.Mesh(new THREE.SphereGeometry(0.8, 64, 32), mats[1]),
-    new THREE.Mesh(new THREE.CylinderGeometry(0.6, 0.6, 1.6, 64, 1, true), mats[2])];
-  objs[1].position.set(-1.2, 0.8, 0);
-  objs[2].position.set(1.3, 0.8, 0.2);
-  for (const o of objs) scene.add(o);
-  const point = new THREE.PointLight(0xffffff, 8, 0, 2);
-  point.position.set(-2.5, 2, 1.5);
-  const spot = new THREE.SpotLight(0xffffff, 20, 0, THREE.MathUtils.degToRad(40), 0.2, 2);
-  spot.position.set(2.5, 3, 2);
-  spot.target.position.set(0.5, 0, 0);
-  const dir = new THREE.DirectionalLight(0xffffff, 2);
-  const el = THREE.MathUtils.degToRad(20), az = THREE.MathUtils.degToRad(60);
-  dir.position.set(Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az)).multiplyScalar(10);
-  const rect = new THREE.RectAreaLight(0xffffff, 5, 2, 0.8);
-  rect.position.set(0, 1.2, 2.5);
-  rect.lookAt(0, 0.3, 0);
-  scene.add(point, spot, spot.target, dir, dir.target, rect, new THREE.AmbientLight(0xffffff, 0.5));
-  const camera = new THREE.PerspectiveCamera(45, width / height, 0.1, 50);
-  camera.position.set(0, 3.5, 6);
-  camera.lookAt(0, 0.5, 0);
-  scene.updateMatrixWorld(true);
-  camera.updateMatrixWorld(true);
-  const rt = (type) => new THREE.WebGLRenderTarget(width, height, { type, depthBuffer: true, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter });
-  S = { renderer, scene, camera, mats, luts, vis, width, height, rtF: rt(THREE.FloatType), rt8: rt(THREE.UnsignedByteType), handles: [] };
-  // Probe points: a grid over the frame.
-  S.points = [];
-  for (let j = 0; j < grid[1]; ++j)
-    for (let i = 0; i < grid[0]; ++i) S.points.push([Math.floor(width * (i + 0.5) / grid[0]), Math.floor(height * (j + 0.5) / grid[1])]);
-  // The lights as three's shaders see them (view space; RectAreaLight as WebGLLights sets its uniforms).
-  const view = camera.matrixWorldInverse;
-  const vpos = (o) => new THREE.Vector3().setFromMatrixPosition(o.matrixWorld).applyMatrix4(view).toArray();
-  const rot = new THREE.Matrix4().extractRotation(new THREE.Matrix4().multiplyMatrices(view, rect.matrixWorld));
-  const lights = {
-    point: { position: vpos(point) },
-    spot: { position: vpos(spot) },
-    directional: { direction: new THREE.Vector3().subVectors(dir.position, dir.target.position).transformDirection(view).toArray() },
-    rect: { position: vpos(rect), half_width: new THREE.Vector3(rect.width / 2, 0, 0).applyMatrix4(rot).toArray(),
-      half_height: new THREE.Vector3(0, rect.height / 2, 0).applyMatrix4(rot).toArray() },
-  };
+  const { scene, camera, lights } = probeScene(width, height, [new THREE.PlaneGeometry(5, 5).rotateX(-Math.PI / 2),
+    new THREE.SphereGeometry(0.8, 64, 32), new THREE.CylinderGeometry(0.6, 0.6, 1.6, 64, 1, true)], mats);
+  S = { renderer, scene, camera, mats, luts, vis, width, height, ...renderTargets(width, height), handles: [],
+    points: probePoints(width, height, grid) };
   // The texel methods (directional-view, which read a texture set's directional channels) are
   // tested by three_directional_probe.js.
   const methods = MSH.MICRO_SHADOWING_METHODS.filter((m) => !m.texel).map((m) => ({ id: m.id, label: m.label, lut: m.lut || null, cpp: m.cpp,
@@ -130,19 +91,7 @@ function attach(method, variant = false, aoOnIndirect = true, luts = S.luts, ext
 }
 
 // The probe pixels of one render of debug `mode` for light `k` (-1: every light lit), rows from the top.
-function read(mode, k, float, enabled = true) {
-  for (const h of S.handles) { h.setDebug(mode, k); h.enabled = enabled; }
-  const rt = float ? S.rtF : S.rt8, { width: w, height: h } = S;
-  S.renderer.setRenderTarget(rt);
-  S.renderer.setClearColor(0x000000, 0);
-  S.renderer.clear();
-  S.renderer.render(S.scene, S.camera);
-  const buf = float ? new Float32Array(w * h * 4) : new Uint8Array(w * h * 4);
-  S.renderer.readRenderTargetPixels(rt, 0, 0, w, h, buf);
-  S.renderer.setRenderTarget(null);
-  for (const x of S.handles) { x.setDebug(null); x.enabled = true; }
-  return S.points.map(([x, y]) => Array.from(buf.subarray(4 * ((h - 1 - y) * w + x), 4 * ((h - 1 - y) * w + x) + 4)));
-}
+function read(mode, k, float, enabled = true) { return readProbes(S, S.handles, mode, k, float, enabled); }
 
 // One method: both lobes' terms of the four lights (float and 8-bit); with o.inputs the inputs of every
 // light (V, N·L, N·V, roughness; v, l; the rect light's cap; position, normal), with o.direct each light's
@@ -181,11 +130,7 @@ function aoSwitch(method) {
 function shaded(method, enabled) {
   attach(method);
   for (const h of S.handles) h.enabled = enabled;
-  S.renderer.setRenderTarget(null);
-  S.renderer.setClearColor(0x101014, 1);
-  S.renderer.render(S.scene, S.camera);
-  S.renderer.getContext().finish();
-  return S.renderer.getContext().getError();
+  return renderShaded(S);
 }
 
 // ---- areaLights 'cap' / 'center' and micro-shadowing off (docs/three.md, "Rect-area lights" and "Cost")
@@ -193,13 +138,7 @@ function shaded(method, enabled) {
 const RECT = LIGHT_ORDER.indexOf('rect');
 function rectLight() { let r = null; S.scene.traverse((o) => { if (o.isRectAreaLight) r = o; }); return r; }
 // The rect light as three's shaders see it (view space), for the C++ side.
-function rectView(rect) {
-  const view = S.camera.matrixWorldInverse;
-  const rot = new THREE.Matrix4().extractRotation(new THREE.Matrix4().multiplyMatrices(view, rect.matrixWorld));
-  return { position: new THREE.Vector3().setFromMatrixPosition(rect.matrixWorld).applyMatrix4(view).toArray(),
-    half_width: new THREE.Vector3(rect.width / 2, 0, 0).applyMatrix4(rot).toArray(),
-    half_height: new THREE.Vector3(0, rect.height / 2, 0).applyMatrix4(rot).toArray(), width: rect.width, height: rect.height };
-}
+function rectView(rect) { return { ...viewRect(rect, S.camera), width: rect.width, height: rect.height }; }
 
 // The whole float32 frame of the shaded scene (every light, debug off: the shipped program).
 function frame() {

@@ -26,12 +26,8 @@ import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
 import zlib from 'node:zlib';
-import { fileURLToPath } from 'node:url';
+import { arg, CHROMIUM_ARGS, openProbe } from './probe_page.mjs';
 
-const arg = (name, def) => {
-  const i = process.argv.indexOf(`--${name}`);
-  return i > 0 ? process.argv[i + 1] : def;
-};
 const url = arg('url'), out = arg('out'), moduleDir = arg('module'), figure = arg('figure');
 const exe = arg('chromium', '/usr/bin/chromium'), frames = Number(arg('frames', '3'));
 const figureOnly = process.argv.includes('--figure-only');
@@ -46,9 +42,7 @@ if (!out || (!serveDir && (!url || !moduleDir))) {
   process.exit(2);
 }
 fs.mkdirSync(out, { recursive: true });
-const here = path.dirname(fileURLToPath(import.meta.url));
 const DEFAULT_PAIR = 'diffuse-aware-alu+generic-vndf-alu';
-const CHROMIUM_ARGS = ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist', '--no-sandbox', '--disable-dev-shm-usage'];
 if (serveDir) {
   await packagePage();
   process.exit(0);
@@ -89,10 +83,7 @@ async function probe() {
   const W = 192, H = 108, GRID = [24, 14];
   const page = await browser.newPage({ viewport: { width: W + 40, height: H + 40 } });
   watch(page, 'probe');
-  await page.goto(`${url}?probe`);
-  await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 60000 });
-  await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, 'three_probe.js'), 'utf8') });
-  await page.waitForFunction(() => window.mshProbeLoaded === true, null, { timeout: 60000 });
+  await openProbe(page, url, 'three_probe.js', 'mshProbeLoaded');
   Object.assign(results, await page.evaluate((o) => window.mshProbe.setup(o), { width: W, height: H, grid: GRID }));
   results.points = await page.evaluate(() => window.mshProbe.points());
   mark('setup');
@@ -136,10 +127,7 @@ async function lightTimes() {
   const W = Number(arg('width', '640')), H = Number(arg('height', '360')), rounds = Number(arg('rounds', '5'));
   const page = await browser.newPage({ viewport: { width: W + 40, height: H + 40 } });
   watch(page, 'timing');
-  await page.goto(`${url}?probe`);
-  await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 60000 });
-  await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, 'three_probe.js'), 'utf8') });
-  await page.waitForFunction(() => window.mshProbeLoaded === true, null, { timeout: 60000 });
+  await openProbe(page, url, 'three_probe.js', 'mshProbeLoaded');
   await page.evaluate((o) => window.mshProbe.setup(o), { width: W, height: H, grid: [1, 1], tables: false });
   const r = await page.evaluate((o) => window.mshProbe.timing(o), { rounds, frames });
   if (r.error !== 0) results.errors.push(`gl error ${r.error} (timing)`);
@@ -163,10 +151,7 @@ async function sceneCheck() {
   let failed = false;
   page.on('console', (m) => { if (m.type() === 'info') info.push(m.text()); });
   page.on('pageerror', () => { failed = true; });
-  await page.goto(`${url}?probe`);
-  await page.waitForFunction(() => window.mshExampleReady !== undefined, null, { timeout: 60000 });
-  await page.addScriptTag({ type: 'module', content: fs.readFileSync(path.join(here, 'three_scene_probe.js'), 'utf8') });
-  await page.waitForFunction(() => window.mshSceneLoaded === true, null, { timeout: 60000 });
+  await openProbe(page, url, 'three_scene_probe.js', 'mshSceneLoaded');
   const scene = { setup: await page.evaluate(() => window.mshScene.setup()) };
   scene.api = await page.evaluate(() => window.mshScene.api());
   mark('scene_setup');

@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
 #include <vector>
 
 namespace msh::test::directional_inputs {
@@ -44,43 +47,73 @@ inline render::Texture test_field(int field, int n) {
   return h;
 }
 
-// Channel sets: random (signed, magnitudes 0.01–10), the flat surface's exact channels (transport = z) and
-// perturbations of them, and every texel of the bake of two small height fields with their box mips.
-// Each set with its origin in c[9]: 0 random, 1 flat (exact or perturbed), 2 baked.
-inline std::vector<std::array<float, 10>> channel_sets() {
-  std::vector<std::array<float, 10>> sets;
-  Pcg32 rng(2026);
-  for (int k = 0; k < 512; ++k) {
-    std::array<float, 10> c{};
+// Channel sets of n channels in arrays of Size floats, the last the set's origin (0 random, 1 flat, 2 baked):
+// `random` random sets (signed, magnitudes 0.01–10), the flat surface's exact channels (c_3 = 1: transport =
+// z) and `perturbed` perturbations of them, and every step(field, k)-th texel of bake(height, depth) of the
+// 32² test fields from first_field on, at full size and box-downsampled by each k of mips.
+template <std::size_t Size, class Bake, class Step>
+std::vector<std::array<float, Size>> channel_sets_of(uint64_t seed, int n, int random, int perturbed,
+                                                     int first_field, std::initializer_list<int> mips,
+                                                     Bake&& bake, Step&& step) {
+  constexpr std::size_t origin = Size - 1;
+  std::vector<std::array<float, Size>> sets;
+  Pcg32 rng(seed);
+  for (int k = 0; k < random; ++k) {
+    std::array<float, Size> c{};
     const double scale = std::pow(10.0, rng.next_double() * 3 - 2);
-    for (int i = 0; i < 9; ++i) c[std::size_t(i)] = float((rng.next_double() * 2 - 1) * scale);
+    for (int i = 0; i < n; ++i) c[std::size_t(i)] = float((rng.next_double() * 2 - 1) * scale);
     sets.push_back(c);
   }
-  const std::array<float, 10> flat = {0, 0, 0, 1, 0, 0, 0, 0, 0, 1};
+  std::array<float, Size> flat{};
+  flat[3] = 1, flat[origin] = 1;
   sets.push_back(flat);
-  for (int k = 0; k < 64; ++k) {
-    std::array<float, 10> c = flat;
-    for (int i = 0; i < 9; ++i) c[std::size_t(i)] += float((rng.next_double() * 2 - 1) * 0.05);
+  for (int k = 0; k < perturbed; ++k) {
+    std::array<float, Size> c = flat;
+    for (int i = 0; i < n; ++i) c[std::size_t(i)] += float((rng.next_double() * 2 - 1) * 0.05);
     sets.push_back(c);
   }
-  // Baked: a flat field, and two bumpy ones (sum of sines; a deep crater field), 32², 32 azimuths.
-  const int n = 32;
-  for (int field = 0; field < 3; ++field) {
-    const render::Texture h = test_field(field, n);
-    const render::Texture ch = render::bake_directional_channels(h, field == 2 ? 6.0f : 3.0f, 32, 0.0f);
-    for (int k : {1, 2, 4, 16}) {
+  const int size = 32;
+  for (int field = first_field; field < 3; ++field) {
+    const render::Texture ch = bake(test_field(field, size), field == 2 ? 6.0f : 3.0f);
+    for (int k : mips) {
       const render::Texture t = k == 1 ? ch : render::box_downsample(ch, k);
-      const int step = field == 0 && k == 1 ? 8 : 1;  // the flat field's texels are all alike
-      for (int y = 0; y < t.height(); y += step)
-        for (int x = 0; x < t.width(); x += step) {
-          std::array<float, 10> c{};
-          for (int i = 0; i < 9; ++i) c[std::size_t(i)] = t.at(x, y, i);
-          c[9] = 2;
+      const int stride = step(field, k);
+      for (int y = 0; y < t.height(); y += stride)
+        for (int x = 0; x < t.width(); x += stride) {
+          std::array<float, Size> c{};
+          for (int i = 0; i < n; ++i) c[std::size_t(i)] = t.at(x, y, i);
+          c[origin] = 2;
           sets.push_back(c);
         }
     }
   }
   return sets;
+}
+
+// The 9-channel sets: 512 random, the flat one and 64 perturbations; baked: a flat field (every 8th texel at
+// full size: they are all alike) and two bumpy ones (sum of sines; a deep crater field), 32 azimuths, box
+// mips by 2, 4 and 16.
+inline std::vector<std::array<float, 10>> channel_sets() {
+  return channel_sets_of<10>(
+      2026, 9, 512, 64, 0, {1, 2, 4, 16},
+      [](const render::Texture& h, float depth) {
+        return render::bake_directional_channels(h, depth, 32, 0.0f);
+      },
+      [](int field, int k) { return field == 0 && k == 1 ? 8 : 1; });
+}
+
+// Lights for one channel set: `random` uniform on the sphere, then, at one random azimuth, one per height z
+// of zs (above and below the horizon, grazing, on the tangent plane, the zenith).
+inline std::vector<Vec3f> test_lights(Pcg32& rng, int random, std::initializer_list<double> zs) {
+  auto rnd = [&] { return Vec2d(rng.next_double(), rng.next_double()); };
+  std::vector<Vec3f> lights;
+  for (int k = 0; k < random; ++k) lights.push_back(Vec3f(sample_uniform_sphere(rnd())));
+  const double phi = 2 * kPi<double> * rng.next_double();
+  for (double z : zs) {
+    const double s = std::sqrt(std::max(0.0, 1 - z * z));
+    lights.push_back(Vec3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(z)));
+  }
+  return lights;
 }
 
 // Lights: above and below the horizon, grazing, on the tangent plane (±0), the zenith; normals: the flat +z,
@@ -90,14 +123,7 @@ inline std::vector<Rec> make_records() {
   Pcg32 rng(77);
   auto rnd = [&] { return Vec2d(rng.next_double(), rng.next_double()); };
   for (const auto& c : channel_sets()) {
-    std::vector<Vec3f> lights;
-    for (int k = 0; k < 6; ++k) lights.push_back(Vec3f(sample_uniform_sphere(rnd())));
-    const double phi = 2 * kPi<double> * rng.next_double();
-    for (double z : {1e-6, 1e-3, 0.05, 0.0, -0.0, -1e-3, 1.0}) {
-      const double s = std::sqrt(std::max(0.0, 1 - z * z));
-      lights.push_back(Vec3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(z)));
-    }
-    for (const Vec3f& l : lights) {
+    for (const Vec3f& l : test_lights(rng, 6, {1e-6, 1e-3, 0.05, 0.0, -0.0, -1e-3, 1.0})) {
       Rec r{};
       std::copy(c.begin(), c.end(), r.c.begin());
       const int kind = int(rng.next_u32() % 4);
@@ -144,20 +170,24 @@ inline std::vector<Dec> make_decodes() {
   return d;
 }
 
-// S = Σ|c_i||b_i(l)| in double (x² − y² read as x² + y²): the size of what the 9-term sum adds.
+// |b_i(l)| of the 9 basis functions in double, x² − y² read as x² + y².
+inline std::array<double, 9> abs_basis(const Vec3d& l) {
+  return {1,
+          std::abs(l.x),
+          std::abs(l.y),
+          std::abs(l.z),
+          std::abs(l.x * l.z),
+          std::abs(l.y * l.z),
+          l.x * l.x + l.y * l.y,
+          std::abs(l.x * l.y),
+          l.z * l.z};
+}
+
+// S = Σ|c_i||b_i(l)| in double: the size of what the 9-term sum adds.
 inline double sum_scale(const Rec& r) {
-  const Vec3d l(light(r));
-  const double b[9] = {1,
-                       std::abs(l.x),
-                       std::abs(l.y),
-                       std::abs(l.z),
-                       std::abs(l.x * l.z),
-                       std::abs(l.y * l.z),
-                       l.x * l.x + l.y * l.y,
-                       std::abs(l.x * l.y),
-                       l.z * l.z};
+  const std::array<double, 9> b = abs_basis(Vec3d(light(r)));
   double s = 0;
-  for (int i = 0; i < 9; ++i) s += std::abs(double(r.c[std::size_t(i)])) * b[i];
+  for (int i = 0; i < 9; ++i) s += std::abs(double(r.c[std::size_t(i)])) * b[std::size_t(i)];
   return s;
 }
 struct VRec {
@@ -166,41 +196,16 @@ struct VRec {
 };
 static_assert(sizeof(VRec) == 36 * sizeof(float));
 
-// Channel sets of 21: random (magnitudes 0.01–10), the flat surface's (T = z, G = 0) and perturbations, and
-// every texel of the one-pass bake of two of the same 32² fields with their box mips; origin in c[23].
+// Channel sets of 21: 256 random, the flat surface's (T = z, G = 0) and 32 perturbations, and every third
+// texel of the one-pass bake of the two bumpy fields of channel_sets (every texel of their box mips by 4 and
+// 16); origin in c[23].
 inline std::vector<std::array<float, 24>> view_channel_sets() {
-  std::vector<std::array<float, 24>> sets;
-  Pcg32 rng(2027);
-  for (int k = 0; k < 256; ++k) {
-    std::array<float, 24> c{};
-    const double scale = std::pow(10.0, rng.next_double() * 3 - 2);
-    for (int i = 0; i < 21; ++i) c[std::size_t(i)] = float((rng.next_double() * 2 - 1) * scale);
-    sets.push_back(c);
-  }
-  std::array<float, 24> flat{};
-  flat[3] = 1, flat[23] = 1;
-  sets.push_back(flat);
-  for (int k = 0; k < 32; ++k) {
-    std::array<float, 24> c = flat;
-    for (int i = 0; i < 21; ++i) c[std::size_t(i)] += float((rng.next_double() * 2 - 1) * 0.05);
-    sets.push_back(c);
-  }
-  const int n = 32;
-  for (int field = 1; field < 3; ++field) {
-    const render::Texture h = test_field(field, n);
-    const render::Texture ch = render::bake_directional_view_channels(h, field == 2 ? 6.0f : 3.0f, 32, 0.0f);
-    for (int k : {1, 4, 16}) {
-      const render::Texture t = k == 1 ? ch : render::box_downsample(ch, k);
-      for (int y = 0; y < t.height(); y += k == 1 ? 3 : 1)
-        for (int x = 0; x < t.width(); x += k == 1 ? 3 : 1) {
-          std::array<float, 24> c{};
-          for (int i = 0; i < 21; ++i) c[std::size_t(i)] = t.at(x, y, i);
-          c[23] = 2;
-          sets.push_back(c);
-        }
-    }
-  }
-  return sets;
+  return channel_sets_of<24>(
+      2027, 21, 256, 32, 1, {1, 4, 16},
+      [](const render::Texture& h, float depth) {
+        return render::bake_directional_view_channels(h, depth, 32, 0.0f);
+      },
+      [](int, int k) { return k == 1 ? 3 : 1; });
 }
 
 // Lights as make_records (above, grazing, ±0, below); views: random upper, grazing (v_z below the 0.1
@@ -210,14 +215,7 @@ inline std::vector<VRec> make_view_records() {
   Pcg32 rng(78);
   auto rnd = [&] { return Vec2d(rng.next_double(), rng.next_double()); };
   for (const auto& c : view_channel_sets()) {
-    std::vector<Vec3f> lights;
-    for (int k = 0; k < 4; ++k) lights.push_back(Vec3f(sample_uniform_sphere(rnd())));
-    const double phi = 2 * kPi<double> * rng.next_double();
-    for (double z : {1e-3, 0.05, 0.0, -1e-3, 1.0}) {
-      const double s = std::sqrt(std::max(0.0, 1 - z * z));
-      lights.push_back(Vec3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(z)));
-    }
-    for (const Vec3f& l : lights) {
+    for (const Vec3f& l : test_lights(rng, 4, {1e-3, 0.05, 0.0, -1e-3, 1.0})) {
       VRec r{};
       r.c = c;
       const int vk = int(rng.next_u32() % 4);
@@ -243,21 +241,12 @@ inline std::vector<VRec> make_view_records() {
 
 // S_v = S_T + (S_x |v_x| + S_y |v_y|) / max(v_z, 0.5) (the bound of shaders/portable/directional.h).
 inline double view_sum_scale(const VRec& r) {
-  const Vec3d l(r.l[0], r.l[1], r.l[2]);
-  const double b[9] = {1,
-                       std::abs(l.x),
-                       std::abs(l.y),
-                       std::abs(l.z),
-                       std::abs(l.x * l.z),
-                       std::abs(l.y * l.z),
-                       l.x * l.x + l.y * l.y,
-                       std::abs(l.x * l.y),
-                       l.z * l.z};
+  const std::array<double, 9> b = abs_basis(Vec3d(r.l[0], r.l[1], r.l[2]));
   double st = 0, sx = 0, sy = 0;
-  for (int i = 0; i < 9; ++i) st += std::abs(double(r.c[std::size_t(i)])) * b[i];
+  for (int i = 0; i < 9; ++i) st += std::abs(double(r.c[std::size_t(i)])) * b[std::size_t(i)];
   for (int i = 0; i < dir::kSlopeTerms; ++i)
-    sx += std::abs(double(r.c[std::size_t(9 + i)])) * b[i],
-        sy += std::abs(double(r.c[std::size_t(15 + i)])) * b[i];
+    sx += std::abs(double(r.c[std::size_t(9 + i)])) * b[std::size_t(i)],
+        sy += std::abs(double(r.c[std::size_t(15 + i)])) * b[std::size_t(i)];
   return st + (sx * std::abs(r.v[0]) + sy * std::abs(r.v[1])) / std::max(double(r.v[2]), dir::kMinViewZ);
 }
 

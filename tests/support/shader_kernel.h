@@ -19,7 +19,10 @@
 
 #include <microshadow/math/vec.h>
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -128,6 +131,24 @@ void run_records(const Kernel& k, const std::vector<Rec>& records, std::size_t o
   d.push = push.empty() ? push_constants(uint32_t(records.size())) : std::move(push);
   d.invocations = records.size();
   run_glsl_and_hlsl(k, d, [&](const char* label, const Buffers& out) { check(label, records, out[1]); });
+}
+
+// Two record sets in one dispatch: set a's floats in buffer 0 (a.count records, a.out_floats floats each
+// written to buffer 1), set b's in buffer 2 (outputs in buffer 3), one invocation per record of the larger
+// set, push constants {invocations, a.count, b.count}; check(label, buffer 1, buffer 3) after each language.
+struct RecordSet {
+  std::vector<float> floats;
+  std::size_t count, out_floats;
+};
+template <class Check>
+void run_two_record_sets(const Kernel& k, const RecordSet& a, const RecordSet& b, Check&& check) {
+  Dispatch d;
+  d.buffers = {a.floats, std::vector<float>(a.count * a.out_floats), b.floats,
+               std::vector<float>(b.count * b.out_floats)};
+  d.invocations = std::max(a.count, b.count);
+  d.push =
+      push_constants(std::array<uint32_t, 3>{uint32_t(d.invocations), uint32_t(a.count), uint32_t(b.count)});
+  run_glsl_and_hlsl(k, d, [&](const char* label, const Buffers& out) { check(label, out[1], out[3]); });
 }
 
 // EXPECTs that the kernel compiles as GLSL 450, GLSL ES 320 and HLSL to a non-trivial module (the compiler

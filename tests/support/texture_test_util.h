@@ -3,6 +3,8 @@
 
 #include <microshadow/render/scene.h>
 
+#include <functional>
+
 namespace msh::test {
 
 // Bit-identical textures: same size, same channel count, every texel equal.
@@ -13,6 +15,14 @@ inline bool same(const render::Texture& a, const render::Texture& b) {
       for (int c = 0; c < a.channels(); ++c)
         if (a.at(i, j, c) != b.at(i, j, c)) return false;
   return true;
+}
+
+// A height map from z(x, y) in texel units (z ≤ 0), depth D: h = 1 + z/D.
+inline render::Texture depth_field(int w, int h, double depth, const std::function<double(int, int)>& z) {
+  render::Texture t(w, h, 1);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) t.at(i, j, 0) = float(1.0 + z(i, j) / depth);
+  return t;
 }
 
 }  // namespace msh::test

@@ -1,5 +1,7 @@
-// The browser tests' shared helpers (test_viewer_browser, test_three_browser): whether headless chromium can
-// run, a `microshadow view ...` process, and plain-socket HTTP GETs. Header-only; needs MSH_CLI_PATH.
+// The browser tests' shared helpers (test_viewer_browser, test_three_browser, test_three_directional_browser,
+// test_gltf_validator): where their parts are, whether node, its npm packages and headless chromium can run,
+// a `microshadow view ...` process, a node driver run against a served folder, and plain-socket HTTP GETs.
+// Header-only; needs MSH_CLI_PATH and MSH_BINARY_DIR.
 #pragma once
 
 #include <arpa/inet.h>
@@ -23,27 +25,39 @@
 
 namespace msh::test {
 
+// The node drivers and their npm packages (`npm ci` in tests/browser), three.js as integrations/three
+// installs it, and the built-in plaster's cache that the viewer and three.js tests share (generated once).
+inline const std::filesystem::path kBrowserDir = std::filesystem::path(MSH_SOURCE_DIR) / "tests" / "browser";
+inline const std::filesystem::path kThreeDir =
+    std::filesystem::path(MSH_SOURCE_DIR) / "integrations" / "three" / "node_modules" / "three";
+inline const std::filesystem::path kViewerCache = std::filesystem::path(MSH_BINARY_DIR) / "viewer_cache";
+
 inline std::string chromium_path() {
   const char* e = std::getenv("MSH_CHROMIUM");
   return e && *e ? e : "/usr/bin/chromium";
+}
+
+// Why node with the npm package `package` (npm ci in browser_dir) cannot run here ("" = it can).
+inline std::string missing_node_package(const std::filesystem::path& browser_dir,
+                                        const std::string& package) {
+  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node on PATH (Debian package nodejs)";
+  if (!std::filesystem::exists(browser_dir / "node_modules" / package / "package.json"))
+    return package + " is not installed: run `npm ci` in tests/browser (scripts/install-deps.sh does)";
+  return "";
 }
 
 // Why headless chromium with playwright-core (npm ci in browser_dir) cannot run here ("" = it can).
 inline std::string missing_browser_driver(const std::filesystem::path& browser_dir) {
   if (access(chromium_path().c_str(), X_OK) != 0)
     return "no chromium at " + chromium_path() + " (Debian package chromium)";
-  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node on PATH (Debian package nodejs)";
-  if (!std::filesystem::exists(browser_dir / "node_modules" / "playwright-core" / "package.json"))
-    return "playwright-core is not installed: run `npm ci` in tests/browser (scripts/install-deps.sh does)";
-  return "";
+  return missing_node_package(browser_dir, "playwright-core");
 }
 
-// The same, and three.js installed in integrations/three (three_dir: its node_modules/three).
-inline std::string missing_three_browser(const std::filesystem::path& browser_dir,
-                                         const std::filesystem::path& three_dir) {
-  const std::string why = missing_browser_driver(browser_dir);
+// The same for kBrowserDir, and three.js installed in integrations/three (kThreeDir).
+inline std::string missing_three_browser() {
+  const std::string why = missing_browser_driver(kBrowserDir);
   if (!why.empty()) return why;
-  if (!std::filesystem::exists(three_dir / "package.json"))
+  if (!std::filesystem::exists(kThreeDir / "package.json"))
     return "three is not installed: run `npm ci` in integrations/three (scripts/install-deps.sh does)";
   return "";
 }
@@ -118,6 +132,24 @@ inline int stop_view(ViewServer& s, int sig = SIGINT) {
   waitpid(s.pid, nullptr, 0);
   s.pid = -1;
   return -1;
+}
+
+// Serves `root` (`microshadow view --root ROOT --port 0`), runs `node SCRIPT --url URL ARGS --chromium PATH`
+// in kBrowserDir with its output in dir/node.out, then stops the server with Ctrl-C: "" when the server
+// printed its URL, the driver exited 0 and so did the server; else what failed, with its output.
+inline std::string serve_and_drive(const std::filesystem::path& root, const std::string& script,
+                                   const std::string& args, const std::filesystem::path& dir) {
+  ViewServer server = start_view({"--root", root.string(), "--port", "0"}, dir);
+  if (server.url.empty()) return "the server printed no URL: " + slurp(server.err);
+  const std::filesystem::path out = dir / "node.out";
+  const std::string cmd = "cd " + kBrowserDir.string() + " && node " + script + " --url " + server.url + " " +
+                          args + " --chromium " + chromium_path() + " > " + out.string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  const int code = stop_view(server);
+  std::string why;
+  if (code != 0) why = "the server exited " + std::to_string(code) + ": " + slurp(server.err);
+  if (rc != 0) why += (why.empty() ? "" : "\n") + std::string("the driver failed: ") + slurp(out);
+  return why;
 }
 
 inline int url_port(const std::string& url) { return std::stoi(url.substr(url.rfind(':') + 1)); }

@@ -227,6 +227,40 @@ int any_memory_type(const Context::Impl& v, uint32_t bits) {
   return -1;
 }
 
+// req.size bytes of memory of `type`.
+VkResult allocate(const Context::Impl& v, const VkMemoryRequirements& req, int type, VkDeviceMemory* mem) {
+  auto mai = make<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = uint32_t(type);
+  return v.AllocateMemory(v.device, &mai, nullptr, mem);
+}
+
+// A buffer of `size` bytes for `usage` in host-visible coherent memory, holding the n bytes at `data` and
+// zeros after them: nullptr, or what failed (the staging buffers of images say so in their messages).
+const char* host_buffer(const Context::Impl& v, VkDeviceSize size, VkBufferUsageFlags usage, const void* data,
+                        size_t n, bool staging, VkBuffer* buf, VkDeviceMemory* mem) {
+  auto bci = make<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  bci.size = size;
+  bci.usage = usage;
+  bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  if (v.CreateBuffer(v.device, &bci, nullptr, buf) != VK_SUCCESS)
+    return staging ? "vkCreateBuffer failed (staging)" : "vkCreateBuffer failed";
+  VkMemoryRequirements req{};
+  v.GetBufferMemoryRequirements(v.device, *buf, &req);
+  const int type = host_memory_type(v, req.memoryTypeBits);
+  if (type < 0) return "no host-visible coherent memory type";
+  if (allocate(v, req, type, mem) != VK_SUCCESS)
+    return staging ? "vkAllocateMemory failed (staging)" : "vkAllocateMemory failed";
+  if (v.BindBufferMemory(v.device, *buf, *mem, 0) != VK_SUCCESS)
+    return staging ? "vkBindBufferMemory failed (staging)" : "vkBindBufferMemory failed";
+  void* p = nullptr;
+  if (v.MapMemory(v.device, *mem, 0, VK_WHOLE_SIZE, 0, &p) != VK_SUCCESS) return "vkMapMemory failed";
+  std::memset(p, 0, size);
+  if (n) std::memcpy(p, data, n);
+  v.UnmapMemory(v.device, *mem);
+  return nullptr;
+}
+
 }  // namespace
 
 Context* Context::get(std::string* why) {
@@ -293,29 +327,11 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
     return false;
   };
   auto body = [&]() -> bool {
-    for (uint32_t i = 0; i < nb; ++i) {
-      auto bci = make<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-      bci.size = std::max<size_t>(buffers[i]->size(), 16);
-      bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-      bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-      if (v.CreateBuffer(dev, &bci, nullptr, &bufs[i]) != VK_SUCCESS) return fail("vkCreateBuffer failed");
-      VkMemoryRequirements req{};
-      v.GetBufferMemoryRequirements(dev, bufs[i], &req);
-      const int type = host_memory_type(v, req.memoryTypeBits);
-      if (type < 0) return fail("no host-visible coherent memory type");
-      auto mai = make<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-      mai.allocationSize = req.size;
-      mai.memoryTypeIndex = uint32_t(type);
-      if (v.AllocateMemory(dev, &mai, nullptr, &mems[i]) != VK_SUCCESS)
-        return fail("vkAllocateMemory failed");
-      if (v.BindBufferMemory(dev, bufs[i], mems[i], 0) != VK_SUCCESS)
-        return fail("vkBindBufferMemory failed");
-      void* p = nullptr;
-      if (v.MapMemory(dev, mems[i], 0, VK_WHOLE_SIZE, 0, &p) != VK_SUCCESS) return fail("vkMapMemory failed");
-      std::memset(p, 0, bci.size);
-      if (!buffers[i]->empty()) std::memcpy(p, buffers[i]->data(), buffers[i]->size());
-      v.UnmapMemory(dev, mems[i]);
-    }
+    for (uint32_t i = 0; i < nb; ++i)
+      if (const char* e =
+              host_buffer(v, std::max<size_t>(buffers[i]->size(), 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          buffers[i]->data(), buffers[i]->size(), false, &bufs[i], &mems[i]))
+        return fail(e);
     if (ni) {
       const VkFormatFeatureFlags need =
           VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
@@ -350,11 +366,7 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
       v.GetImageMemoryRequirements(dev, imgs[i], &req);
       const int type = any_memory_type(v, req.memoryTypeBits);
       if (type < 0) return fail("no memory type for the image");
-      auto mai = make<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-      mai.allocationSize = req.size;
-      mai.memoryTypeIndex = uint32_t(type);
-      if (v.AllocateMemory(dev, &mai, nullptr, &img_mems[i]) != VK_SUCCESS)
-        return fail("vkAllocateMemory failed (image)");
+      if (allocate(v, req, type, &img_mems[i]) != VK_SUCCESS) return fail("vkAllocateMemory failed (image)");
       if (v.BindImageMemory(dev, imgs[i], img_mems[i], 0) != VK_SUCCESS)
         return fail("vkBindImageMemory failed");
       auto ivci = make<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
@@ -364,26 +376,9 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
       ivci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
       if (v.CreateImageView(dev, &ivci, nullptr, &views[i]) != VK_SUCCESS)
         return fail("vkCreateImageView failed");
-      auto bci = make<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-      bci.size = bytes;
-      bci.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-      bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-      if (v.CreateBuffer(dev, &bci, nullptr, &staging[i]) != VK_SUCCESS)
-        return fail("vkCreateBuffer failed (staging)");
-      v.GetBufferMemoryRequirements(dev, staging[i], &req);
-      const int htype = host_memory_type(v, req.memoryTypeBits);
-      if (htype < 0) return fail("no host-visible coherent memory type");
-      mai.allocationSize = req.size;
-      mai.memoryTypeIndex = uint32_t(htype);
-      if (v.AllocateMemory(dev, &mai, nullptr, &staging_mems[i]) != VK_SUCCESS)
-        return fail("vkAllocateMemory failed (staging)");
-      if (v.BindBufferMemory(dev, staging[i], staging_mems[i], 0) != VK_SUCCESS)
-        return fail("vkBindBufferMemory failed (staging)");
-      void* p = nullptr;
-      if (v.MapMemory(dev, staging_mems[i], 0, VK_WHOLE_SIZE, 0, &p) != VK_SUCCESS)
-        return fail("vkMapMemory failed");
-      std::memcpy(p, im.texels, bytes);
-      v.UnmapMemory(dev, staging_mems[i]);
+      if (const char* e = host_buffer(v, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, im.texels, bytes, true,
+                                      &staging[i], &staging_mems[i]))
+        return fail(e);
     }
     auto smci = make<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
     smci.codeSize = spirv.size() * 4;
