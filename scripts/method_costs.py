@@ -47,6 +47,9 @@ void main() {
 
 
 def main():
+    if len(sys.argv) < 2 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0 if len(sys.argv) >= 2 else 2
     table = json.loads(subprocess.run([sys.argv[1], "methods", "--json"], check=True, capture_output=True,
                                       text=True).stdout)
     by_name = {m["name"]: m for m in table}
