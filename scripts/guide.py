@@ -29,12 +29,11 @@ def load(name):
 def exact_error(name):
     """RMS / max in 1/255 of a method's run-time form against its own exact term, and the source."""
     terms = {r["method"]: r["all"] for r in load("terms_vs_exact.json")["results"]}
-    alias = {"generic-vndf-alu": "alu"}
     if name in ("reference", "brinck-maximov-2016", "chan-2018", "part1-analytic"):
         a = terms[name]
         return f"{a['rms_255']:.1f} / {a['max_255']:.0f} vs generic", "terms_vs_exact.json"
-    if name in alias:
-        a = terms[alias[name]]
+    if name == "generic-vndf-alu":
+        a = terms[name]
         return f"{a['rms_255']:.2f} / {a['max_255']:.1f}", "terms_vs_exact.json"
     if name in ("lut3d", "lut2d"):
         a = load(f"{name}_vs_exact.json")["all"]

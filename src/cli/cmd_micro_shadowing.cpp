@@ -326,8 +326,7 @@ void run_methods(const MethodsArgs& a) {
     if ((a.study && !i.in_study) || (a.uses_ndotl && !i.uses_ndotl)) continue;
     nlohmann::json glsl = nlohmann::json::array();
     for (const occlusion::MicroShadowingGlsl& g : i.glsl)
-      glsl.push_back(
-          {{"id", i.name + g.id_suffix}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
+      glsl.push_back({{"id", i.form_id(g)}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
     list.push_back({{"name", i.name},
                     {"label", i.label},
                     {"summary", i.summary},

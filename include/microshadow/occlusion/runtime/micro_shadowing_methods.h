@@ -94,6 +94,9 @@ struct MicroShadowingMethodInfo {
   double (*closed_form)(double visibility, double n_dot_l) = nullptr;
   int table_sample = 0;
   bool is_pair() const { return !diffuse.empty(); }
+  // The id of one of its GLSL forms, as the viewer, `methods --json` and the measuring commands name it: the
+  // method's name + the form's id_suffix (e.g. generic-vndf-alu-two-stage).
+  std::string form_id(const MicroShadowingGlsl& g) const { return name + g.id_suffix; }
 };
 
 // One shading point as a renderer sees it, in the term's frame (n = +z): V from the micro-occlusion map,
