@@ -2,6 +2,7 @@
 // exit codes.
 #include <gtest/gtest.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
@@ -64,15 +65,15 @@ TEST(MicroShadowingFitCli, PlotWritesCsvAndSummary) {
   ASSERT_EQ(r.code, 0);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["points"], 65);
-  const auto& alu = j["errors_vs_exact_azimuth_mean"]["alu"]["all"];
+  const auto& alu = j["errors_vs_exact_azimuth_mean"]["generic-vndf-alu"]["all"];
   EXPECT_EQ(alu["n"], 65);
   EXPECT_GE(alu["max_255"].get<double>(), alu["rms_255"].get<double>());
   std::string header;
   const auto rows = read_csv(csv, &header);
-  EXPECT_EQ(
-      header,
-      "visibility,ndotl,ndotv,roughness,early_out,exact,alu,alu_two_stage,reference,brinck_maximov_2016,"
-      "chan_2018,part1_analytic");
+  EXPECT_EQ(header,
+            "visibility,ndotl,ndotv,roughness,early_out,exact,generic-vndf-alu,generic-vndf-alu-two-stage,"
+            "reference,"
+            "brinck-maximov-2016,chan-2018,part1-analytic");
   ASSERT_EQ(rows.size(), 65u);
   for (const auto& row : rows) {
     ASSERT_EQ(row.size(), 12u);
@@ -89,6 +90,32 @@ TEST(MicroShadowingFitCli, PlotWritesCsvAndSummary) {
             0);
   std::string h2;
   EXPECT_EQ(read_csv(csv2, &h2), rows);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MicroShadowingFitCli, DiffuseAwareColumnsAreRegistryIds) {
+  const auto dir = std::filesystem::temp_directory_path() / "msh_test_ms_fit_cli_aware";
+  std::filesystem::create_directories(dir);
+  const auto csv = dir / "pts.csv";
+  const test::CliResult r =
+      run("plot micro-shadowing-fit --term diffuse-aware --samples 6 --seed 3 --out " + csv.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["errors_vs_exact_azimuth_mean"]["diffuse-aware-alu"]["all"]["n"], 6);
+  std::string header;
+  const auto rows = read_csv(csv, &header);
+  EXPECT_EQ(header,
+            "visibility,ndotl,ndotv,roughness,early_out,exact,diffuse-aware-alu,generic-vndf-alu-two-stage,"
+            "reference");
+  ASSERT_EQ(rows.size(), 6u);
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 9u);
+    const double V = row[0], nl = row[1], nv = row[2], r = row[3];
+    EXPECT_NEAR(row[6], micro_shadowing::diffuse_aware_alu(float(V), float(nl), float(nv), float(r)), 1e-7);
+    EXPECT_NEAR(row[7], micro_shadowing::generic_vndf_alu_two_stage(float(V), float(nl), float(nv), float(r)),
+                1e-7);
+    EXPECT_EQ(row[8], micro_shadowing::reference_step(V, nl));
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -293,16 +293,12 @@ const std::vector<Term>& terms() {
                     return e->shade(in).diffuse;
                   }};
     };
-    for (const occlusion::MicroShadowingMethodInfo& m : occlusion::micro_shadowing_methods())
-      if (m.closed_form && m.uses_ndotl)
-        v.push_back(shaded(std::make_shared<MicroShadowingEvaluator>(m.name)));
-    const auto alu = std::make_shared<const MicroShadowingEvaluator>("generic-vndf-alu");
-    v.push_back(shaded(alu));
-    for (const occlusion::MicroShadowingGlsl& g : alu->info().glsl)
-      if (g.two_stage)
-        v.push_back({alu->info().form_id(g), [](float V, float nl, float nv, float r, float) {
-                       return micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r);
-                     }});
+    for (const std::string& name : closed_form_terms())
+      v.push_back(shaded(std::make_shared<MicroShadowingEvaluator>(name)));
+    v.push_back(shaded(std::make_shared<MicroShadowingEvaluator>("generic-vndf-alu")));
+    v.push_back({two_stage_fit_id(), [](float V, float nl, float nv, float r, float) {
+                   return micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r);
+                 }});
     const auto exact = std::make_shared<const MicroShadowingEvaluator>("generic-vndf");
     v.push_back({exact->info().name, [exact](float V, float nl, float nv, float r, float) {
                    return float(exact->eval({V, nl, nv, r, std::nullopt, std::nullopt}));
