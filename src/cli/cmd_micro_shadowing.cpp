@@ -343,6 +343,10 @@ void run_methods(const MethodsArgs& a) {
                     {"accepts_lut", i.accepts_lut},
                     {"needs_texel", i.needs_texel},
                     {"texel_channels", i.texel_channels},
+                    {"texel_bake", i.texel_bake},
+                    {"uses_visibility", i.uses_visibility},
+                    {"table_sample", i.table_sample},
+                    {"use", i.use},
                     {"glsl", glsl}});
     text += a.names ? (text.empty() ? "" : ",") + i.name
                     : fmt::format("{:<38} {}{}\n", i.name, i.label, i.in_study ? "  [study]" : "");
