@@ -130,7 +130,7 @@ TEST(MicroShadowingCli, PlotWritesCsvsDeterministically) {
   const std::string maps = test::slurp(d1 / "maps.csv");
   EXPECT_EQ(
       maps.substr(0, maps.find('\n')),
-      "roughness,ndotv,visibility,ndotl,reference,brinck_maximov_2016,chan_2018,part1_analytic,generic_vndf");
+      "roughness,ndotv,visibility,ndotl,reference,brinck-maximov-2016,chan-2018,part1-analytic,generic-vndf");
   // 5 roughness × 3 N·V × 5 × 5 rows + header.
   EXPECT_EQ(std::count(maps.begin(), maps.end(), '\n'), 5 * 3 * 25 + 1);
   const auto s = nlohmann::json::parse(test::slurp(d1 / "summary.json"));

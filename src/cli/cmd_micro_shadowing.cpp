@@ -250,8 +250,8 @@ void run_plot(const PlotArgs& a) {
   const int n = a.size;
   const std::vector<lut::TermMapCell> cells = lut::term_maps(n, kPlotRoughness, kPlotNdotV);
   std::ostringstream maps;
-  maps << "roughness,ndotv,visibility,ndotl,reference,brinck_maximov_2016,chan_2018,part1_analytic,generic_"
-          "vndf\n";
+  maps << "roughness,ndotv,visibility,ndotl," << fmt::format("{}", fmt::join(lut::kTermNames, ",")) << ','
+       << lut::kExactTermName << '\n';
   for (const lut::TermMapCell& c : cells)
     maps << fmtd(c.roughness) << ',' << fmtd(c.n_dot_v) << ',' << fmtd(c.visibility) << ',' << fmtd(c.n_dot_l)
          << ',' << fmtd(c.reference) << ',' << fmtd(c.brinck_maximov) << ',' << fmtd(c.chan) << ','

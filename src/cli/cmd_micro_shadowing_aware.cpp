@@ -188,7 +188,8 @@ void run_plot(const PlotArgs& a) {
     });
   });
   std::ostringstream s;
-  s << "roughness,n_dot_v,visibility,n_dot_l,generic_vndf,specular_aware,diffuse_aware,diffuse_aware_flux\n";
+  // The columns by registry id (each the method's value without the azimuth: its azimuth mean).
+  s << "roughness,n_dot_v,visibility,n_dot_l,generic-vndf,specular-aware,diffuse-aware,diffuse-aware-flux\n";
   for (std::size_t k = 0; k < cells.size(); ++k)
     s << fmt::format("{},{},{:.6f},{:.6f},{:.7f},{:.7f},{:.7f},{:.7f}\n", cells[k].r, cells[k].nv, cells[k].V,
                      cells[k].nl, val[k][0], val[k][1], val[k][2], val[k][3]);
