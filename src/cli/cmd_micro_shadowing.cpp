@@ -12,6 +12,7 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
+#include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
@@ -315,15 +316,28 @@ void run_plot(const PlotArgs& a) {
 // ---- methods ---------------------------------------------------------------------------------------------
 
 struct MethodsArgs {
-  bool json = false, study = false, names = false, uses_ndotl = false;
+  bool json = false, study = false, names = false, uses_ndotl = false, bump = false;
 };
 
-// The registry as a table or JSON (what the demo and scripts/render_report.py read).
+// The registry as a table or JSON (what the demo and scripts/render_report.py read); --bump: the
+// bump-terminator registry (occlusion/bump_terminator.h).
 void run_methods(const MethodsArgs& a) {
   nlohmann::json list = nlohmann::json::array();
   std::string text;
+  if (a.bump) {
+    if (a.study || a.uses_ndotl) throw UsageError("--study and --uses-ndotl select micro-shadowing methods");
+    for (const bump::MethodInfo& i : bump::kMethods) {
+      list.push_back({{"name", i.name},
+                      {"label", i.label},
+                      {"summary", i.summary},
+                      {"glsl", i.glsl},
+                      {"requires", i.requires_fn}});
+      text += a.names ? (text.empty() ? "" : ",") + std::string(i.name)
+                      : fmt::format("{:<38} {}\n", i.name, i.label);
+    }
+  }
   for (const occlusion::MicroShadowingMethodInfo& i : occlusion::micro_shadowing_methods()) {
-    if ((a.study && !i.in_study) || (a.uses_ndotl && !i.uses_ndotl)) continue;
+    if (a.bump || (a.study && !i.in_study) || (a.uses_ndotl && !i.uses_ndotl)) continue;
     nlohmann::json glsl = nlohmann::json::array();
     for (const occlusion::MicroShadowingGlsl& g : i.glsl)
       glsl.push_back({{"id", i.form_id(g)}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
@@ -370,6 +384,9 @@ void add_micro_shadowing(Groups& g) {
     m->add_flag("--study", ma->study, "Only the methods the study renders by default");
     m->add_flag("--uses-ndotl", ma->uses_ndotl, "Only the methods that depend on N.L (not none, ao)");
     m->add_flag("--names", ma->names, "Only the names, comma-separated on one line (for --method lists)");
+    m->add_flag(
+        "--bump", ma->bump,
+        "The bump-terminator methods instead (render --bump-terminator, eval bump-terminator --method)");
   }
   const auto [e, ea] =
       add_command<EvalArgs>(g.eval, "micro-shadowing",
