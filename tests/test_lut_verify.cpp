@@ -426,6 +426,18 @@ TEST(VerifyCli, ClosedFormTerms) {
   }
 }
 
+// verify micro-shadowing-aware names the run-time forms by registry id (the specular mean's float and double
+// closed forms: specular-aware-alu, specular-aware), not by the names it had (specular-aware-mean...).
+TEST(VerifyCli, AwareFormsByRegistryId) {
+  const fs::path d = scratch();
+  for (const char* m : {"specular-aware-alu", "specular-aware"}) {
+    const CliResult r = run("verify micro-shadowing-aware --samples 32 --json --method " + std::string(m), d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(nlohmann::json::parse(r.out).contains(m)) << r.out;
+  }
+  EXPECT_EQ(run("verify micro-shadowing-aware --samples 32 --method specular-aware-mean", d).code, 2);
+}
+
 TEST(VerifyCli, BadInputIsOneLineExitTwo) {
   const fs::path d = scratch();
   const std::string t = (d / "t.npy").string();

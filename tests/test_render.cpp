@@ -611,7 +611,8 @@ TEST(RenderComponent, DiffuseAndSpecularMatchClosedForms) {
 }
 
 // The renderer's bump-terminator methods are the registry's (bump::kMethods): every name round-trips, a scene
-// file's settings take them, and anything else (the renderer's former "off" too) is refused with the list.
+// file's settings take them, and anything else is refused with the list (the renderer's former "off" with
+// its new name).
 TEST(Render, BumpTerminatorNamesAreTheRegistrys) {
   for (const bump::MethodInfo& i : bump::kMethods) {
     EXPECT_EQ(bump_terminator_from_string(std::string(i.name)), i.method);
@@ -625,10 +626,17 @@ TEST(Render, BumpTerminatorNamesAreTheRegistrys) {
   }
   EXPECT_EQ(Settings{}.bump_terminator, bump::Method::kNone);
   try {
+    bump_terminator_from_string("sideways");
+    ADD_FAILURE() << "sideways accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("none, conty-2019, chiang-2019"), std::string::npos) << e.what();
+  }
+  // The renderer's former name of none is refused with the new one (as for the micro-shadowing methods).
+  try {
     bump_terminator_from_string("off");
     ADD_FAILURE() << "off accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("none, conty-2019, chiang-2019"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("now called 'none'"), std::string::npos) << e.what();
   }
 }
 

@@ -423,6 +423,8 @@ const char* to_string(BumpTerminator b) { return bump::method_name(b).data(); } 
 BumpTerminator bump_terminator_from_string(const std::string& s) {
   BumpTerminator m;
   if (bump::parse_method(s, m)) return m;
+  if (s == "off")
+    throw InputError("bump-terminator method 'off' is now called 'none'");  // the renderer's old name
   throw InputError(fmt::format("unknown bump-terminator method '{}' (known: {})", s, bump::method_names()));
 }
 
