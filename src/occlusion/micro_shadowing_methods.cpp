@@ -405,6 +405,12 @@ MicroShadowingGlsl glsl(const char* expr, const char* requires_fn = "", const ch
   g.expr = expr, g.requires_fn = requires_fn, g.lut = lut;
   return g;
 }
+// A GLSL form that reads the per-texel directional channels (MicroShadowingGlsl::texel).
+MicroShadowingGlsl texel_glsl(const char* expr, const char* requires_fn) {
+  MicroShadowingGlsl g = glsl(expr, requires_fn);
+  g.texel = true;
+  return g;
+}
 // The GLSL form of a closed form of (V, N·L) named fn in shaders/glsl: fn(vis, nl), and its spherical-cap
 // form fn_area_cap(vis, nl_cap, rho) (MicroShadowingGlsl::area_cap).
 MicroShadowingGlsl vnl_glsl(const std::string& fn) {
@@ -570,18 +576,14 @@ const std::vector<Entry>& entries() {
         // footprint's mean diffuse transport lit · (n_fine · l)⁺ from 9 linear channels, as a factor on (n ·
         // l)⁺.
         {used("relief with 9 channels only (4.5 B as BC5 + BC4): directional-view is closer at every scale "
-              "for "
-              "12 more channels",
+              "for 12 "
+              "more channels",
               info("directional", "directional (9 linear channels)",
                    "directional micro-occlusion: the mean lit * N.L over the texel's footprint from 9 linear "
                    "channels baked from the height map, divided by the shading N.L (renderer, study and "
                    "viewer)",
-                   kNoNdotl | kNoVis | kStudy | kTexel, {[] {
-                     MicroShadowingGlsl g =
-                         glsl("msh_dir_term(dir_c0, dir_c1, dir_c8, l_t, n_t)", "msh_dir_term");
-                     g.texel = true;
-                     return g;
-                   }()})),
+                   kNoNdotl | kNoVis | kStudy | kTexel,
+                   {texel_glsl("msh_dir_term(dir_c0, dir_c1, dir_c8, l_t, n_t)", "msh_dir_term")})),
          [](auto&, auto& info) {
            return texel_term(info, [](const In& in) {
              if (in.texel_channels < directional::kDirectionalChannels) return 1.0f;
@@ -595,12 +597,8 @@ const std::vector<Entry>& entries() {
                "directional-view", "directional, view-corrected (21 linear channels)",
                "directional micro-occlusion with the view correction: the 9 channels plus 12 slope channels "
                "that weight each facet by its projected area toward the camera (renderer, study and viewer)",
-               kNoNdotl | kNoVis | kStudy | kTexel, {[] {
-                 MicroShadowingGlsl g =
-                     glsl("msh_dir_view_term(dir_v, l_t, view_t, n_t)", "msh_dir_view_term");
-                 g.texel = true;
-                 return g;
-               }()});
+               kNoNdotl | kNoVis | kStudy | kTexel,
+               {texel_glsl("msh_dir_view_term(dir_v, l_t, view_t, n_t)", "msh_dir_view_term")});
            i.use =
                "relief (a height map exists): ship this, on both lobes (on all materials together the "
                "closest term on the diffuse, the specular and the total at every scale of the 1024² and "
