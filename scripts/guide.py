@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""The decision guide, generated from committed measurement files (docs/measurements/): writes
-docs/choosing.md and the table between the guide markers at the top of README.md; and README's list of every
-micro-shadowing method, from the registry (`microshadow methods --json`). --check compares instead of
-writing and fails (exit 1) on any difference, or when a method of the study set (`microshadow methods --study
---json`) has no entry in docs/measurements/methods.json (test_guide runs it).
+"""The decision guide, generated from committed measurement files (docs/measurements/) and the method registry
+(`microshadow methods --json`: what each method reads, its shader call, when to use it): writes docs/choosing.md
+and the table between the guide markers at the top of README.md; and README's list of every micro-shadowing
+method. --check compares instead of writing and fails (exit 1) on any difference, or when a method of the study
+set has no use sentence in the registry (test_guide runs it).
 Usage: scripts/guide.py [--check] [--msh build/bin/microshadow]
 """
 import json, os, subprocess, sys
@@ -13,6 +13,14 @@ MEAS = os.path.join(ROOT, "docs", "measurements")
 BEGIN, END = "<!-- guide:begin (scripts/guide.py writes this table; do not edit) -->", "<!-- guide:end -->"
 METHODS_BEGIN = "<!-- methods:begin (scripts/guide.py writes this list from the registry; do not edit) -->"
 METHODS_END = "<!-- methods:end -->"
+# The names the registry's GLSL forms use (docs/viewer.md), with the link from README (docs/) or from docs/ ("").
+def names(docs):
+    return (f"over the viewer's names ([{docs}viewer.md]({docs}viewer.md)): `vis` = V, `nl` = N·L, `nv` = N·V, "
+            "`rough` = perceptual roughness, `u_lut3d` and `u_lut3d_slabs` the 3D table and its slab count, `dir_v` "
+            "the 21 directional channels (6 vec4), `l_t`, `view_t`, `n_t` the light, the view and the shading normal "
+            "in the normal map's tangent frame")
+
+
 # The cases of the first screen: (case, method).
 CASES = [
     ("your texture set has a height map (relief: rock, brick, bark, gravel)", "directional-view"),
@@ -29,12 +37,11 @@ def load(name):
 def exact_error(name):
     """RMS / max in 1/255 of a method's run-time form against its own exact term, and the source."""
     terms = {r["method"]: r["all"] for r in load("terms_vs_exact.json")["results"]}
-    alias = {"generic-vndf-alu": "alu"}
     if name in ("reference", "brinck-maximov-2016", "chan-2018", "part1-analytic"):
         a = terms[name]
         return f"{a['rms_255']:.1f} / {a['max_255']:.0f} vs generic", "terms_vs_exact.json"
-    if name in alias:
-        a = terms[alias[name]]
+    if name == "generic-vndf-alu":
+        a = terms[name]
         return f"{a['rms_255']:.2f} / {a['max_255']:.1f}", "terms_vs_exact.json"
     if name in ("lut3d", "lut2d"):
         a = load(f"{name}_vs_exact.json")["all"]
@@ -47,6 +54,34 @@ def exact_error(name):
     if name in ("directional", "directional-view"):
         return "fit (docs/directional-occlusion.md)", ""
     return "–", ""
+
+
+def facts_of(table, costs):
+    """Per method, what the guide shows besides measurements, from the registry: the data per texel (its
+    directional channels and the command that bakes them, V, roughness, the registry's table), bytes at 8 bits and fetches per pixel (4 texel
+    channels per RGBA fetch, V one), table fetches per light (the image samples of its GLSL form in
+    spirv_costs.json; none for a method that takes no table), the shader call (its first GLSL form; a pair: both
+    lobes'), and the registry's use sentence."""
+    by = {m["name"]: m for m in table}
+    facts = {}
+    for m in table:
+        parts = [by[m["diffuse"]], by[m["specular"]]] if m["pair"] else [m]
+        ch = max(p["texel_channels"] for p in parts)
+        vis = any(p["uses_visibility"] for p in parts)
+        rough = any(p["uses_roughness"] for p in parts)
+        bake = next((p["texel_bake"] for p in parts if p["texel_channels"] == ch and p["texel_bake"]), "")
+        reads = [f"{ch} directional channels" + (f" ({bake})" if bake else "")] if ch else []
+        reads += [", ".join((["V"] if vis else []) + (["roughness"] if rough else []))] if vis or rough else []
+        data = " + ".join(reads + [f"the {p['table_sample']}D table" for p in parts if p["table_sample"]])
+        name = m["name"]
+        fetches_light = (costs[name]["image_samples"] if name in costs else
+                         "–" if any(p["accepts_lut"] for p in parts) else 0)
+        facts[name] = {"data": data or "-", "bytes": ch + vis, "fetches_pixel": -(-ch // 4) + vis,
+                       "fetches_light": fetches_light,
+                       "call": " ; ".join(p["glsl"][0]["expr"] for p in parts) if all(p["glsl"] for p in parts)
+                       else "–",
+                       "use": m["use"]}
+    return facts
 
 
 def study(cells, method, comp):
@@ -107,26 +142,22 @@ def views_text(sv):
     return readme, doc
 
 
-def build(msh):
-    facts = load("methods.json")["methods"]
+def registry(msh):
+    return json.loads(subprocess.run([msh, "methods", "--json"], check=True, capture_output=True, text=True).stdout)
+
+
+def build(table):
     costs = load("spirv_costs.json")["methods"]
+    facts = facts_of(table, costs)
     st = load("study_targets.json")
     cells = {"scales": st["config"]["scales"],
              "by": {(c["material"], c["component"], c["scale"], c["method"]): c for c in st["cells"]}}
-    errors = []
-    if msh:
-        table = json.loads(subprocess.run([msh, "methods", "--study", "--json"], check=True, capture_output=True,
-                                          text=True).stdout)
-        for m in table:
-            if m["name"] not in facts:
-                errors.append(f"docs/measurements/methods.json has no entry for the study method {m['name']}")
+    errors = [f"the registry's study method {m['name']} has no use sentence (src/occlusion/micro_shadowing_methods.cpp)"
+              for m in table if m["in_study"] and not m["use"]]
     # Methods measured by a later run on the same configuration ("added": its shared cells equal the file's).
     methods = [m for m in st["config"]["terms"] + st.get("added", {}).get("methods", []) if m in facts]
 
     def instr(m):
-        f = facts[m]
-        if "spirv_instructions" in f:
-            return str(f["spirv_instructions"])
         return str(costs[m]["instructions"]) if m in costs else "–"
 
     ks = ", ".join(f"k = {k}" for k in cells["scales"])
@@ -148,7 +179,8 @@ def build(msh):
     views_path = os.path.join(MEAS, "study_views.json")
     v_readme, v_doc = views_text(load("study_views.json")) if os.path.exists(views_path) else ([], [])
     readme += ([""] + v_readme if v_readme else [])
-    readme += ["", "For comparison, the best older term on the same cells: " +
+    readme += ["", f"Shader calls are the registry's GLSL forms, {names('docs/')}.", ""]
+    readme += ["For comparison, the best older term on the same cells: " +
                "; ".join(f"`{m}` {study(cells, m, 'total')}" for m in ("chan-2018", "lut3d") if m in methods) + ".",
                "", END]
 
@@ -159,7 +191,8 @@ def build(msh):
            "## Which term to ship", ""]
     for case, m in CASES:
         doc.append(f"- **{case}**: `{m}` — {facts[m]['use']}. Shader: `{facts[m]['call']}`.")
-    doc += ["", "## Every term of the study", "",
+    doc += ["", f"Shader calls are the registry's GLSL forms (`microshadow methods --json`), {names('')}.",
+            "", "## Every term of the study", "",
             f"Study error = |term / ground truth − 1| of the mean radiance over the whole view, mean (max) over "
             f"the {lights} and the materials {mats}, per scale ({ks}); components under 10 % of the total are "
             "left out per cell. Error vs exact = the run-time form against its own exact term at 10⁴ continuous "
@@ -190,15 +223,15 @@ def build(msh):
         (["| `study_views.json` | `microshadow study --out DIR --threads 2` (the full study, with its view sweep), "
           "then `scripts/study_targets.py DIR/results.json --sweep-lights 1 --methods none,ao,directional-view,"
           "directional,diffuse-aware-alu+lut3d --json 1` |"] if v_doc else []) + [
-            "| `methods.json` | kept by hand: data, bytes, fetches, calls, use |", ""]
+            "| the registry (`microshadow methods --json`) | data per texel, bytes and fetches per pixel (what each "
+            "method reads: texel channels, 4 per fetch, and V), fetches per light (the image samples of its GLSL form "
+            "in `spirv_costs.json`), shader call (its GLSL form), use |", ""]
     return "\n".join(readme) + "\n", "\n".join(doc), errors
 
 
-def methods_block(msh):
+def methods_block(table):
     """README's list of every method of the registry, one row each: name, what it is, what it reads beyond
     V and N·L, the options it takes, whether the study renders it by default."""
-    table = json.loads(subprocess.run([msh, "methods", "--json"], check=True, capture_output=True,
-                                      text=True).stdout)
     rows = [METHODS_BEGIN, "| method | what it is | reads | options | study |", "|---|---|---|---|---|"]
     for m in table:
         if m["pair"]:
@@ -226,17 +259,18 @@ def replace_block(text, begin, end, block, errors, what):
 
 def main():
     check = "--check" in sys.argv
-    msh = sys.argv[sys.argv.index("--msh") + 1] if "--msh" in sys.argv else None
-    readme_block, doc, errors = build(msh)
+    cli = sys.argv[sys.argv.index("--msh") + 1] if "--msh" in sys.argv else os.path.join(ROOT, "build", "bin",
+                                                                                          "microshadow")
+    if not os.path.exists(cli):
+        print(f"guide: no CLI at {cli} for the method registry (pass --msh)", file=sys.stderr)
+        return 1
+    table = registry(cli)
+    readme_block, doc, errors = build(table)
     choosing = os.path.join(ROOT, "docs", "choosing.md")
     readme = os.path.join(ROOT, "README.md")
     text = open(readme).read()
     new_readme = replace_block(text, BEGIN, END, readme_block, errors, "guide")
-    cli = msh or os.path.join(ROOT, "build", "bin", "microshadow")
-    if os.path.exists(cli):
-        new_readme = replace_block(new_readme, METHODS_BEGIN, METHODS_END, methods_block(cli), errors, "methods")
-    else:
-        errors.append(f"no CLI at {cli} for README's list of methods (pass --msh)")
+    new_readme = replace_block(new_readme, METHODS_BEGIN, METHODS_END, methods_block(table), errors, "methods")
     if check:
         if not os.path.exists(choosing) or open(choosing).read() != doc:
             errors.append("docs/choosing.md differs from what scripts/guide.py writes (run it)")

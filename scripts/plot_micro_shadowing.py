@@ -19,20 +19,22 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from figure_grid import label_panel  # noqa: E402
 
-METHODS = ["reference", "brinck_maximov_2016", "chan_2018", "part1_analytic", "generic_vndf"]
-LABELS = {
-    "reference": "reference step",
-    "brinck_maximov_2016": "Brinck-Maximov 2016",
-    "chan_2018": "Chan 2018",
-    "part1_analytic": "Part 1 analytic",
-    "generic_vndf": "generic VNDF (exact, azimuth mean)",
-}
+# maps.csv's columns after the inputs are the methods, by registry id (`microshadow methods`): the closed
+# forms, then the exact generic term (its azimuth mean), against which the others' errors are drawn.
+INPUTS = ["roughness", "ndotv", "visibility", "ndotl"]
+EXACT = "generic-vndf"
+LABELS = {EXACT: "generic VNDF (exact, azimuth mean)"}
+COLORS = ["k", "tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown"]
 
 
 def read_csv(path):
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     return {k: np.array([float(r[k]) for r in rows]) for k in rows[0].keys()}
+
+
+def label(m):
+    return LABELS.get(m, m)
 
 
 def grid(d, rough, nv, key):
@@ -46,18 +48,21 @@ def grid(d, rough, nv, key):
 def main():
     out = sys.argv[1]
     d = read_csv(os.path.join(out, "maps.csv"))
+    older = [k for k in d if k not in INPUTS and k != EXACT]
+    methods = older + [EXACT]
+    colors = dict(zip(older, COLORS), **{EXACT: "tab:red"})
     roughs = sorted(set(d["roughness"]))
     nvs = sorted(set(d["ndotv"]), reverse=True)
     ext = [0, 1, 1, 0]  # x = Visibility left→right, y = N.L top→bottom (the LUT orientation of Zurita 2026b)
 
     for nv in nvs:
-        fig, axes = plt.subplots(len(roughs), len(METHODS), figsize=(2.3 * len(METHODS), 2.2 * len(roughs)),
+        fig, axes = plt.subplots(len(roughs), len(methods), figsize=(2.3 * len(methods), 2.2 * len(roughs)),
                                  constrained_layout=True)
         for i, r in enumerate(roughs):
-            for j, m in enumerate(METHODS):
+            for j, m in enumerate(methods):
                 ax = axes[i, j]
                 im = ax.imshow(grid(d, r, nv, m), extent=ext, vmin=0, vmax=1, cmap="magma", aspect="auto")
-                label_panel(ax, i, j, len(roughs), LABELS[m], f"roughness {r:g}\nN·L")
+                label_panel(ax, i, j, len(roughs), label(m), f"roughness {r:g}\nN·L")
         fig.colorbar(im, ax=axes, shrink=0.6)
         fig.suptitle(f"Micro-shadowing, N·V = {nv:g} (generic: mean over the relative azimuth)")
         fig.savefig(os.path.join(out, f"maps_ndotv_{nv:g}.png"), dpi=90)
@@ -65,8 +70,6 @@ def main():
 
     # Curves against Visibility at a few N.L.
     fig, axes = plt.subplots(2, 4, figsize=(16, 7), constrained_layout=True, sharey=True)
-    colors = {"reference": "k", "brinck_maximov_2016": "tab:blue", "chan_2018": "tab:orange",
-              "part1_analytic": "tab:green", "generic_vndf": "tab:red"}
     for row, nv in enumerate([1.0, min(nvs)]):
         for col, r in enumerate([x for x in roughs if x > 0][:4]):
             ax = axes[row, col]
@@ -78,9 +81,9 @@ def main():
                     sel = (d["roughness"] == r) & (d["ndotv"] == nv) & (d["ndotl"] == near)
                 vis = d["visibility"][sel]
                 o = np.argsort(vis)
-                for m in METHODS:
+                for m in methods:
                     ax.plot(vis[o], d[m][sel][o], ls, color=colors[m], lw=1.2,
-                            label=f"{LABELS[m]}" if nl == 0.75 else None)
+                            label=label(m) if nl == 0.75 else None)
             ax.set_title(f"roughness {r:g}, N·V = {nv:g}  (N·L: 0.25 dotted, 0.5 dashed, 0.75 solid)", fontsize=8)
             ax.set_xlabel("Visibility")
             ax.grid(alpha=0.3)
@@ -89,17 +92,16 @@ def main():
     plt.close(fig)
 
     # Error maps of the older terms against the exact generic term.
-    older = METHODS[:4]
     for nv in [1.0, 0.5]:
         fig, axes = plt.subplots(len(roughs), len(older), figsize=(2.4 * len(older), 2.2 * len(roughs)),
                                  constrained_layout=True)
         for i, r in enumerate(roughs):
-            g = grid(d, r, nv, "generic_vndf")
+            g = grid(d, r, nv, EXACT)
             for j, m in enumerate(older):
                 e = grid(d, r, nv, m) - g
                 ax = axes[i, j]
                 im = ax.imshow(e, extent=ext, vmin=-1, vmax=1, cmap="RdBu_r", aspect="auto")
-                label_panel(ax, i, j, len(roughs), f"{LABELS[m]}  rms {np.sqrt(np.mean(e ** 2)):.3f}",
+                label_panel(ax, i, j, len(roughs), f"{label(m)}  rms {np.sqrt(np.mean(e ** 2)):.3f}",
                             f"roughness {r:g}\nN·L", title_size=7, every_title=True)
         fig.colorbar(im, ax=axes, shrink=0.6, label="term − exact generic")
         fig.suptitle(f"Error of the older terms vs the exact generic VNDF term, N·V = {nv:g}")

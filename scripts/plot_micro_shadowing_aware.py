@@ -17,11 +17,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from figure_grid import label_panel  # noqa: E402
 
-TERMS = [
-    ("generic_vndf", "generic VNDF"),
-    ("specular_aware", "specular-aware"),
-    ("diffuse_aware", "diffuse-aware"),
-    ("diffuse_aware_flux", "diffuse-aware (flux)"),
+TERMS = [  # maps.csv's columns: registry ids (`microshadow methods`)
+    ("generic-vndf", "generic VNDF"),
+    ("specular-aware", "specular-aware"),
+    ("diffuse-aware", "diffuse-aware"),
+    ("diffuse-aware-flux", "diffuse-aware (flux)"),
 ]
 
 

@@ -224,12 +224,14 @@ for kind in ["plaster", "bark"]:
 h.append("</div>")
 
 h.append("<h2>Terminators</h2><div class='row'>")
-for name, cap in [("bump_off", "bump-mapped sphere, grazing light: no fix"), ("bump_conty-2019", "Conty 2019"),
-                  ("bump_chiang-2019", "Chiang 2019"),
-                  ("lowpoly_no_offset", "low-poly smooth-shaded sphere: shadow rays from the flat faces"),
-                  ("lowpoly_hanika", "with the Hanika 2021 shadow-ray offset"),
-                  ("meshes_representative", "Embree meshes, point + sphere light (representative point)"),
-                  ("meshes_area", "same, sphere light by area sampling (reference)")]:
+# The bump-terminator methods the demo rendered (`microshadow methods --bump --json`), then the Hanika offset.
+with open(os.path.join(R, "bump_methods.json")) as f:
+    bump = [(f"bump_{m['name']}", "bump-mapped sphere, grazing light: no fix" if m["name"] == "none" else m["label"])
+            for m in json.load(f)]
+for name, cap in bump + [("lowpoly_no_offset", "low-poly smooth-shaded sphere: shadow rays from the flat faces"),
+                        ("lowpoly_hanika", "with the Hanika 2021 shadow-ray offset"),
+                        ("meshes_representative", "Embree meshes, point + sphere light (representative point)"),
+                        ("meshes_area", "same, sphere light by area sampling (reference)")]:
     p = os.path.join(R, "terminator", name + ".png")
     if os.path.exists(p):
         h.append(fig(p, cap))

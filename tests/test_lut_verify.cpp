@@ -8,6 +8,8 @@
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/math/vec.h>
+#include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/reference/micro_shadowing_ring.h>
 #include <support/cli_test_util.h>
 #include <sys/wait.h>
@@ -21,6 +23,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -376,10 +379,15 @@ TEST(VerifyCli, ClosedFormTerms) {
   const CliResult r = run("verify micro-shadowing-term --samples 128 --json", d);
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["results"].size(), 7u);
+  // The registry's ids (the two-stage fit under its GLSL form's id, as the viewer names it).
+  std::vector<std::string> names;
+  for (const auto& x : j["results"]) names.push_back(x["method"]);
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"reference", "brinck-maximov-2016", "chan-2018", "part1-analytic",
+                                      "generic-vndf-alu", "generic-vndf-alu-two-stage", "generic-vndf"}));
   for (const auto& x : j["results"]) {
     expect_finite_stats(x["all"], 128);
-    if (x["method"] == "azimuth-mean")
+    if (x["method"] == "generic-vndf")
       EXPECT_LT(x["all"]["max"].get<double>(), 1e-7);  // the reference itself, rounded to float
     else
       EXPECT_GT(x["all"]["rms"].get<double>(), 1e-3);
@@ -388,6 +396,46 @@ TEST(VerifyCli, ClosedFormTerms) {
       run("verify micro-shadowing-term --method chan-2018 --samples 64 --against azimuth", d);
   ASSERT_EQ(one.code, 0) << one.err;
   EXPECT_NE(one.out.find("chan-2018"), std::string::npos);
+  // Each term in float, as a shader runs it: --csv's approx is the float function at the row's inputs.
+  const std::pair<const char*, float (*)(float, float, float, float)> forms[] = {
+      {"chan-2018", [](float V, float nl, float, float) { return micro_shadowing::chan_2018(V, nl); }},
+      {"generic-vndf-alu",
+       [](float V, float nl, float nv, float r) { return micro_shadowing::generic_vndf_alu(V, nl, nv, r); }},
+      {"generic-vndf-alu-two-stage", [](float V, float nl, float nv, float r) {
+         return micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r);
+       }}};
+  for (const auto& [name, f] : forms) {
+    const std::string csv = (d / (std::string(name) + ".csv")).string();
+    ASSERT_EQ(
+        run("verify micro-shadowing-term --samples 64 --method " + std::string(name) + " --csv " + csv, d)
+            .code,
+        0);
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    int rows = 0;
+    while (std::getline(in, line)) {
+      std::vector<double> c;
+      std::stringstream ss(line);
+      for (std::string cell; std::getline(ss, cell, ',');) c.push_back(std::stod(cell));
+      ASSERT_EQ(c.size(), 9u);
+      EXPECT_EQ(c[7], double(f(float(c[1]), float(c[2]), float(c[3]), float(c[4])))) << name << ": " << line;
+      ++rows;
+    }
+    EXPECT_EQ(rows, 64) << name;
+  }
+}
+
+// verify micro-shadowing-aware names the run-time forms by registry id (the specular mean's float and double
+// closed forms: specular-aware-alu, specular-aware), not by the names it had (specular-aware-mean...).
+TEST(VerifyCli, AwareFormsByRegistryId) {
+  const fs::path d = scratch();
+  for (const char* m : {"specular-aware-alu", "specular-aware"}) {
+    const CliResult r = run("verify micro-shadowing-aware --samples 32 --json --method " + std::string(m), d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(nlohmann::json::parse(r.out).contains(m)) << r.out;
+  }
+  EXPECT_EQ(run("verify micro-shadowing-aware --samples 32 --method specular-aware-mean", d).code, 2);
 }
 
 TEST(VerifyCli, BadInputIsOneLineExitTwo) {

@@ -6,10 +6,13 @@
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/microfacet/ggx.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <string>
 #include <vector>
 
 namespace msh::lut {
@@ -108,6 +111,27 @@ TEST(MicroShadowingAnalysis, TermErrorsOfHandBuiltCells) {
   EXPECT_EQ(c.visibility, 1.0);
   EXPECT_EQ(c.chan, micro_shadowing::chan_2018(1.0, 0.5));
   EXPECT_EQ(c.generic, micro_shadowing::generic_vndf_exact_azimuth_mean(1.0, 0.16, 0.5, 0.5));
+}
+
+// The columns are named by the registry's ids: kTermNames are its closed forms of (V, N·L) that depend on
+// N·L, in its order, and each cell's value is the registry's closed form; kExactTermName evaluates (without
+// the azimuth) to the cell's generic value.
+TEST(MicroShadowingAnalysis, TermNamesAreTheRegistrysClosedForms) {
+  std::vector<std::string> closed;
+  for (const auto& m : occlusion::micro_shadowing_methods())
+    if (m.closed_form && m.uses_ndotl) closed.push_back(m.name);
+  EXPECT_EQ(closed, std::vector<std::string>(std::begin(kTermNames), std::end(kTermNames)));
+  const std::vector<TermMapCell> g = term_maps(4, {0.4}, {0.7});
+  const occlusion::MicroShadowingEvaluator exact(kExactTermName);
+  for (const TermMapCell& c : g) {
+    const double vals[4] = {c.reference, c.brinck_maximov, c.chan, c.part1};
+    for (int q = 0; q < 4; ++q)
+      EXPECT_EQ(vals[q],
+                occlusion::find_micro_shadowing_method(kTermNames[q])->closed_form(c.visibility, c.n_dot_l))
+          << kTermNames[q];
+    EXPECT_EQ(c.generic,
+              exact.eval({c.visibility, c.n_dot_l, c.n_dot_v, c.roughness, std::nullopt, std::nullopt}));
+  }
 }
 
 }  // namespace

@@ -140,7 +140,7 @@ TEST(SpecularAware, AzimuthMeanClosedFormMatchesQuadrature) {
 TEST(SpecularAware, FloatAzimuthMeanOffGrid) {
   // The run-time form (float closed form, also the shaders') against the double quadrature at continuous
   // inputs, roughness 0.1–1, against the same quadrature reference as docs/micro-shadowing-aware.md's figure
-  // (`verify micro-shadowing-aware --method specular-aware-mean --samples 20000`: max 0.0047/255 = 1.84e-5).
+  // (`verify micro-shadowing-aware --method specular-aware-alu --samples 20000`: max 0.0047/255 = 1.84e-5).
   // Asserted at that max with only its rounding (0.00475/255) as margin: a 2000-point sample max exceeds a
   // 20,000-point one of the same distribution with probability 2000 / 22000 = 9 % for a random seed; this
   // seed is fixed and below it (measured 1.47e-5 = 0.0038/255).

@@ -1,11 +1,13 @@
 // `microshadow eval micro-shadowing` / `plot micro-shadowing`: JSON output, exit codes, files.
 #include <gtest/gtest.h>
+#include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -114,6 +116,26 @@ TEST(MicroShadowingCli, BadInputExitsTwo) {
   EXPECT_EQ(run("plot micro-shadowing --out /tmp --size 1").code, 2);
 }
 
+// methods --bump lists the bump-terminator registry (the names render --bump-terminator takes); the
+// micro-shadowing filters do not apply to it.
+TEST(MicroShadowingCli, MethodsBumpListsTheBumpRegistry) {
+  const test::CliResult names = run("methods --bump --names");
+  ASSERT_EQ(names.code, 0) << names.err;
+  std::string want;
+  for (const bump::MethodInfo& i : bump::kMethods) {
+    if (!want.empty()) want += ',';
+    want += i.name;
+  }
+  EXPECT_EQ(names.out, want + "\n");
+  const test::CliResult json = run("methods --bump --json");
+  ASSERT_EQ(json.code, 0) << json.err;
+  const auto j = nlohmann::json::parse(json.out);
+  ASSERT_EQ(j.size(), std::size(bump::kMethods));
+  EXPECT_EQ(j[1]["name"], "conty-2019");
+  EXPECT_EQ(j[1]["label"], std::string(bump::kMethods[1].label));
+  EXPECT_EQ(run("methods --bump --study").code, 2);
+}
+
 TEST(MicroShadowingCli, PlotWritesCsvsDeterministically) {
   const std::filesystem::path d1 = std::filesystem::path(MSH_BINARY_DIR) / "test_ms_plot1",
                               d2 = std::filesystem::path(MSH_BINARY_DIR) / "test_ms_plot2";
@@ -130,7 +152,7 @@ TEST(MicroShadowingCli, PlotWritesCsvsDeterministically) {
   const std::string maps = test::slurp(d1 / "maps.csv");
   EXPECT_EQ(
       maps.substr(0, maps.find('\n')),
-      "roughness,ndotv,visibility,ndotl,reference,brinck_maximov_2016,chan_2018,part1_analytic,generic_vndf");
+      "roughness,ndotv,visibility,ndotl,reference,brinck-maximov-2016,chan-2018,part1-analytic,generic-vndf");
   // 5 roughness × 3 N·V × 5 × 5 rows + header.
   EXPECT_EQ(std::count(maps.begin(), maps.end(), '\n'), 5 * 3 * 25 + 1);
   const auto s = nlohmann::json::parse(test::slurp(d1 / "summary.json"));

@@ -2,9 +2,11 @@
 // exit codes.
 #include <gtest/gtest.h>
 #include <microshadow/occlusion/micro_shadowing.h>
+#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -55,40 +57,73 @@ TEST(MicroShadowingFitCli, EvalAlu) {
             2);
 }
 
+// plot micro-shadowing-fit ARGS --out DIR/NAME.csv: its stdout summary, and the CSV's header and rows.
+struct FitRun {
+  nlohmann::json summary;
+  std::string header;
+  std::vector<std::vector<double>> rows;
+};
+FitRun run_fit(const std::filesystem::path& dir, const std::string& name, const std::string& args) {
+  std::filesystem::create_directories(dir);
+  const auto csv = dir / (name + ".csv");
+  const test::CliResult r = run("plot micro-shadowing-fit " + args + " --out " + csv.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  FitRun f;
+  if (r.code != 0) return f;
+  f.summary = nlohmann::json::parse(r.out);
+  f.rows = read_csv(csv, &f.header);
+  return f;
+}
+
+// The CSV's header (the inputs, early_out, exact, then the given columns) and size; check(V, N·L, N·V,
+// roughness, row) on every row.
+template <class Check>
+void expect_csv(const FitRun& f, const std::string& columns, std::size_t rows, Check check) {
+  EXPECT_EQ(f.header, "visibility,ndotl,ndotv,roughness,early_out,exact," + columns);
+  ASSERT_EQ(f.rows.size(), rows);
+  const std::size_t n = std::size_t(std::count(f.header.begin(), f.header.end(), ',')) + 1;
+  for (const auto& row : f.rows) {
+    ASSERT_EQ(row.size(), n);
+    check(row[0], row[1], row[2], row[3], row);
+  }
+}
+
 TEST(MicroShadowingFitCli, PlotWritesCsvAndSummary) {
   const auto dir = std::filesystem::temp_directory_path() / "msh_test_ms_fit_cli";
-  std::filesystem::create_directories(dir);
-  const auto csv = dir / "pts.csv";
-  const test::CliResult r =
-      run("plot micro-shadowing-fit --samples 60 --seed 9 --near-step 5 --out " + csv.string());
-  ASSERT_EQ(r.code, 0);
-  const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["points"], 65);
-  const auto& alu = j["errors_vs_exact_azimuth_mean"]["alu"]["all"];
+  const FitRun f = run_fit(dir, "pts", "--samples 60 --seed 9 --near-step 5");
+  EXPECT_EQ(f.summary["points"], 65);
+  const auto& alu = f.summary["errors_vs_exact_azimuth_mean"]["generic-vndf-alu"]["all"];
   EXPECT_EQ(alu["n"], 65);
   EXPECT_GE(alu["max_255"].get<double>(), alu["rms_255"].get<double>());
-  std::string header;
-  const auto rows = read_csv(csv, &header);
-  EXPECT_EQ(
-      header,
-      "visibility,ndotl,ndotv,roughness,early_out,exact,alu,alu_two_stage,reference,brinck_maximov_2016,"
-      "chan_2018,part1_analytic");
-  ASSERT_EQ(rows.size(), 65u);
-  for (const auto& row : rows) {
-    ASSERT_EQ(row.size(), 12u);
-    const double V = row[0], nl = row[1], nv = row[2], r = row[3];
-    EXPECT_TRUE(V >= 0 && V <= 1 && nl > 0 && nl <= 1 && nv > 0 && nv <= 1 && r >= 0.1 && r <= 1);
-    EXPECT_EQ(row[4] != 0, micro_shadowing::exact_zero(V, nl));
-    EXPECT_NEAR(row[5], micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv), 1e-8);
-    EXPECT_NEAR(row[6], micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r)), 1e-7);
-    EXPECT_NEAR(row[9], micro_shadowing::brinck_maximov_2016(V, nl), 1e-8);
-  }
+  expect_csv(
+      f, "generic-vndf-alu,generic-vndf-alu-two-stage,reference,brinck-maximov-2016,chan-2018,part1-analytic",
+      65, [](double V, double nl, double nv, double r, const std::vector<double>& row) {
+        EXPECT_TRUE(V >= 0 && V <= 1 && nl > 0 && nl <= 1 && nv > 0 && nv <= 1 && r >= 0.1 && r <= 1);
+        EXPECT_EQ(row[4] != 0, micro_shadowing::exact_zero(V, nl));
+        EXPECT_NEAR(row[5], micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv), 1e-8);
+        EXPECT_NEAR(row[6], micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r)),
+                    1e-7);
+        EXPECT_NEAR(row[9], micro_shadowing::brinck_maximov_2016(V, nl), 1e-8);
+      });
   // Deterministic: the same seed gives the same file.
-  const auto csv2 = dir / "pts2.csv";
-  ASSERT_EQ(run("plot micro-shadowing-fit --samples 60 --seed 9 --near-step 5 --out " + csv2.string()).code,
-            0);
-  std::string h2;
-  EXPECT_EQ(read_csv(csv2, &h2), rows);
+  EXPECT_EQ(run_fit(dir, "pts2", "--samples 60 --seed 9 --near-step 5").rows, f.rows);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MicroShadowingFitCli, DiffuseAwareColumnsAreRegistryIds) {
+  const auto dir = std::filesystem::temp_directory_path() / "msh_test_ms_fit_cli_aware";
+  const FitRun f = run_fit(dir, "pts", "--term diffuse-aware --samples 6 --seed 3");
+  EXPECT_EQ(f.summary["errors_vs_exact_azimuth_mean"]["diffuse-aware-alu"]["all"]["n"], 6);
+  expect_csv(
+      f, "diffuse-aware-alu,generic-vndf-alu-two-stage,reference", 6,
+      [](double V, double nl, double nv, double r, const std::vector<double>& row) {
+        EXPECT_NEAR(row[6], micro_shadowing::diffuse_aware_alu(float(V), float(nl), float(nv), float(r)),
+                    1e-7);
+        EXPECT_NEAR(row[7],
+                    micro_shadowing::generic_vndf_alu_two_stage(float(V), float(nl), float(nv), float(r)),
+                    1e-7);
+        EXPECT_EQ(row[8], micro_shadowing::reference_step(V, nl));
+      });
   std::filesystem::remove_all(dir);
 }
 

@@ -30,6 +30,27 @@ TEST(MicroShadowingMethods, NamesAreUniqueAndFindable) {
   EXPECT_EQ(find_micro_shadowing_method("nope"), nullptr);
 }
 
+// What docs/choosing.md derives from the registry (scripts/guide.py): every study method says when to use it;
+// a method reads V unless it is none or a per-texel term (which names the command that bakes its channels);
+// a pair reads what its terms read.
+TEST(MicroShadowingMethods, GuideFactsAreInTheRegistry) {
+  for (const auto& m : micro_shadowing_methods()) {
+    if (m.in_study) {
+      EXPECT_FALSE(m.use.empty()) << m.name;
+    }
+    if (m.is_pair()) {
+      const auto *d = find_micro_shadowing_method(m.diffuse), *s = find_micro_shadowing_method(m.specular);
+      EXPECT_EQ(m.uses_visibility, d->uses_visibility || s->uses_visibility) << m.name;
+      EXPECT_EQ(m.texel_bake, d->needs_texel ? d->texel_bake : s->texel_bake) << m.name;
+      continue;
+    }
+    EXPECT_EQ(m.uses_visibility, m.name != "none" && !m.needs_texel) << m.name;
+    EXPECT_EQ(m.texel_bake.empty(), !m.needs_texel) << m.name;
+  }
+  EXPECT_EQ(find_micro_shadowing_method("directional")->texel_bake, "gen-material");
+  EXPECT_EQ(find_micro_shadowing_method("directional-view")->texel_bake, "gen-material --directional-view");
+}
+
 TEST(MicroShadowingMethods, EachEntryEvaluatesItsFunction) {
   const MicroShadowingEvaluator ao("ao"), step("reference"), bm("brinck-maximov-2016"), chan("chan-2018"),
       p1("part1-analytic"), gen("generic-vndf"), alu("generic-vndf-alu"), l3("lut3d"), l2("lut2d");

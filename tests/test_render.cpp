@@ -16,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 using namespace msh;
@@ -191,7 +192,7 @@ TEST(RenderMethods, DirectionalViewReadsTheCameraInTangentSpace) {
 // A method that reads the directional channels refuses a material without them, naming both.
 TEST(RenderMethods, DirectionalNeedsItsChannels) {
   const std::string scene = R"({
-      "materials": {"m": {"base_color": 0.5}}, "objects": [{"type": "plane", "material": "m"}],
+      "materials": {"m": {"base_color": 0.5}}, "objects": [{"type": "plane", "material": "m"}], "lights": [],
       "lights": [{"type": "directional", "elevation_deg": 40, "intensity": 2}],
       "settings": {"width": 4, "height": 4, "micro_shadowing": "directional"}})";
   const Scene s = parse_scene(scene, "inline.json", ".");
@@ -607,6 +608,36 @@ TEST(RenderComponent, DiffuseAndSpecularMatchClosedForms) {
     EXPECT_NEAR(got.r, expect, 1e-3 * expect) << comp;
   }
   EXPECT_THROW(component_from_string("both"), InputError);
+}
+
+// The renderer's bump-terminator methods are the registry's (bump::kMethods): every name round-trips, a scene
+// file's settings take them, and anything else is refused with the list (the renderer's former "off" with
+// its new name).
+TEST(Render, BumpTerminatorNamesAreTheRegistrys) {
+  for (const bump::MethodInfo& i : bump::kMethods) {
+    EXPECT_EQ(bump_terminator_from_string(std::string(i.name)), i.method);
+    EXPECT_EQ(std::string_view(to_string(i.method)), i.name);
+    const std::string json =
+        R"({"camera": {"eye": [0, -3, 2], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30},
+      "materials": {"m": {"base_color": 0.5}}, "objects": [{"type": "plane", "material": "m"}], "lights": [],
+      "settings": {"bump_terminator": ")" +
+        std::string(i.name) + R"("}})";
+    EXPECT_EQ(parse_scene(json, "inline.json", ".").settings.bump_terminator, i.method) << i.name;
+  }
+  EXPECT_EQ(Settings{}.bump_terminator, bump::Method::kNone);
+  try {
+    bump_terminator_from_string("sideways");
+    ADD_FAILURE() << "sideways accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("none, conty-2019, chiang-2019"), std::string::npos) << e.what();
+  }
+  // The renderer's former name of none is refused with the new one (as for the micro-shadowing methods).
+  try {
+    bump_terminator_from_string("off");
+    ADD_FAILURE() << "off accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("now called 'none'"), std::string::npos) << e.what();
+  }
 }
 
 namespace {

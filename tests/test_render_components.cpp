@@ -73,7 +73,7 @@ Scene coarse_scene(const std::string& method) {
   st.micro_shadowing = method, st.vndf_samples = 4;
   st.area_lights = true, st.area_samples = 3;
   st.ambient = {0.05f, 0.04f, 0.03f}, st.background = {0.01f, 0.02f, 0.03f};
-  st.bump_terminator = BumpTerminator::Conty2019;
+  st.bump_terminator = BumpTerminator::kConty2019;
   st.seed = 5;
   return s;
 }
@@ -166,7 +166,7 @@ TEST(RenderComponents, IntegratedAreaTermOnePassEqualsTwoRenders) {
   for (const char* method : {"ao", "diffuse-aware-alu+lut3d"}) {
     Scene s = coarse_scene(method);
     s.settings.area_ms = AreaMs::Integrated;
-    s.settings.bump_terminator = BumpTerminator::Off;
+    s.settings.bump_terminator = BumpTerminator::kNone;
     s.settings.width = s.settings.height = 6, s.settings.spp = 4;
     s.lights = {s.lights[2], s.lights[3]};  // sphere and disk
     expect_components_identical(s, std::string(method) + ", area_ms integrated");

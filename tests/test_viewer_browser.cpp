@@ -337,8 +337,8 @@ TEST(ViewerServer, MethodsJsIsGeneratedFromTheRegistry) {
     if (!m.is_pair()) {
       for (const auto& g : m.glsl) {
         ++n;
-        ASSERT_EQ(e.count(m.name + g.id_suffix), 1u) << m.name << g.id_suffix;
-        EXPECT_EQ(e.at(m.name + g.id_suffix)["label"], m.label + g.label_suffix);
+        ASSERT_EQ(e.count(m.form_id(g)), 1u) << m.form_id(g);
+        EXPECT_EQ(e.at(m.form_id(g))["label"], m.label + g.label_suffix);
       }
       continue;
     }

@@ -43,8 +43,10 @@ for el in 10 25 45; do
       sed "s/^{/{\"elevation\":$el,\"method\":\"smooth:$m\",/" >> "$R/errors.jsonl"
   done
 done
-# Bump terminator on a strongly normal-mapped sphere, and the Hanika offset on a low-poly sphere.
-for b in off conty-2019 chiang-2019; do
+# Bump terminator on a strongly normal-mapped sphere (every method of `methods --bump`; the report reads their
+# labels there), and the Hanika offset on a low-poly sphere.
+"$MSH" methods --bump --json > "$R/bump_methods.json"
+for b in $("$MSH" methods --bump --names | tr , ' '); do
   "$MSH" render examples/bump_sphere.json --assets "$R" --quiet --bump-terminator "$b" \
     --out "$R/terminator/bump_$b" > /dev/null
 done

@@ -12,6 +12,7 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
+#include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
@@ -250,8 +251,8 @@ void run_plot(const PlotArgs& a) {
   const int n = a.size;
   const std::vector<lut::TermMapCell> cells = lut::term_maps(n, kPlotRoughness, kPlotNdotV);
   std::ostringstream maps;
-  maps << "roughness,ndotv,visibility,ndotl,reference,brinck_maximov_2016,chan_2018,part1_analytic,generic_"
-          "vndf\n";
+  maps << "roughness,ndotv,visibility,ndotl," << fmt::format("{}", fmt::join(lut::kTermNames, ",")) << ','
+       << lut::kExactTermName << '\n';
   for (const lut::TermMapCell& c : cells)
     maps << fmtd(c.roughness) << ',' << fmtd(c.n_dot_v) << ',' << fmtd(c.visibility) << ',' << fmtd(c.n_dot_l)
          << ',' << fmtd(c.reference) << ',' << fmtd(c.brinck_maximov) << ',' << fmtd(c.chan) << ','
@@ -315,19 +316,31 @@ void run_plot(const PlotArgs& a) {
 // ---- methods ---------------------------------------------------------------------------------------------
 
 struct MethodsArgs {
-  bool json = false, study = false, names = false, uses_ndotl = false;
+  bool json = false, study = false, names = false, uses_ndotl = false, bump = false;
 };
 
-// The registry as a table or JSON (what the demo and scripts/render_report.py read).
+// The registry as a table or JSON (what the demo and scripts/render_report.py read); --bump: the
+// bump-terminator registry (occlusion/bump_terminator.h).
 void run_methods(const MethodsArgs& a) {
   nlohmann::json list = nlohmann::json::array();
   std::string text;
+  if (a.bump) {
+    if (a.study || a.uses_ndotl) throw UsageError("--study and --uses-ndotl select micro-shadowing methods");
+    for (const bump::MethodInfo& i : bump::kMethods) {
+      list.push_back({{"name", i.name},
+                      {"label", i.label},
+                      {"summary", i.summary},
+                      {"glsl", i.glsl},
+                      {"requires", i.requires_fn}});
+      text += a.names ? (text.empty() ? "" : ",") + std::string(i.name)
+                      : fmt::format("{:<38} {}\n", i.name, i.label);
+    }
+  }
   for (const occlusion::MicroShadowingMethodInfo& i : occlusion::micro_shadowing_methods()) {
-    if ((a.study && !i.in_study) || (a.uses_ndotl && !i.uses_ndotl)) continue;
+    if (a.bump || (a.study && !i.in_study) || (a.uses_ndotl && !i.uses_ndotl)) continue;
     nlohmann::json glsl = nlohmann::json::array();
     for (const occlusion::MicroShadowingGlsl& g : i.glsl)
-      glsl.push_back(
-          {{"id", i.name + g.id_suffix}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
+      glsl.push_back({{"id", i.form_id(g)}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
     list.push_back({{"name", i.name},
                     {"label", i.label},
                     {"summary", i.summary},
@@ -344,6 +357,10 @@ void run_methods(const MethodsArgs& a) {
                     {"accepts_lut", i.accepts_lut},
                     {"needs_texel", i.needs_texel},
                     {"texel_channels", i.texel_channels},
+                    {"texel_bake", i.texel_bake},
+                    {"uses_visibility", i.uses_visibility},
+                    {"table_sample", i.table_sample},
+                    {"use", i.use},
                     {"glsl", glsl}});
     text += a.names ? (text.empty() ? "" : ",") + i.name
                     : fmt::format("{:<38} {}{}\n", i.name, i.label, i.in_study ? "  [study]" : "");
@@ -367,6 +384,9 @@ void add_micro_shadowing(Groups& g) {
     m->add_flag("--study", ma->study, "Only the methods the study renders by default");
     m->add_flag("--uses-ndotl", ma->uses_ndotl, "Only the methods that depend on N.L (not none, ao)");
     m->add_flag("--names", ma->names, "Only the names, comma-separated on one line (for --method lists)");
+    m->add_flag(
+        "--bump", ma->bump,
+        "The bump-terminator methods instead (render --bump-terminator, eval bump-terminator --method)");
   }
   const auto [e, ea] =
       add_command<EvalArgs>(g.eval, "micro-shadowing",

@@ -12,8 +12,8 @@
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/occlusion/micro_shadowing.h>
-#include <microshadow/occlusion/micro_shadowing_aware_fit.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/reference/micro_shadowing_aware_exact.h>
 #include <microshadow/reference/micro_shadowing_exact.h>
 #include <tbb/parallel_for.h>
@@ -104,11 +104,17 @@ void run_fit_data(const FitDataArgs& a) {
   });
 
   // Errors of the ALU terms (float, the shader precision) and the older terms, overall and per roughness
-  // band.
-  const std::vector<std::string> names =
-      generic ? std::vector<std::string>{"alu",       "alu_two_stage", "reference", "brinck_maximov_2016",
-                                         "chan_2018", "part1_analytic"}
-              : std::vector<std::string>{"aware_alu", "generic_alu_two_stage", "reference"};
+  // band. The columns are registry ids (occlusion/runtime/micro_shadowing_methods.h): the term's ALU fit
+  // (generic-vndf-alu or diffuse-aware-alu, through the registry's evaluation), the generic fit's two-stage
+  // form (generic-vndf-alu-two-stage), and the registry's closed forms of (V, N.L) that depend on N.L (the
+  // reference step only beside the diffuse-aware term), in double as the registry's closed_form.
+  const occlusion::MicroShadowingEvaluator fit(generic ? "generic-vndf-alu" : "diffuse-aware-alu");
+  std::vector<std::string> names = {fit.info().name, two_stage_fit_id()};
+  std::vector<double (*)(double, double)> closed;
+  for (const std::string& n : generic ? closed_form_terms() : std::vector<std::string>{"reference"}) {
+    names.push_back(n);
+    closed.push_back(occlusion::find_micro_shadowing_method(n)->closed_form);
+  }
   const std::array<double, 4> bands = {0.1, 0.25, 0.55, 1.0 + 1e-12};
   std::vector<std::array<std::vector<double>, 4>> err(names.size());  // [method][band 0..2, all]
   std::ostringstream csv;
@@ -117,19 +123,10 @@ void run_fit_data(const FitDataArgs& a) {
   csv << "\n";
   for (size_t i = 0; i < pts.size(); ++i) {
     const Input& p = pts[i];
-    const float vf = float(p.vis), lf = float(p.nl), nvf = float(p.nv), rf = float(p.r);
-    std::vector<double> vals;
-    if (generic)
-      vals = {double(micro_shadowing::generic_vndf_alu(vf, lf, nvf, rf)),
-              double(micro_shadowing::generic_vndf_alu_two_stage(vf, lf, nvf, rf)),
-              micro_shadowing::reference_step(p.vis, p.nl),
-              micro_shadowing::brinck_maximov_2016(p.vis, p.nl),
-              micro_shadowing::chan_2018(p.vis, p.nl),
-              micro_shadowing::part1_analytic(p.vis, p.nl)};
-    else
-      vals = {double(micro_shadowing::diffuse_aware_alu(vf, lf, nvf, rf)),
-              double(micro_shadowing::generic_vndf_alu_two_stage(vf, lf, nvf, rf)),
-              micro_shadowing::reference_step(p.vis, p.nl)};
+    std::vector<double> vals = {fit.eval({p.vis, p.nl, p.nv, p.r, std::nullopt, std::nullopt}),
+                                double(micro_shadowing::generic_vndf_alu_two_stage(float(p.vis), float(p.nl),
+                                                                                   float(p.nv), float(p.r)))};
+    for (const auto f : closed) vals.push_back(f(p.vis, p.nl));
     csv << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g}", p.vis, p.nl, p.nv, p.r, early_out(p) ? 1 : 0,
                        exact[i]);
     int band = 0;

@@ -1,6 +1,7 @@
 // `microshadow render`, `microshadow gen-material`, `microshadow compare`: the reference renderer's commands.
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
+#include <microshadow/occlusion/bump_terminator.h>
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_codec.h>
 #include <microshadow/render/gltf_export.h>
@@ -161,7 +162,8 @@ void add_render(Groups& g) {
   r->add_option("--vndf-samples", a->vndf_samples,
                 "Samples per light of the methods with a Sobol estimator (generic-vndf, diffuse-aware, ...)")
       ->check(CLI::Range(1, 1 << 20));
-  r->add_option("--bump-terminator", a->bump, "off, conty-2019, chiang-2019");
+  r->add_option("--bump-terminator", a->bump,
+                "Bump-terminator method (`microshadow methods --bump`): " + bump::method_names());
   r->add_option(
        "--ms-normal", a->ms_normal,
        "Normal for the micro-shadowing N·L, N·V: shading (normal-mapped, default) or smooth (unperturbed)")

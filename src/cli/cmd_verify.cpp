@@ -4,8 +4,8 @@
 //       [--sampler auto|plain|azimuth] [--gpu-weights BITS] [--json]
 //   microshadow verify micro-shadowing-term --method NAME|all [--samples N] [--against mean|azimuth] [--json]
 // A table is measured through the public samplers an engine calls (sample_micro_shadowing,
-// sample_micro_shadowing_azimuth); the closed-form terms and the ALU fits through
-// occlusion/micro_shadowing*.h.
+// sample_micro_shadowing_azimuth); the terms through the method registry
+// (occlusion/runtime/micro_shadowing_methods.h), by their registry ids.
 #include <fmt/format.h>
 #include <microshadow/io/atomic_file.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
@@ -13,6 +13,7 @@
 #include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/occlusion/micro_shadowing.h>
 #include <microshadow/occlusion/micro_shadowing_fit.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 
 #include <algorithm>
 #include <chrono>
@@ -268,46 +269,59 @@ void run_lut(const LutArgs& a) {
   print_result(r);
 }
 
-// The closed-form terms of occlusion/micro_shadowing.h, the ALU fits of micro_shadowing_fit.h, and the exact
-// azimuth mean itself (against the azimuth: the best any azimuth-blind approximation can do).
-const std::vector<std::string> kTerms = {"reference", "brinck-maximov-2016", "chan-2018",   "part1-analytic",
-                                         "alu",       "alu-two-stage",       "azimuth-mean"};
+// The terms measured, by their registry ids (occlusion/runtime/micro_shadowing_methods.h): the registry's
+// closed forms of (V, N.L) that depend on N.L and the generic term's ALU fit, as the renderer runs them
+// (MicroShadowingEvaluator::shade: float, as a shader); the fit's two-stage form (per pixel + per light),
+// under its form id generic-vndf-alu-two-stage; and the exact generic term itself, generic-vndf, evaluated
+// like every term here without the azimuth (its exact azimuth mean: against the azimuth, the best any
+// azimuth-blind approximation can do).
+struct Term {
+  std::string name;
+  lut::MicroShadowingApprox f;
+};
 
-lut::MicroShadowingApprox term(const std::string& m) {
-  if (m == "reference")
-    return [](float V, float nl, float, float, float) { return micro_shadowing::reference_step(V, nl); };
-  if (m == "brinck-maximov-2016")
-    return [](float V, float nl, float, float, float) { return micro_shadowing::brinck_maximov_2016(V, nl); };
-  if (m == "chan-2018")
-    return [](float V, float nl, float, float, float) { return micro_shadowing::chan_2018(V, nl); };
-  if (m == "part1-analytic")
-    return [](float V, float nl, float, float, float) { return micro_shadowing::part1_analytic(V, nl); };
-  if (m ==
-      "alu")  // ALU-only fits of the azimuth mean (occlusion/micro_shadowing_fit.h), in float as a shader
-    return [](float V, float nl, float nv, float r, float) {
-      return micro_shadowing::generic_vndf_alu(V, nl, nv, r);
+const std::vector<Term>& terms() {
+  using occlusion::MicroShadowingEvaluator;
+  static const std::vector<Term> t = [] {
+    std::vector<Term> v;
+    const auto shaded = [](std::shared_ptr<const MicroShadowingEvaluator> e) {
+      return Term{e->info().name, [e](float V, float nl, float nv, float r, float) {
+                    occlusion::MicroShadowingShadeInput in;
+                    in.visibility = V, in.roughness = r;
+                    in.v = {std::sqrt(std::max(0.0f, 1 - nv * nv)), 0, nv};
+                    in.l = {std::sqrt(std::max(0.0f, 1 - nl * nl)), 0, nl};
+                    return e->shade(in).diffuse;
+                  }};
     };
-  if (m == "alu-two-stage")
-    return [](float V, float nl, float nv, float r, float) {
-      return micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r);
-    };
-  return [](float V, float nl, float nv, float r, float) {
-    return float(lut::verify_reference_value(lut::VerifyReference::AzimuthMean, V, nl, nv, r, 1.0));
-  };
+    for (const std::string& name : closed_form_terms())
+      v.push_back(shaded(std::make_shared<MicroShadowingEvaluator>(name)));
+    v.push_back(shaded(std::make_shared<MicroShadowingEvaluator>("generic-vndf-alu")));
+    v.push_back({two_stage_fit_id(), [](float V, float nl, float nv, float r, float) {
+                   return micro_shadowing::generic_vndf_alu_two_stage(V, nl, nv, r);
+                 }});
+    const auto exact = std::make_shared<const MicroShadowingEvaluator>("generic-vndf");
+    v.push_back({exact->info().name, [exact](float V, float nl, float nv, float r, float) {
+                   return float(exact->eval({V, nl, nv, r, std::nullopt, std::nullopt}));
+                 }});
+    return v;
+  }();
+  return t;
+}
+
+std::vector<std::string> term_names() {
+  std::vector<std::string> n;
+  for (const Term& t : terms()) n.push_back(t.name);
+  return n;
 }
 
 void run_term(const TermArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::string> methods;
-  if (a.method == "all") {
-    methods = kTerms;
-  } else {
-    for (const std::string& m : kTerms)
-      if (m == a.method) methods.push_back(m);
-    if (methods.empty())
-      throw UsageError(
-          fmt::format("--method must be all or one of: {}; got '{}'", fmt::join(kTerms, ", "), a.method));
-  }
+  std::vector<const Term*> methods;
+  for (const Term& t : terms())
+    if (a.method == "all" || t.name == a.method) methods.push_back(&t);
+  if (methods.empty())
+    throw UsageError(
+        fmt::format("--method must be all or one of: {}; got '{}'", fmt::join(term_names(), ", "), a.method));
   const lut::VerifyOptions o = make_options(a, 0.1, 1.0);
   if (!a.csv.empty()) {
     if (methods.size() != 1) throw UsageError("--csv needs one --method");
@@ -315,7 +329,7 @@ void run_term(const TermArgs& a) {
   }
   const std::vector<lut::VerifyInput> inputs = lut::make_verify_inputs(o);  // shared by every method
   std::vector<lut::VerifyResult> results;
-  for (const std::string& m : methods) results.push_back(lut::measure(inputs, term(m), o));
+  for (const Term* m : methods) results.push_back(lut::measure(inputs, m->f, o));
   if (!a.csv.empty()) write_csv(a.csv, inputs, results[0]);
   const double seconds = seconds_since(t0);
   if (a.json) {
@@ -328,7 +342,7 @@ void run_term(const TermArgs& a) {
     nlohmann::json arr = nlohmann::json::array();
     for (std::size_t i = 0; i < methods.size(); ++i) {
       nlohmann::json x = result_json(results[i]);
-      x["method"] = methods[i];
+      x["method"] = methods[i]->name;
       arr.push_back(x);
     }
     j["results"] = arr;
@@ -341,7 +355,7 @@ void run_term(const TermArgs& a) {
       o.against == lut::VerifyReference::AzimuthMean ? "azimuth mean" : "term at the input's azimuth",
       o.samples, o.seed, o.roughness_min, o.roughness_max, seconds);
   for (std::size_t i = 0; i < methods.size(); ++i) {
-    std::cout << methods[i] << ":\n";
+    std::cout << methods[i]->name << ":\n";
     print_result(results[i]);
   }
 }
@@ -391,11 +405,12 @@ void add_verify(Groups& g) {
 
   const auto [t, ta] = add_command<TermArgs>(
       g.verify, "micro-shadowing-term",
-      "The same measure for the closed-form terms (reference step, Brinck-Maximov 2016, Chan 2018, Part 1 "
-      "analytic), the ALU-only fits (alu, alu-two-stage) and the exact azimuth mean, on one shared set of "
-      "inputs",
+      "The same measure for the registry's closed-form terms (reference, brinck-maximov-2016, chan-2018, "
+      "part1-analytic), the generic term's ALU-only fit (generic-vndf-alu, and its two-stage form "
+      "generic-vndf-alu-two-stage) and the exact generic term's azimuth mean (generic-vndf), on one shared "
+      "set of inputs",
       run_term);
-  t->add_option("--method", ta->method, "all | " + fmt::format("{}", fmt::join(kTerms, " | ")))
+  t->add_option("--method", ta->method, "all | " + fmt::format("{}", fmt::join(term_names(), " | ")))
       ->capture_default_str();
   add_common(t, *ta);
 }

@@ -1,10 +1,12 @@
 #include "common.h"
 
 #include <fmt/format.h>
+#include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <stdexcept>
 #include <vector>
 
 namespace msh::cli {
@@ -60,6 +62,20 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
 }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump() << std::endl; }
+
+std::vector<std::string> closed_form_terms() {
+  std::vector<std::string> v;
+  for (const occlusion::MicroShadowingMethodInfo& m : occlusion::micro_shadowing_methods())
+    if (m.closed_form && m.uses_ndotl) v.push_back(m.name);
+  return v;
+}
+
+std::string two_stage_fit_id() {
+  const occlusion::MicroShadowingMethodInfo& m = *occlusion::find_micro_shadowing_method("generic-vndf-alu");
+  for (const occlusion::MicroShadowingGlsl& g : m.glsl)
+    if (g.two_stage) return m.form_id(g);
+  throw std::logic_error("the registry's generic-vndf-alu has no two-stage form");
+}
 
 const CLI::Validator Finite(
     [](std::string& s) -> std::string {

@@ -356,6 +356,7 @@ enum Flag : unsigned {
   kStudy = 128,   // in the study's default list
   kTexel =
       256,  // reads the per-texel directional channels (the renderer, the study and the viewer; eval throws)
+  kNoVis = 512,  // does not read V (the micro-occlusion map)
 };
 MicroShadowingMethodInfo info(const char* name, const char* label, const char* summary, unsigned f,
                               std::vector<MicroShadowingGlsl> glsl = {}) {
@@ -366,14 +367,36 @@ MicroShadowingMethodInfo info(const char* name, const char* label, const char* s
   i.accepts_samples = f & kSamples, i.accepts_lut = f & kLut;
   i.uses_ndotl = !(f & kNoNdotl), i.in_study = f & kStudy;
   i.needs_texel = f & kTexel;
-  if (i.needs_texel) i.texel_channels = directional::kDirectionalChannels;
+  if (i.needs_texel) i.texel_channels = directional::kDirectionalChannels, i.texel_bake = "gen-material";
+  i.uses_visibility = !(f & kNoVis);
   i.glsl = std::move(glsl);
+  return i;
+}
+// The 21 channels of the view correction (directional::kViewChannels) instead of the 9.
+MicroShadowingMethodInfo view_channels(MicroShadowingMethodInfo i) {
+  i.texel_channels = directional::kViewChannels, i.texel_bake = "gen-material --directional-view";
+  return i;
+}
+// A term of per-texel channels: the renderer's per-light value; eval throws (there is no texel).
+Impl texel_term(const MicroShadowingMethodInfo& info,
+                std::function<float(const MicroShadowingShadeInput&)> shade) {
+  const std::string msg =
+      fmt::format("{} reads per-texel channels: render or study a material baked with them ({})", info.name,
+                  info.texel_bake);
+  Impl i{[msg](const Point&) -> double { throw InputError(msg); }, nullptr};
+  i.shade = std::move(shade);
+  return i;
+}
+// When to use it (MicroShadowingMethodInfo::use; docs/choosing.md).
+MicroShadowingMethodInfo used(const char* use, MicroShadowingMethodInfo i) {
+  i.use = use;
   return i;
 }
 // A named pair: the diffuse-lobe term d and the specular-lobe term s (both single-term entries).
 MicroShadowingMethodInfo pair(const char* d, const char* s, const char* label, const char* summary,
-                              unsigned f) {
-  MicroShadowingMethodInfo i = info("", label, summary, f);
+                              unsigned f, const char* use = "") {
+  MicroShadowingMethodInfo i = used(use, info("", label, summary, f));
+  i.uses_visibility = false;  // as its terms (entries())
   i.name = std::string(d) + "+" + s;
   i.diffuse = d, i.specular = s;
   return i;
@@ -381,6 +404,12 @@ MicroShadowingMethodInfo pair(const char* d, const char* s, const char* label, c
 MicroShadowingGlsl glsl(const char* expr, const char* requires_fn = "", const char* lut = "") {
   MicroShadowingGlsl g;
   g.expr = expr, g.requires_fn = requires_fn, g.lut = lut;
+  return g;
+}
+// A GLSL form that reads the per-texel directional channels (MicroShadowingGlsl::texel).
+MicroShadowingGlsl texel_glsl(const char* expr, const char* requires_fn) {
+  MicroShadowingGlsl g = glsl(expr, requires_fn);
+  g.texel = true;
   return g;
 }
 // The GLSL form of a closed form of (V, N·L) named fn in shaders/glsl: fn(vis, nl), and, where
@@ -429,83 +458,90 @@ const std::vector<Entry>& entries() {
   using In = MicroShadowingShadeInput;
   static const std::vector<Entry> e = [] {
     std::vector<Entry> v = {
-        {info("none", "none (term = 1)", "no micro-occlusion: the term is 1", kNoNdotl | kStudy,
-              {glsl("1.0")}),
+        {used("the baseline: no micro-occlusion",
+              info("none", "none (term = 1)", "no micro-occlusion: the term is 1", kNoNdotl | kNoVis | kStudy,
+                   {glsl("1.0")})),
          [](auto&, auto&) { return constant_entry(1.0); }},
         closed<visibility_term<double>, visibility_term<float>>(
-            info("ao", "AO on direct light (term = V)",
-                 "the visibility V itself (ambient occlusion applied to direct light)", kNoNdotl | kStudy,
-                 {glsl("vis")})),
+            used("not for direct light: AO was never a light-direction term",
+                 info("ao", "AO on direct light (term = V)",
+                      "the visibility V itself (ambient occlusion applied to direct light)",
+                      kNoNdotl | kStudy, {glsl("vis")}))),
         closed<ms::reference_step<double>, ms::reference_step<float>>(
-            info("reference", "reference step (Zurita 2026)",
-                 "step: 1 when the light is inside the visibility cone, else 0", kStudy,
-                 {vnl_glsl("msh_ms_reference_step")})),
+            used("reference of the cone model only",
+                 info("reference", "reference step (Zurita 2026)",
+                      "step: 1 when the light is inside the visibility cone, else 0", kStudy,
+                      {vnl_glsl("msh_ms_reference_step")}))),
         closed<ms::brinck_maximov_2016<double>, ms::brinck_maximov_2016<float>>(
-            info("brinck-maximov-2016", "Brinck & Maximov 2016",
-                 "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'", kStudy,
-                 {vnl_glsl("msh_ms_brinck_maximov2016")})),
-        closed<ms::chan_2018<double>, ms::chan_2018<float>>(
+            used("legacy (Uncharted 4)", info("brinck-maximov-2016", "Brinck & Maximov 2016",
+                                              "Brinck & Maximov 2016, 'The Technical Art of Uncharted 4'",
+                                              kStudy, {vnl_glsl("msh_ms_brinck_maximov2016")}))),
+        closed<ms::chan_2018<double>, ms::chan_2018<float>>(used(
+            "legacy (CoD WWII, Filament)",
             info("chan-2018", "Chan 2018 (Filament)", "Chan 2018, 'Material Advances in Call of Duty: WWII'",
-                 kStudy, {vnl_glsl("msh_ms_chan2018")})),
+                 kStudy, {vnl_glsl("msh_ms_chan2018")}))),
         closed<ms::part1_analytic<double>, ms::part1_analytic<float>>(
-            info("part1-analytic", "Part 1 analytic (Zurita 2026)",
-                 "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'", kStudy,
-                 {vnl_glsl("msh_ms_part1_analytic")})),
-        {info("generic-vndf", "generic VNDF (Zurita 2026)",
-              "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator with "
-              "samples",
-              kRough | kNdotV | kPhi | kRoughY | kSamples | kStudy, {[] {
-                MicroShadowingGlsl g =
-                    glsl("msh_ms_generic_vndf_estimate(vis, vec2(alpha), v, l, u_samples, true, 1u)",
-                         "msh_ms_generic_vndf_estimate");
-                g.label_suffix = ", N samples", g.samples = g.frame = true;
-                return g;
-              }()}),
-         generic_vndf},
-        {info("generic-vndf-alu", "generic VNDF, ALU fit",
-              "ALU-only fit of the generic term's azimuth mean (micro_shadowing_fit.h), float",
-              kRough | kNdotV | kStudy,
-              {[] {
-                 MicroShadowingGlsl g =
-                     glsl("msh_ms_generic_vndf_alu(vis, nl, nv, rough)", "msh_ms_generic_vndf_alu");
-                 g.area_cap = "msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)";
-                 return g;
-               }(),
-               [] {
-                 MicroShadowingGlsl g =
-                     glsl("msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(vis, nv, rough), nl)",
-                          "msh_ms_generic_vndf_alu_light");
-                 g.id_suffix = "-two-stage", g.label_suffix = " (pixel + light)", g.two_stage = true;
-                 return g;
-               }()}),
-         generic_vndf_alu},
-        {table_sampler(
-             info("lut3d", "3D LUT (cone layout)", "the LUT sampler on a 3D table (V, N.L, N.V x roughness)",
-                  kRough | kNdotV | kPhi | kLut | kStudy,
-                  {glsl("msh_ms_lut_sample_cone(u_lut3d, u_lut3d_slabs, vis, nl, nv, rough)",
-                        "msh_ms_lut_sample_cone", "lut3d"),
-                   [] {
-                     MicroShadowingGlsl g = glsl(
-                         "msh_ms_lut_sample_cone_azimuth(u_lut_az, u_lut_az_slabs, u_lut_az_harmonics, vis, "
-                         "nl, "
-                         "nv, "
-                         "rough, cos_phi)",
-                         "msh_ms_lut_sample_cone_azimuth", "lut_azimuth");
-                     g.id_suffix = "-azimuth", g.label_suffix = ", azimuth-aware (3 harmonics)", g.phi = true;
+            used("legacy (Zurita 2026 Part 1)",
+                 info("part1-analytic", "Part 1 analytic (Zurita 2026)",
+                      "Zurita 2026, 'Improving Direct Lighting Material Occlusion - Part 1'", kStudy,
+                      {vnl_glsl("msh_ms_part1_analytic")}))),
+        {used("reference views and offline; N samples per light",
+              info("generic-vndf", "generic VNDF (Zurita 2026)",
+                   "generic VNDF-based term (Zurita 2026, Part 2): exact quadrature, or the Sobol estimator "
+                   "with samples",
+                   kRough | kNdotV | kPhi | kRoughY | kSamples | kStudy, {[] {
+                     MicroShadowingGlsl g =
+                         glsl("msh_ms_generic_vndf_estimate(vis, vec2(alpha), v, l, u_samples, true, 1u)",
+                              "msh_ms_generic_vndf_estimate");
+                     g.label_suffix = ", N samples", g.samples = g.frame = true;
                      return g;
-                   }()}),
-             3),
+                   }()})),
+         generic_vndf},
+        {used("specular lobe with only a V map, no table",
+              info("generic-vndf-alu", "generic VNDF, ALU fit",
+                   "ALU-only fit of the generic term's azimuth mean (micro_shadowing_fit.h), float",
+                   kRough | kNdotV | kStudy,
+                   {[] {
+                      MicroShadowingGlsl g =
+                          glsl("msh_ms_generic_vndf_alu(vis, nl, nv, rough)", "msh_ms_generic_vndf_alu");
+                      g.area_cap = "msh_ms_generic_vndf_alu_area_cap(vis, nl_cap, nv, rough, rho)";
+                      return g;
+                    }(),
+                    [] {
+                      MicroShadowingGlsl g = glsl(
+                          "msh_ms_generic_vndf_alu_light(msh_ms_generic_vndf_alu_pixel(vis, nv, rough), nl)",
+                          "msh_ms_generic_vndf_alu_light");
+                      g.id_suffix = "-two-stage", g.label_suffix = " (pixel + light)", g.two_stage = true;
+                      return g;
+                    }()})),
+         generic_vndf_alu},
+        {table_sampler(used("specular lobe with only a V map, table allowed",
+                            info("lut3d", "3D LUT (cone layout)",
+                                 "the LUT sampler on a 3D table (V, N.L, N.V x roughness)",
+                                 kRough | kNdotV | kPhi | kLut | kStudy,
+                                 {glsl("msh_ms_lut_sample_cone(u_lut3d, u_lut3d_slabs, vis, nl, nv, rough)",
+                                       "msh_ms_lut_sample_cone", "lut3d"),
+                                  [] {
+                                    MicroShadowingGlsl g = glsl(
+                                        "msh_ms_lut_sample_cone_azimuth(u_lut_az, u_lut_az_slabs, "
+                                        "u_lut_az_harmonics, vis, nl, nv, rough, cos_phi)",
+                                        "msh_ms_lut_sample_cone_azimuth", "lut_azimuth");
+                                    g.id_suffix = "-azimuth",
+                                    g.label_suffix = ", azimuth-aware (3 harmonics)", g.phi = true;
+                                    return g;
+                                  }()})),
+                       3),
          [](auto& o, auto& i) { return lut_method(o, i, false); }},
-        {table_sampler(info("lut2d", "2D LUT (N·V = 1 slice)", "the LUT sampler on the N.V = 1 slice",
-                            kRough | kPhi | kLut | kStudy,
-                            {glsl("msh_ms_lut_sample_cone(u_lut2d, u_lut2d_slabs, vis, nl, 1.0, rough)",
-                                  "msh_ms_lut_sample_cone", "lut2d")}),
+        {table_sampler(used("as lut3d where N·V is not available",
+                            info("lut2d", "2D LUT (N·V = 1 slice)", "the LUT sampler on the N.V = 1 slice",
+                                 kRough | kPhi | kLut | kStudy,
+                                 {glsl("msh_ms_lut_sample_cone(u_lut2d, u_lut2d_slabs, vis, nl, 1.0, rough)",
+                                       "msh_ms_lut_sample_cone", "lut2d")})),
                        2),
          [](auto& o, auto& i) { return lut_method(o, i, true); }},
         {info("specular-aware", "specular-aware (indicator)",
               "micro-BRDF-aware, specular lobe: chi(n.h > c) chi(h.l > c); without --phi its "
-              "GGX-lobe-weighted "
-              "azimuth mean (closed form)",
+              "GGX-lobe-weighted azimuth mean (closed form)",
               kRough | kNdotV | kPhi, {[] {
                 MicroShadowingGlsl g = glsl("msh_ms_specular_aware(vis, v, l)", "msh_ms_specular_aware");
                 g.phi = true;  // the indicator at the pixel's own azimuth
@@ -529,8 +565,7 @@ const std::vector<Entry>& entries() {
          [](auto& o, auto&) { return diffuse_aware(o, micro_shadowing::DiffuseAwareForm::Flux); }},
         {info("diffuse-aware-alu", "diffuse-aware, ALU fit",
               "ALU-only fit of the diffuse-aware (reciprocal) term's azimuth mean "
-              "(micro_shadowing_aware_fit.h), "
-              "float",
+              "(micro_shadowing_aware_fit.h), float",
               kRough | kNdotV,
               {glsl("msh_ms_diffuse_aware_alu(vis, nl, nv, rough)", "msh_ms_diffuse_aware_alu")}),
          [](auto&, auto&) { return diffuse_aware_alu(); }},
@@ -538,11 +573,10 @@ const std::vector<Entry>& entries() {
               "generic term for Smith-Beckmann (exact quadrature, or the Sobol estimator with samples)",
               kRough | kNdotV | kPhi | kRoughY | kSamples),
          generic_vndf_beckmann},
-        {info(
-             "generic-vcavity", "generic, V-cavity",
-             "generic term for Beckmann-Spizzichino + V-cavity, weight G2/G1 depends on m (exact quadrature, "
-             "or the weighted Sobol estimator with samples)",
-             kRough | kNdotV | kPhi | kRoughY | kSamples),
+        {info("generic-vcavity", "generic, V-cavity",
+              "generic term for Beckmann-Spizzichino + V-cavity, weight G2/G1 depends on m (exact "
+              "quadrature, or the weighted Sobol estimator with samples)",
+              kRough | kNdotV | kPhi | kRoughY | kSamples),
          generic_vcavity},
         {info("lut3d-projected-anisotropic", "3D LUT, projected anisotropic roughness",
               "the 3D LUT at anisotropic GGX through the rms of the roughness projected along l and v",
@@ -551,115 +585,93 @@ const std::vector<Entry>& entries() {
         // Directional micro-occlusion (occlusion/directional.h, docs/directional-occlusion.md): the
         // footprint's mean diffuse transport lit · (n_fine · l)⁺ from 9 linear channels, as a factor on (n ·
         // l)⁺.
-        {info("directional", "directional (9 linear channels)",
-              "directional micro-occlusion: the mean lit * N.L over the texel's footprint from 9 linear "
-              "channels baked from the height map, divided by the shading N.L (renderer, study and viewer)",
-              kNoNdotl | kStudy | kTexel, {[] {
-                MicroShadowingGlsl g = glsl("msh_dir_term(dir_c0, dir_c1, dir_c8, l_t, n_t)", "msh_dir_term");
-                g.texel = true;
-                return g;
-              }()}),
-         [](auto&, auto&) {
-           Impl i{[](const Point&) -> double {
-                    throw InputError(
-                        "directional reads per-texel channels: render or study a material baked with them");
-                  },
-                  nullptr};
-           i.shade = [](const In& in) {
+        {used("relief with 9 channels only (4.5 B as BC5 + BC4): directional-view is closer at every scale "
+              "for 12 "
+              "more channels",
+              info("directional", "directional (9 linear channels)",
+                   "directional micro-occlusion: the mean lit * N.L over the texel's footprint from 9 linear "
+                   "channels baked from the height map, divided by the shading N.L (renderer, study and "
+                   "viewer)",
+                   kNoNdotl | kNoVis | kStudy | kTexel,
+                   {texel_glsl("msh_dir_term(dir_c0, dir_c1, dir_c8, l_t, n_t)", "msh_dir_term")})),
+         [](auto&, auto& info) {
+           return texel_term(info, [](const In& in) {
              if (in.texel_channels < directional::kDirectionalChannels) return 1.0f;
              return directional::directional_term(in.texel, in.l_tangent, in.n_tangent);
-           };
-           return i;
+           });
          }},
         // The same with the view correction (directional_view_term): 21 channels, the 9 and the 12 slope
         // channels G_x, G_y that weight each facet by its projected area toward the camera.
         {[] {
-           MicroShadowingMethodInfo i =
-               info("directional-view", "directional, view-corrected (21 linear channels)",
-                    "directional micro-occlusion with the view correction: the 9 channels plus 12 slope "
-                    "channels that weight each facet by its projected area toward the camera (renderer, "
-                    "study and viewer)",
-                    kNoNdotl | kStudy | kTexel, {[] {
-                      MicroShadowingGlsl g =
-                          glsl("msh_dir_view_term(dir_v, l_t, view_t, n_t)", "msh_dir_view_term");
-                      g.texel = true;
-                      return g;
-                    }()});
-           i.texel_channels = directional::kViewChannels;
-           return i;
+           MicroShadowingMethodInfo i = info(
+               "directional-view", "directional, view-corrected (21 linear channels)",
+               "directional micro-occlusion with the view correction: the 9 channels plus 12 slope channels "
+               "that weight each facet by its projected area toward the camera (renderer, study and viewer)",
+               kNoNdotl | kNoVis | kStudy | kTexel,
+               {texel_glsl("msh_dir_view_term(dir_v, l_t, view_t, n_t)", "msh_dir_view_term")});
+           i.use =
+               "relief (a height map exists): ship this, on both lobes (on all materials together the "
+               "closest term on the diffuse, the specular and the total at every scale of the 1024² and "
+               "2048² studies; per material not everywhere: docs/study.md); 21 B at 8 bits is over the 12 B "
+               "budget, 10.5 B as BC5 + BC4 with --directional-bc (11 fetches per pixel)";
+           return view_channels(i);
          }(),
-         [](auto&, auto&) {
-           Impl i{[](const Point&) -> double {
-                    throw InputError(
-                        "directional-view reads per-texel channels: render or study a material baked with "
-                        "them (gen-material --directional-view)");
-                  },
-                  nullptr};
-           i.shade = [](const In& in) {
+         [](auto&, auto& info) {
+           return texel_term(info, [](const In& in) {
              if (in.texel_channels < directional::kViewChannels) return 1.0f;
              return directional::directional_view_term(in.texel, in.l_tangent, in.v_tangent, in.n_tangent);
-           };
-           return i;
+           });
          }},
         // The same 21 channels with masking toward the camera (directional_view_masked_term): the material's
         // slope covariance Σ spreads the projected areas as Smith's masking does. Renderer and study only.
-        {[] {
-           MicroShadowingMethodInfo i =
-               info("directional-view-masked", "directional, view-corrected and masked (21 channels + Σ)",
-                    "directional-view with masking toward the camera: the projected areas spread by the "
-                    "material's slope covariance (Smith-normalised; renderer and study)",
-                    kNoNdotl | kTexel);
-           i.texel_channels = directional::kViewChannels;
-           return i;
-         }(),
-         [](auto&, auto&) {
-           Impl i{[](const Point&) -> double {
-                    throw InputError(
-                        "directional-view-masked reads per-texel channels: render or study a material baked "
-                        "with them (gen-material --directional-view)");
-                  },
-                  nullptr};
-           i.shade = [](const In& in) {
+        {view_channels(
+             info("directional-view-masked", "directional, view-corrected and masked (21 channels + Σ)",
+                  "directional-view with masking toward the camera: the projected areas spread by the "
+                  "material's slope covariance (Smith-normalised; renderer and study)",
+                  kNoNdotl | kNoVis | kTexel)),
+         [](auto&, auto& info) {
+           return texel_term(info, [](const In& in) {
              if (in.texel_channels < directional::kViewChannels) return 1.0f;
              static constexpr float kZero[3] = {0, 0, 0};
              return directional::directional_view_masked_term(
                  in.texel, in.l_tangent, in.v_tangent, in.n_tangent,
                  in.slope_covariance ? in.slope_covariance : kZero);
-           };
-           return i;
+           });
          }},
         // Named pairs (docs/micro-shadowing-aware.md): the diffuse-aware term on the diffuse lobe, a specular
         // term on the specular lobe.
         {pair("diffuse-aware", "specular-aware", "aware (estimator + indicator)",
-              "micro-BRDF-aware pair: the diffuse-aware estimator, the specular-aware indicator", kStudy),
+              "micro-BRDF-aware pair: the diffuse-aware estimator, the specular-aware indicator", kStudy,
+              "reference of the aware pair; N samples per light"),
          nullptr},
         {pair("diffuse-aware-flux", "specular-aware", "aware, flux form",
-              "the pair with the diffuse-aware flux form", kStudy),
+              "the pair with the diffuse-aware flux form", kStudy, "research variant"),
          nullptr},
         {pair("diffuse-aware-alu", "specular-aware", "aware ALU + specular indicator",
-              "the diffuse-aware ALU fit, the specular-aware indicator", kStudy),
+              "the diffuse-aware ALU fit, the specular-aware indicator", kStudy, "research variant"),
          nullptr},
         {pair("diffuse-aware-alu", "generic-vndf-alu", "recommended, ALU only",
               "the recommended pair in ALU only: the diffuse-aware fit on the diffuse lobe, the generic "
-              "term's fit "
-              "on the specular lobe",
-              kStudy),
+              "term's fit on the specular lobe",
+              kStudy, "only a V (AO) map, no table: ship this"),
          nullptr},
         {pair("diffuse-aware-alu", "lut3d", "recommended, ALU + LUT",
               "the recommended pair with the table: the diffuse-aware fit on the diffuse lobe, the 3D LUT on "
-              "the "
-              "specular lobe",
-              kStudy),
+              "the specular lobe",
+              kStudy, "only a V (AO) map, table allowed: ship this"),
          nullptr},
         {pair("directional", "generic-vndf-alu", "directional + generic ALU (specular)",
               "directional micro-occlusion on the diffuse lobe, the generic term's ALU fit on the specular "
               "lobe",
-              kStudy),
+              kStudy,
+              "research variant: the generic fit on the specular lobe is farther off than directional there"),
          nullptr},
         {pair("directional-view", "generic-vndf-alu", "directional view-corrected + generic ALU (specular)",
               "view-corrected directional micro-occlusion on the diffuse lobe, the generic term's ALU fit on "
               "the specular lobe",
-              kStudy),
+              kStudy,
+              "research variant: the generic fit on the specular lobe is farther off than directional-view "
+              "there"),
          nullptr},
         {pair("diffuse-aware", "generic-vndf", "recommended, estimators",
               "the recommended pair's reference: the diffuse-aware and generic estimators", 0),
@@ -675,8 +687,9 @@ const std::vector<Entry>& entries() {
         p.info.uses_roughness |= t.uses_roughness, p.info.uses_ndotv |= t.uses_ndotv;
         p.info.accepts_phi |= t.accepts_phi, p.info.accepts_roughness_y |= t.accepts_roughness_y;
         p.info.accepts_samples |= t.accepts_samples, p.info.accepts_lut |= t.accepts_lut;
-        p.info.needs_texel |= t.needs_texel;
+        p.info.needs_texel |= t.needs_texel, p.info.uses_visibility |= t.uses_visibility;
         p.info.texel_channels = std::max(p.info.texel_channels, t.texel_channels);
+        if (!t.texel_bake.empty()) p.info.texel_bake = t.texel_bake;
       }
     }
     return v;

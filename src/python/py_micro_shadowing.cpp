@@ -229,6 +229,10 @@ void register_micro_shadowing(pyb::module_& m) {
           d["in_study"] = i.in_study;
           d["needs_texel"] = i.needs_texel;
           d["texel_channels"] = i.texel_channels;
+          d["texel_bake"] = i.texel_bake;
+          d["uses_visibility"] = i.uses_visibility;
+          d["table_sample"] = i.table_sample;
+          d["use"] = i.use;
           out.append(d);
         }
         return out;
@@ -238,7 +242,10 @@ void register_micro_shadowing(pyb::module_& m) {
       "--method` values; `microshadow methods`), in the registry's order; details=True returns dicts (name, "
       "label, summary, uses_roughness, uses_ndotv, accepts_phi, accepts_roughness_y, accepts_samples, "
       "accepts_lut, pair, diffuse, specular, uses_ndotl, in_study, needs_texel: per-texel channels, renderer "
-      "only). A pair D+S has the term D on the diffuse "
+      "only; texel_channels, texel_bake: the command that bakes them, uses_visibility: reads V, "
+      "table_sample: 3 or 2 for the table samplers, use: "
+      "when "
+      "to use it). A pair D+S has the term D on the diffuse "
       "lobe and S on the specular lobe.");
   m.def(
       "eval_micro_shadowing", &eval, "method"_a, "visibility"_a, "ndotl"_a, "ndotv"_a = 1.0,

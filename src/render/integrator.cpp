@@ -258,7 +258,7 @@ class Renderer::Impl::HitLighting {
       const std::function<float(const Vec3f&)> bump = [&](const Vec3f& wi) {
         return r_.bt.eval(sp_.n_smooth, sp_.n_shading, wi);
       };
-      const bool no_bump = set_.bump_terminator == BumpTerminator::Off;
+      const bool no_bump = set_.bump_terminator == BumpTerminator::kNone;
       if (any_d_ && acc_d.r + acc_d.g + acc_d.b > 0)
         m_d = r_.ms.eval_area(sp_, wo_, h_.tangent, light, h_.p, false, bump, no_bump, ts);
       if (any_s_ && acc_s.r + acc_s.g + acc_s.b > 0)

@@ -26,10 +26,6 @@ const std::vector<std::pair<const char*, const char*>> kRenamedMethods = {
     {"aware-alu", "diffuse-aware-alu+specular-aware"}};
 const std::vector<std::pair<Component, const char*>> kComponentNames = {
     {Component::Total, "total"}, {Component::Diffuse, "diffuse"}, {Component::Specular, "specular"}};
-const std::vector<std::pair<BumpTerminator, const char*>> kBtNames = {
-    {BumpTerminator::Off, "off"},
-    {BumpTerminator::Conty2019, "conty-2019"},
-    {BumpTerminator::Chiang2019, "chiang-2019"}};
 
 const std::vector<std::pair<AreaMs, const char*>> kAreaMsNames = {{AreaMs::Sampled, "sampled"},
                                                                   {AreaMs::Representative, "representative"},
@@ -423,10 +419,13 @@ float light_area(const Light& l) {
   if (l.type == LightType::Rect) return 4 * l.half_size.x * l.half_size.y;
   return 0.0f;
 }
-const char* to_string(BumpTerminator b) { return name_of(kBtNames, b); }
+const char* to_string(BumpTerminator b) { return bump::method_name(b).data(); }  // a literal's view
 BumpTerminator bump_terminator_from_string(const std::string& s) {
-  if (const auto* k = value_of(kBtNames, s)) return *k;
-  throw InputError(fmt::format("unknown bump-terminator mode '{}' (known: off, conty-2019, chiang-2019)", s));
+  BumpTerminator m;
+  if (bump::parse_method(s, m)) return m;
+  if (s == "off")
+    throw InputError("bump-terminator method 'off' is now called 'none'");  // the renderer's old name
+  throw InputError(fmt::format("unknown bump-terminator method '{}' (known: {})", s, bump::method_names()));
 }
 
 Vec3f direction_from_angles(float el, float az) {

@@ -14,15 +14,7 @@ namespace msh::render {
 BumpTerminatorTerm::BumpTerminatorTerm(BumpTerminator m) : mode_(m) {}
 
 float BumpTerminatorTerm::eval(const Vec3f& ng, const Vec3f& ns, const Vec3f& l) const {
-  switch (mode_) {
-    case BumpTerminator::Off:
-      return 1.0f;
-    case BumpTerminator::Conty2019:
-      return bump::conty2019(ng, ns, l);
-    case BumpTerminator::Chiang2019:
-      return bump::chiang2019(ng, ns, l);
-  }
-  return 1.0f;
+  return bump::term(mode_, ng, ns, l);
 }
 
 MicroShadowingTerm::MicroShadowingTerm(const Settings& s) : smooth_(s.ms_smooth_normal) {

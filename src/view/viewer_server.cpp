@@ -625,7 +625,7 @@ std::string methods_js(const std::vector<occlusion::MicroShadowingMethodInfo>& m
   for (const auto& m : methods) {
     if (!m.is_pair()) {
       for (const auto& g : m.glsl) {
-        J e = {{"id", m.name + g.id_suffix}, {"label", m.label + g.label_suffix}, {"glsl", g.expr}};
+        J e = {{"id", m.form_id(g)}, {"label", m.label + g.label_suffix}, {"glsl", g.expr}};
         if (!g.requires_fn.empty()) e["requires"] = g.requires_fn;
         if (!g.lut.empty()) e["lut"] = g.lut;
         if (!g.area_cap.empty()) e["area_cap"] = g.area_cap;

@@ -29,6 +29,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <string_view>
 
 namespace msh::bump {
@@ -68,6 +69,15 @@ inline bool parse_method(std::string_view s, Method& out) {
   for (const MethodInfo& i : kMethods)
     if (s == i.name) return out = i.method, true;
   return false;
+}
+// Every name, "none, conty-2019, chiang-2019" (for messages and help).
+inline std::string method_names() {
+  std::string s;
+  for (const MethodInfo& i : kMethods) {
+    if (!s.empty()) s += ", ";
+    s += i.name;
+  }
+  return s;
 }
 
 // ---------------------------------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 
 #include <microshadow/math/color.h>
 #include <microshadow/math/vec.h>
+#include <microshadow/occlusion/bump_terminator.h>
 
 #include <array>
 #include <filesystem>
@@ -151,7 +152,9 @@ enum class Component { Total, Diffuse, Specular };
 const char* to_string(Component c);
 Component component_from_string(const std::string& s);  // InputError listing total, diffuse, specular
 
-enum class BumpTerminator { Off, Conty2019, Chiang2019 };
+// The bump-terminator method: the bump-terminator registry's (occlusion/bump_terminator.h, bump::kMethods;
+// names none, conty-2019, chiang-2019).
+using BumpTerminator = bump::Method;
 
 // Micro-shadowing under an area light (an area-sampled sphere, disk or rect; docs/renderer.md):
 //  Sampled        — the term evaluated per light sample (the estimator of ∫ M f cos L dω);
@@ -164,8 +167,8 @@ enum class BumpTerminator { Off, Conty2019, Chiang2019 };
 enum class AreaMs { Sampled, Representative, Integrated };
 const char* to_string(AreaMs a);
 AreaMs area_ms_from_string(const std::string& s);  // InputError listing sampled, representative, integrated
-const char* to_string(BumpTerminator b);
-BumpTerminator bump_terminator_from_string(const std::string& s);
+const char* to_string(BumpTerminator b);           // the registry's name
+BumpTerminator bump_terminator_from_string(const std::string& s);  // InputError listing the registry's names
 
 // Intersector of the ground truth's displaced planes: the height-field DDA (render/heightfield.h) or Embree
 // on the same triangles (displaced cylinders always use Embree).
@@ -184,7 +187,7 @@ struct Settings {
   // shaders of Zurita 2026 do; true = the unperturbed (interpolated) normal, the frame the micro-occlusion
   // bake's cone uses.
   bool ms_smooth_normal = false;
-  BumpTerminator bump_terminator = BumpTerminator::Off;
+  BumpTerminator bump_terminator = BumpTerminator::kNone;
   bool hanika_offset = false;
   GtIntersector gt_intersector = GtIntersector::HeightField;
   // Sphere lights: true = area sampling (reference), false = representative point. Disk and rect lights are

@@ -32,12 +32,14 @@ std::vector<TermMapCell> term_maps(int n, const std::vector<double>& roughness,
                                    const std::vector<double>& n_dot_v);
 
 // RMS, max |e| and mean signed e of each closed-form term against the generic term over the cells of one
-// (roughness, N·V) pair; order: reference, brinck_maximov_2016, chan_2018, part1_analytic.
+// (roughness, N·V) pair, in the order of kTermNames: the method registry's ids of the closed forms
+// (occlusion/runtime/micro_shadowing_methods.h; kExactTermName: the generic term's).
 struct TermError {
   double rms, max_abs, mean_signed;
 };
-inline constexpr const char* kTermNames[4] = {"reference", "brinck_maximov_2016", "chan_2018",
-                                              "part1_analytic"};
+inline constexpr const char* kTermNames[4] = {"reference", "brinck-maximov-2016", "chan-2018",
+                                              "part1-analytic"};
+inline constexpr const char* kExactTermName = "generic-vndf";
 std::array<TermError, 4> term_map_errors(const std::vector<TermMapCell>& cells, double roughness,
                                          double n_dot_v);
 

@@ -86,6 +86,12 @@ struct MicroShadowingMethodInfo {
   // (its GLSL form, flagged texel) evaluate it, eval throws; texel_channels is how many channels it reads.
   bool needs_texel = false;
   int texel_channels = 0;
+  // The command that bakes those channels (e.g. gen-material --directional-view).
+  std::string texel_bake;
+  // Reads V, the micro-occlusion map (false for none and the directional terms, which read texel channels).
+  bool uses_visibility = true;
+  // When to use it, one phrase (docs/choosing.md's "use" column; set for the study's methods).
+  std::string use;
   // The viewer's forms (none: not in the viewer).
   std::vector<MicroShadowingGlsl> glsl;
   // What a caller may run in its own loop instead of MicroShadowingEvaluator::eval, with the same values (the
@@ -94,6 +100,9 @@ struct MicroShadowingMethodInfo {
   double (*closed_form)(double visibility, double n_dot_l) = nullptr;
   int table_sample = 0;
   bool is_pair() const { return !diffuse.empty(); }
+  // The id of one of its GLSL forms, as the viewer, `methods --json` and the measuring commands name it: the
+  // method's name + the form's id_suffix (e.g. generic-vndf-alu-two-stage).
+  std::string form_id(const MicroShadowingGlsl& g) const { return name + g.id_suffix; }
 };
 
 // One shading point as a renderer sees it, in the term's frame (n = +z): V from the micro-occlusion map,
