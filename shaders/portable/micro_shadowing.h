@@ -67,6 +67,14 @@ MSH_FN float msh_ms_part1_analytic(float vis, float n_dot_l) {
   return x > 0.0f ? pow(x, 0.75f / v) : 0.0f;  // pow(0, y) avoided: exp2(y * log2(0)) is not portable
 }
 
+// Unity HDRP's Micro Shadows (ComputeMicroShadowing, HDRP 2019+): Brinck & Maximov 2016 faded by an opacity,
+// lerp(1, saturate(N.L + 2 vis^2 - 1), opacity), at the 0.85 opacity of HDRP's documentation example (the
+// volume's default, 1, is Brinck & Maximov itself). |err| <= 5e-7.
+#define MSH_MS_HDRP_OPACITY 0.85f
+MSH_FN float msh_ms_hdrp_micro_shadows(float vis, float n_dot_l) {
+  return 1.0f - MSH_MS_HDRP_OPACITY * (1.0f - msh_ms_brinck_maximov2016(vis, n_dot_l));
+}
+
 // Exact early-out (Zurita 2026 Part 2; proof in docs/micro-shadowing.md): 2 vis + N.L < 1 => the generic term is exactly 0 for every
 // roughness and view. Exact (two roundings, as in C++).
 MSH_FN bool msh_ms_exact_zero(float vis, float n_dot_l) {

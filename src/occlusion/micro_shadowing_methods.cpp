@@ -480,6 +480,11 @@ const std::vector<Entry>& entries() {
             "legacy (CoD WWII, Filament)",
             info("chan-2018", "Chan 2018 (Filament)", "Chan 2018, 'Material Advances in Call of Duty: WWII'",
                  kStudy, {vnl_glsl("msh_ms_chan2018")}))),
+        closed<in_float<shader::msh_ms_hdrp_micro_shadows>, shader::msh_ms_hdrp_micro_shadows>(
+            used("legacy, faded (Unity HDRP): Brinck & Maximov 2016 at 85% opacity",
+                 info("hdrp-micro-shadows", "Unity HDRP Micro Shadows (opacity 0.85)",
+                      "Unity HDRP's ComputeMicroShadowing: lerp(1, Brinck & Maximov 2016, 0.85)", 0,
+                      {vnl_glsl("msh_ms_hdrp_micro_shadows", false)}))),
         closed<ms::part1_analytic<double>, ms::part1_analytic<float>>(
             used("legacy (Zurita 2026 Part 1)",
                  info("part1-analytic", "Part 1 analytic (Zurita 2026)",
