@@ -374,8 +374,7 @@ void add_common(CLI::App* c, CommonArgs& a) {
       ->capture_default_str();
   c->add_option("--nv-bands", a.nv_bands, "Band edges of the per-N.V rows")->capture_default_str();
   c->add_option("--worst", a.worst, "How many worst inputs to list")->capture_default_str();
-  c->add_option("--threads", a.threads, "Worker threads (0: all cores); results do not depend on it")
-      ->capture_default_str();
+  add_threads_option(c, a.threads);
   c->add_option("--csv", a.csv,
                 "Also write every input with its exact and approximate value to this CSV file");
   c->add_flag("--json", a.json, "Print one JSON object instead of the table");
