@@ -383,9 +383,8 @@ TEST(VerifyCli, ClosedFormTerms) {
   // The registry's ids (the two-stage fit under its GLSL form's id, as the viewer names it).
   std::vector<std::string> names;
   for (const auto& x : j["results"]) names.push_back(x["method"]);
-  std::vector<std::string> want;  // the registry's closed forms that depend on N.L, then the generic term's
-  for (const auto& m : msh::occlusion::micro_shadowing_methods())
-    if (m.closed_form && m.uses_ndotl) want.push_back(m.name);
+  // The registry's closed forms that depend on N.L, then the generic term's.
+  std::vector<std::string> want = msh::occlusion::micro_shadowing_closed_form_terms();
   EXPECT_GE(want.size(), 4u);  // reference, brinck-maximov-2016, chan-2018, part1-analytic at least
   for (const char* s : {"generic-vndf-alu", "generic-vndf-alu-two-stage", "generic-vndf"}) want.push_back(s);
   EXPECT_EQ(names, want);

@@ -1,7 +1,7 @@
-// The studies behind `plot micro-shadowing` (lut/runtime/micro_shadowing_analysis.h), each against an independent
-// computation: the Fourier coefficients against a midpoint rule of the exact term and against the adaptive
-// azimuth mean, the Monte Carlo check against its own binomial error, the error table against hand-built
-// cells.
+// The studies behind `plot micro-shadowing` (lut/runtime/micro_shadowing_analysis.h), each against an
+// independent computation: the Fourier coefficients against a midpoint rule of the exact term and against the
+// adaptive azimuth mean, the Monte Carlo check against its own binomial error, the error table against
+// hand-built cells.
 #include <gtest/gtest.h>
 #include <microshadow/lut/runtime/micro_shadowing_analysis.h>
 #include <microshadow/microfacet/ggx.h>
@@ -117,9 +117,7 @@ TEST(MicroShadowingAnalysis, TermErrorsOfHandBuiltCells) {
 // forms of (V, N·L) of the registry that depend on N·L, in its order, and each cell's value is the registry's
 // closed form; kExactTermName evaluates (without the azimuth) to the cell's generic value.
 TEST(MicroShadowingAnalysis, TermNamesAreTheRegistrysClosedForms) {
-  std::vector<std::string> closed;
-  for (const auto& m : occlusion::micro_shadowing_methods())
-    if (m.closed_form && m.uses_ndotl) closed.push_back(m.name);
+  const std::vector<std::string> closed = occlusion::micro_shadowing_closed_form_terms();
   auto at = closed.begin();  // each name found after the previous one: a subsequence, in the registry's order
   for (const char* name : kTermNames) {
     at = std::find(at, closed.end(), std::string(name));

@@ -93,8 +93,8 @@ void expect_csv(const FitRun& f, const std::string& columns, std::size_t rows, C
 // closed form added to the registry is a column without a change here).
 std::string registry_closed_forms() {
   std::string s;
-  for (const auto& m : occlusion::micro_shadowing_methods())
-    if (m.closed_form && m.uses_ndotl) s += (s.empty() ? "" : ",") + m.name;
+  for (const std::string& name : occlusion::micro_shadowing_closed_form_terms())
+    s += (s.empty() ? "" : ",") + name;
   return s;
 }
 
@@ -106,16 +106,15 @@ TEST(MicroShadowingFitCli, PlotWritesCsvAndSummary) {
   EXPECT_EQ(alu["n"], 65);
   EXPECT_GE(alu["max_255"].get<double>(), alu["rms_255"].get<double>());
   EXPECT_EQ(registry_closed_forms().rfind("reference,brinck-maximov-2016,chan-2018", 0), 0u);  // row[9] below
-  expect_csv(
-      f, "generic-vndf-alu,generic-vndf-alu-two-stage," + registry_closed_forms(), 65,
-      [](double V, double nl, double nv, double r, const std::vector<double>& row) {
-        EXPECT_TRUE(V >= 0 && V <= 1 && nl > 0 && nl <= 1 && nv > 0 && nv <= 1 && r >= 0.1 && r <= 1);
-        EXPECT_EQ(row[4] != 0, micro_shadowing::exact_zero(V, nl));
-        EXPECT_NEAR(row[5], micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv), 1e-8);
-        EXPECT_NEAR(row[6], micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r)),
-                    1e-7);
-        EXPECT_NEAR(row[9], micro_shadowing::brinck_maximov_2016(V, nl), 1e-8);
-      });
+  expect_csv(f, "generic-vndf-alu,generic-vndf-alu-two-stage," + registry_closed_forms(), 65,
+             [](double V, double nl, double nv, double r, const std::vector<double>& row) {
+               EXPECT_TRUE(V >= 0 && V <= 1 && nl > 0 && nl <= 1 && nv > 0 && nv <= 1 && r >= 0.1 && r <= 1);
+               EXPECT_EQ(row[4] != 0, micro_shadowing::exact_zero(V, nl));
+               EXPECT_NEAR(row[5], micro_shadowing::generic_vndf_exact_azimuth_mean(V, r * r, nl, nv), 1e-8);
+               EXPECT_NEAR(row[6],
+                           micro_shadowing::generic_vndf_alu(float(V), float(nl), float(nv), float(r)), 1e-7);
+               EXPECT_NEAR(row[9], micro_shadowing::brinck_maximov_2016(V, nl), 1e-8);
+             });
   // Deterministic: the same seed gives the same file.
   EXPECT_EQ(run_fit(dir, "pts2", "--samples 60 --seed 9 --near-step 5").rows, f.rows);
   std::filesystem::remove_all(dir);

@@ -111,7 +111,8 @@ void run_fit_data(const FitDataArgs& a) {
   const occlusion::MicroShadowingEvaluator fit(generic ? "generic-vndf-alu" : "diffuse-aware-alu");
   std::vector<std::string> names = {fit.info().name, two_stage_fit_id()};
   std::vector<double (*)(double, double)> closed;
-  for (const std::string& n : generic ? closed_form_terms() : std::vector<std::string>{"reference"}) {
+  for (const std::string& n :
+       generic ? occlusion::micro_shadowing_closed_form_terms() : std::vector<std::string>{"reference"}) {
     names.push_back(n);
     closed.push_back(occlusion::find_micro_shadowing_method(n)->closed_form);
   }

@@ -293,7 +293,7 @@ const std::vector<Term>& terms() {
                     return e->shade(in).diffuse;
                   }};
     };
-    for (const std::string& name : closed_form_terms())
+    for (const std::string& name : occlusion::micro_shadowing_closed_form_terms())
       v.push_back(shaded(std::make_shared<MicroShadowingEvaluator>(name)));
     v.push_back(shaded(std::make_shared<MicroShadowingEvaluator>("generic-vndf-alu")));
     v.push_back({two_stage_fit_id(), [](float V, float nl, float nv, float r, float) {

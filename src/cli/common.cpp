@@ -63,13 +63,6 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump() << std::endl; }
 
-std::vector<std::string> closed_form_terms() {
-  std::vector<std::string> v;
-  for (const occlusion::MicroShadowingMethodInfo& m : occlusion::micro_shadowing_methods())
-    if (m.closed_form && m.uses_ndotl) v.push_back(m.name);
-  return v;
-}
-
 std::string two_stage_fit_id() {
   const occlusion::MicroShadowingMethodInfo& m = *occlusion::find_micro_shadowing_method("generic-vndf-alu");
   for (const occlusion::MicroShadowingGlsl& g : m.glsl)

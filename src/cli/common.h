@@ -52,11 +52,10 @@ std::pair<CLI::App*, std::shared_ptr<Args>> add_command(CLI::App* parent, const 
   return {c, args};
 }
 
-// What the measuring commands (verify micro-shadowing-term, plot micro-shadowing-fit) compare, by registry id
-// (occlusion/runtime/micro_shadowing_methods.h): the registry's closed forms of (V, N.L) that depend on N.L
-// (the older terms), and the id of the generic ALU fit's two-stage form (per pixel + per light,
-// micro_shadowing::generic_vndf_alu_two_stage), generic-vndf-alu's GLSL form flagged two_stage.
-std::vector<std::string> closed_form_terms();
+// What the measuring commands (verify micro-shadowing-term, plot micro-shadowing-fit) compare beside the
+// registry's closed forms (occlusion::micro_shadowing_closed_form_terms): the id of the generic ALU fit's
+// two-stage form (per pixel + per light, micro_shadowing::generic_vndf_alu_two_stage), generic-vndf-alu's
+// GLSL form flagged two_stage.
 std::string two_stage_fit_id();
 
 // A CLI11 validator that rejects NaN/Inf (CLI11's own number parsing accepts "nan").

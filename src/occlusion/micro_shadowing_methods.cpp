@@ -723,6 +723,13 @@ const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& n
   return nullptr;
 }
 
+std::vector<std::string> micro_shadowing_closed_form_terms() {
+  std::vector<std::string> v;
+  for (const MicroShadowingMethodInfo& m : micro_shadowing_methods())
+    if (m.closed_form && m.uses_ndotl) v.push_back(m.name);
+  return v;
+}
+
 std::vector<std::string> micro_shadowing_study_methods() {
   std::vector<std::string> r;
   for (const MicroShadowingMethodInfo& i : micro_shadowing_methods())

@@ -130,6 +130,9 @@ struct MicroShadowingLobes {
 const std::vector<MicroShadowingMethodInfo>& micro_shadowing_methods();
 // The names of the methods with in_study, in table order.
 std::vector<std::string> micro_shadowing_study_methods();
+// The names of the closed forms of (V, N·L) that depend on N·L (closed_form and uses_ndotl), in table order:
+// the older terms that verify micro-shadowing-term and plot micro-shadowing-fit compare.
+std::vector<std::string> micro_shadowing_closed_form_terms();
 // nullptr when there is no method of that name.
 const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& name);
 // "a, b, c" of every method name (for error messages and --help).
