@@ -68,7 +68,7 @@ void add_area_lights(Groups& g) {
                 "reference: 8 s to minutes of CPU each)")
       ->capture_default_str();
   c->add_option("--ltc", o.ltc, "LTC table (bake ltc); default: fit a 16x16 table here (about 9 s CPU)");
-  c->add_flag("--json", a->json, "Print one JSON object");
+  add_json_flag(c, a->json);
   c->callback([a] { run_verify(*a); });
 }
 

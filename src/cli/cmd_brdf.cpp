@@ -136,7 +136,8 @@ void run_eval_brdf(const EvalBrdfArgs& a) {
 // ---- Bakers.
 
 struct BakeArgs {
-  std::string out, pixel_format, variant = "split-sum";
+  TableOutput out;  // brdf-shipped: out.out is the C++ header
+  std::string pixel_format, variant = "split-sum";
   int size = 32;
   uint32_t samples = 1u << 14;
 };
@@ -152,7 +153,6 @@ io::PixelFormat checked_pixel_format(const std::string& name, const std::string&
 }
 
 void check_bake(const BakeArgs& a) {
-  if (a.out.empty()) throw UsageError("--out is required");
   if (a.size < 2 || a.size > 1024)
     throw UsageError(fmt::format("--size must be in [2, 1024], got {}", a.size));
   if (a.samples < 1 || a.samples > (1u << 24)) throw UsageError("--samples must be in [1, 2^24]");
@@ -161,7 +161,7 @@ void check_bake(const BakeArgs& a) {
 // Channels: 1 → E; 2 → E, Ē(r); 4 → E, Ē, E_Fc, Ē_Fc.
 void run_bake_ggx_albedo(const BakeArgs& a) {
   check_bake(a);
-  const io::FileFormat ff = io::file_format_from_path(a.out);
+  const io::FileFormat ff = table_output_format(a.out);
   const io::PixelFormat pf = checked_pixel_format(a.pixel_format, "rg32f");
   const int ch = io::pixel_format_channels(pf);
   const auto t = bsdf::bake_ggx_albedo(a.size, a.size, a.samples);
@@ -172,7 +172,7 @@ void run_bake_ggx_albedo(const BakeArgs& a) {
       const double vals[4] = {t.e[k], t.e_avg[size_t(j)], t.e_fc[k], t.efc_avg[size_t(j)]};
       for (int c = 0; c < ch; ++c) v.at(i, j, 0, c) = float(vals[c]);
     }
-  io::write_volume(a.out, v, ff, pf, "msh_ggx_albedo");
+  io::write_volume(a.out.out, v, ff, pf, "msh_ggx_albedo");
 }
 
 // split-sum (Karis): (E − E_Fc, E_Fc); multiscatter (Filament): (E_Fc, E). 4 channels add the cosine-weighted
@@ -181,7 +181,7 @@ void run_bake_dfg(const BakeArgs& a) {
   check_bake(a);
   if (a.variant != "split-sum" && a.variant != "multiscatter")
     throw UsageError(fmt::format("--variant must be split-sum or multiscatter, got '{}'", a.variant));
-  const io::FileFormat ff = io::file_format_from_path(a.out);
+  const io::FileFormat ff = table_output_format(a.out);
   const io::PixelFormat pf = checked_pixel_format(a.pixel_format, "rg16f");
   const int ch = io::pixel_format_channels(pf);
   const auto t = bsdf::bake_ggx_albedo(a.size, a.size, a.samples);
@@ -195,14 +195,14 @@ void run_bake_dfg(const BakeArgs& a) {
                               karis ? efa : ea};
       for (int c = 0; c < ch; ++c) v.at(i, j, 0, c) = float(vals[c]);
     }
-  io::write_volume(a.out, v, ff, pf, karis ? "msh_dfg_split_sum" : "msh_dfg_multiscatter");
+  io::write_volume(a.out.out, v, ff, pf, karis ? "msh_dfg_split_sum" : "msh_dfg_multiscatter");
 }
 
 void run_bake_shipped(const BakeArgs& a) {
-  if (a.out.empty()) throw UsageError("--out is required");
+  require_parent_dir(a.out.out, "--out");
   const auto t =
       bsdf::bake_ggx_albedo(bsdf::kShippedTableSize, bsdf::kShippedTableSize, bsdf::kShippedTableSamples);
-  io::write_file_atomic(a.out, bsdf::shipped_tables_header(t));
+  io::write_file_atomic(a.out.out, bsdf::shipped_tables_header(t));
 }
 
 void add_brdf(Groups& g) {
@@ -222,7 +222,7 @@ void add_brdf(Groups& g) {
               "Print the directional albedo at N.V (deterministic QMC with the model's importance sampling)");
   e->add_option("--samples", eval_args->samples, "QMC samples for --albedo (power of two best)")
       ->default_val(1u << 18);
-  e->add_flag("--json", eval_args->json, "Print one JSON object");
+  add_json_flag(e, eval_args->json);
   e->add_flag("--list", eval_args->list, "List the models and their parameters");
   // Union of the parameter names of every model.
   std::set<std::string> seen;
@@ -250,7 +250,7 @@ void add_brdf_bake(Groups& g) {
       "perceptual "
       "roughness r = j/(n-1) (alpha = r^2). Channels: 1 -> E; 2 -> E, Ebar(r); 4 -> E, Ebar, E_Fc, Ebar_Fc.",
       run_bake_ggx_albedo);
-  b->add_option("--out", ba->out, "Output file: .dds .ktx2 .exr .npy .h")->required();
+  add_table_output(b, ba->out);
   b->add_option("--size", ba->size, "Texels per axis")->default_val(32);
   b->add_option("--samples", ba->samples, "QMC samples per texel")->default_val(1u << 14);
   b->add_option("--pixel-format", ba->pixel_format, "r16f, rg16f, rgba16f, r32f, rg32f (default), rgba32f");
@@ -264,7 +264,7 @@ void add_brdf_bake(Groups& g) {
                                        "(scale, bias), E = F0*scale + bias; multiscatter (Filament): (DFG.x, "
                                        "DFG.y), E = mix(x, y, F0), y = E(F=1). "
                                        "RGBA adds the cosine-weighted averages over N.V of R and G.");
-  d->add_option("--out", bd->out, "Output file: .dds .ktx2 .exr .npy .h")->required();
+  add_table_output(d, bd->out);
   d->add_option("--size", bd->size, "Texels per axis")->default_val(128);
   d->add_option("--samples", bd->samples, "QMC samples per texel")->default_val(1u << 12);
   d->add_option("--variant", bd->variant, "split-sum or multiscatter")->default_val("split-sum");
@@ -275,7 +275,7 @@ void add_brdf_bake(Groups& g) {
       g.bake, "brdf-shipped",
       "Regenerate include/microshadow/bsdf/tables_data.h (32x32 GGX E and E_Fc, 2^16 samples)",
       run_bake_shipped);
-  s->add_option("--out", bs->out, "Output C++ header")->required();
+  s->add_option("--out", bs->out.out, "Output C++ header")->required();
 }
 
 // ---- Sphere-grid figures.
@@ -377,14 +377,11 @@ struct PlotArgs {
 };
 
 void run_plot_spheres(const PlotArgs& a) {
-  if (a.out.empty()) throw UsageError("--out is required");
   if (a.size < 8 || a.size > 1024)
     throw UsageError(fmt::format("--size must be in [8, 1024], got {}", a.size));
   if (a.cols < 2 || a.cols > 16)
     throw UsageError(fmt::format("--columns must be in [2, 16], got {}", a.cols));
-  const std::filesystem::path dir(a.out);
-  if (!std::filesystem::is_directory(dir))
-    throw UsageError(fmt::format("--out '{}' is not a directory", a.out));
+  const std::filesystem::path dir = make_out_dir(a.out);
   std::string legend;
   for (const auto& f : sphere_figures(a.cols)) {
     std::vector<std::vector<const bsdf::BrdfModel*>> rows;
@@ -409,7 +406,7 @@ void add_brdf_plot(Groups& g) {
                             "spheres_multiscatter.png (RTR4 fig. 9.39), spheres_ksk.png (fig. "
                             "9.41), spheres_diffuse.png, spheres.txt",
                             run_plot_spheres);
-  p->add_option("--out", pa->out, "Output directory (must exist)")->required();
+  add_out_dir_option(p, pa->out);
   p->add_option("--size", pa->size, "Pixels per sphere")->default_val(96);
   p->add_option("--columns", pa->cols, "Spheres per row (roughness steps)")->default_val(6);
 }

@@ -91,11 +91,7 @@ struct PlotOptions {
 
 void run_plot(const PlotOptions& o) {
   namespace fs = std::filesystem;
-  const fs::path dir(o.out);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw UsageError(fmt::format("--out: cannot create directory '{}'", o.out));
+  const fs::path dir = make_out_dir(o.out);
 
   const Vec3d ng(0, 0, 1);
   auto tilted = [](double deg, double phi_deg) {
@@ -199,14 +195,14 @@ void add_bump(Groups& g) {
   e->add_flag("--hemisphere-test", eo->hemisphere_test,
               "Return 0 unless N_g.L > 0 and N_s.L > 0 (light above both hemispheres). Off by default: the "
               "published terms use |cos| and are symmetric in the sign of each vector");
-  e->add_flag("--json", eo->json, "Print one JSON object (value, angles, alpha2 or g)");
+  add_json_flag(e, eo->json, "Print one JSON object (value, angles, alpha2 or g)");
 
   const auto [p, po] = add_command<PlotOptions>(
       g.plot, "bump-terminator",
       "Write the bump-terminator figure data (CSV, like Ray Tracing Gems fig. 12.4) and a Conty-vs-Chiang "
       "comparison (JSON) into DIR; scripts/plot_bump_terminator.py draws the PNG",
       run_plot);
-  p->add_option("--out", po->out, "Output directory (created if missing)")->required();
+  add_out_dir_option(p, po->out);
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ void run_bake(const BakeArgs& a) {
   const Texture h = render::load_height_map(a.height);
   const Texture ch = a.view ? render::bake_directional_view_channels(h, a.depth, a.azimuths, a.distance)
                             : render::bake_directional_channels(h, a.depth, a.azimuths, a.distance);
-  fs::create_directories(a.out);
+  make_out_dir(a.out);
   const auto chain = render::box_mip_chain(ch);
   for (std::size_t lv = 0; lv < chain.size(); ++lv)
     io::write_volume(fs::path(a.out) / fmt::format("directional_mip{}.npy", lv),
@@ -74,7 +74,7 @@ void add_directional(Groups& g) {
       run_bake);
   b->add_option("height", ba->height, "Height map (16-bit PNG or EXR, grey, [0, 1])")->required();
   b->add_option("--depth", ba->depth, "Depth of the full height range, texels")->required();
-  b->add_option("--out", ba->out, "Output directory")->required();
+  add_out_dir_option(b, ba->out);
   b->add_option(
        "--azimuths", ba->azimuths,
        "Azimuths per texel, 5-4096 (up to 64: grid steps within 0.5 deg of uniform, horizons by exact "

@@ -108,10 +108,9 @@ void run_filter(const FilterOptions& o) {
 
   const bool dir_out = !o.out.empty() && (o.out.back() == '/' || o.out.back() == '\\');
   if (dir_out)
-    fs::create_directories(o.out);
-  else if (fs::path(o.out).has_parent_path() && !fs::is_directory(fs::path(o.out).parent_path()))
-    throw UsageError(
-        fmt::format("--out: directory '{}' does not exist", fs::path(o.out).parent_path().string()));
+    make_out_dir(o.out);
+  else
+    require_parent_dir(o.out, "--out");
 
   nlohmann::json levels = nlohmann::json::array();
   for (size_t k = 0; k < mips.size(); ++k) {
@@ -206,7 +205,7 @@ void add_filter(Groups& g) {
       ->capture_default_str();
   c->add_option("--format", o->format, "png (16-bit) | exr (float)")->capture_default_str();
   c->add_flag("--write-normals", o->write_normals, "Also write the renormalized mean normal per level");
-  c->add_flag("--json", o->json, "Print one JSON object instead of the table");
+  add_json_flag(c, o->json, "Print one JSON object instead of the table");
 }
 
 }  // namespace

@@ -16,7 +16,8 @@ namespace msh::cli {
 namespace {
 
 struct BakeLtcOptions {
-  std::string out, format, pixel_format = "rgba32f";
+  TableOutput out;
+  std::string pixel_format = "rgba32f";
   int size = 64, error_samples = 32, iterations = 120, moment_samples = 4096, threads = 0;
   bool quiet = false;
 };
@@ -27,27 +28,14 @@ void run_bake_ltc(const BakeLtcOptions& a) {
   o.size = a.size, o.error_samples = a.error_samples, o.max_iterations = a.iterations;
   o.moment_samples = a.moment_samples, o.threads = a.threads;
   bsdf::validate(o);
-  const fs::path out(a.out);
-  const io::FileFormat ff =
-      a.format.empty() ? io::file_format_from_path(out) : io::file_format_from_name(a.format);
-  if (ff == io::FileFormat::Png)
-    throw UsageError("an LTC table cannot be written as PNG (use dds, ktx2, exr, npy or h)");
+  const fs::path out(a.out.out);
+  const io::FileFormat ff = table_output_format(a.out);
   io::PixelFormat pf4 = io::PixelFormat::RGBA32Float, pf2 = io::PixelFormat::RG32Float;
   if (a.pixel_format == "rgba16f")
     pf4 = io::PixelFormat::RGBA16Float, pf2 = io::PixelFormat::RG16Float;
   else if (a.pixel_format != "rgba32f")
     throw UsageError(fmt::format("--pixel-format must be rgba32f or rgba16f, got '{}'", a.pixel_format));
-  if (out.has_parent_path() && !fs::is_directory(out.parent_path()))
-    throw UsageError(fmt::format("--out: directory '{}' does not exist", out.parent_path().string()));
-  int last = 0;
-  if (!a.quiet)
-    o.progress = [&last](double f) {
-      const int step = int(f * 10.0 + 1e-9);
-      if (step != last) {
-        last = step;
-        std::cerr << fmt::format("microshadow: fitting LTC table: {:3d}%\n", step * 10);
-      }
-    };
+  o.progress = progress_in_tenths("fitting LTC table", a.quiet);
   const bsdf::LtcTable t = bsdf::fit_ltc_table(o);
   bsdf::write_ltc_table(out, t, ff, pf4, pf2);
   double max_err = 0, mean_err = 0;
@@ -129,9 +117,7 @@ void add_ltc(Groups& g) {
       "(roughness, sqrt(1 - N.V)): writes OUT (M^-1 entries a,b,c,d in RGBA), <stem>_amp<ext> (magnitude, "
       "fresnel in RG) and OUT.json. See docs/ltc.md.",
       run_bake_ltc);
-  c->add_option("--out", b->out, "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
-      ->required();
-  c->add_option("--format", b->format, "dds, ktx2, exr, npy or h (overrides the extension)");
+  add_table_output(c, b->out);
   c->add_option("--size", b->size, "Texels per axis")->capture_default_str();
   c->add_option("--pixel-format", b->pixel_format, "rgba32f or rgba16f (dds/ktx2/exr; npy and h are float32)")
       ->capture_default_str();
@@ -141,7 +127,7 @@ void add_ltc(Groups& g) {
   c->add_option("--moment-samples", b->moment_samples, "QMC samples for magnitude, fresnel, mean direction")
       ->capture_default_str();
   add_threads_option(c, b->threads);
-  c->add_flag("--quiet", b->quiet, "No progress on stderr");
+  add_quiet_flag(c, b->quiet);
 
   const auto [vc, v] =
       add_command<VerifyLtcOptions>(g.verify, "ltc",

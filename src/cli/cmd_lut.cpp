@@ -27,8 +27,9 @@ namespace msh::cli {
 namespace {
 
 struct BakeLutOptions {
-  std::string out, format, pixel_format = "rgba16f", roughness, roughness_range, layout = "cone",
-                           symbol = "micro_shadowing_lut";
+  TableOutput out;
+  std::string pixel_format = "rgba16f", roughness, roughness_range, layout = "cone",
+              symbol = "micro_shadowing_lut";
   int size = -1, size_vis = -1, size_nl = -1, size_nv = -1, size_t_ = -1, slabs = -1;  // -1: layout default
   bool two_d = false, azimuth = false, quiet = false;
   int harmonics = 0, samples = -1, phi_nodes = 16, threads = 0;
@@ -110,12 +111,8 @@ void run_bake(const BakeLutOptions& o) {
   const bool cone = b.layout == lut::LutLayout::Cone;
   lut::validate(b);  // every domain error before any work or output
 
-  const fs::path out(o.out);
-  const io::FileFormat ff =
-      o.format.empty() ? io::file_format_from_path(out) : io::file_format_from_name(o.format);
-  if (ff == io::FileFormat::Png)
-    throw UsageError(
-        "a LUT cannot be written as PNG (use dds, ktx2, exr, npy or h; figures: scripts/plot_lut.py)");
+  const fs::path out(o.out.out);
+  const io::FileFormat ff = table_output_format(o.out, "; figures: scripts/plot_lut.py");
   const int channels = cone ? (b.harmonics == 0 ? 1 : (b.harmonics == 1 ? 2 : 4)) : int(b.roughness.size());
   io::PixelFormat pf = io::PixelFormat::RGBA32Float;
   if (ff == io::FileFormat::Dds || ff == io::FileFormat::Ktx2 || ff == io::FileFormat::Exr) {
@@ -127,18 +124,7 @@ void run_bake(const BakeLutOptions& o) {
   } else {
     io::pixel_format_from_name(o.pixel_format);  // still reject unknown names
   }
-  if (out.has_parent_path() && !fs::is_directory(out.parent_path()))
-    throw UsageError(fmt::format("--out: directory '{}' does not exist", out.parent_path().string()));
-
-  int last_step = 0;  // report 10%, 20%, ..., 100%
-  if (!o.quiet)
-    b.progress = [&last_step](double f) {
-      const int step = int(f * 10.0 + 1e-9);
-      if (step != last_step) {
-        last_step = step;
-        std::cerr << fmt::format("microshadow: baking micro-shadowing LUT: {:3d}%\n", step * 10);
-      }
-    };
+  b.progress = progress_in_tenths("baking micro-shadowing LUT", o.quiet);
   const auto t0 = std::chrono::steady_clock::now();
   io::Volume vol = lut::bake_micro_shadowing_lut(b);
   if (vol.channels != channels) {  // cone layout, H = 2: a_0..a_2 in RGB, A = 0 (textures take 1, 2 or 4)
@@ -199,11 +185,7 @@ void run_plot(const PlotLutOptions& o) {
         v2.channels != view.channels)
       throw UsageError("--lut2d must be the 2D LUT (depth 1) of the same size and channels as --lut");
   }
-  const fs::path dir(o.out);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw UsageError(fmt::format("--out: cannot create directory '{}'", o.out));
+  const fs::path dir = make_out_dir(o.out);
 
   const int nx = view.n_vis, ny = view.n_nl, nc = view.channels, ns = int(zs.size());
   io::Volume exact(nx, ny, ns, nc);
@@ -258,9 +240,7 @@ void add_lut(Groups& g) {
       "one channel per roughness. Also writes OUT.json (layout, roughness, harmonics, settings). See "
       "docs/lut.md.",
       run_bake);
-  c->add_option("--out", o->out, "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
-      ->required();
-  c->add_option("--format", o->format, "dds, ktx2, exr, npy or h (overrides the extension)");
+  add_table_output(c, o->out);
   c->add_option("--pixel-format", o->pixel_format,
                 "Precision for dds/ktx2/exr: rgba8, rgba16f or rgba32f (NPY and C header are always float32)")
       ->capture_default_str();
@@ -291,7 +271,7 @@ void add_lut(Groups& g) {
   c->add_option("--seed", o->seed, "Scrambling seed")->capture_default_str();
   add_threads_option(c, o->threads);
   c->add_option("--symbol", o->symbol, "C identifier for the .h output")->capture_default_str();
-  c->add_flag("--quiet", o->quiet, "No progress on stderr");
+  add_quiet_flag(c, o->quiet);
 
   const auto [pc, p] = add_command<PlotLutOptions>(
       g.plot, "micro-shadowing-lut",
@@ -302,7 +282,7 @@ void add_lut(Groups& g) {
   pc->add_option("--lut", p->lut, "The baked 3D LUT (any format bake micro-shadowing writes)")->required();
   pc->add_option("--lut2d", p->lut2d, "The baked 2D LUT of the same size (optional)");
   pc->add_option("--slices", p->slices, "N.V texel indices of the slices")->capture_default_str();
-  pc->add_option("--out", p->out, "Output directory")->required();
+  add_out_dir_option(pc, p->out);
 }
 
 }  // namespace

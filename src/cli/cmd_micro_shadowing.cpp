@@ -239,13 +239,7 @@ void run_plot(const PlotArgs& a) {
     throw UsageError("--azimuth-configs must be in [0, 1e6]");
   if (a.mc_samples < 0 || a.mc_samples > (int64_t(1) << 28))
     throw UsageError("--mc-samples must be in [0, 2^28]");
-  const std::filesystem::path dir(a.out);
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) {
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir))
-      throw UsageError(fmt::format("cannot create --out '{}'", a.out));
-  }
+  const std::filesystem::path dir = make_out_dir(a.out);
 
   // 1. Maps of every method over (Visibility, N·L) for each roughness and N·V (generic: azimuth mean).
   const int n = a.size;
@@ -338,30 +332,7 @@ void run_methods(const MethodsArgs& a) {
   }
   for (const occlusion::MicroShadowingMethodInfo& i : occlusion::micro_shadowing_methods()) {
     if (a.bump || (a.study && !i.in_study) || (a.uses_ndotl && !i.uses_ndotl)) continue;
-    nlohmann::json glsl = nlohmann::json::array();
-    for (const occlusion::MicroShadowingGlsl& g : i.glsl)
-      glsl.push_back({{"id", i.form_id(g)}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
-    list.push_back({{"name", i.name},
-                    {"label", i.label},
-                    {"summary", i.summary},
-                    {"diffuse", i.is_pair() ? i.diffuse : i.name},
-                    {"specular", i.is_pair() ? i.specular : i.name},
-                    {"pair", i.is_pair()},
-                    {"in_study", i.in_study},
-                    {"uses_ndotl", i.uses_ndotl},
-                    {"uses_roughness", i.uses_roughness},
-                    {"uses_ndotv", i.uses_ndotv},
-                    {"accepts_phi", i.accepts_phi},
-                    {"accepts_roughness_y", i.accepts_roughness_y},
-                    {"accepts_samples", i.accepts_samples},
-                    {"accepts_lut", i.accepts_lut},
-                    {"needs_texel", i.needs_texel},
-                    {"texel_channels", i.texel_channels},
-                    {"texel_bake", i.texel_bake},
-                    {"uses_visibility", i.uses_visibility},
-                    {"table_sample", i.table_sample},
-                    {"use", i.use},
-                    {"glsl", glsl}});
+    list.push_back(nlohmann::json::parse(occlusion::micro_shadowing_method_json(i)));
     text += a.names ? (text.empty() ? "" : ",") + i.name
                     : fmt::format("{:<38} {}{}\n", i.name, i.label, i.in_study ? "  [study]" : "");
   }
@@ -380,7 +351,7 @@ void add_micro_shadowing(Groups& g) {
         "share): name, label, and [study] for the study's default set; a name D+S is a pair (D on the "
         "diffuse lobe, S on the specular lobe)",
         run_methods);
-    m->add_flag("--json", ma->json, "One JSON array: every field of each method");
+    add_json_flag(m, ma->json, "One JSON array: every field of each method");
     m->add_flag("--study", ma->study, "Only the methods the study renders by default");
     m->add_flag("--uses-ndotl", ma->uses_ndotl, "Only the methods that depend on N.L (not none, ao)");
     m->add_flag("--names", ma->names, "Only the names, comma-separated on one line (for --method lists)");
@@ -446,7 +417,7 @@ void add_micro_shadowing(Groups& g) {
                                    "Weight over the light: lambert ((n.l)) or ggx (the GGX specular BRDF "
                                    "at --roughness and --ndotv, F = 1, times (n.l))")
                          ->capture_default_str();
-  e->add_flag("--json", ea->json, "Print one JSON object");
+  add_json_flag(e, ea->json);
 
   const auto [p, pa] = add_command<PlotArgs>(
       g.plot, "micro-shadowing",
@@ -457,7 +428,7 @@ void add_micro_shadowing(Groups& g) {
       "(exact term vs its azimuth mean at random configurations), validation.csv (exact vs Monte Carlo), "
       "summary.json. PNGs: scripts/plot_micro_shadowing.py.",
       run_plot);
-  p->add_option("--out", pa->out, "Output directory (created if missing)")->required();
+  add_out_dir_option(p, pa->out);
   p->add_option("--size", pa->size, "Grid points per axis of the maps")->capture_default_str();
   p->add_option("--azimuth-configs", pa->azimuth_configs, "Random configurations of the azimuth study")
       ->capture_default_str();

@@ -202,8 +202,7 @@ void run_plot(const PlotArgs& a) {
   for (std::size_t k = 0; k < cells.size(); ++k)
     s << fmt::format("{},{},{:.6f},{:.6f},{:.7f},{:.7f},{:.7f},{:.7f}\n", cells[k].r, cells[k].nv, cells[k].V,
                      cells[k].nl, val[k][0], val[k][1], val[k][2], val[k][3]);
-  const std::filesystem::path dir(a.out);
-  std::filesystem::create_directories(dir);
+  const std::filesystem::path dir = make_out_dir(a.out);
   io::write_file_atomic(dir / "maps.csv", s.str());
   std::cout << fmt::format("wrote {} ({} cells)\n", (dir / "maps.csv").string(), cells.size());
 }
@@ -226,7 +225,7 @@ void add_aware(Groups& g) {
       ->check(CLI::Range(1e-9, 1e-2))
       ->capture_default_str();
   add_threads_option(v, va->threads);
-  v->add_flag("--json", va->json, "Print one JSON object");
+  add_json_flag(v, va->json);
 
   const auto [p, pa] =
       add_command<PlotArgs>(g.plot, "micro-shadowing-aware",
@@ -234,7 +233,7 @@ void add_aware(Groups& g) {
                             "N.L) per roughness and N.V (maps.csv; "
                             "figures: scripts/plot_micro_shadowing_aware.py)",
                             run_plot);
-  p->add_option("--out", pa->out, "Output directory")->required();
+  add_out_dir_option(p, pa->out);
   p->add_option("--size", pa->size, "Grid points per axis")->capture_default_str();
   add_threads_option(p, pa->threads);
 }

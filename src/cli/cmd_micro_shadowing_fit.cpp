@@ -76,7 +76,7 @@ std::vector<Input> near_step_points(int m, Pcg32& rng) {
 }
 
 void run_fit_data(const FitDataArgs& a) {
-  if (a.out.empty()) throw UsageError("--out is required");
+  require_parent_dir(a.out, "--out");  // before the minutes of work
   if (a.samples < 1 || a.samples > 10000000) throw UsageError("--samples must be in [1, 1e7]");
   if (a.near_step < 0 || a.near_step > 10000000) throw UsageError("--near-step must be in [0, 1e7]");
   if (a.term != "generic" && a.term != "diffuse-aware")

@@ -102,7 +102,7 @@ void add_microfacet(Groups& g) {
       ->check(Finite)
       ->capture_default_str();
   c->add_flag("--albedo", args->albedo, "print the GGX directional albedo E(ndotv, alpha) instead (F = 1)");
-  c->add_flag("--json", args->json, "one JSON object on stdout");
+  add_json_flag(c, args->json);
 }
 
 }  // namespace

@@ -193,7 +193,7 @@ void add_render(Groups& g) {
   r->add_option("--light-azimuth", a->azimuth, "Set every directional light's azimuth (degrees from +x)")
       ->check(CLI::Range(-360.0, 360.0));
   r->add_option("--exposure", a->exposure, "PNG exposure in stops")->check(CLI::Range(-30.0, 30.0));
-  r->add_flag("--quiet", a->quiet, "No progress on stderr");
+  add_quiet_flag(r, a->quiet);
 
   add_gen_material(g);
   add_compare(g);
@@ -290,7 +290,7 @@ void add_gen_material(Groups& g) {
   a->size_opt = gm->add_option("--size", a->gen.size, "Texels per side")->check(CLI::Range(8, 8192));
   gm->add_option("--height", a->height,
                  "Bake this height map instead (16-bit PNG or EXR, grey, values in [0,1]; needs --depth)");
-  gm->add_option("--out", a->dir, "Output directory (created)")->required();
+  add_out_dir_option(gm, a->dir);
   gm->add_option("--depth", a->gen.depth_texels,
                  "Depth of the full height range in texels (0 = kind default; required with --height)")
       ->check(Finite)

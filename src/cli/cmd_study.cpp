@@ -188,7 +188,7 @@ void add_study(Groups& g) {
       "study",
       "Multiscale study: every micro-shadowing term on coarse texture sets against a ray-traced fine height "
       "field; writes DIR/results.json, results.csv, summary.md, study.html");
-  s->add_option("--out", a->out, "Output directory (created)")->required();
+  add_out_dir_option(s, a->out);
   s->add_flag("--quick", a->quick,
               "Reduced study for make demo (one material, three lights, smaller images)");
   s->add_flag(
@@ -272,7 +272,7 @@ void add_study(Groups& g) {
       "size, seed or height-map hash and depth, bake settings and bake version; an entry whose maps "
       "or depth do not match its key or hold non-finite values is baked again)");
   add_threads_option(s, a->threads);
-  s->add_flag("--quiet", a->quiet, "No progress on stderr");
+  add_quiet_flag(s, a->quiet);
   s->callback([a] { run_study_command(*a); });
 }
 

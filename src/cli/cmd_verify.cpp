@@ -157,12 +157,6 @@ void print_result(const lut::VerifyResult& r) {
 }
 
 // --csv: every input with its exact and approximate value (one file per method; atomic write).
-void check_csv_path(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path p(path);
-  if (p.has_parent_path() && !fs::is_directory(p.parent_path()))
-    throw UsageError(fmt::format("--csv: directory '{}' does not exist", p.parent_path().string()));
-}
 void write_csv(const std::string& path, const std::vector<lut::VerifyInput>& in, const lut::VerifyResult& r) {
   const std::filesystem::path p(path);
   std::string text = "index,visibility,n_dot_l,n_dot_v,roughness,cos_phi,exact,approx,error\n";
@@ -227,7 +221,7 @@ void run_lut(const LutArgs& a) {
     f = [&view](float V, float nl, float nv, float r, float) {
       return lut::sample_micro_shadowing<float>(view, V, nl, nv, r);
     };
-  if (!a.csv.empty()) check_csv_path(a.csv);
+  if (!a.csv.empty()) require_parent_dir(a.csv, "--csv");
   const std::vector<lut::VerifyInput> inputs = lut::make_verify_inputs(o);
   const lut::VerifyResult r = lut::measure(inputs, f, o);
   if (!a.csv.empty()) write_csv(a.csv, inputs, r);
@@ -325,7 +319,7 @@ void run_term(const TermArgs& a) {
   const lut::VerifyOptions o = make_options(a, 0.1, 1.0);
   if (!a.csv.empty()) {
     if (methods.size() != 1) throw UsageError("--csv needs one --method");
-    check_csv_path(a.csv);
+    require_parent_dir(a.csv, "--csv");
   }
   const std::vector<lut::VerifyInput> inputs = lut::make_verify_inputs(o);  // shared by every method
   std::vector<lut::VerifyResult> results;
@@ -377,7 +371,7 @@ void add_common(CLI::App* c, CommonArgs& a) {
   add_threads_option(c, a.threads);
   c->add_option("--csv", a.csv,
                 "Also write every input with its exact and approximate value to this CSV file");
-  c->add_flag("--json", a.json, "Print one JSON object instead of the table");
+  add_json_flag(c, a.json, "Print one JSON object instead of the table");
 }
 
 void add_verify(Groups& g) {

@@ -61,6 +61,61 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
                                                std::size_t(threads));
 }
 
+CLI::Option* add_quiet_flag(CLI::App* command, bool& quiet) {
+  return command->add_flag("--quiet", quiet, "No progress on stderr");
+}
+
+CLI::Option* add_json_flag(CLI::App* command, bool& json, const std::string& what) {
+  return command->add_flag("--json", json, what);
+}
+
+CLI::Option* add_out_dir_option(CLI::App* command, std::string& dir) {
+  return command->add_option("--out", dir, "Output directory (created with its parents if missing)")
+      ->required();
+}
+
+void add_table_output(CLI::App* command, TableOutput& t) {
+  command
+      ->add_option("--out", t.out,
+                   "Output file: .dds .ktx2 .exr .npy .h (format by extension unless --format)")
+      ->required();
+  command->add_option("--format", t.format, "dds, ktx2, exr, npy or h (overrides the extension)");
+}
+
+io::FileFormat table_output_format(const TableOutput& t, const std::string& hint) {
+  const io::FileFormat ff =
+      t.format.empty() ? io::file_format_from_path(t.out) : io::file_format_from_name(t.format);
+  if (ff == io::FileFormat::Png)
+    throw UsageError("a table cannot be written as PNG (use dds, ktx2, exr, npy or h" + hint + ")");
+  require_parent_dir(t.out, "--out");
+  return ff;
+}
+
+std::filesystem::path make_out_dir(const std::string& dir, const std::string& option) {
+  namespace fs = std::filesystem;
+  const fs::path p(dir);
+  std::error_code ec;
+  fs::create_directories(p, ec);
+  if (ec || !fs::is_directory(p))
+    throw UsageError(fmt::format("{}: cannot create directory '{}'", option, dir));
+  return p;
+}
+
+void require_parent_dir(const std::filesystem::path& file, const std::string& option) {
+  if (file.has_parent_path() && !std::filesystem::is_directory(file.parent_path()))
+    throw UsageError(fmt::format("{}: directory '{}' does not exist", option, file.parent_path().string()));
+}
+
+std::function<void(double)> progress_in_tenths(const std::string& what, bool quiet) {
+  if (quiet) return {};
+  return [what, last = 0](double f) mutable {
+    const int step = int(f * 10.0 + 1e-9);
+    if (step == last) return;
+    last = step;
+    std::cerr << fmt::format("microshadow: {}: {:3d}%\n", what, step * 10);
+  };
+}
+
 void print_json(const nlohmann::json& j) { std::cout << j.dump() << std::endl; }
 
 std::string two_stage_fit_id() {

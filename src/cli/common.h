@@ -2,10 +2,13 @@
 #pragma once
 
 #include <microshadow/io/error.h>
+#include <microshadow/io/texture.h>
 #include <microshadow/math/vec.h>
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -36,6 +39,35 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads);
 // The one --threads option of every command that runs in parallel: 0 = all cores, at most 1024; every
 // output is bit-identical whatever the count (the project's rule), which the help says.
 CLI::Option* add_threads_option(CLI::App* command, int& threads);
+
+// The options every kind of command shares, declared once so that their names, help and checks agree:
+// --quiet (long work reports progress on stderr unless it is given), --json (`what` is printed instead of
+// the table), --out DIR (a command writing several files: the folder is created with its parents) and
+// --out FILE with --format (a command writing one table: dds, ktx2, exr, npy or h; the format from the
+// extension unless --format names it).
+CLI::Option* add_quiet_flag(CLI::App* command, bool& quiet);
+CLI::Option* add_json_flag(CLI::App* command, bool& json, const std::string& what = "Print one JSON object");
+CLI::Option* add_out_dir_option(CLI::App* command, std::string& dir);
+struct TableOutput {
+  std::string out, format;
+};
+void add_table_output(CLI::App* command, TableOutput& t);
+
+// The format of a TableOutput, checked before any work: UsageError for PNG (a table is not an image; `hint`
+// is appended, e.g. where its figures come from) and for a parent directory that does not exist.
+io::FileFormat table_output_format(const TableOutput& t, const std::string& hint = "");
+
+// Creates the folder of an add_out_dir_option (and its parents); UsageError("<option>: cannot create
+// directory '<dir>'") when it cannot. Returns the path.
+std::filesystem::path make_out_dir(const std::string& dir, const std::string& option = "--out");
+
+// UsageError("<option>: directory '<parent>' does not exist") when the parent directory of `file` is missing.
+void require_parent_dir(const std::filesystem::path& file, const std::string& option);
+
+// The progress report of a long command: "microshadow: <what>: NN%" on stderr at each tenth of the work
+// (10%, 20%, ..., 100%; called with the fraction done, one call at a time: the bakers serialize it); an
+// empty function when quiet.
+std::function<void(double)> progress_in_tenths(const std::string& what, bool quiet);
 
 // Prints one JSON object on stdout, one line, with full double precision.
 void print_json(const nlohmann::json& j);

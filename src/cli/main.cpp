@@ -7,13 +7,12 @@
 #endif
 
 #include <algorithm>
-#include <exception>
-#include <iostream>
 #include <limits>
 #include <utility>
 #include <vector>
 
 #include "registry.h"
+#include "run_app.h"
 
 namespace msh::cli {
 namespace {
@@ -67,23 +66,5 @@ int main(int argc, char** argv) {
   g.verify->require_subcommand(1);
   run_registrars(g);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "microshadow: error: " << e.what() << " (see --help)" << std::endl;
-    return 2;
-  } catch (const UsageError& e) {
-    std::cerr << "microshadow: error: " << e.what() << std::endl;
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "microshadow: failed: " << e.what() << std::endl;
-    return 1;
-  }
-  return 0;
+  return parse_and_run(app, argc, argv, "microshadow");
 }

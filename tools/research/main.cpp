@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/run_app.h"
 #include "directional_study.h"
 
 namespace {
@@ -100,19 +101,5 @@ int main(int argc, char** argv) {
   s->add_option("--out", sa.out, "Also write the Markdown tables here");
   s->add_flag("--json", sa.json, "Print every row as JSON instead of the tables");
   s->callback([&] { run_study(sa); });
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::Success& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "microshadow_research: error: " << e.what() << " (see --help)" << std::endl;
-    return 2;
-  } catch (const msh::InputError& e) {
-    std::cerr << "microshadow_research: error: " << e.what() << std::endl;
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "microshadow_research: failed: " << e.what() << std::endl;
-    return 1;
-  }
-  return 0;
+  return msh::cli::parse_and_run(app, argc, argv, "microshadow_research");
 }
