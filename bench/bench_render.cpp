@@ -23,15 +23,8 @@ const Scene& comparison_scene() {
     const TextureSet t = generate_texture_set(o);
     Scene s;
     s.camera = {{0, -1.3f, 1.7f}, {0, 0, 0}, {0, 0, 1}, 26.0f};  // as examples/plaster_plane.json
-    Material m;
-    m.name = "plaster";
-    m.base_color = t.base_color;
-    m.normal = t.normal;
-    m.roughness = t.roughness;
-    m.metallic = t.metallic;
-    m.visibility = t.visibility;
-    m.height = t.height;
-    m.height_texels = t.depth_texels;
+    Material m = material_from_texture_set("plaster", t, false);
+    m.height = t.height, m.height_texels = t.depth_texels;  // the ground-truth rows displace it too
     s.materials.push_back(m);
     Object plane;
     plane.half_size = {1, 1};

@@ -84,10 +84,8 @@ Scene ground_truth_scene() {
   Scene s;
   s.camera.eye = {0, -1.0f, 1.73f}, s.camera.target = {0, 0, 0}, s.camera.up = {0, 0, 1};
   s.camera.orthographic = true, s.camera.ortho_height = 1.2f;
-  Material m;
-  m.name = "rock";
-  m.base_color = t.base_color, m.roughness = t.roughness, m.metallic = t.metallic;
-  m.height = t.height, m.height_texels = t.depth_texels, m.uv_scale = 3;
+  Material m = material_from_texture_set("rock", t, true);
+  m.uv_scale = 3;
   s.materials.push_back(m);
   Object plane;
   plane.half_size = {3, 3};

@@ -39,7 +39,7 @@ using msh::test::slurp;
 TEST(StudyMetrics, BiasOfAScaledImageIsTheScale) {
   const Plane g = ramp(12, 8);
   Plane a = g;
-  for (double& v : a.v) v *= 1.37;
+  for (double& v : a.px) v *= 1.37;
   const Plane se(12, 8, 0.0);
   const Mask all(12, 8, 1);
   EXPECT_NEAR(bias(a, g, se, all).value, 1.37, 1e-12);
@@ -47,7 +47,7 @@ TEST(StudyMetrics, BiasOfAScaledImageIsTheScale) {
   // Over a sub-region too.
   Mask left(12, 8, 0);
   for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 6; ++x) left.in[std::size_t(y) * 12 + x] = 1;
+    for (int x = 0; x < 6; ++x) left.px[std::size_t(y) * 12 + x] = 1;
   EXPECT_NEAR(bias(a, g, se, left).value, 1.37, 1e-12);
 }
 
@@ -78,7 +78,7 @@ TEST(StudyMetrics, FootprintRmseOfAZeroMeanPatternIsZero) {
   EXPECT_NEAR(rmse_footprint(a, g, se, all, 4).value, 0.0, 1e-12);
   // A constant offset survives the averaging unchanged.
   Plane c = g;
-  for (double& v : c.v) v += 0.1;
+  for (double& v : c.px) v += 0.1;
   EXPECT_NEAR(rmse_footprint(c, g, se, all, 4).value, 0.1, 1e-12);
 }
 
@@ -96,7 +96,7 @@ TEST(StudyMetrics, BlocksOutsideTheMaskAreDropped) {
   Plane g(4, 2, 1.0), a(4, 2, 1.0);
   a.at(2, 0) = a.at(3, 0) = a.at(2, 1) = a.at(3, 1) = 5.0;
   Mask m(4, 2, 1);
-  m.in[3] = 0;
+  m.px[3] = 0;
   const Plane se(4, 2, 0.0);
   const Blocks b = block_average(a, se, m, 2);
   ASSERT_EQ(b.mean.width, 2);
@@ -112,8 +112,8 @@ TEST(StudyMetrics, LuminanceOfGreyIsTheGrey) {
   img.px[0] = {0.3f, 0.3f, 0.3f};
   img.px[1] = {1.0f, 0.0f, 0.0f};
   const Plane l = luminance(img);
-  EXPECT_NEAR(l.v[0], 0.3, 1e-6);
-  EXPECT_NEAR(l.v[1], 0.2126, 1e-7);
+  EXPECT_NEAR(l.px[0], 0.3, 1e-6);
+  EXPECT_NEAR(l.px[1], 0.2126, 1e-7);
 }
 
 TEST(StudyMetrics, EmptyOrDarkRegions) {

@@ -77,7 +77,7 @@ TEST(StudyMeasure, ScaledGroundTruth) {
   const GroundTruth gt = make_ground_truth(gi);
   Regions reg{Mask(8, 8, 0), Mask(8, 8, 0), Mask(8, 8, 1)};
   for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) (x < 4 ? reg.rough : reg.smooth).in[std::size_t(y) * 8 + x] = 1;
+    for (int x = 0; x < 8; ++x) (x < 4 ? reg.rough : reg.smooth).px[std::size_t(y) * 8 + x] = 1;
   ComponentImages scaled = gi;
   for (auto& img : scaled.img)
     for (auto& p : img.px) p = p * 1.25f;

@@ -21,6 +21,7 @@
 #include <microshadow/filter/variance_mapping.h>
 #include <microshadow/lut/micro_shadowing_lut.h>
 #include <microshadow/math/color.h>
+#include <microshadow/math/grid.h>
 #include <microshadow/math/quadrature.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/math/vec.h>

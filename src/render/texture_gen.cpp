@@ -110,21 +110,27 @@ float bark_height(float u, float v, uint32_t seed) {
   return saturate(h);
 }
 
+// The relief kinds made of pieces (gravel, rock, brick, cobble) return this: the height in [0, 1] and the
+// id hash of the piece the point lies on (stone, block, brick; 0 = the bed, mortar or sand between them),
+// from which the colour pass takes a per-piece tone.
+struct PieceSample {
+  float h;
+  uint32_t piece;
+};
+// A piece's tone in [0, 1) from its id: the top 24 bits of its hash.
+float piece_tone(uint32_t id) { return float(hash_u32(id) >> 8) * 0x1p-24f; }
+
 // Gravel: packed stones on a sandy bed. One stone per cell of a 20 × 20 jittered grid (a random half of the
 // cells get a second, smaller stone), each an elliptical dome (random radii 0.35–0.75 cell, orientation,
 // height 0.55–1) with a flattened-sphere profile √(1 − q²)^0.8; the surface is the highest dome, or the
 // bed (fine fBm around 0.12) where no stone is. Stone radii stay below one cell, so the 3 × 3 neighbour
 // cells hold every stone that can reach a point. Returns the height and the id hash of the top stone (for
 // its colour; 0 = bed).
-struct GravelSample {
-  float h;
-  uint32_t stone;
-};
-GravelSample gravel_height(float u, float v, uint32_t seed) {
+PieceSample gravel_height(float u, float v, uint32_t seed) {
   const int P = 20;
   const float x = u * P, y = v * P;
   const int i = int(std::floor(x)), j = int(std::floor(y));
-  GravelSample out{0.08f + 0.08f * fbm(u, v, 64, 3, seed + 1), 0u};
+  PieceSample out{0.08f + 0.08f * fbm(u, v, 64, 3, seed + 1), 0u};
   for (int dj = -1; dj <= 1; ++dj)
     for (int di = -1; di <= 1; ++di) {
       const int ci = wrap(i + di, P), cj = wrap(j + dj, P);
@@ -187,18 +193,22 @@ WorleyCell worley_cell(float u, float v, int px, int py, uint32_t seed) {
   return w;
 }
 
+// The Worley cell (cells × cells) of (u, v) displaced by `warp` × (fBm − 0.5) in each axis (period `period`,
+// `octaves` octaves): the cells' edges wander instead of being straight Voronoi edges. Seeds seed .. seed
+// + 2.
+WorleyCell warped_worley_cell(float u, float v, float warp, int period, int octaves, int cells,
+                              uint32_t seed) {
+  const float wu = u + warp * (fbm(u, v, period, octaves, seed + 1) - 0.5f),
+              wv = v + warp * (fbm(u, v, period, octaves, seed + 2) - 0.5f);
+  return worley_cell(wu, wv, cells, cells, seed + 3);
+}
+
 // Fractured rock: blocks (Worley cells, 6 × 6) each a tilted plane at its own level, so neighbouring blocks
 // meet in steps and ledges; deep cracks along the block edges; a ridged multifractal for the weathered
 // surface; a few large fracture planes (straight cliffs crossing the tile) cut across everything. Returns
 // the height and the block id (for its colour).
-struct RockSample {
-  float h;
-  uint32_t block;
-};
-RockSample rock_height(float u, float v, uint32_t seed) {
-  const float wu = u + 0.05f * (fbm(u, v, 4, 3, seed + 1) - 0.5f),
-              wv = v + 0.05f * (fbm(u, v, 4, 3, seed + 2) - 0.5f);
-  const WorleyCell c = worley_cell(wu, wv, 6, 6, seed + 3);
+PieceSample rock_height(float u, float v, uint32_t seed) {
+  const WorleyCell c = warped_worley_cell(u, v, 0.05f, 4, 3, 6, seed);
   const float base = 0.35f + 0.3f * hash01(c.ci, c.cj, seed + 4);
   const float gx = 0.5f * (hash01(c.ci, c.cj, seed + 5) - 0.5f),
               gy = 0.5f * (hash01(c.ci, c.cj, seed + 6) - 0.5f);
@@ -220,11 +230,7 @@ RockSample rock_height(float u, float v, uint32_t seed) {
 // brick is a rounded box (a quarter-circle edge 0.22 brick-height wide) standing on a mortar bed, with its
 // own level and a slight tilt (settled paving), and a little surface noise. Returns the height and the
 // brick id (0 = mortar).
-struct BrickSample {
-  float h;
-  uint32_t brick;
-};
-BrickSample brick_height(float u, float v, uint32_t seed) {
+PieceSample brick_height(float u, float v, uint32_t seed) {
   const int cols = 8, rows = 16;
   const float y = v * rows, fy = std::floor(y);
   const int row = int(fy);
@@ -249,14 +255,8 @@ BrickSample brick_height(float u, float v, uint32_t seed) {
 // Cobblestones: one rounded stone per cell of a 12 × 12 jittered grid (Voronoi cells, so the stones fill the
 // plane like set cobbles); each a dome whose height follows the distance to the cell's edge, (F2 − F1)/2,
 // with its own height; sand in the joints. Returns the height and the stone id (0 = sand).
-struct CobbleSample {
-  float h;
-  uint32_t stone;
-};
-CobbleSample cobble_height(float u, float v, uint32_t seed) {
-  const float wu = u + 0.02f * (fbm(u, v, 8, 2, seed + 1) - 0.5f),
-              wv = v + 0.02f * (fbm(u, v, 8, 2, seed + 2) - 0.5f);
-  const WorleyCell c = worley_cell(wu, wv, 12, 12, seed + 3);
+PieceSample cobble_height(float u, float v, uint32_t seed) {
+  const WorleyCell c = warped_worley_cell(u, v, 0.02f, 8, 2, 12, seed);
   const float edge = 0.5f * (c.f2 - c.f1);  // distance to the cell's edge, cell units
   const float joint = 0.05f;
   const float sand = 0.08f + 0.08f * fbm(u, v, 64, 3, seed + 4);
@@ -268,6 +268,25 @@ CobbleSample cobble_height(float u, float v, uint32_t seed) {
 }
 
 }  // namespace
+
+Material material_from_texture_set(const std::string& name, const TextureSet& s, bool ground_truth) {
+  Material m;
+  m.name = name;
+  m.base_color = s.base_color;
+  m.roughness = s.roughness;
+  m.metallic = s.metallic;
+  if (ground_truth) {
+    m.height = s.height;
+    m.height_texels = s.depth_texels;
+    m.visibility = Texture::constant({1, 0, 0, 0}, 1);
+  } else {
+    m.normal = s.normal;
+    m.visibility = s.visibility;
+    m.directional = s.directional;
+    m.slope_covariance = s.slope_covariance;
+  }
+  return m;
+}
 
 Texture normal_map_from_height(const Texture& height, float depth) {
   HeightField hf(height, depth);
@@ -376,38 +395,37 @@ TextureSet generate_texture_set(const GenOptions& opt) {
         hv = bark_height(u, v, opt.seed);
         c = Rgbf(0.36f, 0.25f, 0.17f) * (0.55f + 0.3f * hv + 0.15f * tint);
       } else if (opt.kind == "rock") {
-        const RockSample r = rock_height(u, v, opt.seed);
+        const PieceSample r = rock_height(u, v, opt.seed);
         hv = r.h;
         // Grey stone, per-block shade, darker in the cracks.
-        const float a = float(hash_u32(r.block) >> 8) * 0x1p-24f;
+        const float a = piece_tone(r.piece);
         c = Rgbf(0.46f, 0.44f, 0.41f) * (0.55f + 0.35f * hv + 0.15f * a) * (0.9f + 0.1f * tint);
       } else if (opt.kind == "brick") {
-        const BrickSample b = brick_height(u, v, opt.seed);
+        const PieceSample b = brick_height(u, v, opt.seed);
         hv = b.h;
-        if (b.brick == 0) {
+        if (b.piece == 0) {
           c = Rgbf(0.55f, 0.53f, 0.49f) * (0.85f + 0.15f * tint);  // mortar
         } else {
-          const float a = float(hash_u32(b.brick) >> 8) * 0x1p-24f;
+          const float a = piece_tone(b.piece);
           c = lerp(a, Rgbf(0.52f, 0.22f, 0.14f), Rgbf(0.62f, 0.34f, 0.22f)) * (0.85f + 0.15f * tint);
         }
       } else if (opt.kind == "cobble") {
-        const CobbleSample cb = cobble_height(u, v, opt.seed);
+        const PieceSample cb = cobble_height(u, v, opt.seed);
         hv = cb.h;
-        if (cb.stone == 0) {
+        if (cb.piece == 0) {
           c = Rgbf(0.42f, 0.36f, 0.28f) * (0.8f + 0.2f * tint);  // sand
         } else {
-          const float a = float(hash_u32(cb.stone) >> 8) * 0x1p-24f;
+          const float a = piece_tone(cb.piece);
           c = lerp(a, Rgbf(0.40f, 0.40f, 0.40f), Rgbf(0.50f, 0.44f, 0.38f)) * (0.85f + 0.15f * tint);
         }
       } else {
-        const GravelSample g = gravel_height(u, v, opt.seed);
+        const PieceSample g = gravel_height(u, v, opt.seed);
         hv = g.h;
-        if (g.stone == 0) {
+        if (g.piece == 0) {
           c = Rgbf(0.42f, 0.36f, 0.28f) * (0.8f + 0.2f * tint);  // sand
         } else {
           // Per-stone grey to warm-brown tint and brightness.
-          const float a = float(hash_u32(g.stone) >> 8) * 0x1p-24f,
-                      b = float(hash_u32(g.stone ^ 0x5bd1e995u) >> 8) * 0x1p-24f;
+          const float a = piece_tone(g.piece), b = piece_tone(g.piece ^ 0x5bd1e995u);
           c = lerp(a, Rgbf(0.50f, 0.50f, 0.49f), Rgbf(0.55f, 0.45f, 0.35f)) * (0.6f + 0.5f * b) *
               (0.9f + 0.1f * tint);
         }

@@ -248,33 +248,14 @@ Regions make_regions(const StudyView& v, const std::string& shape, const std::ve
           u = (o.x + t * d.x + 0.5 * tiles * kTileWorld) / kTileWorld;  // in tiles
         }
         const std::size_t i = std::size_t(win.y0 + y) * iw + std::size_t(win.x0 + x);
-        r.whole.in[i] = 1;
+        r.whole.px[i] = 1;
         const double fu = u - std::floor(u);
         const double dist = std::min({fu, std::abs(fu - 0.5), 1.0 - fu});
         if (dist <= margin) continue;
-        (fu < 0.5 ? r.rough : r.smooth).in[i] = 1;
+        (fu < 0.5 ? r.rough : r.smooth).px[i] = 1;
       }
   }
   return r;
-}
-
-Material make_material(const std::string& name, const TextureSet& s, bool ground_truth) {
-  Material m;
-  m.name = name;
-  m.base_color = s.base_color;
-  m.roughness = s.roughness;
-  m.metallic = s.metallic;
-  if (ground_truth) {
-    m.height = s.height;
-    m.height_texels = s.depth_texels;
-    m.visibility = Texture::constant({1, 0, 0, 0}, 1);
-  } else {
-    m.normal = s.normal;
-    m.visibility = s.visibility;
-    m.directional = s.directional;
-    m.slope_covariance = s.slope_covariance;
-  }
-  return m;
 }
 
 // tiles: the plane spans tiles × tiles texture tiles (odd), centred on the view.
@@ -379,8 +360,8 @@ json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr
 
 float display_exposure(const Plane& g) {
   double s = 0;
-  for (double v : g.v) s += v;
-  const double m = s / double(std::max<std::size_t>(1, g.v.size()));
+  for (double v : g.px) s += v;
+  const double m = s / double(std::max<std::size_t>(1, g.px.size()));
   return m > 0 ? float(std::log2(0.25 / m)) : 0.0f;
 }
 
@@ -514,7 +495,7 @@ struct CellRunner::State {
       clear_shape();
       tiles = cell.shape == "plane" ? plane_tiles(cell.material, cell.shape) : 1;
       gt_scene =
-          std::make_unique<Scene>(make_scene(cfg, make_material(mat.name, fine, true), cell.shape, tiles));
+          std::make_unique<Scene>(make_scene(cfg, material_from_texture_set(mat.name, fine, true), cell.shape, tiles));
       gt_scene->settings.micro_shadowing = kGroundTruth;
       gt_scene->settings.error_batches = 8;
       const auto t_build = std::chrono::steady_clock::now();
@@ -537,9 +518,9 @@ struct CellRunner::State {
         return s;
       };
       coarse[0] =
-          make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Base), false), shape, tiles);
+          make_scene(cfg, material_from_texture_set(mat.name, coarse_set(CoarseRoughness::Base), false), shape, tiles);
       if (cfg.widened && k > 1)
-        coarse[1] = make_scene(cfg, make_material(mat.name, coarse_set(CoarseRoughness::Widened), false),
+        coarse[1] = make_scene(cfg, material_from_texture_set(mat.name, coarse_set(CoarseRoughness::Widened), false),
                                shape, tiles);
       scale = k;
     }

@@ -19,14 +19,14 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::size_t Mask::count() const {
   std::size_t n = 0;
-  for (uint8_t x : in) n += x != 0;
+  for (uint8_t x : px) n += x != 0;
   return n;
 }
 
 Plane luminance(const render::Image& img) {
   Plane p(img.width, img.height);
   for (std::size_t i = 0; i < img.px.size(); ++i)
-    p.v[i] = luminance(Rgbd(img.px[i].r, img.px[i].g, img.px[i].b));
+    p.px[i] = luminance(Rgbd(img.px[i].r, img.px[i].g, img.px[i].b));
   return p;
 }
 
@@ -36,8 +36,8 @@ Measure region_mean(const Plane& img, const Plane& se, const Mask& m) {
   require_same(img, se, m);
   double s = 0, v = 0;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < img.v.size(); ++i)
-    if (m.in[i]) s += img.v[i], v += se.v[i] * se.v[i], ++n;
+  for (std::size_t i = 0; i < img.px.size(); ++i)
+    if (m.px[i]) s += img.px[i], v += se.px[i] * se.px[i], ++n;
   if (n == 0) return {0, 0};
   return {s / double(n), std::sqrt(v) / double(n)};
 }
@@ -46,8 +46,8 @@ Measure bias(const Plane& a, const Plane& g, const Plane& g_se, const Mask& m) {
   require_same(a, g, m);
   require_same(g, g_se, m);
   double sa = 0, sg = 0, v = 0;
-  for (std::size_t i = 0; i < a.v.size(); ++i)
-    if (m.in[i]) sa += a.v[i], sg += g.v[i], v += g_se.v[i] * g_se.v[i];
+  for (std::size_t i = 0; i < a.px.size(); ++i)
+    if (m.px[i]) sa += a.px[i], sg += g.px[i], v += g_se.px[i] * g_se.px[i];
   if (!(sg > 0)) return {kNaN, kNaN};
   const double r = sa / sg;
   return {r, std::abs(r) * std::sqrt(v) / sg};
@@ -58,10 +58,10 @@ Measure rmse(const Plane& a, const Plane& g, const Plane& g_se, const Mask& m) {
   require_same(g, g_se, m);
   double s = 0, v = 0;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < a.v.size(); ++i)
-    if (m.in[i]) {
-      const double d = a.v[i] - g.v[i];
-      s += d * d, v += g_se.v[i] * g_se.v[i], ++n;
+  for (std::size_t i = 0; i < a.px.size(); ++i)
+    if (m.px[i]) {
+      const double d = a.px[i] - g.px[i];
+      s += d * d, v += g_se.px[i] * g_se.px[i], ++n;
     }
   if (n == 0) return {kNaN, kNaN};
   return {std::sqrt(s / double(n)), std::sqrt(v / double(n))};
@@ -84,7 +84,7 @@ Blocks block_average(const Plane& img, const Plane& se, const Mask& m, int b) {
         }
       out.mean.at(bx, by) = s * inv;
       out.se.at(bx, by) = std::sqrt(v) * inv;
-      out.mask.in[std::size_t(by) * bw + bx] = all ? 1 : 0;
+      out.mask.px[std::size_t(by) * bw + bx] = all ? 1 : 0;
     }
   return out;
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <microshadow/math/color.h>
+#include <microshadow/math/grid.h>
 
 #include <filesystem>
 #include <vector>
@@ -9,13 +10,8 @@
 namespace msh::render {
 
 // Linear (scene-referred) Rec.709 RGB, row 0 at the top.
-struct Image {
-  int width = 0, height = 0;
-  std::vector<Rgbf> px;
-  Image() = default;
-  Image(int w, int h) : width(w), height(h), px(std::size_t(w) * h) {}
-  Rgbf& at(int x, int y) { return px[std::size_t(y) * width + x]; }
-  const Rgbf& at(int x, int y) const { return px[std::size_t(y) * width + x]; }
+struct Image : Grid<Rgbf> {
+  using Grid::Grid;
 };
 
 // sRGB OETF (IEC 61966-2-1) of a linear value in [0,1], and its inverse.

@@ -60,6 +60,12 @@ std::vector<std::string> material_kinds();  // the procedural kinds, for message
 // unknown kind, size outside [8, 8192], ao_rays outside [1, 65536], negative or non-finite depth/distance.
 TextureSet generate_texture_set(const GenOptions& opt);
 
+// The renderer's material of a texture set, as the study renders it. ground_truth: the height field displaced
+// and ray traced (height, its depth, base colour, roughness, metallic; visibility 1); otherwise the smooth
+// surface the approximations shade (normal map, baked visibility, directional channels, slope covariance,
+// base colour, roughness, metallic; no height).
+Material material_from_texture_set(const std::string& name, const TextureSet& s, bool ground_truth);
+
 // A user's height map: a 16-bit PNG or an EXR, grey (one channel, grey + alpha, or RGB(A) with R = G = B),
 // values in [0, 1], each side in [8, 16384]. InputError with one line naming the file otherwise (missing,
 // other format, 8-bit or palette PNG, colour, out-of-range or non-finite heights).

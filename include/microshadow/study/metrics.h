@@ -4,6 +4,7 @@
 // I/O, no threads.
 #pragma once
 
+#include <microshadow/math/grid.h>
 #include <microshadow/render/image.h>
 
 #include <cstdint>
@@ -12,22 +13,14 @@
 namespace msh::study {
 
 // A single-channel double image, row 0 at the top.
-struct Plane {
-  int width = 0, height = 0;
-  std::vector<double> v;
-  Plane() = default;
-  Plane(int w, int h, double fill = 0.0) : width(w), height(h), v(std::size_t(w) * h, fill) {}
-  double& at(int x, int y) { return v[std::size_t(y) * width + x]; }
-  double at(int x, int y) const { return v[std::size_t(y) * width + x]; }
+struct Plane : Grid<double> {
+  using Grid::Grid;
 };
 
-// Pixels of a region: 1 = inside. Same size as the images it applies to.
-struct Mask {
-  int width = 0, height = 0;
-  std::vector<uint8_t> in;
+// Pixels of a region: 1 = inside (a new mask is all inside). Same size as the images it applies to.
+struct Mask : Grid<uint8_t> {
   Mask() = default;
-  Mask(int w, int h, uint8_t fill = 1) : width(w), height(h), in(std::size_t(w) * h, fill) {}
-  bool at(int x, int y) const { return in[std::size_t(y) * width + x] != 0; }
+  Mask(int w, int h, uint8_t fill = 1) : Grid(w, h, fill) {}
   std::size_t count() const;
 };
 
