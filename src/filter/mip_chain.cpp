@@ -4,29 +4,22 @@
 #include <microshadow/filter/toksvig.h>
 #include <microshadow/filter/variance_mapping.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/names.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 namespace msh::filter {
 
+namespace {
+constexpr Named<FilterMethod> kFilterMethods[] = {
+    {FilterMethod::Toksvig, "toksvig"}, {FilterMethod::Variance, "variance"}, {FilterMethod::Lean, "lean"}};
+}  // namespace
+
 FilterMethod filter_method_from_name(const std::string& name) {
-  if (name == "toksvig") return FilterMethod::Toksvig;
-  if (name == "variance") return FilterMethod::Variance;
-  if (name == "lean") return FilterMethod::Lean;
-  throw InputError(fmt::format("unknown filter method '{}' (known: toksvig, variance, lean)", name));
+  return value_of<FilterMethod>(kFilterMethods, name, "filter method");
 }
 
-std::string filter_method_name(FilterMethod m) {
-  switch (m) {
-    case FilterMethod::Toksvig:
-      return "toksvig";
-    case FilterMethod::Variance:
-      return "variance";
-    case FilterMethod::Lean:
-      return "lean";
-  }
-  return "?";
-}
+std::string filter_method_name(FilterMethod m) { return name_of<FilterMethod>(kFilterMethods, m); }
 
 namespace {
 

@@ -1,6 +1,7 @@
 // Table loading, JSON sidecar, and the cached default tables. See micro_shadowing_loader.h.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/names.h>
 #include <microshadow/lut/runtime/micro_shadowing_loader.h>
 
 #include <cmath>
@@ -24,12 +25,14 @@ std::filesystem::path sidecar_path(const std::filesystem::path& table) {
 // The shortest decimal that reads back as the same float (0.1f → 0.1, not 0.10000000149011612).
 double short_float(float f) { return std::stod(fmt::format("{}", f)); }
 
-const char* layout_name(LutLayout l) { return l == LutLayout::Cone ? "cone" : "seed"; }
+namespace {
+constexpr Named<LutLayout> kLayouts[] = {{LutLayout::Seed, "seed"}, {LutLayout::Cone, "cone"}};
+}  // namespace
+
+const char* layout_name(LutLayout l) { return name_of<LutLayout>(kLayouts, l); }
 
 LutLayout layout_from_name(const std::string& name) {
-  if (name == "seed") return LutLayout::Seed;
-  if (name == "cone") return LutLayout::Cone;
-  throw InputError(fmt::format("unknown LUT layout '{}' (seed or cone)", name));
+  return value_of<LutLayout>(kLayouts, name, "LUT layout");
 }
 
 std::string sidecar_json(const BakeOptions& o) {

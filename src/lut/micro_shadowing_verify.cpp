@@ -1,6 +1,7 @@
 // As-used accuracy measurement of micro-shadowing approximations. See micro_shadowing_verify.h.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/names.h>
 #include <microshadow/lut/runtime/micro_shadowing_verify.h>
 #include <microshadow/math/sampling.h>
 #include <microshadow/microfacet/ggx.h>
@@ -17,15 +18,16 @@
 
 namespace msh::lut {
 
+namespace {
+constexpr Named<VerifyReference> kReferences[] = {{VerifyReference::AzimuthMean, "mean"},
+                                                  {VerifyReference::Azimuth, "azimuth"}};
+}  // namespace
+
 VerifyReference verify_reference_from_name(const std::string& name) {
-  if (name == "mean") return VerifyReference::AzimuthMean;
-  if (name == "azimuth") return VerifyReference::Azimuth;
-  throw InputError(fmt::format("--against must be mean or azimuth, got '{}'", name));
+  return value_of<VerifyReference>(kReferences, name, "--against reference");
 }
 
-const char* verify_reference_name(VerifyReference r) {
-  return r == VerifyReference::AzimuthMean ? "mean" : "azimuth";
-}
+const char* verify_reference_name(VerifyReference r) { return name_of<VerifyReference>(kReferences, r); }
 
 namespace {
 void validate_edges(const std::vector<double>& e, const char* what) {

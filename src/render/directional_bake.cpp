@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <microshadow/io/bc4.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/names.h>
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_bake.h>
 #include <microshadow/render/heightfield.h>
@@ -162,15 +163,18 @@ ChannelRanges channel_ranges(const Texture& t) {
   return r;
 }
 
+namespace {
+constexpr Named<DirectionalEncoding> kDirectionalEncodings[] = {{DirectionalEncoding::Float, "float"},
+                                                                {DirectionalEncoding::Unorm8, "unorm8"},
+                                                                {DirectionalEncoding::Bc4, "bc4"}};
+}  // namespace
+
 DirectionalEncoding directional_encoding_from_name(const std::string& name) {
-  if (name == "float") return DirectionalEncoding::Float;
-  if (name == "unorm8") return DirectionalEncoding::Unorm8;
-  if (name == "bc4") return DirectionalEncoding::Bc4;
-  throw InputError(fmt::format("directional encoding must be float, unorm8 or bc4, got '{}'", name));
+  return value_of<DirectionalEncoding>(kDirectionalEncodings, name, "directional encoding");
 }
 
 std::string directional_encoding_name(DirectionalEncoding e) {
-  return e == DirectionalEncoding::Float ? "float" : e == DirectionalEncoding::Unorm8 ? "unorm8" : "bc4";
+  return name_of<DirectionalEncoding>(kDirectionalEncodings, e);
 }
 
 void store_directional_channels(Texture& t, const ChannelRanges& r, DirectionalEncoding e) {

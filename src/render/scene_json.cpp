@@ -1,6 +1,7 @@
 // Scene JSON parser: strict (unknown keys are errors), every message names the file and the key.
 #include <fmt/format.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/names.h>
 #include <microshadow/io/texture.h>
 #include <microshadow/occlusion/runtime/micro_shadowing_methods.h>
 #include <microshadow/render/scene.h>
@@ -24,12 +25,12 @@ const std::vector<std::pair<const char*, const char*>> kRenamedMethods = {
     {"aware", "diffuse-aware+specular-aware"},
     {"aware-flux", "diffuse-aware-flux+specular-aware"},
     {"aware-alu", "diffuse-aware-alu+specular-aware"}};
-const std::vector<std::pair<Component, const char*>> kComponentNames = {
+constexpr Named<Component> kComponentNames[] = {
     {Component::Total, "total"}, {Component::Diffuse, "diffuse"}, {Component::Specular, "specular"}};
 
-const std::vector<std::pair<AreaMs, const char*>> kAreaMsNames = {{AreaMs::Sampled, "sampled"},
-                                                                  {AreaMs::Representative, "representative"},
-                                                                  {AreaMs::Integrated, "integrated"}};
+constexpr Named<AreaMs> kAreaMsNames[] = {{AreaMs::Sampled, "sampled"},
+                                          {AreaMs::Representative, "representative"},
+                                          {AreaMs::Integrated, "integrated"}};
 
 struct Ctx {
   std::string file;
@@ -375,19 +376,6 @@ void parse_settings(const Ctx& c, const json& j, Settings& s) {
   if (j.contains("seed")) s.seed = uint32_t(c.integer(j["seed"], w + ".seed", 0, 2147483647));
 }
 
-// The name of `key` in a (value, name) table ("?" if absent), and the value named `name` (nullptr if none).
-template <class E>
-const char* name_of(const std::vector<std::pair<E, const char*>>& table, E key) {
-  for (const auto& [k, n] : table)
-    if (k == key) return n;
-  return "?";
-}
-template <class E>
-const E* value_of(const std::vector<std::pair<E, const char*>>& table, const std::string& name) {
-  for (const auto& [k, n] : table)
-    if (name == n) return &k;
-  return nullptr;
-}
 }  // namespace
 
 std::vector<std::string> micro_shadowing_names() {
@@ -403,16 +391,13 @@ std::string micro_shadowing_from_string(const std::string& s) {
   throw InputError(fmt::format("unknown micro-shadowing method '{}' (known: {}, {})", s,
                                occlusion::micro_shadowing_method_names(), kGroundTruth));
 }
-const char* to_string(Component c) { return name_of(kComponentNames, c); }
+const char* to_string(Component c) { return name_of<Component>(kComponentNames, c); }
 Component component_from_string(const std::string& s) {
-  if (const auto* k = value_of(kComponentNames, s)) return *k;
-  throw InputError(fmt::format("unknown component '{}' (known: total, diffuse, specular)", s));
+  return value_of<Component>(kComponentNames, s, "component");
 }
-const char* to_string(AreaMs a) { return name_of(kAreaMsNames, a); }
+const char* to_string(AreaMs a) { return name_of<AreaMs>(kAreaMsNames, a); }
 AreaMs area_ms_from_string(const std::string& s) {
-  if (const auto* k = value_of(kAreaMsNames, s)) return *k;
-  throw InputError(fmt::format(
-      "unknown area-light micro-shadowing mode '{}' (known: sampled, representative, integrated)", s));
+  return value_of<AreaMs>(kAreaMsNames, s, "area-light micro-shadowing mode");
 }
 float light_area(const Light& l) {
   if (l.type == LightType::Disk) return kPi<float> * l.radius * l.radius;
