@@ -274,41 +274,40 @@ std::vector<std::vector<float>> DirectionalCodec::folded_basis_rows() const {
   return rows_of(folded_basis(), channels, coefficients);
 }
 
-Texture encode_directional(const Texture& channels, const DirectionalCodec& codec) {
-  const int C = codec.channels, K = codec.coefficients;
-  if (channels.channels() != C)
-    throw InputError(
-        fmt::format("encode_directional: {} channels, the code takes {}", channels.channels(), C));
-  Texture out(channels.width(), channels.height(), K);
-  tbb::parallel_for(0, channels.height(), [&](int y) {
-    for (int x = 0; x < channels.width(); ++x)
-      for (int k = 0; k < K; ++k) {
-        double s = 0;
-        for (int i = 0; i < C; ++i)
-          s += double(codec.encode[std::size_t(k) * C + i]) *
-               (double(channels.at(x, y, i)) - codec.mean[std::size_t(i)]);
-        out.at(x, y, k) = float(s);
-      }
+namespace {
+// The texture of `out_channels` channels whose texel (x, y) channel k is f(x, y, k), rows in parallel; `in`
+// must have `in_channels` channels (`what`: the caller, for the error).
+template <class F>
+Texture map_texels(const char* what, const Texture& in, int in_channels, int out_channels, const F& f) {
+  if (in.channels() != in_channels)
+    throw InputError(fmt::format("{}: {} channels, the code takes {}", what, in.channels(), in_channels));
+  Texture out(in.width(), in.height(), out_channels);
+  tbb::parallel_for(0, in.height(), [&](int y) {
+    for (int x = 0; x < in.width(); ++x)
+      for (int k = 0; k < out_channels; ++k) out.at(x, y, k) = f(x, y, k);
   });
   return out;
 }
+}  // namespace
+
+Texture encode_directional(const Texture& channels, const DirectionalCodec& codec) {
+  const int C = codec.channels;
+  return map_texels("encode_directional", channels, C, codec.coefficients, [&](int x, int y, int k) {
+    double s = 0;
+    for (int i = 0; i < C; ++i)
+      s += double(codec.encode[std::size_t(k) * C + i]) *
+           (double(channels.at(x, y, i)) - codec.mean[std::size_t(i)]);
+    return float(s);
+  });
+}
 
 Texture decode_directional(const Texture& coefficients, const DirectionalCodec& codec) {
-  const int C = codec.channels, K = codec.coefficients;
-  if (coefficients.channels() != K)
-    throw InputError(
-        fmt::format("decode_directional: {} coefficients, the code has {}", coefficients.channels(), K));
-  Texture out(coefficients.width(), coefficients.height(), C);
-  tbb::parallel_for(0, coefficients.height(), [&](int y) {
-    for (int x = 0; x < coefficients.width(); ++x)
-      for (int i = 0; i < C; ++i) {
-        double s = codec.mean[std::size_t(i)];
-        for (int k = 0; k < K; ++k)
-          s += double(codec.basis[std::size_t(i) * K + k]) * coefficients.at(x, y, k);
-        out.at(x, y, i) = float(s);
-      }
+  const int K = codec.coefficients;
+  return map_texels("decode_directional", coefficients, K, codec.channels, [&](int x, int y, int i) {
+    double s = codec.mean[std::size_t(i)];
+    for (int k = 0; k < K; ++k) s += double(codec.basis[std::size_t(i) * K + k]) * coefficients.at(x, y, k);
+    return float(s);
   });
-  return out;
 }
 
 void quantize_coefficients(Texture& a, const DirectionalCodec& codec) {
