@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 namespace msh::occlusion {
@@ -721,6 +722,34 @@ const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& n
   for (const MicroShadowingMethodInfo& i : micro_shadowing_methods())
     if (i.name == name) return &i;
   return nullptr;
+}
+
+std::string micro_shadowing_method_json(const MicroShadowingMethodInfo& i) {
+  nlohmann::json glsl = nlohmann::json::array();
+  for (const MicroShadowingGlsl& g : i.glsl)
+    glsl.push_back({{"id", i.form_id(g)}, {"expr", g.expr}, {"requires", g.requires_fn}, {"lut", g.lut}});
+  const nlohmann::json j = {{"name", i.name},
+                            {"label", i.label},
+                            {"summary", i.summary},
+                            {"diffuse", i.is_pair() ? i.diffuse : i.name},
+                            {"specular", i.is_pair() ? i.specular : i.name},
+                            {"pair", i.is_pair()},
+                            {"in_study", i.in_study},
+                            {"uses_ndotl", i.uses_ndotl},
+                            {"uses_roughness", i.uses_roughness},
+                            {"uses_ndotv", i.uses_ndotv},
+                            {"accepts_phi", i.accepts_phi},
+                            {"accepts_roughness_y", i.accepts_roughness_y},
+                            {"accepts_samples", i.accepts_samples},
+                            {"accepts_lut", i.accepts_lut},
+                            {"needs_texel", i.needs_texel},
+                            {"texel_channels", i.texel_channels},
+                            {"texel_bake", i.texel_bake},
+                            {"uses_visibility", i.uses_visibility},
+                            {"table_sample", i.table_sample},
+                            {"use", i.use},
+                            {"glsl", glsl}};
+  return j.dump();
 }
 
 std::vector<std::string> micro_shadowing_closed_form_terms() {

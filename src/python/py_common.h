@@ -185,6 +185,11 @@ using ::msh::require_range;
 // Whether `obj` is None.
 inline bool is_none(pyb::handle obj) { return obj.is_none(); }
 
+// The Python value (dicts, lists, numbers, strings) of the JSON text `text`, through the json module.
+inline pyb::object json_to_python(const std::string& text) {
+  return pyb::module_::import("json").attr("loads")(text);
+}
+
 // Registration of each part of the module (one per source file).
 void register_micro_shadowing(pyb::module_& m);
 void register_bump(pyb::module_& m);

@@ -28,10 +28,6 @@ pyb::array_t<float> volume_array(const io::Volume& v) {
   return a;
 }
 
-pyb::object json_to_python(const std::string& text) {
-  return pyb::module_::import("json").attr("loads")(text);
-}
-
 pyb::tuple bake(const std::string& layout_name, int harmonics, bool two_d, std::optional<int> n_vis,
                 std::optional<int> n_nl, std::optional<int> n_nv, std::optional<int> n_rough,
                 std::optional<std::vector<double>> roughness, std::optional<std::pair<double, double>> range,

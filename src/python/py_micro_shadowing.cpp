@@ -218,35 +218,22 @@ void register_micro_shadowing(pyb::module_& m) {
             out.append(i.name);
             continue;
           }
-          pyb::dict d("name"_a = i.name, "label"_a = i.label, "summary"_a = i.summary,
-                      "uses_roughness"_a = i.uses_roughness, "uses_ndotv"_a = i.uses_ndotv,
-                      "accepts_phi"_a = i.accepts_phi, "accepts_roughness_y"_a = i.accepts_roughness_y,
-                      "accepts_samples"_a = i.accepts_samples, "accepts_lut"_a = i.accepts_lut);
-          d["pair"] = i.is_pair();
-          d["diffuse"] = i.is_pair() ? i.diffuse : i.name;
-          d["specular"] = i.is_pair() ? i.specular : i.name;
-          d["uses_ndotl"] = i.uses_ndotl;
-          d["in_study"] = i.in_study;
-          d["needs_texel"] = i.needs_texel;
-          d["texel_channels"] = i.texel_channels;
-          d["texel_bake"] = i.texel_bake;
-          d["uses_visibility"] = i.uses_visibility;
-          d["table_sample"] = i.table_sample;
-          d["use"] = i.use;
-          out.append(d);
+          out.append(json_to_python(occlusion::micro_shadowing_method_json(i)));
         }
         return out;
       },
       "details"_a = false,
       "Names of every micro-shadowing method (the CLI's `eval micro-shadowing --method` and `render "
-      "--method` values; `microshadow methods`), in the registry's order; details=True returns dicts (name, "
-      "label, summary, uses_roughness, uses_ndotv, accepts_phi, accepts_roughness_y, accepts_samples, "
-      "accepts_lut, pair, diffuse, specular, uses_ndotl, in_study, needs_texel: per-texel channels, renderer "
-      "only; texel_channels, texel_bake: the command that bakes them, uses_visibility: reads V, "
-      "table_sample: 3 or 2 for the table samplers, use: "
-      "when "
-      "to use it). A pair D+S has the term D on the diffuse "
-      "lobe and S on the specular lobe.");
+      "--method` values; `microshadow methods`), in the registry's order; details=True returns one dict per "
+      "method with every field of `microshadow methods --json` (the same text, from one function): name, "
+      "label, "
+      "summary, diffuse, specular, pair, in_study, uses_ndotl, uses_roughness, uses_ndotv, accepts_phi, "
+      "accepts_roughness_y, accepts_samples, accepts_lut, needs_texel (per-texel channels, renderer only), "
+      "texel_channels, texel_bake (the command that bakes them), uses_visibility (reads V), table_sample (3 "
+      "or "
+      "2 for the table samplers), use (when to use it) and glsl (id, expr, requires, lut of each shader "
+      "form). "
+      "A pair D+S has the term D on the diffuse lobe and S on the specular lobe.");
   m.def(
       "eval_micro_shadowing", &eval, "method"_a, "visibility"_a, "ndotl"_a, "ndotv"_a = 1.0,
       "roughness"_a = 0.5, "phi"_a = pyb::none(), "samples"_a = pyb::none(), "seed"_a = 1,

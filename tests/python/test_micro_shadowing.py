@@ -1,6 +1,8 @@
 """eval_micro_shadowing: the CLI's values, the registry's scalar path, broadcasting, dtypes, errors, leaks."""
+import json
 import math
 import os
+import subprocess
 import sys
 import tracemalloc
 
@@ -8,6 +10,7 @@ import numpy as np
 import pytest
 
 import microshadow as msh
+from conftest import cli_path
 
 CLOSED = ["ao", "reference", "brinck-maximov-2016", "chan-2018", "part1-analytic"]
 POINTS = [  # (visibility, ndotl, ndotv, roughness): inside, at, and around the early-out 2V + N.L < 1
@@ -40,6 +43,15 @@ def test_methods_listed():
     info = msh.micro_shadowing_methods(details=True)
     assert [i["name"] for i in info] == names
     assert {i["name"]: i["accepts_phi"] for i in info}["generic-vndf"]
+
+
+def test_method_details_are_the_cli_table():
+    # One list: the dicts are `microshadow methods --json`, field for field (glsl forms included).
+    path = cli_path()
+    if path is None:
+        pytest.skip("the microshadow CLI is not built")
+    out = subprocess.run([path, "methods", "--json"], check=True, capture_output=True, text=True).stdout
+    assert msh.micro_shadowing_methods(details=True) == json.loads(out)
 
 
 @pytest.mark.parametrize("method", CLOSED + ["generic-vndf", "generic-vndf-alu"])

@@ -137,6 +137,10 @@ std::vector<std::string> micro_shadowing_closed_form_terms();
 const MicroShadowingMethodInfo* find_micro_shadowing_method(const std::string& name);
 // "a, b, c" of every method name (for error messages and --help).
 std::string micro_shadowing_method_names();
+// Every field of method m as the text of one JSON object: `microshadow methods --json` prints a list of them
+// and Python's micro_shadowing_methods(details=True) returns them as dicts (glsl: a list of {id, expr,
+// requires, lut}; diffuse and specular: the method's own name unless it is a pair).
+std::string micro_shadowing_method_json(const MicroShadowingMethodInfo& m);
 
 // Where a method's value, as a function of the light direction l (n·l = l.z, φ = the azimuth of l; v in
 // the xz plane at azimuth 0, as in MicroShadowingQuery), jumps or kinks: circles of constant n·l (z) and
