@@ -10,16 +10,11 @@ Usage: scripts/method_costs.py path/to/microshadow [--check]
 """
 import json, os, subprocess, sys
 
-from spirv_cost import ROOT, spirv_cost
+from spirv_cost import KERNEL_HEAD, ROOT, spirv_cost
 
 MODULES = ["micro_shadowing.glsl", "micro_shadowing_fit.glsl", "micro_shadowing_aware.glsl",
            "micro_shadowing_aware_fit.glsl", "directional.glsl"]
-HEAD = """#version 450
-#extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { float o[]; };
-layout(binding = 2) uniform sampler3D u_lut3d;
+HEAD = KERNEL_HEAD + """layout(binding = 2) uniform sampler3D u_lut3d;
 layout(binding = 3) uniform sampler3D u_lut2d;
 layout(binding = 4) uniform sampler3D u_lut_az;
 layout(std140, binding = 5) uniform P { int u_samples, u_lut3d_slabs, u_lut2d_slabs, u_lut_az_slabs, u_lut_az_harmonics; };

@@ -21,6 +21,14 @@ INC = os.path.join(ROOT, "shaders/glsl")
 SKIP = {"OpLine", "OpNoLine", "OpName", "OpSource", "OpDecorate", "OpMemberName", "OpMemberDecorate"}
 VECTOR_ARITH = {"OpDot", "OpVectorTimesScalar", "OpMatrixTimesScalar", "OpMatrixTimesVector",
                 "OpMatrixTimesMatrix", "OpVectorTimesMatrix", "OpSelect"}
+# The start of every counting kernel: records `vec4 rec[]` in, one float per invocation `o[]` out, 64
+# invocations a group. Callers add their sampler bindings (from 2), #includes and main().
+KERNEL_HEAD = """#version 450
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
+layout(std430, binding = 1) writeonly buffer Out { float o[]; };
+"""
 
 
 def is_arithmetic(op):

@@ -465,6 +465,12 @@ TEST(Mesh, ObjLoaderAndErrors) {
 }
 
 TEST(SceneJson, StrictErrorsNameFileAndKey) {
+  // A valid one-sphere scene with this "settings" object.
+  const auto with_settings = [](const std::string& settings) {
+    return R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
+               "settings": )" +
+           settings + "}";
+  };
   const std::vector<std::pair<std::string, std::string>> bad = {
       {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [], "bogus": 1})",
        "bogus"},
@@ -475,29 +481,17 @@ TEST(SceneJson, StrictErrorsNameFileAndKey) {
       {R"({"materials": {"m": {"base_color": "nope.png"}}, "objects": [{"type": "sphere", "material": "m"}],
           "lights": []})",
        "nope.png"},
-      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
-          "settings": {"micro_shadowing": "magic"}})",
-       "magic"},
-      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
-          "settings": {"micro_shadowing": "part1"}})",
-       "is now called 'part1-analytic'"},
-      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
-          "settings": {"width": 100000}})",
-       "width"},
+      {with_settings(R"({"micro_shadowing": "magic"})"), "magic"},
+      {with_settings(R"({"micro_shadowing": "part1"})"), "is now called 'part1-analytic'"},
+      {with_settings(R"({"width": 100000})"), "width"},
       {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m", "radius": -1}], "lights": []})",
        "radius"},
-      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
-          "settings": {"component": "both"}})",
-       "component"},
-      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
-          "settings": {"ground_truth_intersector": "optix"}})",
-       "ground_truth_intersector"},
+      {with_settings(R"({"component": "both"})"), "component"},
+      {with_settings(R"({"ground_truth_intersector": "optix"})"), "ground_truth_intersector"},
       {R"({"camera": {"projection": "fisheye"}, "materials": {"m": {}},
           "objects": [{"type": "sphere", "material": "m"}], "lights": []})",
        "projection"},
-      {R"({"materials": {"m": {}}, "objects": [{"type": "sphere", "material": "m"}], "lights": [],
-          "settings": {"error_batches": 0}})",
-       "error_batches"},
+      {with_settings(R"({"error_batches": 0})"), "error_batches"},
       {R"({"materials": {"m": {}}, "objects": [)", "malformed JSON"}};
   for (const auto& [json, word] : bad) {
     try {

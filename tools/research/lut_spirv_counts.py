@@ -10,15 +10,10 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
-from spirv_cost import spirv_cost  # noqa: E402
+from spirv_cost import KERNEL_HEAD, spirv_cost  # noqa: E402
 
 LIB = '#include "micro_shadowing.glsl"\n'
-HEAD = """#version 450
-#extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer In { vec4 rec[]; };
-layout(std430, binding = 1) writeonly buffer Out { float o[]; };
-layout(binding = 2) uniform sampler3D lut3;
+HEAD = KERNEL_HEAD + """layout(binding = 2) uniform sampler3D lut3;
 layout(binding = 3) uniform sampler2D lut2;
 """
 METHODS = [

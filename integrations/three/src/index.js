@@ -271,6 +271,16 @@ bool msh_record(vec4 inputs, vec4 terms, vec3 v, vec3 l) {
 #endif
 }
 
+// One light's diffuse and specular from three's own shading (own), scaled by the texel terms ms (x: diffuse
+// lobe, y: specular lobe) into reflectedLight.
+void msh_add_direct(const in ReflectedLight own, vec2 ms, inout ReflectedLight reflectedLight) {
+  reflectedLight.directDiffuse += own.directDiffuse * ms.x;
+  reflectedLight.directSpecular += own.directSpecular * ms.y;
+#ifdef MSH_DEBUG
+  if (msh_light_index - 1 == msh_debug_light) msh_dbg_direct = vec4(own.directDiffuse.g * ms.x, own.directSpecular.g * ms.y, 0.0, 1.0);
+#endif
+}
+
 void msh_RE_Direct(const in IncidentLight directLight, const in vec3 geometryPosition, const in vec3 geometryNormal,
                    const in vec3 geometryViewDir, const in vec3 geometryClearcoatNormal, const in PhysicalMaterial material,
                    inout ReflectedLight reflectedLight) {
@@ -284,11 +294,7 @@ void msh_RE_Direct(const in IncidentLight directLight, const in vec3 geometryPos
   float cos_phi = msh_ms_relative_azimuth_cos(v, l);
   vec2 ms = msh_enabled ? msh_point_terms(msh_vis, nl, nv, rough, rough * rough, cos_phi, v, l, directLight.direction, geometryViewDir) : vec2(1.0);
   if (!msh_record(vec4(msh_vis, nl, nv, rough), vec4(ms, cos_phi, nl > 0.0 ? 1.0 : 0.5), v, l)) return;
-  reflectedLight.directDiffuse += own.directDiffuse * ms.x;
-  reflectedLight.directSpecular += own.directSpecular * ms.y;
-#ifdef MSH_DEBUG
-  if (msh_light_index - 1 == msh_debug_light) msh_dbg_direct = vec4(own.directDiffuse.g * ms.x, own.directSpecular.g * ms.y, 0.0, 1.0);
-#endif
+  msh_add_direct(own, ms, reflectedLight);
 }
 #undef RE_Direct
 #define RE_Direct msh_RE_Direct
@@ -331,11 +337,7 @@ void msh_RE_Direct_RectArea(const in RectAreaLight rectAreaLight, const in vec3 
 #endif
   if (!msh_record(vec4(msh_vis, clamp(cap.x, 0.0, 1.0), nv, rough), vec4(ms, msh_ms_relative_azimuth_cos(v, l), lf > 0.0 ? 1.0 : 0.5), v, l)) return;
 #endif
-  reflectedLight.directDiffuse += own.directDiffuse * ms.x;
-  reflectedLight.directSpecular += own.directSpecular * ms.y;
-#ifdef MSH_DEBUG
-  if (msh_light_index - 1 == msh_debug_light) msh_dbg_direct = vec4(own.directDiffuse.g * ms.x, own.directSpecular.g * ms.y, 0.0, 1.0);
-#endif
+  msh_add_direct(own, ms, reflectedLight);
 }
 #undef RE_Direct_RectArea
 #define RE_Direct_RectArea msh_RE_Direct_RectArea
