@@ -120,6 +120,15 @@ struct PieceSample {
 // A piece's tone in [0, 1) from its id: the top 24 bits of its hash.
 float piece_tone(uint32_t id) { return float(hash_u32(id) >> 8) * 0x1p-24f; }
 
+// The colour of a piece sample: `bed` between the pieces, else from lo to hi by the piece's tone, shaded by
+// the large-scale tint (fBm in [0, 1]).
+Rgbf piece_colour(const PieceSample& p, Rgbf bed, Rgbf lo, Rgbf hi, float tint) {
+  return p.piece == 0 ? bed : lerp(piece_tone(p.piece), lo, hi) * (0.85f + 0.15f * tint);
+}
+
+// The sand bed of cobble and gravel.
+Rgbf sand_colour(float tint) { return Rgbf(0.42f, 0.36f, 0.28f) * (0.8f + 0.2f * tint); }
+
 // Gravel: packed stones on a sandy bed. One stone per cell of a 20 × 20 jittered grid (a random half of the
 // cells get a second, smaller stone), each an elliptical dome (random radii 0.35–0.75 cell, orientation,
 // height 0.55–1) with a flattened-sphere profile √(1 − q²)^0.8; the surface is the highest dome, or the
@@ -403,26 +412,17 @@ TextureSet generate_texture_set(const GenOptions& opt) {
       } else if (opt.kind == "brick") {
         const PieceSample b = brick_height(u, v, opt.seed);
         hv = b.h;
-        if (b.piece == 0) {
-          c = Rgbf(0.55f, 0.53f, 0.49f) * (0.85f + 0.15f * tint);  // mortar
-        } else {
-          const float a = piece_tone(b.piece);
-          c = lerp(a, Rgbf(0.52f, 0.22f, 0.14f), Rgbf(0.62f, 0.34f, 0.22f)) * (0.85f + 0.15f * tint);
-        }
+        const Rgbf mortar = Rgbf(0.55f, 0.53f, 0.49f) * (0.85f + 0.15f * tint);
+        c = piece_colour(b, mortar, Rgbf(0.52f, 0.22f, 0.14f), Rgbf(0.62f, 0.34f, 0.22f), tint);
       } else if (opt.kind == "cobble") {
         const PieceSample cb = cobble_height(u, v, opt.seed);
         hv = cb.h;
-        if (cb.piece == 0) {
-          c = Rgbf(0.42f, 0.36f, 0.28f) * (0.8f + 0.2f * tint);  // sand
-        } else {
-          const float a = piece_tone(cb.piece);
-          c = lerp(a, Rgbf(0.40f, 0.40f, 0.40f), Rgbf(0.50f, 0.44f, 0.38f)) * (0.85f + 0.15f * tint);
-        }
+        c = piece_colour(cb, sand_colour(tint), Rgbf(0.40f, 0.40f, 0.40f), Rgbf(0.50f, 0.44f, 0.38f), tint);
       } else {
         const PieceSample g = gravel_height(u, v, opt.seed);
         hv = g.h;
         if (g.piece == 0) {
-          c = Rgbf(0.42f, 0.36f, 0.28f) * (0.8f + 0.2f * tint);  // sand
+          c = sand_colour(tint);
         } else {
           // Per-stone grey to warm-brown tint and brightness.
           const float a = piece_tone(g.piece), b = piece_tone(g.piece ^ 0x5bd1e995u);
