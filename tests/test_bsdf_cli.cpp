@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 using namespace msh;
@@ -98,7 +99,11 @@ TEST(BrdfCli, BadInputExitsTwoWithOneLine) {
                        "eval brdf --ndotv 0.5",
                        "bake dfg --out x.txt",
                        "bake dfg --variant nope --out x.npy",
-                       "bake dfg --size 1 --out x.npy"};
+                       "bake dfg --size 1 --out x.npy",
+                       "bake dfg --out x.png",  // a table is not an image
+                       "bake ggx-albedo --out x.png",
+                       "bake ggx-albedo --out x.npy --format png",
+                       "bake ggx-albedo --out x.npy --format gif"};
   for (const char* a : bad) {
     const CliRun r = cli(a);
     EXPECT_EQ(r.rc, 2) << a << "\n" << r.err;
@@ -154,4 +159,14 @@ TEST(BrdfCli, BakedTablesHaveDocumentedLayout) {
   // RG16F DDS for engines.
   EXPECT_EQ(cli("bake dfg --size 8 --samples 64 --out " + (d / "dfg.dds").string()).rc, 0);
   EXPECT_TRUE(fs::exists(d / "dfg.dds"));
+  // --format overrides the extension: the same table as the .npy above, written as NPY under another name.
+  ASSERT_EQ(cli("bake dfg --size 16 --samples 1024 --pixel-format rg32f --format npy --out " +
+                (d / "a.table").string())
+                .rc,
+            0);
+  const auto bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(bytes(d / "a.table"), bytes(d / "a.npy"));
 }
