@@ -2,6 +2,7 @@
 // corrupted files (every prefix length and random byte flips): always InputError, never a crash or a file.
 #include <gtest/gtest.h>
 #include <microshadow/io/error.h>
+#include <microshadow/io/names.h>
 #include <microshadow/io/texture.h>
 
 #include "support/io_test_util.h"
@@ -38,6 +39,24 @@ TEST(IoErrors, Names) {
   EXPECT_THROW(read_image("x.dds"), InputError);
   for (const char* n : {"rgba8", "rgba16f", "rgba32f", "rg16f", "rg32f", "r16f", "r32f", "r8", "rg8"})
     EXPECT_EQ(pixel_format_name(pixel_format_from_name(n)), n);
+}
+
+// io/names.h: one table per enum gives both directions, and the unknown-name error lists the table.
+TEST(IoErrors, NameTables) {
+  enum class Fruit { Apple, Pear, Plum };
+  constexpr Named<Fruit> kFruits[] = {{Fruit::Apple, "apple"}, {Fruit::Pear, "pear"}};
+  for (const Named<Fruit>& n : kFruits) {
+    EXPECT_STREQ(name_of<Fruit>(kFruits, n.value), n.name);
+    EXPECT_EQ(value_of<Fruit>(kFruits, n.name, "fruit"), n.value);
+  }
+  EXPECT_STREQ(name_of<Fruit>(kFruits, Fruit::Plum), "?");  // not in the table
+  EXPECT_EQ(names_of<Fruit>(kFruits), "apple, pear");
+  try {
+    value_of<Fruit>(kFruits, "Apple", "fruit");  // names are exact: no case folding
+    ADD_FAILURE() << "accepted 'Apple'";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "unknown fruit 'Apple' (known: apple, pear)");
+  }
 }
 
 TEST(IoErrors, UnwritableDirectoryNaNAndChannelMismatchLeaveNoFile) {
