@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -61,6 +62,30 @@ TEST(LutCli, BitIdenticalFilesForAnyThreadCount) {
   EXPECT_EQ(lut.volume.depth, 9);
   EXPECT_EQ(lut.roughness, (std::vector<double>{0.1, 0.4, 0.7, 1.0}));
   EXPECT_TRUE(fs::exists(d / "a.dds.json"));
+}
+
+// Progress on stderr at tenths of the work, increasing, ending at 100% (a tenth may be passed over when
+// workers report out of order); nothing with --quiet.
+TEST(LutCli, ProgressInTenthsUnlessQuiet) {
+  const fs::path d = scratch();
+  const std::string bake = "bake micro-shadowing --layout seed --size 6 --samples 64 --phi-nodes 3 --out " +
+                           (d / "p.npy").string();
+  const CliResult loud = run(bake, d);
+  ASSERT_EQ(loud.code, 0) << loud.err;
+  std::istringstream lines(loud.err);
+  int last = 0, count = 0;
+  for (std::string line; std::getline(lines, line); ++count) {
+    int p = -1;
+    ASSERT_EQ(std::sscanf(line.c_str(), "microshadow: baking micro-shadowing LUT: %d%%", &p), 1) << line;
+    EXPECT_EQ(p % 10, 0) << line;
+    EXPECT_GT(p, last) << loud.err;
+    last = p;
+  }
+  EXPECT_EQ(last, 100) << loud.err;
+  EXPECT_GE(count, 5) << loud.err;  // 24 tasks: at most a few tenths passed over
+  const CliResult quiet = run(bake + " --quiet", d);
+  ASSERT_EQ(quiet.code, 0);
+  EXPECT_EQ(quiet.err, "");
 }
 
 TEST(LutCli, TwoDAndAzimuthShapes) {

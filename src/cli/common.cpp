@@ -110,7 +110,7 @@ std::function<void(double)> progress_in_tenths(const std::string& what, bool qui
   if (quiet) return {};
   return [what, last = 0](double f) mutable {
     const int step = int(f * 10.0 + 1e-9);
-    if (step == last) return;
+    if (step <= last) return;  // workers may report out of order: never go back
     last = step;
     std::cerr << fmt::format("microshadow: {}: {:3d}%\n", what, step * 10);
   };

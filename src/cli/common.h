@@ -64,9 +64,10 @@ std::filesystem::path make_out_dir(const std::string& dir, const std::string& op
 // UsageError("<option>: directory '<parent>' does not exist") when the parent directory of `file` is missing.
 void require_parent_dir(const std::filesystem::path& file, const std::string& option);
 
-// The progress report of a long command: "microshadow: <what>: NN%" on stderr at each tenth of the work
-// (10%, 20%, ..., 100%; called with the fraction done, one call at a time: the bakers serialize it); an
-// empty function when quiet.
+// The progress report of a long command: "microshadow: <what>: NN%" on stderr when the work passes a tenth
+// (10%, 20%, ..., 100%, always increasing; called with the fraction done, one call at a time: the bakers
+// serialize it, but their workers may report out of order, so a tenth can be passed over); an empty function
+// when quiet.
 std::function<void(double)> progress_in_tenths(const std::string& what, bool quiet);
 
 // Prints one JSON object on stdout, one line, with full double precision.
