@@ -37,11 +37,11 @@ void run_bake(const BakeArgs& a) {
   const Texture h = render::load_height_map(a.height);
   const Texture ch = a.view ? render::bake_directional_view_channels(h, a.depth, a.azimuths, a.distance)
                             : render::bake_directional_channels(h, a.depth, a.azimuths, a.distance);
-  make_out_dir(a.out);
+  const fs::path dir = make_out_dir(a.out);
   const auto chain = render::box_mip_chain(ch);
   for (std::size_t lv = 0; lv < chain.size(); ++lv)
-    io::write_volume(fs::path(a.out) / fmt::format("directional_mip{}.npy", lv),
-                     render::texture_volume(chain[lv]), io::FileFormat::Npy);
+    io::write_volume(dir / fmt::format("directional_mip{}.npy", lv), render::texture_volume(chain[lv]),
+                     io::FileFormat::Npy);
   // The 8-bit encoding's per-channel range (the fine level's min and max) and the conventions.
   nlohmann::json j;
   const render::ChannelRanges r = render::channel_ranges(ch);
@@ -61,7 +61,7 @@ void run_bake(const BakeArgs& a) {
   j["azimuth_steps"] = nlohmann::json::array();
   for (const render::LatticeStep& st : render::directional_bake_azimuths(a.azimuths).steps)
     j["azimuth_steps"].push_back({st.p, st.q});
-  io::write_file_atomic(fs::path(a.out) / "directional.json", j.dump(2) + "\n");
+  io::write_file_atomic(dir / "directional.json", j.dump(2) + "\n");
   std::cout << fmt::format("wrote {} levels of {} channels to {}\n", chain.size(), ch.channels(), a.out);
 }
 

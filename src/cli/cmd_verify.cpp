@@ -398,10 +398,9 @@ void add_verify(Groups& g) {
 
   const auto [t, ta] = add_command<TermArgs>(
       g.verify, "micro-shadowing-term",
-      "The same measure for the registry's closed-form terms (reference, brinck-maximov-2016, chan-2018, "
-      "part1-analytic), the generic term's ALU-only fit (generic-vndf-alu, and its two-stage form "
-      "generic-vndf-alu-two-stage) and the exact generic term's azimuth mean (generic-vndf), on one shared "
-      "set of inputs",
+      "The same measure for the registry's closed forms of (V, N.L) that depend on N.L, the generic term's "
+      "ALU-only fit (generic-vndf-alu, and its two-stage form generic-vndf-alu-two-stage) and the exact "
+      "generic term's azimuth mean (generic-vndf), on one shared set of inputs; --method lists them",
       run_term);
   t->add_option("--method", ta->method, "all | " + fmt::format("{}", fmt::join(term_names(), " | ")))
       ->capture_default_str();

@@ -592,8 +592,7 @@ const std::vector<Entry>& entries() {
         // footprint's mean diffuse transport lit · (n_fine · l)⁺ from 9 linear channels, as a factor on (n ·
         // l)⁺.
         {used("relief with 9 channels only (4.5 B as BC5 + BC4): directional-view is closer at every scale "
-              "for 12 "
-              "more channels",
+              "for 12 more channels",
               info("directional", "directional (9 linear channels)",
                    "directional micro-occlusion: the mean lit * N.L over the texel's footprint from 9 linear "
                    "channels baked from the height map, divided by the shading N.L (renderer, study and "
@@ -608,20 +607,17 @@ const std::vector<Entry>& entries() {
          }},
         // The same with the view correction (directional_view_term): 21 channels, the 9 and the 12 slope
         // channels G_x, G_y that weight each facet by its projected area toward the camera.
-        {[] {
-           MicroShadowingMethodInfo i = info(
-               "directional-view", "directional, view-corrected (21 linear channels)",
-               "directional micro-occlusion with the view correction: the 9 channels plus 12 slope channels "
-               "that weight each facet by its projected area toward the camera (renderer, study and viewer)",
-               kNoNdotl | kNoVis | kStudy | kTexel,
-               {texel_glsl("msh_dir_view_term(dir_v, l_t, view_t, n_t)", "msh_dir_view_term")});
-           i.use =
-               "relief (a height map exists): ship this, on both lobes (on all materials together the "
-               "closest term on the diffuse, the specular and the total at every scale of the 1024² and "
-               "2048² studies; per material not everywhere: docs/study.md); 21 B at 8 bits is over the 12 B "
-               "budget, 10.5 B as BC5 + BC4 with --directional-bc (11 fetches per pixel)";
-           return view_channels(i);
-         }(),
+        {view_channels(used(
+             "relief (a height map exists): ship this, on both lobes (on all materials together the closest "
+             "term on the diffuse, the specular and the total at every scale of the 1024² and 2048² studies; "
+             "per material not everywhere: docs/study.md); 21 B at 8 bits is over the 12 B budget, 10.5 B as "
+             "BC5 + BC4 with --directional-bc (11 fetches per pixel)",
+             info("directional-view", "directional, view-corrected (21 linear channels)",
+                  "directional micro-occlusion with the view correction: the 9 channels plus 12 slope "
+                  "channels that weight each facet by its projected area toward the camera (renderer, study "
+                  "and viewer)",
+                  kNoNdotl | kNoVis | kStudy | kTexel,
+                  {texel_glsl("msh_dir_view_term(dir_v, l_t, view_t, n_t)", "msh_dir_view_term")}))),
          [](auto&, auto& info) {
            return texel_term(info, [](const In& in) {
              if (in.texel_channels < directional::kViewChannels) return 1.0f;

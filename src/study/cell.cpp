@@ -494,8 +494,8 @@ struct CellRunner::State {
     if (shape != cell.shape) {
       clear_shape();
       tiles = cell.shape == "plane" ? plane_tiles(cell.material, cell.shape) : 1;
-      gt_scene =
-          std::make_unique<Scene>(make_scene(cfg, material_from_texture_set(mat.name, fine, true), cell.shape, tiles));
+      gt_scene = std::make_unique<Scene>(
+          make_scene(cfg, material_from_texture_set(mat.name, fine, true), cell.shape, tiles));
       gt_scene->settings.micro_shadowing = kGroundTruth;
       gt_scene->settings.error_batches = 8;
       const auto t_build = std::chrono::steady_clock::now();
@@ -517,11 +517,12 @@ struct CellRunner::State {
                                      cfg.directional_encoding);
         return s;
       };
-      coarse[0] =
-          make_scene(cfg, material_from_texture_set(mat.name, coarse_set(CoarseRoughness::Base), false), shape, tiles);
+      coarse[0] = make_scene(
+          cfg, material_from_texture_set(mat.name, coarse_set(CoarseRoughness::Base), false), shape, tiles);
       if (cfg.widened && k > 1)
-        coarse[1] = make_scene(cfg, material_from_texture_set(mat.name, coarse_set(CoarseRoughness::Widened), false),
-                               shape, tiles);
+        coarse[1] =
+            make_scene(cfg, material_from_texture_set(mat.name, coarse_set(CoarseRoughness::Widened), false),
+                       shape, tiles);
       scale = k;
     }
     const std::pair<double, double> vk{cell.view.view, cell.view.view_azimuth};
