@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "support/random_records.h"
 #include "support/shader_kernel.h"
 
 using namespace msh;
@@ -31,14 +32,11 @@ struct Rec {
 };
 
 std::vector<Rec> make_records() {
-  std::vector<Rec> recs;
-  Pcg32 rng(515);
-  auto u = [&] { return rng.next_double(); };
-  for (int i = 0; i < 4096; ++i) {
+  std::vector<Rec> recs = test::random_records<Rec>(4096, 515, [](auto& u, int) {
     const double ax = 0.01 + u(), ay = 0.01 + u();
-    recs.push_back({Vec3f(spherical_direction(u(), 2 * kPi<double> * u())), float(ax * ax),
-                    Vec3f(spherical_direction(u(), 2 * kPi<double> * u())), float(ay * ay)});
-  }
+    return Rec{Vec3f(spherical_direction(u(), 2 * kPi<double> * u())), float(ax * ax),
+               Vec3f(spherical_direction(u(), 2 * kPi<double> * u())), float(ay * ay)};
+  });
   // Poles (azimuth undefined) and α below GGX's kMinAlpha.
   recs.push_back({Vec3f(0, 0, 1), 0.3f, Vec3f(0, 0, 1), 0.7f});
   recs.push_back({Vec3f(0, 0, 1), 0.3f, Vec3f(1, 0, 0), 0.7f});

@@ -7,6 +7,7 @@
 #include <microshadow/occlusion/directional.h>
 #include <microshadow/render/directional_bake.h>
 
+#include <array>
 #include <cmath>
 
 #include "py_common.h"
@@ -19,11 +20,25 @@ namespace dir = msh::directional;
 
 constexpr int kCh = dir::kDirectionalChannels, kViewCh = dir::kViewChannels;
 
-// The n channels of element i of argument a, as double (the library's functions are templated on the
-// scalar).
-template <class R>
-void read_channels(const R& r, std::size_t a, std::size_t i, double* out, int n = kCh) {
-  for (int k = 0; k < n; ++k) out[k] = r(a, i, k);
+// A unit-direction argument, shape (..., 3).
+struct Dir {
+  pyb::handle obj;
+  const char* name;
+};
+
+// f(c, d) per element of `channels` (shape (..., n)) broadcast with the directions: c holds the element's n
+// channels as double (the library's functions are templated on the scalar), d[k] its k-th direction. The
+// output dtype is the broadcast one (float32 in, float32 out).
+template <class F, class... D>
+pyb::object map_channels(pyb::handle channels, int n, F f, D... dirs) {
+  const Broadcast b = broadcast({{channels, "channels", n}, {dirs.obj, dirs.name, 3, Domain::Direction}...});
+  return map_scalar(b, [&](const auto& r, std::size_t i) {
+    double c[kViewCh];
+    for (int k = 0; k < n; ++k) c[k] = r(0, i, k);
+    std::array<Vec3d, sizeof...(D)> d;
+    for (std::size_t k = 0; k < d.size(); ++k) d[k] = r.vec(k + 1, i);
+    return f(c, d);
+  });
 }
 
 // A 2-D height array (values in [0, 1], each side in [8, 16384], as `bake directional` reads a file).
@@ -52,66 +67,49 @@ void register_directional(pyb::module_& m) {
   m.def(
       "directional_transport",
       [](pyb::handle channels, pyb::handle l) {
-        const Broadcast b = broadcast({{channels, "channels", kCh}, {l, "light", 3, Domain::Direction}});
-        return map_scalar(b, [&](const auto& r, std::size_t i) {
-          double c[kCh];
-          read_channels(r, 0, i, c);
-          return dir::directional_transport(c, r.vec(1, i));
-        });
+        auto f = [](const double* c, const auto& d) { return dir::directional_transport(c, d[0]); };
+        return map_channels(channels, kCh, f, Dir{l, "light"});
       },
       "channels"_a, "light"_a,
       "Directional micro-occlusion (occlusion/directional.h): the mean diffuse transport lit * max(n_fine . "
-      "l, "
-      "0) over a texel's footprint, max(0, sum_i c_i b_i(l)) with b(l) = (1, x, y, z, xz, yz, x^2 - y^2, xy, "
-      "z^2), 0 for l.z <= 0. channels: shape (..., 9) (bake_directional_channels, or any box mean of it: a "
-      "mip level); light: shape (..., 3), unit, in the normal map's tangent space (x = +u columns, y = +v "
-      "rows top to bottom, z = the flat surface normal); not normalized here. Broadcast like ufuncs; float32 "
-      "in -> float32 out. Diffuse radiance = albedo/pi * E * transport.");
+      "l, 0) over a texel's footprint, max(0, sum_i c_i b_i(l)) with b(l) = (1, x, y, z, xz, yz, x^2 - y^2, "
+      "xy, z^2), 0 for l.z <= 0. channels: shape (..., 9) (bake_directional_channels, or any box mean of "
+      "it: a mip level); light: shape (..., 3), unit, in the normal map's tangent space (x = +u columns, y "
+      "= +v rows top to bottom, z = the flat surface normal); not normalized here. Broadcast like ufuncs; "
+      "float32 in -> float32 out. Diffuse radiance = albedo/pi * E * transport.");
   m.def(
       "directional_term",
       [](pyb::handle channels, pyb::handle l, pyb::handle n) {
-        const Broadcast b = broadcast({{channels, "channels", kCh}, {l, "light", 3, Domain::Direction}, {n, "normal", 3, Domain::Direction}});
-        return map_scalar(b, [&](const auto& r, std::size_t i) {
-          double c[kCh];
-          read_channels(r, 0, i, c);
-          return dir::directional_term(c, r.vec(1, i), r.vec(2, i));
-        });
+        auto f = [](const double* c, const auto& d) { return dir::directional_term(c, d[0], d[1]); };
+        return map_channels(channels, kCh, f, Dir{l, "light"}, Dir{n, "normal"});
       },
       "channels"_a, "light"_a, "normal"_a,
       "directional_transport as a factor on the engine's max(n . l, 0): transport / (n . l), 0 where n . l "
-      "<= "
-      "1e-4 (n: the coarse shading normal in the same tangent space, unit). Not clamped to 1: near the "
-      "coarse "
-      "terminator lit facets can exceed the coarse cosine. Shapes as directional_transport plus normal "
-      "(..., 3).");
+      "<= 1e-4 (n: the coarse shading normal in the same tangent space, unit). Not clamped to 1: near the "
+      "coarse terminator lit facets can exceed the coarse cosine. Shapes as directional_transport plus "
+      "normal (..., 3).");
   m.def(
       "directional_view_transport",
       [](pyb::handle channels, pyb::handle l, pyb::handle v) {
-        const Broadcast b = broadcast({{channels, "channels", kViewCh}, {l, "light", 3, Domain::Direction}, {v, "view", 3, Domain::Direction}});
-        return map_scalar(b, [&](const auto& r, std::size_t i) {
-          double c[kViewCh];
-          read_channels(r, 0, i, c, kViewCh);
-          return dir::directional_view_transport(c, c + kCh, r.vec(1, i), r.vec(2, i));
-        });
+        auto f = [](const double* c, const auto& d) {
+          return dir::directional_view_transport(c, c + kCh, d[0], d[1]);
+        };
+        return map_channels(channels, kViewCh, f, Dir{l, "light"}, Dir{v, "view"});
       },
       "channels"_a, "light"_a, "view"_a,
       "The view-corrected transport (occlusion/directional.h directional_view_transport): the footprint's "
       "mean of lit * max(n_fine . l, 0) as a camera along `view` averages it, weighting each facet by its "
       "projected area: max(0, T(l) + (G_x(l) v_x + G_y(l) v_y) / max(v_z, 0.5)). channels: shape (..., 21) "
       "(bake_directional_channels(view=True): T's 9, then G_x's and G_y's 6 on (1, x, y, z, xz, yz), or any "
-      "box mean of it); light "
-      "and view: shape (..., 3), unit, tangent space as directional_transport, view toward the camera. 0 for "
-      "l.z <= 0.");
+      "box mean of it); light and view: shape (..., 3), unit, tangent space as directional_transport, view "
+      "toward the camera. 0 for l.z <= 0.");
   m.def(
       "directional_view_term",
       [](pyb::handle channels, pyb::handle l, pyb::handle v, pyb::handle n) {
-        const Broadcast b =
-            broadcast({{channels, "channels", kViewCh}, {l, "light", 3, Domain::Direction}, {v, "view", 3, Domain::Direction}, {n, "normal", 3, Domain::Direction}});
-        return map_scalar(b, [&](const auto& r, std::size_t i) {
-          double c[kViewCh];
-          read_channels(r, 0, i, c, kViewCh);
-          return dir::directional_view_term(c, r.vec(1, i), r.vec(2, i), r.vec(3, i));
-        });
+        auto f = [](const double* c, const auto& d) {
+          return dir::directional_view_term(c, d[0], d[1], d[2]);
+        };
+        return map_channels(channels, kViewCh, f, Dir{l, "light"}, Dir{v, "view"}, Dir{n, "normal"});
       },
       "channels"_a, "light"_a, "view"_a, "normal"_a,
       "directional_view_transport as a factor on the engine's max(n . l, 0) (the renderer's "

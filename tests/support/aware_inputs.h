@@ -10,6 +10,8 @@
 #include <cmath>
 #include <vector>
 
+#include "random_records.h"
+
 namespace msh::test::aware_inputs {
 
 struct Rec {
@@ -28,18 +30,15 @@ inline Vec3f unit(double ct, double phi) {
 // 4096 random inputs (alpha in [0.01, 1], N.L and N.V in (0, 1], relative azimuth in [0, pi], cap fraction
 // arguments over their domain) and the 6^3 grid of degenerate values (0, 1, outside [0, 1], tiny).
 inline std::vector<Rec> make_records() {
-  std::vector<Rec> r;
-  Pcg32 rng(77);
-  auto u = [&] { return rng.next_double(); };
-  for (int i = 0; i < 4096; ++i) {
+  std::vector<Rec> r = random_records<Rec>(4096, 77, [](auto& u, int) {
     Rec x{};
     x.vis = float(u());
     x.alpha = float(sqr(0.1 + 0.9 * u()));
     x.nl = float(1 - u()), x.nv = float(1 - u());
     x.v = unit(x.nv, 0.0), x.l = unit(x.nl, kPi<double> * u());
     x.cos_m = float(2 * u() - 1), x.c = float(u());
-    r.push_back(x);
-  }
+    return x;
+  });
   const float vals[] = {0.0f, 1.0f, -0.5f, 1.5f, 1e-7f, 0.5f};
   for (float a : vals)
     for (float b : vals)

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "ltc_test_table.h"
+#include "random_records.h"
 #include "shader_kernel.h"
 
 namespace msh::test::ltc_inputs {
@@ -39,10 +40,7 @@ using vk::put;
 // 2048 random frames, views (N.V down to 0.02, and 1), roughness (and 0), sphere and rectangle lights of 1
 // to 40 degrees from 10 degrees below the horizon to the zenith, 8- or 16-gons; directions for the D check.
 inline std::vector<Record> make_records() {
-  std::vector<Record> rs;
-  Pcg32 rng(77);
-  auto u = [&] { return rng.next_double(); };
-  for (int i = 0; i < 2048; ++i) {
+  return random_records<Record>(2048, 77, [](auto& u, int i) {
     Record r{};
     const Vec3d n = sample_uniform_sphere(Vec2d(u(), u()));
     const Frame<double> f = Frame<double>::from_z(n);
@@ -61,9 +59,8 @@ inline std::vector<Record> make_records() {
     const Frame<double> lf = Frame<double>::from_z(normalize(l));
     put(r.c, normalize(l) * d), put(r.ex, lf.s, d * std::tan(sig) * (0.5 + u())),
         put(r.ey, lf.t, d * std::tan(sig) * (0.5 + u()));
-    rs.push_back(r);
-  }
-  return rs;
+    return r;
+  });
 }
 
 }  // namespace integrals
@@ -93,11 +90,8 @@ constexpr int kRandom = 1536;
 
 // Records [0, kRandom): random; then the degenerate ones (k[3] = 1).
 inline std::vector<Record> make_records() {
-  std::vector<Record> rs;
-  Pcg32 rng(2016);
-  auto u = [&] { return rng.next_double(); };
   const LtcTable& tab = table();
-  for (int i = 0; i < kRandom + 512; ++i) {
+  return random_records<Record>(kRandom + 512, 2016, [&](auto& u, int i) {
     const bool degenerate = i >= kRandom;
     const int kind = i % 8;  // degenerate kind
     Record r{};
@@ -136,9 +130,8 @@ inline std::vector<Record> make_records() {
     r.k[0] = float(i % 3 == 0 ? 8 : 16), r.k[1] = float(2 + i % 3), r.k[2] = float(u()),
     r.k[3] = degenerate ? 1.f : 0.f;
     if (degenerate && kind == 6) r.k[2] = float(i % 16 < 8 ? 0.0 : 1.0);  // tail weight at α = 0, 1
-    rs.push_back(r);
-  }
-  return rs;
+    return r;
+  });
 }
 
 struct Cpu {
