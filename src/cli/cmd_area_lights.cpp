@@ -43,8 +43,8 @@ void add_area_lights(Groups& g) {
   area::VerifyOptions& o = a->options;
   CLI::App* c = g.verify->add_subcommand(
       "area-lights",
-      "Area-light micro-shadowing fast forms (occlusion/micro_shadowing_area.h) against the exact quadrature "
-      "at Sobol inputs (docs/area-lights.md): errors in 1/255.");
+      "Area-light micro-shadowing fast forms (occlusion/micro_shadowing_area.h) against the exact "
+      "quadrature at Sobol inputs (docs/area-lights.md): errors in 1/255.");
   c->add_option("--points", o.points, "Sobol points for the closed-form terms")->capture_default_str();
   c->add_option("--generic-points", o.generic_points, "Sobol points for the generic term (slow reference)")
       ->capture_default_str();

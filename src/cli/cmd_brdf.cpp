@@ -208,10 +208,9 @@ void run_bake_shipped(const BakeArgs& a) {
 void add_brdf(Groups& g) {
   const auto [e, eval_args] =
       add_command<EvalBrdfArgs>(g.eval, "brdf",
-                                "Evaluate a BRDF model f(v, l) (no cosine) at N.V = --ndotv, view in "
-                                "the xz plane, light --light (default: "
-                                "the mirror direction), or its directional albedo with --albedo. "
-                                "--list shows every model and parameter.",
+                                "Evaluate a BRDF model f(v, l) (no cosine) at N.V = --ndotv, view in the xz "
+                                "plane, light --light (default: the mirror direction), or its directional "
+                                "albedo with --albedo. --list shows every model and parameter.",
                                 run_eval_brdf);
   e->add_option("--model", eval_args->model, "Model name (see --list)");
   e->add_option("--ndotv", eval_args->ndotv, "N.V of the view direction, in [0, 1]")
@@ -247,8 +246,8 @@ void add_brdf_bake(Groups& g) {
   const auto [b, ba] = add_command<BakeArgs>(
       g.bake, "ggx-albedo",
       "Bake the GGX (height-correlated Smith, F = 1) directional albedo E(mu, r): x = N.V = i/(n-1), y = "
-      "perceptual "
-      "roughness r = j/(n-1) (alpha = r^2). Channels: 1 -> E; 2 -> E, Ebar(r); 4 -> E, Ebar, E_Fc, Ebar_Fc.",
+      "perceptual roughness r = j/(n-1) (alpha = r^2). Channels: 1 -> E; 2 -> E, Ebar(r); 4 -> E, Ebar, "
+      "E_Fc, Ebar_Fc.",
       run_bake_ggx_albedo);
   add_table_output(b, ba->out);
   b->add_option("--size", ba->size, "Texels per axis")->default_val(32);
@@ -260,10 +259,10 @@ void add_brdf_bake(Groups& g) {
   bd->samples = 1u << 12;
   CLI::App* d = g.bake->add_subcommand("dfg",
                                        "Bake the split-sum DFG table: x = N.V = i/(n-1), y = perceptual "
-                                       "roughness r = j/(n-1). split-sum (Karis): "
-                                       "(scale, bias), E = F0*scale + bias; multiscatter (Filament): (DFG.x, "
-                                       "DFG.y), E = mix(x, y, F0), y = E(F=1). "
-                                       "RGBA adds the cosine-weighted averages over N.V of R and G.");
+                                       "roughness r = j/(n-1). split-sum (Karis): (scale, bias), E = "
+                                       "F0*scale + bias; multiscatter (Filament): (DFG.x, DFG.y), E = "
+                                       "mix(x, y, F0), y = E(F=1). RGBA adds the cosine-weighted averages "
+                                       "over N.V of R and G.");
   add_table_output(d, bd->out);
   d->add_option("--size", bd->size, "Texels per axis")->default_val(128);
   d->add_option("--samples", bd->samples, "QMC samples per texel")->default_val(1u << 12);
@@ -304,13 +303,12 @@ std::vector<SphereFigure> sphere_figures(int cols) {
   std::vector<SphereFigure> figs;
   const auto rs = ramp(0.1, 1.0, cols);
   {
-    SphereFigure f{
-        "spheres_multiscatter.png",
-        "RTR4 fig. 9.39: roughness 0.1 -> 1 left to right; gold without / with the Kulla-Conty multiple-"
-        "bounce lobe, black dielectric (IOR 1.5) without / with",
-        {"gold, single scattering", "gold, + multiple bounce", "black dielectric, single scattering",
-         "black dielectric, + multiple bounce"},
-        {}};
+    SphereFigure f{"spheres_multiscatter.png",
+                   "RTR4 fig. 9.39: roughness 0.1 -> 1 left to right; gold without / with the Kulla-Conty "
+                   "multiple-bounce lobe, black dielectric (IOR 1.5) without / with",
+                   {"gold, single scattering", "gold, + multiple bounce",
+                    "black dielectric, single scattering", "black dielectric, + multiple bounce"},
+                   {}};
     const double cond = choice_index("ggx", "fresnel", "conductor"),
                  diel = choice_index("ggx", "fresnel", "dielectric");
     for (const double fr : {cond, diel})
@@ -401,10 +399,9 @@ void run_plot_spheres(const PlotArgs& a) {
 void add_brdf_plot(Groups& g) {
   const auto [p, pa] =
       add_command<PlotArgs>(g.plot, "brdf-figures",
-                            "Render sphere grids of the BRDF models (uniform white environment + "
-                            "one directional light, orthographic): "
-                            "spheres_multiscatter.png (RTR4 fig. 9.39), spheres_ksk.png (fig. "
-                            "9.41), spheres_diffuse.png, spheres.txt",
+                            "Render sphere grids of the BRDF models (uniform white environment + one "
+                            "directional light, orthographic): spheres_multiscatter.png (RTR4 fig. 9.39), "
+                            "spheres_ksk.png (fig. 9.41), spheres_diffuse.png, spheres.txt",
                             run_plot_spheres);
   add_out_dir_option(p, pa->out);
   p->add_option("--size", pa->size, "Pixels per sphere")->default_val(96);

@@ -82,8 +82,8 @@ void add_directional(Groups& g) {
       ->capture_default_str();
   b->add_option("--distance", ba->distance, "Ray length, texels (0 = unlimited)")->capture_default_str();
   b->add_flag("--view", ba->view,
-              "Also the view correction's 12 slope channels G_x, G_y (21 channels: what the directional-view "
-              "method reads)");
+              "Also the view correction's 12 slope channels G_x, G_y (21 channels: what the "
+              "directional-view method reads)");
   add_threads_option(b, ba->threads);
 }
 

@@ -131,10 +131,9 @@ void add_ltc(Groups& g) {
 
   const auto [vc, v] =
       add_command<VerifyLtcOptions>(g.verify, "ltc",
-                                    "As-used error of an LTC table (bilinear fetch off the grid): "
-                                    "sphere and square lights of angular radius "
-                                    "1-40 deg at elevations 0-90 deg, LTC shading vs quadrature of GGX "
-                                    "x cosine over the light. See docs/ltc.md.",
+                                    "As-used error of an LTC table (bilinear fetch off the grid): sphere and "
+                                    "square lights of angular radius 1-40 deg at elevations 0-90 deg, LTC "
+                                    "shading vs quadrature of GGX x cosine over the light. See docs/ltc.md.",
                                     run_verify_ltc);
   vc->add_option("file", v->file, "The table written by bake ltc (its _amp file beside it)")->required();
   vc->add_option("--points", v->v.points, "Sobol points (roughness, N.V, light size, elevation, azimuth)")

@@ -74,8 +74,8 @@ lut::BakeOptions bake_options(const BakeLutOptions& o) {
   if (cone) {
     if (o.size > 0 || o.size_vis > 0)
       throw UsageError(
-          "--size / --size-visibility apply to --layout seed; the cone layout takes --size-t, "
-          "--size-nl, --size-nv, --roughness-slabs");
+          "--size / --size-visibility apply to --layout seed; the cone layout takes --size-t, --size-nl, "
+          "--size-nv, --roughness-slabs");
     if (!o.roughness.empty())
       throw UsageError(
           "--roughness (one value per channel) applies to --layout seed; the cone layout takes "
@@ -236,8 +236,7 @@ void add_lut(Groups& g) {
       "Bake the micro-shadowing LUT (Zurita 2026, generic VNDF-based term, isotropic Smith-GGX): each texel "
       "is the mean over the relative azimuth of the exact term. Default cone layout (t relative to the cone "
       "x N.L x N.V x 16 roughness slabs, 1.5 MiB, 2 fetches); --layout seed: x = Visibility, y = N.L, z = "
-      "N.V, "
-      "one channel per roughness. Also writes OUT.json (layout, roughness, harmonics, settings). See "
+      "N.V, one channel per roughness. Also writes OUT.json (layout, roughness, harmonics, settings). See "
       "docs/lut.md.",
       run_bake);
   add_table_output(c, o->out);
@@ -260,8 +259,8 @@ void add_lut(Groups& g) {
       "--roughness", o->roughness,
       "Seed layout: perceptual roughness per channel, strictly increasing (default 0.1,0.4,0.7,1.0)");
   c->add_flag("--azimuth", o->azimuth,
-              "Azimuth-aware table: cone layout: channels a0..a3 of cos(h phi) (same as --harmonics 3); seed "
-              "layout: cos(phi), cos(2 phi) slabs along z (--harmonics 2)");
+              "Azimuth-aware table: cone layout: channels a0..a3 of cos(h phi) (same as --harmonics 3); "
+              "seed layout: cos(phi), cos(2 phi) slabs along z (--harmonics 2)");
   o->harmonics_opt = c->add_option("--harmonics", o->harmonics,
                                    "Number of cos(h phi) coefficients (0 = plain mean LUT; cone: at most 3)");
   c->add_option("--samples", o->samples,
@@ -276,8 +275,8 @@ void add_lut(Groups& g) {
   const auto [pc, p] = add_command<PlotLutOptions>(
       g.plot, "micro-shadowing-lut",
       "Exact azimuth-mean micro-shadowing on N.V slices of a baked LUT's grid (NPY + JSON with error "
-      "summaries of "
-      "the 3D LUT and, with --lut2d, of the 2D LUT); scripts/plot_lut.py draws the slice and error figures.",
+      "summaries of the 3D LUT and, with --lut2d, of the 2D LUT); scripts/plot_lut.py draws the slice and "
+      "error figures.",
       run_plot);
   pc->add_option("--lut", p->lut, "The baked 3D LUT (any format bake micro-shadowing writes)")->required();
   pc->add_option("--lut2d", p->lut2d, "The baked 2D LUT of the same size (optional)");

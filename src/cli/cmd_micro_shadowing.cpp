@@ -361,11 +361,10 @@ void add_micro_shadowing(Groups& g) {
   }
   const auto [e, ea] =
       add_command<EvalArgs>(g.eval, "micro-shadowing",
-                            "Micro-shadowing term at one point (docs/micro-shadowing.md). "
-                            "generic-vndf without --phi: the mean over the "
-                            "relative azimuth phi in [0, pi] (what a LUT stores); with --phi: the "
-                            "exact term at that azimuth. Without "
-                            "--samples the generic term is the exact quadrature (error < 1e-6).",
+                            "Micro-shadowing term at one point (docs/micro-shadowing.md). generic-vndf "
+                            "without --phi: the mean over the relative azimuth phi in [0, pi] (what a LUT "
+                            "stores); with --phi: the exact term at that azimuth. Without --samples the "
+                            "generic term is the exact quadrature (error < 1e-6).",
                             run_eval);
   e->add_option("--method", ea->method, occlusion::micro_shadowing_method_names())->capture_default_str();
   e->add_option("--visibility", ea->visibility,
@@ -391,8 +390,8 @@ void add_micro_shadowing(Groups& g) {
       ->capture_default_str();
   e->add_option(
       "--lut", ea->lut,
-      "LUT file for lut3d / lut2d (from `bake micro-shadowing`; default: the default table, baked on "
-      "first use; with --phi an azimuth-aware one)");
+      "LUT file for lut3d / lut2d (from `bake micro-shadowing`; default: the default table, baked on first "
+      "use; with --phi an azimuth-aware one)");
   ea->radius_opt = e->add_option("--light-radius-deg", ea->light_radius_deg,
                                  "Area light (docs/area-lights.md): angular radius in degrees [0, 90] of a "
                                  "sphere light centred on the N.L direction (at azimuth --phi, default 0); "
@@ -402,8 +401,8 @@ void add_micro_shadowing(Groups& g) {
   ea->shape_opt =
       e->add_option("--light-shape", ea->light_shape, "sphere | disk | rect")->capture_default_str();
   ea->tilt_opt = e->add_option("--light-tilt-deg", ea->light_tilt_deg,
-                               "disk/rect: tilt of the light's plane from facing the point, degrees in "
-                               "(-90, 90) (about its w axis; > 0 turns the normal toward N)")
+                               "disk/rect: tilt of the light's plane from facing the point, degrees in (-90, "
+                               "90) (about its w axis; > 0 turns the normal toward N)")
                      ->check(Finite);
   ea->roll_opt = e->add_option("--light-roll-deg", ea->light_roll_deg,
                                "disk/rect: rotation of the light's u axis about the centre direction, "
@@ -414,19 +413,17 @@ void add_micro_shadowing(Groups& g) {
                              "--light-radius-deg (a square)")
                    ->check(Finite);
   ea->receiver_opt = e->add_option("--receiver", ea->receiver,
-                                   "Weight over the light: lambert ((n.l)) or ggx (the GGX specular BRDF "
-                                   "at --roughness and --ndotv, F = 1, times (n.l))")
+                                   "Weight over the light: lambert ((n.l)) or ggx (the GGX specular BRDF at "
+                                   "--roughness and --ndotv, F = 1, times (n.l))")
                          ->capture_default_str();
   add_json_flag(e, ea->json);
 
   const auto [p, pa] = add_command<PlotArgs>(
       g.plot, "micro-shadowing",
       "Figure data for the micro-shadowing terms: maps.csv (every method over Visibility x N.L for roughness "
-      "0, 0.1, "
-      "0.4, 0.7, 1 and N.V 1, 0.5, 0.1), errors.csv (older terms vs the exact generic term), "
-      "azimuth_error.csv "
-      "(exact term vs its azimuth mean at random configurations), validation.csv (exact vs Monte Carlo), "
-      "summary.json. PNGs: scripts/plot_micro_shadowing.py.",
+      "0, 0.1, 0.4, 0.7, 1 and N.V 1, 0.5, 0.1), errors.csv (older terms vs the exact generic term), "
+      "azimuth_error.csv (exact term vs its azimuth mean at random configurations), validation.csv (exact vs "
+      "Monte Carlo), summary.json. PNGs: scripts/plot_micro_shadowing.py.",
       run_plot);
   add_out_dir_option(p, pa->out);
   p->add_option("--size", pa->size, "Grid points per axis of the maps")->capture_default_str();

@@ -229,9 +229,8 @@ void add_aware(Groups& g) {
 
   const auto [p, pa] =
       add_command<PlotArgs>(g.plot, "micro-shadowing-aware",
-                            "Generic, specular-aware and diffuse-aware azimuth means over (V, "
-                            "N.L) per roughness and N.V (maps.csv; "
-                            "figures: scripts/plot_micro_shadowing_aware.py)",
+                            "Generic, specular-aware and diffuse-aware azimuth means over (V, N.L) per "
+                            "roughness and N.V (maps.csv; figures: scripts/plot_micro_shadowing_aware.py)",
                             run_plot);
   add_out_dir_option(p, pa->out);
   p->add_option("--size", pa->size, "Grid points per axis")->capture_default_str();

@@ -172,8 +172,7 @@ void add_micro_shadowing_fit(Groups& g) {
       "The exact azimuth-mean micro-shadowing term at stratified random inputs (V, N.L, N.V, roughness in "
       "[0.1, 1]) with the ALU-only approximation and the older terms beside it: CSV for "
       "tools/research/fit_micro_shadowing.py and an error summary (RMS, p99, max in 1/255 per roughness "
-      "band) on "
-      "stdout (docs/micro-shadowing.md).",
+      "band) on stdout (docs/micro-shadowing.md).",
       run_fit_data);
   p->add_option("--out", a->out, "Output CSV (written atomically)")->required();
   p->add_option("--samples", a->samples, "Stratified random points over the domain")->capture_default_str();

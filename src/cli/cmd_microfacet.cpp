@@ -89,8 +89,7 @@ void add_microfacet(Groups& g) {
       "Evaluate an NDF's D, Smith Lambda and G1 at a view direction, or the GGX albedo E(mu, alpha)", run);
   c->add_option("--ndf", args->ndf, "ggx | beckmann | blinn-phong | gtr")->capture_default_str();
   c->add_option("--alpha", args->alpha,
-                "roughness alpha (alpha_x if anisotropic; Beckmann-equivalent for "
-                "blinn-phong)")
+                "roughness alpha (alpha_x if anisotropic; Beckmann-equivalent for blinn-phong)")
       ->check(Finite)
       ->capture_default_str();
   c->add_option("--alpha-y", args->alpha_y, "alpha_y (anisotropic ggx/beckmann)")->check(Finite);

@@ -182,8 +182,8 @@ void add_render(Groups& g) {
   r->add_option("--area-samples", a->area_samples, "Samples per area-sampled sphere, disk or rect light")
       ->check(CLI::Range(1, 1 << 16));
   r->add_option("--area-ms", a->area_ms,
-                "Micro-shadowing under area-sampled lights: sampled (per light sample), representative "
-                "(once at Karis's representative point), integrated (averaged over the light)")
+                "Micro-shadowing under area-sampled lights: sampled (per light sample), representative (once "
+                "at Karis's representative point), integrated (averaged over the light)")
       ->check(CLI::IsMember({"sampled", "representative", "integrated"}));
   r->add_option("--lut", a->lut, "Micro-shadowing LUT file for lut3d/lut2d");
   r->add_option("--assets", a->assets,
@@ -283,9 +283,9 @@ void add_gen_material(Groups& g) {
   a->kind_opt =
       gm->add_option(
             "--kind", a->gen.kind,
-            "plaster (damaged plaster: noise, cracks, pits), bark (furrowed ridges), gravel "
-            "(packed stones on sand), rock (fractured rock: blocks, cracks, ridges), brick (running-bond "
-            "paving, deep mortar joints) or cobble (rounded cobblestones)")
+            "plaster (damaged plaster: noise, cracks, pits), bark (furrowed ridges), gravel (packed stones "
+            "on sand), rock (fractured rock: blocks, cracks, ridges), brick (running-bond paving, deep "
+            "mortar joints) or cobble (rounded cobblestones)")
           ->check(CLI::IsMember(render::material_kinds()));
   a->size_opt = gm->add_option("--size", a->gen.size, "Texels per side")->check(CLI::Range(8, 8192));
   gm->add_option("--height", a->height,
@@ -311,13 +311,13 @@ void add_gen_material(Groups& g) {
                "directional-view method reads");
   gm->add_flag(
       "--directional-bc", a->bc,
-      "Also write the directional channels block-compressed in mips/ (directional_bc_<f>: BC5 pairs, "
-      "an odd last channel BC4; 4 bits per channel, the same ranges)");
+      "Also write the directional channels block-compressed in mips/ (directional_bc_<f>: BC5 pairs, an odd "
+      "last channel BC4; 4 bits per channel, the same ranges)");
   gm->add_option(
       "--directional-form", a->form,
-      "Also write a compact form of the directional channels (docs/directional-occlusion.md, "
-      "\"Compact forms\"): pca<K>, K coefficients per texel at 8 bits from a linear code fitted to "
-      "this material (mips/directional_compact_<t>.ktx2/.dds, 4 per RGBA8 texture, level 0 as "
+      "Also write a compact form of the directional channels (docs/directional-occlusion.md, \"Compact "
+      "forms\"): pca<K>, K coefficients per texel at 8 bits from a linear code fitted to this material "
+      "(mips/directional_compact_<t>.ktx2/.dds, 4 per RGBA8 texture, level 0 as "
       "directional_compact_<t>.png; the code in mips/mips.json)");
   gm->add_flag(
       "--gltf", a->gltf,

@@ -193,51 +193,50 @@ void add_study(Groups& g) {
               "Reduced study for make demo (one material, three lights, smaller images)");
   s->add_flag(
       "--area-lights", a->area,
-      "Area-light section instead (docs/area-lights.md): sphere lights of 1-40 degrees angular "
-      "radius, a disk and a rect; micro-shadowing per sample, at the representative point, integrated; "
-      "also writes DIR/area_summary.md");
+      "Area-light section instead (docs/area-lights.md): sphere lights of 1-40 degrees angular radius, a "
+      "disk and a rect; micro-shadowing per sample, at the representative point, integrated; also writes "
+      "DIR/area_summary.md");
   s->add_option(
       "--area-ms", a->area_ms,
       "With --area-lights: comma-separated modes (sampled, representative, integrated; default all)");
   s->add_option("--materials", a->materials, "Comma-separated material kinds (default: the study's list)");
   s->add_option(
       "--height", a->heights,
-      "The user's height maps as materials: comma-separated 16-bit PNG or EXR files (grey, values in "
-      "[0,1], square; each named by its file's stem in the results; needs --depth). Without "
-      "--materials, only the user's maps are studied");
+      "The user's height maps as materials: comma-separated 16-bit PNG or EXR files (grey, values in [0,1], "
+      "square; each named by its file's stem in the results; needs --depth). Without --materials, only the "
+      "user's maps are studied");
   s->add_option("--depth", a->depths,
                 "With --height: depth of the full [0,1] range in texels, one per file or one for all");
   s->add_option(
       "--material", a->folders,
-      "A gen-material folder (height.png + material.json's height_texels) as a material named after "
-      "the folder; repeatable or comma-separated");
+      "A gen-material folder (height.png + material.json's height_texels) as a material named after the "
+      "folder; repeatable or comma-separated");
   s->add_option("--methods", a->methods,
-                "Comma-separated micro-shadowing methods (`microshadow methods`; default: the methods marked "
-                "for the study; with --area-lights, the area section's terms). A method that reads the "
-                "directional channels may name a compact form, METHOD@FORM, FORM = pca<K> (8-bit), "
+                "Comma-separated micro-shadowing methods (`microshadow methods`; default: the methods "
+                "marked for the study; with --area-lights, the area section's terms). A method that reads "
+                "the directional channels may name a compact form, METHOD@FORM, FORM = pca<K> (8-bit), "
                 "pca<K>x16, pca<K>f, or unorm8 / bc4 per channel (docs/directional-occlusion.md, \"Compact "
-                "forms\"), e.g. "
-                "directional-view@pca8");
+                "forms\"), e.g. directional-view@pca8");
   s->add_option("--directional-encoding", a->encoding,
                 "Storage of the directional channels on the coarse sets: float, unorm8 (gen-material's 8-bit "
                 "mips) or bc4 (4 bits per channel); each channel between the fine level's range")
       ->capture_default_str();
   s->add_option(
       "--scales", a->scales,
-      "Comma-separated scales k (default: the study's list); the view sweep, when on, runs at these "
-      "scales too");
+      "Comma-separated scales k (default: the study's list); the view sweep, when on, runs at these scales "
+      "too");
   s->add_option(
       "--views", a->views,
-      "Comma-separated view angles, degrees off the normal in [0, 89] (default 30; the full study's "
-      "sweep adds 60, 75, 85)");
+      "Comma-separated view angles, degrees off the normal in [0, 89] (default 30; the full study's sweep "
+      "adds 60, 75, 85)");
   s->add_option(
       "--view-azimuths", a->view_azimuths,
-      "Comma-separated azimuths of the direction to the camera, degrees from +u towards +v (default "
-      "270: the camera at -v looking along +v)");
+      "Comma-separated azimuths of the direction to the camera, degrees from +u towards +v (default 270: "
+      "the camera at -v looking along +v)");
   s->add_option(
       "--light-azimuths", a->light_azimuths,
-      "Comma-separated azimuths of the directional lights, degrees from +u towards +v (default 0,90; "
-      "the full study's sweep adds 45, 135, 180)");
+      "Comma-separated azimuths of the directional lights, degrees from +u towards +v (default 0,90; the "
+      "full study's sweep adds 45, 135, 180)");
   s->add_option("--light-elevations", a->light_elevations,
                 "Comma-separated elevations of the directional lights above the plane, degrees in (0, 90) "
                 "(default 5,10,25,45,70)");
@@ -269,8 +268,8 @@ void add_study(Groups& g) {
   s->add_option(
       "--material-cache", a->cache,
       "Cache the fine texture sets in DIR (float NPY) and reuse them on later runs (keyed by material, "
-      "size, seed or height-map hash and depth, bake settings and bake version; an entry whose maps "
-      "or depth do not match its key or hold non-finite values is baked again)");
+      "size, seed or height-map hash and depth, bake settings and bake version; an entry whose maps or "
+      "depth do not match its key or hold non-finite values is baked again)");
   add_threads_option(s, a->threads);
   add_quiet_flag(s, a->quiet);
   s->callback([a] { run_study_command(*a); });

@@ -254,8 +254,8 @@ void run_lut(const LutArgs& a) {
   }
   std::cout << fmt::format(
       "{}: {} layout, {}x{}x{} texels, roughness {}, harmonics {}\n"
-      "sampler {}{}, against the exact {}, N = {} inputs (seed {}), roughness uniform in [{}, {}]; "
-      "error = approx - exact; {:.1f} s\n",
+      "sampler {}{}, against the exact {}, N = {} inputs (seed {}), roughness uniform in [{}, {}]; error = "
+      "approx - exact; {:.1f} s\n",
       a.file, layout, view.n_vis, view.n_nl, view.n_nv, roughness_text, view.harmonics, sampler,
       bits ? fmt::format(", filter weights rounded down to 1/{}", 1 << bits) : std::string(),
       o.against == lut::VerifyReference::AzimuthMean ? "azimuth mean" : "term at the input's azimuth",
@@ -389,8 +389,8 @@ void add_verify(Groups& g) {
       ->capture_default_str();
   l->add_option(
        "--gpu-weights", la->gpu_weights,
-       "Quantise the linear-filter weights to 1/2^BITS (rounded down) as GPU filtering hardware does "
-       "(8 on current GPUs; 0: exact float weights)")
+       "Quantise the linear-filter weights to 1/2^BITS (rounded down) as GPU filtering hardware does (8 on "
+       "current GPUs; 0: exact float weights)")
       ->capture_default_str();
   l->add_option("--roughness", la->roughness, "Roughness per channel (overrides the sidecar)");
   l->add_option("--harmonics", la->harmonics, "Harmonic count (overrides the sidecar)");

@@ -41,8 +41,7 @@ fs::path find_assets() {
   }
   throw UsageError(
       "cannot find the viewer's files (web/index.html, shaders/glsl/): neither the source tree this binary "
-      "was "
-      "built from nor <prefix>/share/microshadow has them");
+      "was built from nor <prefix>/share/microshadow has them");
 }
 
 struct ViewArgs {
@@ -55,28 +54,28 @@ void register_view(Groups& g) {
   auto a = std::make_shared<ViewArgs>();
   CLI::App* c = g.root->add_subcommand("view",
                                        "Interactive micro-shadowing viewer in the browser (WebGL2, the "
-                                       "project's GLSL and tables): serves it on "
-                                       "127.0.0.1 and prints the URL; Ctrl-C stops it. See docs/viewer.md");
+                                       "project's GLSL and tables): serves it on 127.0.0.1 and prints the "
+                                       "URL; Ctrl-C stops it. See docs/viewer.md");
   c->add_option("--material", a->material,
-                "Texture set: a gen-material folder (default: the built-in plaster, "
-                "generated once into the cache directory)");
+                "Texture set: a gen-material folder (default: the built-in plaster, generated once into the "
+                "cache directory)");
   c->add_option("--lut", a->lut,
-                "A cone-layout table (bake micro-shadowing, with its .json sidecar) replacing the default of "
-                "its kind (3D, 2D or azimuth-aware)");
+                "A cone-layout table (bake micro-shadowing, with its .json sidecar) replacing the default "
+                "of its kind (3D, 2D or azimuth-aware)");
   c->add_option("--port", a->o.port, "TCP port (0 = any free port)")->capture_default_str();
   c->add_option("--host", a->o.host, "Loopback address to bind (127.0.0.1, ::1 or localhost; nothing else)")
       ->capture_default_str();
   c->add_option("--root", a->root, "Serve this static copy (written by --export, e.g. out/viewer) as is");
   c->add_option("--export", a->exp,
-                "Write a static copy of the page, GLSL files, textures and tables to DIR "
-                "and exit (any static HTTP server can serve it)");
+                "Write a static copy of the page, GLSL files, textures and tables to DIR and exit (any "
+                "static HTTP server can serve it)");
   c->add_option("--cache", a->cache,
-                "Cache directory for the built-in plaster (default $XDG_CACHE_HOME/"
-                "microshadow or ~/.cache/microshadow)");
+                "Cache directory for the built-in plaster (default $XDG_CACHE_HOME/microshadow or "
+                "~/.cache/microshadow)");
   c->add_flag("--three", a->three,
               "The three.js example (examples/three/, integrations/three/; docs/three.md) instead of the "
-              "viewer: served, or with --export written as a static copy. Needs the source tree and `npm ci` "
-              "in integrations/three");
+              "viewer: served, or with --export written as a static copy. Needs the source tree and `npm "
+              "ci` in integrations/three");
   c->add_option("--three-module", a->three_module,
                 "Write the three.js module's generated files (methods.js from the registry, glsl.js from "
                 "shaders/glsl/) to DIR and exit, e.g. integrations/three/src/generated");

@@ -49,8 +49,8 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
 #endif
   CLI::App app{
-      "microshadow: microfacet BRDFs, micro-shadowing, the bump-terminator fix, their LUTs and a "
-      "reference renderer.",
+      "microshadow: microfacet BRDFs, micro-shadowing, the bump-terminator fix, their LUTs and a reference "
+      "renderer.",
       "microshadow"};
   app.set_version_flag("--version", std::string("microshadow ") + MSH_VERSION);
   app.require_subcommand(1);
