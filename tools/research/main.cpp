@@ -20,6 +20,12 @@
 #include "cli/run_app.h"
 #include "directional_study.h"
 
+namespace msh::research {
+// A row as JSON: one key per field, named as the field.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DirectionalStudyRow, kind, representation, bake_distance, k, elevation_deg,
+                                   azimuth_deg, bias, rmse_footprint, bytes)
+}  // namespace msh::research
+
 namespace {
 
 struct StudyArgs {
@@ -50,16 +56,7 @@ void run_study(const StudyArgs& a) {
   const auto rows = msh::research::directional_study(o);
   if (a.json) {
     nlohmann::json j = nlohmann::json::array();
-    for (const auto& r : rows)
-      j.push_back({{"kind", r.kind},
-                   {"representation", r.representation},
-                   {"bake_distance", r.bake_distance},
-                   {"k", r.k},
-                   {"elevation_deg", r.elevation_deg},
-                   {"azimuth_deg", r.azimuth_deg},
-                   {"bias", r.bias},
-                   {"rmse_footprint", r.rmse_footprint},
-                   {"bytes", r.bytes}});
+    for (const auto& r : rows) j.push_back(r);
     std::cout << j.dump() << std::endl;
   }
   const std::string md = msh::research::directional_study_markdown(rows);
