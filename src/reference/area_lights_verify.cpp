@@ -88,197 +88,118 @@ std::vector<std::array<double, N>> error_rows(int count, const VerifyOptions& a,
   return rows;
 }
 
-// A form of block B: its output name and its field. Each block's forms are an enum (the columns of its rows
-// of errors) and a table in the same order.
+// A form of block B: its output name and its field. Each block's forms are one list, X(B, column, field
+// [, suffix]): it makes both the enum of the columns of the block's rows of errors and the table of names
+// and fields in the same order; the output name is the field's name (plus the suffix, where one is given).
 template <class B>
 struct Form {
   const char* name;
   ErrorSummary B::*field;
 };
+#define MSH_FORM_ENUM(B, column, field, ...) column,
+#define MSH_FORM_ROW(B, column, field, ...) Form<B>{#field __VA_ARGS__, &B::field},
 
-enum CapForm {
-  kStepCosine,       // reference_step_area_cap (exact cosine-weighted closed form)
-  kStepMazonka,      // solid-angle ratio (Mazonka 2012)
-  kStepOatSander,    // solid-angle ratio (Oat & Sander 2007)
-  kStepPoint,        // the point value at the centre
-  kStepGgxReceiver,  // the Lambert closed form used for a GGX receiver (exact GGX-weighted reference)
-  kBm,
-  kBmFloat,
-  kBmPoint,
-  kChan,
-  kChanFloat,
-  kChanPoint,
-  kPart1,
-  kPart1Float,
-  kPart1Point,
-  kOatSanderOmega,  // |Ω_OS − Ω_Mazonka| / Ω_cap for cap ∩ cone
-  kCapForms
-};
-constexpr std::array<Form<CapErrors>, kCapForms> kCapTable = {{
-    {"step_cosine_closed_form", &CapErrors::step_cosine_closed_form},
-    {"step_solid_angle_mazonka", &CapErrors::step_solid_angle_mazonka},
-    {"step_solid_angle_oat_sander", &CapErrors::step_solid_angle_oat_sander},
-    {"step_point_at_centre", &CapErrors::step_point_at_centre},
-    {"step_closed_form_for_ggx_receiver", &CapErrors::step_closed_form_for_ggx_receiver},
-    {"brinck_maximov_2016_area_n4", &CapErrors::brinck_maximov_2016_area_n4},
-    {"brinck_maximov_2016_area_n4_float", &CapErrors::brinck_maximov_2016_area_n4_float},
-    {"brinck_maximov_2016_point_at_centre", &CapErrors::brinck_maximov_2016_point_at_centre},
-    {"chan_2018_area_n4", &CapErrors::chan_2018_area_n4},
-    {"chan_2018_area_n4_float", &CapErrors::chan_2018_area_n4_float},
-    {"chan_2018_point_at_centre", &CapErrors::chan_2018_point_at_centre},
-    {"part1_analytic_area_n4", &CapErrors::part1_analytic_area_n4},
-    {"part1_analytic_area_n4_float", &CapErrors::part1_analytic_area_n4_float},
-    {"part1_analytic_point_at_centre", &CapErrors::part1_analytic_point_at_centre},
-    {"oat_sander_vs_mazonka_solid_angle_fraction_of_light",
-     &CapErrors::oat_sander_vs_mazonka_solid_angle_fraction_of_light},
-}};
+// The step forms: the exact cosine-weighted closed form (reference_step_area_cap), the solid-angle ratios of
+// Mazonka 2012 and of Oat & Sander 2007, the point value at the centre, and the Lambert closed form used for
+// a GGX receiver (against the exact GGX-weighted reference); then each fast form's area, float and point
+// values; last, |Ω_OS − Ω_Mazonka| / Ω_cap for cap ∩ cone.
+#define MSH_CAP_FORMS(X, B)                                 \
+  X(B, kStepCosine, step_cosine_closed_form)                \
+  X(B, kStepMazonka, step_solid_angle_mazonka)              \
+  X(B, kStepOatSander, step_solid_angle_oat_sander)         \
+  X(B, kStepPoint, step_point_at_centre)                    \
+  X(B, kStepGgxReceiver, step_closed_form_for_ggx_receiver) \
+  X(B, kBm, brinck_maximov_2016_area_n4)                    \
+  X(B, kBmFloat, brinck_maximov_2016_area_n4_float)         \
+  X(B, kBmPoint, brinck_maximov_2016_point_at_centre)       \
+  X(B, kChan, chan_2018_area_n4)                            \
+  X(B, kChanFloat, chan_2018_area_n4_float)                 \
+  X(B, kChanPoint, chan_2018_point_at_centre)               \
+  X(B, kPart1, part1_analytic_area_n4)                      \
+  X(B, kPart1Float, part1_analytic_area_n4_float)           \
+  X(B, kPart1Point, part1_analytic_point_at_centre)         \
+  X(B, kOatSanderOmega, oat_sander_vs_mazonka_solid_angle_fraction_of_light)
+enum CapForm { MSH_CAP_FORMS(MSH_FORM_ENUM, CapErrors) kCapForms };
+constexpr std::array<Form<CapErrors>, kCapForms> kCapTable = {{MSH_CAP_FORMS(MSH_FORM_ROW, CapErrors)}};
 
-enum GenericForm { kGenAlu, kGenQuadOnly, kGenAluPoint, kGenAluPointError, kGenericForms };
-constexpr std::array<Form<GenericCapErrors>, kGenericForms> kGenericTable = {{
-    {"generic_vndf_alu_area_n4_float", &GenericCapErrors::generic_vndf_alu_area_n4_float},
-    {"generic_vndf_exact_mean_area_n4", &GenericCapErrors::generic_vndf_exact_mean_area_n4},
-    {"generic_vndf_alu_point_at_centre", &GenericCapErrors::generic_vndf_alu_point_at_centre},
-    {"generic_vndf_alu_point_error_at_centre (the fit alone)",
-     &GenericCapErrors::generic_vndf_alu_point_error_at_centre},
-}};
+#define MSH_GENERIC_FORMS(X, B)                        \
+  X(B, kGenAlu, generic_vndf_alu_area_n4_float)        \
+  X(B, kGenQuadOnly, generic_vndf_exact_mean_area_n4)  \
+  X(B, kGenAluPoint, generic_vndf_alu_point_at_centre) \
+  X(B, kGenAluPointError, generic_vndf_alu_point_error_at_centre, " (the fit alone)")
+enum GenericForm { MSH_GENERIC_FORMS(MSH_FORM_ENUM, GenericCapErrors) kGenericForms };
+constexpr std::array<Form<GenericCapErrors>, kGenericForms> kGenericTable = {
+    {MSH_GENERIC_FORMS(MSH_FORM_ROW, GenericCapErrors)}};
 
-enum ShapeForm {
-  kDiskStep,
-  kDiskStepFloat,
-  kDiskStepPoint,
-  kDiskBm,
-  kDiskBmPoint,
-  kDiskChan,
-  kDiskPart1,
-  kRectStep,
-  kRectStepFloat,
-  kRectStepPoint,
-  kRectBm,
-  kRectBmPoint,
-  kRectChan,
-  kRectPart1,
-  kShapeForms
-};
-constexpr std::array<Form<ShapeErrors>, kShapeForms> kShapeTable = {{
-    {"disk_step_equivalent_cap", &ShapeErrors::disk_step_equivalent_cap},
-    {"disk_step_equivalent_cap_float", &ShapeErrors::disk_step_equivalent_cap_float},
-    {"disk_step_point_at_centre", &ShapeErrors::disk_step_point_at_centre},
-    {"disk_brinck_maximov_2016_equivalent_cap_n4", &ShapeErrors::disk_brinck_maximov_2016_equivalent_cap_n4},
-    {"disk_brinck_maximov_2016_point_at_centre", &ShapeErrors::disk_brinck_maximov_2016_point_at_centre},
-    {"disk_chan_2018_equivalent_cap_n4", &ShapeErrors::disk_chan_2018_equivalent_cap_n4},
-    {"disk_part1_analytic_equivalent_cap_n4", &ShapeErrors::disk_part1_analytic_equivalent_cap_n4},
-    {"rect_step_equivalent_cap", &ShapeErrors::rect_step_equivalent_cap},
-    {"rect_step_equivalent_cap_float", &ShapeErrors::rect_step_equivalent_cap_float},
-    {"rect_step_point_at_centre", &ShapeErrors::rect_step_point_at_centre},
-    {"rect_brinck_maximov_2016_equivalent_cap_n4", &ShapeErrors::rect_brinck_maximov_2016_equivalent_cap_n4},
-    {"rect_brinck_maximov_2016_point_at_centre", &ShapeErrors::rect_brinck_maximov_2016_point_at_centre},
-    {"rect_chan_2018_equivalent_cap_n4", &ShapeErrors::rect_chan_2018_equivalent_cap_n4},
-    {"rect_part1_analytic_equivalent_cap_n4", &ShapeErrors::rect_part1_analytic_equivalent_cap_n4},
-}};
+#define MSH_SHAPE_FORMS(X, B)                                  \
+  X(B, kDiskStep, disk_step_equivalent_cap)                    \
+  X(B, kDiskStepFloat, disk_step_equivalent_cap_float)         \
+  X(B, kDiskStepPoint, disk_step_point_at_centre)              \
+  X(B, kDiskBm, disk_brinck_maximov_2016_equivalent_cap_n4)    \
+  X(B, kDiskBmPoint, disk_brinck_maximov_2016_point_at_centre) \
+  X(B, kDiskChan, disk_chan_2018_equivalent_cap_n4)            \
+  X(B, kDiskPart1, disk_part1_analytic_equivalent_cap_n4)      \
+  X(B, kRectStep, rect_step_equivalent_cap)                    \
+  X(B, kRectStepFloat, rect_step_equivalent_cap_float)         \
+  X(B, kRectStepPoint, rect_step_point_at_centre)              \
+  X(B, kRectBm, rect_brinck_maximov_2016_equivalent_cap_n4)    \
+  X(B, kRectBmPoint, rect_brinck_maximov_2016_point_at_centre) \
+  X(B, kRectChan, rect_chan_2018_equivalent_cap_n4)            \
+  X(B, kRectPart1, rect_part1_analytic_equivalent_cap_n4)
+enum ShapeForm { MSH_SHAPE_FORMS(MSH_FORM_ENUM, ShapeErrors) kShapeForms };
+constexpr std::array<Form<ShapeErrors>, kShapeForms> kShapeTable = {
+    {MSH_SHAPE_FORMS(MSH_FORM_ROW, ShapeErrors)}};
 
-enum LtcForm {
-  kCapStepGgx,
-  kCapStepGgxFloat,
-  kCapStepGgxNoTail,
-  kCapStepGgxLambertClosedForm,
-  kCapStepGgxRepresentative,
-  kCapBmGgx,
-  kCapBmGgxLambertProductRule,
-  kCapBmGgxRepresentative,
-  kCapChanGgx,
-  kCapPart1Ggx,
-  kDiskStepGgx,
-  kDiskStepGgxEquivalentCap,
-  kDiskBmGgx,
-  kRectStepGgx,
-  kRectStepGgxEquivalentCap,
-  kRectStepGgxRepresentative,
-  kRectBmGgx,
-  kDiskStepLambert,
-  kDiskBmLambert,
-  kDiskChanLambert,
-  kDiskPart1Lambert,
-  kRectStepLambert,
-  kRectStepLambertFloat,
-  kRectBmLambert,
-  kRectChanLambert,
-  kRectPart1Lambert,
-  kLtcForms
-};
-constexpr std::array<Form<LtcErrors>, kLtcForms> kLtcTable = {{
-    {"ltc_cap_step_ggx_cone_clip", &LtcErrors::ltc_cap_step_ggx_cone_clip},
-    {"ltc_cap_step_ggx_cone_clip_float", &LtcErrors::ltc_cap_step_ggx_cone_clip_float},
-    {"ltc_cap_step_ggx_cone_clip_no_tail", &LtcErrors::ltc_cap_step_ggx_cone_clip_no_tail},
-    {"ltc_cap_step_ggx_lambert_closed_form", &LtcErrors::ltc_cap_step_ggx_lambert_closed_form},
-    {"ltc_cap_step_ggx_point_at_ltc_representative_direction",
-     &LtcErrors::ltc_cap_step_ggx_point_at_ltc_representative_direction},
-    {"ltc_cap_brinck_maximov_2016_ggx_cone_clip_n4",
-     &LtcErrors::ltc_cap_brinck_maximov_2016_ggx_cone_clip_n4},
-    {"ltc_cap_brinck_maximov_2016_ggx_lambert_product_rule",
-     &LtcErrors::ltc_cap_brinck_maximov_2016_ggx_lambert_product_rule},
-    {"ltc_cap_brinck_maximov_2016_ggx_point_at_ltc_representative",
-     &LtcErrors::ltc_cap_brinck_maximov_2016_ggx_point_at_ltc_representative},
-    {"ltc_cap_chan_2018_ggx_cone_clip_n4", &LtcErrors::ltc_cap_chan_2018_ggx_cone_clip_n4},
-    {"ltc_cap_part1_analytic_ggx_cone_clip_n4", &LtcErrors::ltc_cap_part1_analytic_ggx_cone_clip_n4},
-    {"ltc_disk_step_ggx_cone_clip", &LtcErrors::ltc_disk_step_ggx_cone_clip},
-    {"ltc_disk_step_ggx_lambert_equivalent_cap", &LtcErrors::ltc_disk_step_ggx_lambert_equivalent_cap},
-    {"ltc_disk_brinck_maximov_2016_ggx_cone_clip_n4",
-     &LtcErrors::ltc_disk_brinck_maximov_2016_ggx_cone_clip_n4},
-    {"ltc_rect_step_ggx_cone_clip", &LtcErrors::ltc_rect_step_ggx_cone_clip},
-    {"ltc_rect_step_ggx_lambert_equivalent_cap", &LtcErrors::ltc_rect_step_ggx_lambert_equivalent_cap},
-    {"ltc_rect_step_ggx_point_at_ltc_representative_direction",
-     &LtcErrors::ltc_rect_step_ggx_point_at_ltc_representative_direction},
-    {"ltc_rect_brinck_maximov_2016_ggx_cone_clip_n4",
-     &LtcErrors::ltc_rect_brinck_maximov_2016_ggx_cone_clip_n4},
-    {"ltc_disk_step_lambert_cone_clip", &LtcErrors::ltc_disk_step_lambert_cone_clip},
-    {"ltc_disk_brinck_maximov_2016_lambert_cone_clip_n4",
-     &LtcErrors::ltc_disk_brinck_maximov_2016_lambert_cone_clip_n4},
-    {"ltc_disk_chan_2018_lambert_cone_clip_n4", &LtcErrors::ltc_disk_chan_2018_lambert_cone_clip_n4},
-    {"ltc_disk_part1_analytic_lambert_cone_clip_n4",
-     &LtcErrors::ltc_disk_part1_analytic_lambert_cone_clip_n4},
-    {"ltc_rect_step_lambert_cone_clip", &LtcErrors::ltc_rect_step_lambert_cone_clip},
-    {"ltc_rect_step_lambert_cone_clip_float", &LtcErrors::ltc_rect_step_lambert_cone_clip_float},
-    {"ltc_rect_brinck_maximov_2016_lambert_cone_clip_n4",
-     &LtcErrors::ltc_rect_brinck_maximov_2016_lambert_cone_clip_n4},
-    {"ltc_rect_chan_2018_lambert_cone_clip_n4", &LtcErrors::ltc_rect_chan_2018_lambert_cone_clip_n4},
-    {"ltc_rect_part1_analytic_lambert_cone_clip_n4",
-     &LtcErrors::ltc_rect_part1_analytic_lambert_cone_clip_n4},
-}};
+#define MSH_LTC_FORMS(X, B)                                                                  \
+  X(B, kCapStepGgx, ltc_cap_step_ggx_cone_clip)                                              \
+  X(B, kCapStepGgxFloat, ltc_cap_step_ggx_cone_clip_float)                                   \
+  X(B, kCapStepGgxNoTail, ltc_cap_step_ggx_cone_clip_no_tail)                                \
+  X(B, kCapStepGgxLambertClosedForm, ltc_cap_step_ggx_lambert_closed_form)                   \
+  X(B, kCapStepGgxRepresentative, ltc_cap_step_ggx_point_at_ltc_representative_direction)    \
+  X(B, kCapBmGgx, ltc_cap_brinck_maximov_2016_ggx_cone_clip_n4)                              \
+  X(B, kCapBmGgxLambertProductRule, ltc_cap_brinck_maximov_2016_ggx_lambert_product_rule)    \
+  X(B, kCapBmGgxRepresentative, ltc_cap_brinck_maximov_2016_ggx_point_at_ltc_representative) \
+  X(B, kCapChanGgx, ltc_cap_chan_2018_ggx_cone_clip_n4)                                      \
+  X(B, kCapPart1Ggx, ltc_cap_part1_analytic_ggx_cone_clip_n4)                                \
+  X(B, kDiskStepGgx, ltc_disk_step_ggx_cone_clip)                                            \
+  X(B, kDiskStepGgxEquivalentCap, ltc_disk_step_ggx_lambert_equivalent_cap)                  \
+  X(B, kDiskBmGgx, ltc_disk_brinck_maximov_2016_ggx_cone_clip_n4)                            \
+  X(B, kRectStepGgx, ltc_rect_step_ggx_cone_clip)                                            \
+  X(B, kRectStepGgxEquivalentCap, ltc_rect_step_ggx_lambert_equivalent_cap)                  \
+  X(B, kRectStepGgxRepresentative, ltc_rect_step_ggx_point_at_ltc_representative_direction)  \
+  X(B, kRectBmGgx, ltc_rect_brinck_maximov_2016_ggx_cone_clip_n4)                            \
+  X(B, kDiskStepLambert, ltc_disk_step_lambert_cone_clip)                                    \
+  X(B, kDiskBmLambert, ltc_disk_brinck_maximov_2016_lambert_cone_clip_n4)                    \
+  X(B, kDiskChanLambert, ltc_disk_chan_2018_lambert_cone_clip_n4)                            \
+  X(B, kDiskPart1Lambert, ltc_disk_part1_analytic_lambert_cone_clip_n4)                      \
+  X(B, kRectStepLambert, ltc_rect_step_lambert_cone_clip)                                    \
+  X(B, kRectStepLambertFloat, ltc_rect_step_lambert_cone_clip_float)                         \
+  X(B, kRectBmLambert, ltc_rect_brinck_maximov_2016_lambert_cone_clip_n4)                    \
+  X(B, kRectChanLambert, ltc_rect_chan_2018_lambert_cone_clip_n4)                            \
+  X(B, kRectPart1Lambert, ltc_rect_part1_analytic_lambert_cone_clip_n4)
+enum LtcForm { MSH_LTC_FORMS(MSH_FORM_ENUM, LtcErrors) kLtcForms };
+constexpr std::array<Form<LtcErrors>, kLtcForms> kLtcTable = {{MSH_LTC_FORMS(MSH_FORM_ROW, LtcErrors)}};
 
-enum AwareForm {
-  kGenLtcExactMean,
-  kGenLtcAlu,
-  kGenLambertProductRuleAlu,
-  kGenRepresentative,
-  kSpecLtc,
-  kSpecLtcFloat,
-  kSpecRepresentative,
-  kAwareForms
-};
-constexpr std::array<Form<AwareErrors>, kAwareForms> kAwareTable = {{
-    {"ggx_cap_generic_vndf_exact_mean_ltc_cone_clip_n4",
-     &AwareErrors::ggx_cap_generic_vndf_exact_mean_ltc_cone_clip_n4},
-    {"ggx_cap_generic_vndf_alu_ltc_cone_clip_n4_float",
-     &AwareErrors::ggx_cap_generic_vndf_alu_ltc_cone_clip_n4_float},
-    {"ggx_cap_generic_vndf_alu_lambert_product_rule",
-     &AwareErrors::ggx_cap_generic_vndf_alu_lambert_product_rule},
-    {"ggx_cap_generic_vndf_exact_point_at_ltc_representative",
-     &AwareErrors::ggx_cap_generic_vndf_exact_point_at_ltc_representative},
-    {"ggx_cap_specular_aware_mean_ltc_cone_clip_n4",
-     &AwareErrors::ggx_cap_specular_aware_mean_ltc_cone_clip_n4},
-    {"ggx_cap_specular_aware_mean_ltc_cone_clip_n4_float",
-     &AwareErrors::ggx_cap_specular_aware_mean_ltc_cone_clip_n4_float},
-    {"ggx_cap_specular_aware_point_at_ltc_representative",
-     &AwareErrors::ggx_cap_specular_aware_point_at_ltc_representative},
-}};
+#define MSH_AWARE_FORMS(X, B)                                                      \
+  X(B, kGenLtcExactMean, ggx_cap_generic_vndf_exact_mean_ltc_cone_clip_n4)         \
+  X(B, kGenLtcAlu, ggx_cap_generic_vndf_alu_ltc_cone_clip_n4_float)                \
+  X(B, kGenLambertProductRuleAlu, ggx_cap_generic_vndf_alu_lambert_product_rule)   \
+  X(B, kGenRepresentative, ggx_cap_generic_vndf_exact_point_at_ltc_representative) \
+  X(B, kSpecLtc, ggx_cap_specular_aware_mean_ltc_cone_clip_n4)                     \
+  X(B, kSpecLtcFloat, ggx_cap_specular_aware_mean_ltc_cone_clip_n4_float)          \
+  X(B, kSpecRepresentative, ggx_cap_specular_aware_point_at_ltc_representative)
+enum AwareForm { MSH_AWARE_FORMS(MSH_FORM_ENUM, AwareErrors) kAwareForms };
+constexpr std::array<Form<AwareErrors>, kAwareForms> kAwareTable = {
+    {MSH_AWARE_FORMS(MSH_FORM_ROW, AwareErrors)}};
 
-enum DiffuseAwareForm { kDiffuseAwareAlu, kDiffuseAwareAluPoint, kDiffuseAwareForms };
-constexpr std::array<Form<DiffuseAwareErrors>, kDiffuseAwareForms> kDiffuseAwareTable = {{
-    {"lambert_cap_diffuse_aware_alu_product_rule_n4_float",
-     &DiffuseAwareErrors::lambert_cap_diffuse_aware_alu_product_rule_n4_float},
-    {"lambert_cap_diffuse_aware_alu_point_at_centre",
-     &DiffuseAwareErrors::lambert_cap_diffuse_aware_alu_point_at_centre},
-}};
+#define MSH_DIFFUSE_AWARE_FORMS(X, B)                                         \
+  X(B, kDiffuseAwareAlu, lambert_cap_diffuse_aware_alu_product_rule_n4_float) \
+  X(B, kDiffuseAwareAluPoint, lambert_cap_diffuse_aware_alu_point_at_centre)
+enum DiffuseAwareForm { MSH_DIFFUSE_AWARE_FORMS(MSH_FORM_ENUM, DiffuseAwareErrors) kDiffuseAwareForms };
+constexpr std::array<Form<DiffuseAwareErrors>, kDiffuseAwareForms> kDiffuseAwareTable = {
+    {MSH_DIFFUSE_AWARE_FORMS(MSH_FORM_ROW, DiffuseAwareErrors)}};
+#undef MSH_FORM_ENUM
+#undef MSH_FORM_ROW
 
 // One summary per form (column) of a block's rows (at least one row).
 template <class B, size_t N>
