@@ -355,6 +355,17 @@ json region_json(const Measure (&m)[3], bool floor) {
   return j;
 }
 
+// The keys that say which cell a record belongs to; its ground truth, rows and featured images start from
+// them (json objects keep their keys sorted, so the files do not depend on the order they are added in).
+json cell_keys(const StudyCell& cell, const std::string& material) {
+  return {{"material", material},
+          {"shape", cell.shape},
+          {"scale", cell.scale},
+          {"view", cell.view.view},
+          {"view_azimuth", cell.view.view_azimuth},
+          {"light", cell.light.name}};
+}
+
 // A value, or null where it is NaN (JSON cannot hold NaN).
 json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
@@ -640,22 +651,17 @@ GroundTruth CellRunner::State::ground_truth(const StudyCell& cell, CellResult& o
     out.ground_truth_rays += acc[ci].stats.camera_rays + acc[ci].stats.shadow_rays;
     out.ground_truth_ray_seconds += acc[ci].stats.seconds;
   }
-  out.ground_truth = {{"material", plan.materials[cell.material].name},
-                      {"shape", cell.shape},
-                      {"scale", cell.scale},
-                      {"view", view.view},
-                      {"view_azimuth", view.view_azimuth},
-                      {"windows", view.windows},
-                      {"grid", cell.sweep ? "sweep" : "main"},
-                      {"image", {view.image_width(), view.image_height()}},
-                      {"light", cell.light.name},
-                      {"spp", spp},
-                      {"rounds", rounds},
-                      {"rule", rule == StudyConfig::GtRule::Bias ? "bias" : "full"},
-                      {"floors_met", floors.met},
-                      {"components", floors.j},
-                      {"camera_rays", acc[0].stats.camera_rays + acc[1].stats.camera_rays},
-                      {"shadow_rays", acc[0].stats.shadow_rays + acc[1].stats.shadow_rays}};
+  out.ground_truth = cell_keys(cell, plan.materials[cell.material].name);
+  out.ground_truth.update({{"windows", view.windows},
+                           {"grid", cell.sweep ? "sweep" : "main"},
+                           {"image", {view.image_width(), view.image_height()}},
+                           {"spp", spp},
+                           {"rounds", rounds},
+                           {"rule", rule == StudyConfig::GtRule::Bias ? "bias" : "full"},
+                           {"floors_met", floors.met},
+                           {"components", floors.j},
+                           {"camera_rays", acc[0].stats.camera_rays + acc[1].stats.camera_rays},
+                           {"shadow_rays", acc[0].stats.shadow_rays + acc[1].stats.shadow_rays}});
   return G;
 }
 
@@ -761,14 +767,9 @@ CellResult CellRunner::run(const StudyCell& cell) {
   auto feature = [&](const std::string& method, const Image& img) {
     const std::string file = "images/" + stem + "_" + method + ".png";
     out.featured.push_back({file, img, exposure, false});
-    json e = {{"material", kind},
-              {"shape", shape},
-              {"scale", k},
-              {"view", view.view},
-              {"view_azimuth", view.view_azimuth},
-              {"light", ls.name},
-              {"method", method},
-              {"image", file}};
+    json e = cell_keys(cell, kind);
+    e["method"] = method;
+    e["image"] = file;
     if (method != "ground-truth") {
       const std::string diff = "images/" + stem + "_" + method + "_diff.png";
       out.featured.push_back({diff, difference_image(img, G.images.img[0], exposure), 0, true});
@@ -785,20 +786,15 @@ CellResult CellRunner::run(const StudyCell& cell) {
     const ComponentImages M = st.render_variant(cell, v, out);
     const std::array<json, 3> measured = measure_variant(M, G, st.regions, cfg.footprint);
     for (int ci = 0; ci < 3; ++ci) {
-      json row = {{"material", kind},
-                  {"shape", shape},
-                  {"scale", k},
-                  {"view", view.view},
-                  {"view_azimuth", view.view_azimuth},
-                  {"grid", cell.sweep ? "sweep" : "main"},
-                  {"light", ls.name},
+      json row = cell_keys(cell, kind);
+      row.update({{"grid", cell.sweep ? "sweep" : "main"},
                   {"light_type", ls.type},
                   {"elevation", ls.elevation},
                   {"azimuth", ls.azimuth},
                   {"method", v.term},
                   {"ms_normal", v.smooth_normal ? "smooth" : "shading"},
                   {"roughness", v.roughness == CoarseRoughness::Widened ? "widened" : "base"},
-                  {"component", kComponentName[ci]}};
+                  {"component", kComponentName[ci]}});
       row.update(measured[ci]);
       if (area_section(cfg)) {
         row["area_ms"] = to_string(v.area_ms);
