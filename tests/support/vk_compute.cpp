@@ -300,239 +300,309 @@ bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vec
   return run(spirv, buffers, {}, push, push_size, groups_x, why);
 }
 
+namespace {
+
+// The objects of one dispatch. Each step creates some and returns nullptr or what failed; the destructor
+// destroys whatever exists, dependants first, so a run that fails at any step leaves nothing behind.
+class Dispatch {
+ public:
+  using Buffers = std::vector<std::vector<std::byte>*>;
+  using Images = std::vector<Context::Image>;
+
+  Dispatch(const Context::Impl& v, const Buffers& buffers, const Images& images)
+      : v_(v),
+        dev_(v.device),
+        buffers_(buffers),
+        images_(images),
+        storage_(buffers.size()),
+        sampled_(images.size()) {}
+  Dispatch(const Dispatch&) = delete;
+  Dispatch& operator=(const Dispatch&) = delete;
+  ~Dispatch();
+
+  const char* upload();
+  const char* pipeline(const std::vector<uint32_t>& spirv, uint32_t push_size);
+  const char* descriptors();
+  const char* submit(const void* push, uint32_t push_size, uint32_t groups_x);
+  const char* download();
+
+ private:
+  struct HostBuffer {
+    VkBuffer buffer{};
+    VkDeviceMemory memory{};
+  };
+  // A sampled image in device memory, filled from a host staging buffer.
+  struct Sampled {
+    VkImage image{};
+    VkDeviceMemory memory{};
+    VkImageView view{};
+    HostBuffer staging;
+  };
+
+  const char* upload_image(const Context::Image& im, Sampled& s);
+  void record_image_copies(VkCommandBuffer cb);
+  uint32_t nb() const { return uint32_t(storage_.size()); }
+  uint32_t ni() const { return uint32_t(sampled_.size()); }
+
+  const Context::Impl& v_;
+  const VkDevice dev_;
+  const Buffers& buffers_;
+  const Images& images_;
+  std::vector<HostBuffer> storage_;
+  std::vector<Sampled> sampled_;
+  VkSampler sampler_{};
+  VkShaderModule module_{};
+  VkDescriptorSetLayout set_layout_{};
+  VkPipelineLayout pipeline_layout_{};
+  VkPipeline pipeline_{};
+  VkDescriptorPool pool_{};
+  VkDescriptorSet set_{};  // freed with its pool
+  VkCommandPool command_pool_{};
+};
+
+Dispatch::~Dispatch() {
+  if (command_pool_) v_.DestroyCommandPool(dev_, command_pool_, nullptr);
+  if (pool_) v_.DestroyDescriptorPool(dev_, pool_, nullptr);
+  if (pipeline_) v_.DestroyPipeline(dev_, pipeline_, nullptr);
+  if (pipeline_layout_) v_.DestroyPipelineLayout(dev_, pipeline_layout_, nullptr);
+  if (set_layout_) v_.DestroyDescriptorSetLayout(dev_, set_layout_, nullptr);
+  if (module_) v_.DestroyShaderModule(dev_, module_, nullptr);
+  auto free_buffer = [&](const HostBuffer& b) {
+    if (b.buffer) v_.DestroyBuffer(dev_, b.buffer, nullptr);
+    if (b.memory) v_.FreeMemory(dev_, b.memory, nullptr);
+  };
+  for (const Sampled& s : sampled_) {
+    if (s.view) v_.DestroyImageView(dev_, s.view, nullptr);
+    if (s.image) v_.DestroyImage(dev_, s.image, nullptr);
+    if (s.memory) v_.FreeMemory(dev_, s.memory, nullptr);
+    free_buffer(s.staging);
+  }
+  if (sampler_) v_.DestroySampler(dev_, sampler_, nullptr);
+  for (const HostBuffer& b : storage_) free_buffer(b);
+}
+
+// The storage buffers (at least 16 bytes: a zero-size buffer is invalid), then the sampler and the images.
+const char* Dispatch::upload() {
+  for (uint32_t i = 0; i < nb(); ++i)
+    if (const char* e = host_buffer(v_, std::max<size_t>(buffers_[i]->size(), 16),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, buffers_[i]->data(),
+                                    buffers_[i]->size(), false, &storage_[i].buffer, &storage_[i].memory))
+      return e;
+  if (ni() == 0) return nullptr;
+  const VkFormatFeatureFlags need =
+      VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+  if ((v_.rgba32f_optimal_features & need) != need)
+    return "device cannot linearly filter VK_FORMAT_R32G32B32A32_SFLOAT images";
+  auto sci = make<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
+  sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
+  sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  sci.maxLod = 0.0f;
+  if (v_.CreateSampler(dev_, &sci, nullptr, &sampler_) != VK_SUCCESS) return "vkCreateSampler failed";
+  for (uint32_t i = 0; i < ni(); ++i)
+    if (const char* e = upload_image(images_[i], sampled_[i])) return e;
+  return nullptr;
+}
+
+const char* Dispatch::upload_image(const Context::Image& im, Sampled& s) {
+  const bool is3d = im.depth > 0;
+  const uint32_t d = is3d ? im.depth : 1;
+  const size_t bytes = size_t(im.width) * im.height * d * 16;
+  if (!im.texels || bytes == 0) return "empty image";
+  auto ici = make<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
+  ici.imageType = is3d ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
+  ici.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  ici.extent = {im.width, im.height, d};
+  ici.mipLevels = 1;
+  ici.arrayLayers = 1;
+  ici.samples = VK_SAMPLE_COUNT_1_BIT;
+  ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  ici.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  if (v_.CreateImage(dev_, &ici, nullptr, &s.image) != VK_SUCCESS) return "vkCreateImage failed";
+  VkMemoryRequirements req{};
+  v_.GetImageMemoryRequirements(dev_, s.image, &req);
+  const int type = any_memory_type(v_, req.memoryTypeBits);
+  if (type < 0) return "no memory type for the image";
+  if (allocate(v_, req, type, &s.memory) != VK_SUCCESS) return "vkAllocateMemory failed (image)";
+  if (v_.BindImageMemory(dev_, s.image, s.memory, 0) != VK_SUCCESS) return "vkBindImageMemory failed";
+  auto ivci = make<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
+  ivci.image = s.image;
+  ivci.viewType = is3d ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
+  ivci.format = ici.format;
+  ivci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  if (v_.CreateImageView(dev_, &ivci, nullptr, &s.view) != VK_SUCCESS) return "vkCreateImageView failed";
+  return host_buffer(v_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, im.texels, bytes, true, &s.staging.buffer,
+                     &s.staging.memory);
+}
+
+// Shader module, set layout (storage buffers, then combined image samplers), pipeline layout and pipeline.
+const char* Dispatch::pipeline(const std::vector<uint32_t>& spirv, uint32_t push_size) {
+  auto smci = make<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
+  smci.codeSize = spirv.size() * 4;
+  smci.pCode = spirv.data();
+  if (v_.CreateShaderModule(dev_, &smci, nullptr, &module_) != VK_SUCCESS)
+    return "vkCreateShaderModule failed";
+  std::vector<VkDescriptorSetLayoutBinding> binds(nb() + ni());
+  for (uint32_t i = 0; i < nb() + ni(); ++i) {
+    binds[i] = {};
+    binds[i].binding = i;
+    binds[i].descriptorType =
+        i < nb() ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    binds[i].descriptorCount = 1;
+    binds[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  auto dlci = make<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  dlci.bindingCount = nb() + ni();
+  dlci.pBindings = binds.data();
+  if (v_.CreateDescriptorSetLayout(dev_, &dlci, nullptr, &set_layout_) != VK_SUCCESS)
+    return "vkCreateDescriptorSetLayout failed";
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size};
+  auto plci = make<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  plci.setLayoutCount = 1;
+  plci.pSetLayouts = &set_layout_;
+  plci.pushConstantRangeCount = push_size ? 1 : 0;
+  plci.pPushConstantRanges = push_size ? &range : nullptr;
+  if (v_.CreatePipelineLayout(dev_, &plci, nullptr, &pipeline_layout_) != VK_SUCCESS)
+    return "vkCreatePipelineLayout failed";
+  auto cpci = make<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+  cpci.stage = make<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+  cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  cpci.stage.module = module_;
+  cpci.stage.pName = "main";
+  cpci.layout = pipeline_layout_;
+  if (v_.CreateComputePipelines(dev_, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline_) != VK_SUCCESS)
+    return "vkCreateComputePipelines failed";
+  return nullptr;
+}
+
+// One descriptor set: the storage buffers at bindings 0 .. nb-1, the images at nb .. nb+ni-1.
+const char* Dispatch::descriptors() {
+  const VkDescriptorPoolSize ps[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(nb(), 1u)},
+                                      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::max(ni(), 1u)}};
+  auto dpci = make<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  dpci.maxSets = 1;
+  dpci.poolSizeCount = ni() ? 2 : 1;
+  dpci.pPoolSizes = ps;
+  if (v_.CreateDescriptorPool(dev_, &dpci, nullptr, &pool_) != VK_SUCCESS)
+    return "vkCreateDescriptorPool failed";
+  auto dsai = make<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  dsai.descriptorPool = pool_;
+  dsai.descriptorSetCount = 1;
+  dsai.pSetLayouts = &set_layout_;
+  if (v_.AllocateDescriptorSets(dev_, &dsai, &set_) != VK_SUCCESS) return "vkAllocateDescriptorSets failed";
+  std::vector<VkDescriptorBufferInfo> infos(nb());
+  std::vector<VkDescriptorImageInfo> img_infos(ni());
+  std::vector<VkWriteDescriptorSet> writes(nb() + ni());
+  for (uint32_t i = 0; i < nb() + ni(); ++i) {
+    VkWriteDescriptorSet& w = writes[i] = make<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    w.dstSet = set_;
+    w.dstBinding = i;
+    w.descriptorCount = 1;
+    if (i < nb()) {
+      infos[i] = {storage_[i].buffer, 0, VK_WHOLE_SIZE};
+      w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      w.pBufferInfo = &infos[i];
+    } else {
+      img_infos[i - nb()] = {sampler_, sampled_[i - nb()].view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      w.pImageInfo = &img_infos[i - nb()];
+    }
+  }
+  v_.UpdateDescriptorSets(dev_, uint32_t(writes.size()), writes.data(), 0, nullptr);
+  return nullptr;
+}
+
+// Staging buffer → image, each image moved to the layout the shader reads.
+void Dispatch::record_image_copies(VkCommandBuffer cb) {
+  for (uint32_t i = 0; i < ni(); ++i) {
+    const Context::Image& im = images_[i];
+    auto ib = make<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    ib.image = sampled_[i].image;
+    ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    ib.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    v_.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                          nullptr, 0, nullptr, 1, &ib);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {im.width, im.height, im.depth > 0 ? im.depth : 1};
+    v_.CmdCopyBufferToImage(cb, sampled_[i].staging.buffer, sampled_[i].image,
+                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    ib.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    v_.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                          nullptr, 0, nullptr, 1, &ib);
+  }
+}
+
+// One command buffer: the image uploads, the dispatch, a barrier that makes its writes visible to the host;
+// submitted and waited for.
+const char* Dispatch::submit(const void* push, uint32_t push_size, uint32_t groups_x) {
+  auto cpi = make<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+  cpi.queueFamilyIndex = v_.family;
+  if (v_.CreateCommandPool(dev_, &cpi, nullptr, &command_pool_) != VK_SUCCESS)
+    return "vkCreateCommandPool failed";
+  auto cbai = make<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+  cbai.commandPool = command_pool_;
+  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cbai.commandBufferCount = 1;
+  VkCommandBuffer cb = VK_NULL_HANDLE;  // freed with its pool
+  if (v_.AllocateCommandBuffers(dev_, &cbai, &cb) != VK_SUCCESS) return "vkAllocateCommandBuffers failed";
+  auto bi = make<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  v_.BeginCommandBuffer(cb, &bi);
+  record_image_copies(cb);
+  v_.CmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  v_.CmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &set_, 0, nullptr);
+  if (push_size) v_.CmdPushConstants(cb, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
+  v_.CmdDispatch(cb, groups_x, 1, 1);
+  auto mb = make<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  v_.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0,
+                        nullptr, 0, nullptr);
+  if (v_.EndCommandBuffer(cb) != VK_SUCCESS) return "vkEndCommandBuffer failed";
+  auto si = make<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cb;
+  if (v_.QueueSubmit(v_.queue, 1, &si, VK_NULL_HANDLE) != VK_SUCCESS) return "vkQueueSubmit failed";
+  if (v_.QueueWaitIdle(v_.queue) != VK_SUCCESS) return "vkQueueWaitIdle failed";
+  return nullptr;
+}
+
+// Every storage buffer back into the caller's bytes.
+const char* Dispatch::download() {
+  for (uint32_t i = 0; i < nb(); ++i) {
+    if (buffers_[i]->empty()) continue;
+    void* p = nullptr;
+    if (v_.MapMemory(dev_, storage_[i].memory, 0, VK_WHOLE_SIZE, 0, &p) != VK_SUCCESS)
+      return "vkMapMemory failed";
+    std::memcpy(buffers_[i]->data(), p, buffers_[i]->size());
+    v_.UnmapMemory(dev_, storage_[i].memory);
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 bool Context::run(const std::vector<uint32_t>& spirv, const std::vector<std::vector<std::byte>*>& buffers,
                   const std::vector<Image>& images, const void* push, uint32_t push_size, uint32_t groups_x,
                   std::string* why) {
-  Impl& v = *impl_;
-  std::lock_guard<std::mutex> lock(v.mutex);
-  const VkDevice dev = v.device;
-  const uint32_t nb = uint32_t(buffers.size());
-  std::vector<VkBuffer> bufs(nb, VK_NULL_HANDLE);
-  std::vector<VkDeviceMemory> mems(nb, VK_NULL_HANDLE);
-  VkShaderModule module = VK_NULL_HANDLE;
-  VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VkCommandPool cpool = VK_NULL_HANDLE;
-  const uint32_t ni = uint32_t(images.size());
-  std::vector<VkImage> imgs(ni, VK_NULL_HANDLE);
-  std::vector<VkImageView> views(ni, VK_NULL_HANDLE);
-  std::vector<VkDeviceMemory> img_mems(ni, VK_NULL_HANDLE), staging_mems(ni, VK_NULL_HANDLE);
-  std::vector<VkBuffer> staging(ni, VK_NULL_HANDLE);
-  VkSampler sampler = VK_NULL_HANDLE;
-  bool ok = false;
-  auto fail = [&](const char* what) {
-    *why = what;
-    return false;
-  };
-  auto body = [&]() -> bool {
-    for (uint32_t i = 0; i < nb; ++i)
-      if (const char* e =
-              host_buffer(v, std::max<size_t>(buffers[i]->size(), 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                          buffers[i]->data(), buffers[i]->size(), false, &bufs[i], &mems[i]))
-        return fail(e);
-    if (ni) {
-      const VkFormatFeatureFlags need =
-          VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
-      if ((v.rgba32f_optimal_features & need) != need)
-        return fail("device cannot linearly filter VK_FORMAT_R32G32B32A32_SFLOAT images");
-      auto sci = make<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
-      sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
-      sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-      sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-      sci.maxLod = 0.0f;
-      if (v.CreateSampler(dev, &sci, nullptr, &sampler) != VK_SUCCESS) return fail("vkCreateSampler failed");
-    }
-    for (uint32_t i = 0; i < ni; ++i) {
-      const Image& im = images[i];
-      const bool is3d = im.depth > 0;
-      const uint32_t d = is3d ? im.depth : 1;
-      const size_t bytes = size_t(im.width) * im.height * d * 16;
-      if (!im.texels || bytes == 0) return fail("empty image");
-      auto ici = make<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
-      ici.imageType = is3d ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
-      ici.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-      ici.extent = {im.width, im.height, d};
-      ici.mipLevels = 1;
-      ici.arrayLayers = 1;
-      ici.samples = VK_SAMPLE_COUNT_1_BIT;
-      ici.tiling = VK_IMAGE_TILING_OPTIMAL;
-      ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-      ici.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-      ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-      if (v.CreateImage(dev, &ici, nullptr, &imgs[i]) != VK_SUCCESS) return fail("vkCreateImage failed");
-      VkMemoryRequirements req{};
-      v.GetImageMemoryRequirements(dev, imgs[i], &req);
-      const int type = any_memory_type(v, req.memoryTypeBits);
-      if (type < 0) return fail("no memory type for the image");
-      if (allocate(v, req, type, &img_mems[i]) != VK_SUCCESS) return fail("vkAllocateMemory failed (image)");
-      if (v.BindImageMemory(dev, imgs[i], img_mems[i], 0) != VK_SUCCESS)
-        return fail("vkBindImageMemory failed");
-      auto ivci = make<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
-      ivci.image = imgs[i];
-      ivci.viewType = is3d ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
-      ivci.format = ici.format;
-      ivci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      if (v.CreateImageView(dev, &ivci, nullptr, &views[i]) != VK_SUCCESS)
-        return fail("vkCreateImageView failed");
-      if (const char* e = host_buffer(v, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, im.texels, bytes, true,
-                                      &staging[i], &staging_mems[i]))
-        return fail(e);
-    }
-    auto smci = make<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
-    smci.codeSize = spirv.size() * 4;
-    smci.pCode = spirv.data();
-    if (v.CreateShaderModule(dev, &smci, nullptr, &module) != VK_SUCCESS)
-      return fail("vkCreateShaderModule failed");
-    std::vector<VkDescriptorSetLayoutBinding> binds(nb + ni);
-    for (uint32_t i = 0; i < nb + ni; ++i) {
-      binds[i] = {};
-      binds[i].binding = i;
-      binds[i].descriptorType =
-          i < nb ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-      binds[i].descriptorCount = 1;
-      binds[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    }
-    auto dlci = make<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-    dlci.bindingCount = nb + ni;
-    dlci.pBindings = binds.data();
-    if (v.CreateDescriptorSetLayout(dev, &dlci, nullptr, &dsl) != VK_SUCCESS)
-      return fail("vkCreateDescriptorSetLayout failed");
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size};
-    auto plci = make<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-    plci.setLayoutCount = 1;
-    plci.pSetLayouts = &dsl;
-    plci.pushConstantRangeCount = push_size ? 1 : 0;
-    plci.pPushConstantRanges = push_size ? &range : nullptr;
-    if (v.CreatePipelineLayout(dev, &plci, nullptr, &layout) != VK_SUCCESS)
-      return fail("vkCreatePipelineLayout failed");
-    auto cpci = make<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
-    cpci.stage = make<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = module;
-    cpci.stage.pName = "main";
-    cpci.layout = layout;
-    if (v.CreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline) != VK_SUCCESS)
-      return fail("vkCreateComputePipelines failed");
-    const VkDescriptorPoolSize ps[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(nb, 1u)},
-                                        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::max(ni, 1u)}};
-    auto dpci = make<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-    dpci.maxSets = 1;
-    dpci.poolSizeCount = ni ? 2 : 1;
-    dpci.pPoolSizes = ps;
-    if (v.CreateDescriptorPool(dev, &dpci, nullptr, &pool) != VK_SUCCESS)
-      return fail("vkCreateDescriptorPool failed");
-    auto dsai = make<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-    dsai.descriptorPool = pool;
-    dsai.descriptorSetCount = 1;
-    dsai.pSetLayouts = &dsl;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    if (v.AllocateDescriptorSets(dev, &dsai, &set) != VK_SUCCESS)
-      return fail("vkAllocateDescriptorSets failed");
-    std::vector<VkDescriptorBufferInfo> infos(nb);
-    std::vector<VkWriteDescriptorSet> writes(nb);
-    for (uint32_t i = 0; i < nb; ++i) {
-      infos[i] = {bufs[i], 0, VK_WHOLE_SIZE};
-      writes[i] = make<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-      writes[i].dstSet = set;
-      writes[i].dstBinding = i;
-      writes[i].descriptorCount = 1;
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[i].pBufferInfo = &infos[i];
-    }
-    std::vector<VkDescriptorImageInfo> img_infos(ni);
-    for (uint32_t i = 0; i < ni; ++i) {
-      img_infos[i] = {sampler, views[i], VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-      auto w = make<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-      w.dstSet = set;
-      w.dstBinding = nb + i;
-      w.descriptorCount = 1;
-      w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-      w.pImageInfo = &img_infos[i];
-      writes.push_back(w);
-    }
-    v.UpdateDescriptorSets(dev, uint32_t(writes.size()), writes.data(), 0, nullptr);
-    auto cpi = make<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
-    cpi.queueFamilyIndex = v.family;
-    if (v.CreateCommandPool(dev, &cpi, nullptr, &cpool) != VK_SUCCESS)
-      return fail("vkCreateCommandPool failed");
-    auto cbai = make<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
-    cbai.commandPool = cpool;
-    cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    cbai.commandBufferCount = 1;
-    VkCommandBuffer cb = VK_NULL_HANDLE;
-    if (v.AllocateCommandBuffers(dev, &cbai, &cb) != VK_SUCCESS)
-      return fail("vkAllocateCommandBuffers failed");
-    auto bi = make<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    v.BeginCommandBuffer(cb, &bi);
-    for (uint32_t i = 0; i < ni; ++i) {
-      const Image& im = images[i];
-      auto ib = make<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
-      ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      ib.image = imgs[i];
-      ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-      ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-      ib.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-      v.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
-                           nullptr, 0, nullptr, 1, &ib);
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      region.imageExtent = {im.width, im.height, im.depth > 0 ? im.depth : 1};
-      v.CmdCopyBufferToImage(cb, staging[i], imgs[i], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-      ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-      ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-      ib.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-      ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-      v.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
-                           nullptr, 0, nullptr, 1, &ib);
-    }
-    v.CmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    v.CmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
-    if (push_size) v.CmdPushConstants(cb, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
-    v.CmdDispatch(cb, groups_x, 1, 1);
-    auto mb = make<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
-    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    v.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0,
-                         nullptr, 0, nullptr);
-    if (v.EndCommandBuffer(cb) != VK_SUCCESS) return fail("vkEndCommandBuffer failed");
-    auto si = make<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cb;
-    if (v.QueueSubmit(v.queue, 1, &si, VK_NULL_HANDLE) != VK_SUCCESS) return fail("vkQueueSubmit failed");
-    if (v.QueueWaitIdle(v.queue) != VK_SUCCESS) return fail("vkQueueWaitIdle failed");
-    for (uint32_t i = 0; i < nb; ++i) {
-      if (buffers[i]->empty()) continue;
-      void* p = nullptr;
-      if (v.MapMemory(dev, mems[i], 0, VK_WHOLE_SIZE, 0, &p) != VK_SUCCESS) return fail("vkMapMemory failed");
-      std::memcpy(buffers[i]->data(), p, buffers[i]->size());
-      v.UnmapMemory(dev, mems[i]);
-    }
-    return true;
-  };
-  ok = body();
-  if (cpool) v.DestroyCommandPool(dev, cpool, nullptr);
-  if (pool) v.DestroyDescriptorPool(dev, pool, nullptr);
-  if (pipeline) v.DestroyPipeline(dev, pipeline, nullptr);
-  if (layout) v.DestroyPipelineLayout(dev, layout, nullptr);
-  if (dsl) v.DestroyDescriptorSetLayout(dev, dsl, nullptr);
-  if (module) v.DestroyShaderModule(dev, module, nullptr);
-  for (uint32_t i = 0; i < ni; ++i) {
-    if (views[i]) v.DestroyImageView(dev, views[i], nullptr);
-    if (imgs[i]) v.DestroyImage(dev, imgs[i], nullptr);
-    if (img_mems[i]) v.FreeMemory(dev, img_mems[i], nullptr);
-    if (staging[i]) v.DestroyBuffer(dev, staging[i], nullptr);
-    if (staging_mems[i]) v.FreeMemory(dev, staging_mems[i], nullptr);
-  }
-  if (sampler) v.DestroySampler(dev, sampler, nullptr);
-  for (uint32_t i = 0; i < nb; ++i) {
-    if (bufs[i]) v.DestroyBuffer(dev, bufs[i], nullptr);
-    if (mems[i]) v.FreeMemory(dev, mems[i], nullptr);
-  }
-  return ok;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  Dispatch d(*impl_, buffers, images);
+  const char* e = d.upload();
+  if (!e) e = d.pipeline(spirv, push_size);
+  if (!e) e = d.descriptors();
+  if (!e) e = d.submit(push, push_size, groups_x);
+  if (!e) e = d.download();
+  if (e) *why = e;
+  return e == nullptr;
 }
 
 #else  // no Vulkan headers at build time
