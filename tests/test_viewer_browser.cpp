@@ -419,17 +419,12 @@ struct Stat {
   int n = 0;
 };
 
-TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
-  REQUIRE_BROWSER();
-  const fs::path dir = scratch_dir("viewer");
-  const fs::path shots = fs::path(MSH_BINARY_DIR) / "viewer_screenshots";
-  fs::remove_all(shots);
-  // The page gets the registry's list plus test forms and test pairs (the generator's output, as the server
-  // serves it for the registry alone: ViewerServer tests), so the pair path of the shader is checked
-  // whichever registry pairs have GLSL forms.
+// The page's method list: the registry's, plus GLSL forms for the registry terms that have none (their GLSL
+// functions exist in shaders/glsl/; a form in the registry takes precedence) and test pairs, so that the
+// pair path of the shader is checked whichever registry pairs have GLSL forms. The test pairs' names go to
+// `test_pairs`.
+std::vector<occlusion::MicroShadowingMethodInfo> page_methods(std::set<std::string>& test_pairs) {
   auto methods = occlusion::micro_shadowing_methods();
-  // GLSL forms for the registry terms that have none (their GLSL functions exist in shaders/glsl/), so that
-  // the registry's pairs over them are checked here too; a form in the registry takes precedence.
   const std::map<std::string, std::pair<std::string, std::string>> test_forms = {
       {"diffuse-aware-alu", {"msh_ms_diffuse_aware_alu(vis, nl, nv, rough)", "msh_ms_diffuse_aware_alu"}},
       {"specular-aware",
@@ -440,7 +435,6 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
       g.expr = it->second.first, g.requires_fn = it->second.second;
       m.glsl.push_back(g);
     }
-  std::set<std::string> test_pairs;
   for (const auto& [d, sp] : {std::pair<std::string, std::string>{"chan-2018", "lut3d"},
                               std::pair<std::string, std::string>{"generic-vndf-alu", "generic-vndf"}}) {
     occlusion::MicroShadowingMethodInfo t;
@@ -449,6 +443,13 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
     methods.push_back(t);
     test_pairs.insert(t.name);
   }
+  return methods;
+}
+
+// The page served with that list (the generator's output, as the server serves it for the registry alone:
+// ViewerServer tests) and driven by viewer_test.mjs; its results.json in `res`.
+void run_viewer(const fs::path& dir, const fs::path& shots,
+                const std::vector<occlusion::MicroShadowingMethodInfo>& methods, nlohmann::json& res) {
   std::ofstream(dir / "methods.js") << msh::view::methods_js(methods);
   Server s = start_server({"--port", "0", "--cache", kCache.string()}, dir);
   ASSERT_FALSE(s.url.empty());
@@ -459,8 +460,14 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
   // Ctrl-C: a clean exit.
   EXPECT_EQ(stop_server(s), 0) << slurp(s.err);
   ASSERT_EQ(rc, 0) << slurp(dir / "node.out");
-  const auto res = nlohmann::json::parse(slurp(shots / "results.json"));
+  res = nlohmann::json::parse(slurp(shots / "results.json"));
+}
 
+// The page loaded without errors, its banners say what fails, the shaded view is lit; every GLSL term the
+// project has is offered (none dropped because its function or table went missing), and so is every method
+// of the list (registry and test pairs) and every bump-terminator method.
+void check_page_and_lists(const nlohmann::json& res,
+                          const std::vector<occlusion::MicroShadowingMethodInfo>& methods) {
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
   ASSERT_TRUE(res["loaded"].get<bool>());
   EXPECT_TRUE(res["banner"]["no-webgl2"]["visible"].get<bool>());
@@ -470,9 +477,6 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
             std::string::npos);
   EXPECT_GT(res["shadedMean"].get<double>(), 0.03) << "the shaded view is (nearly) black";
   for (const auto& f : res["screenshots"]) EXPECT_TRUE(fs::is_regular_file(f.get<std::string>())) << f;
-
-  // Every GLSL term the project has is offered (none dropped because its function or table went missing),
-  // and so is every method of the list (registry and test pairs).
   std::vector<std::string> ids;
   for (const auto& m : res["methods"]) ids.push_back(m["id"]);
   for (const char* want :
@@ -483,171 +487,236 @@ TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
   const auto listed = methods_js_entries(msh::view::methods_js(methods));
   EXPECT_EQ(ids.size(), listed.size());
   for (const auto& [id, entry] : listed) EXPECT_NE(std::find(ids.begin(), ids.end(), id), ids.end()) << id;
-
   std::vector<std::string> bumps;
   for (const auto& b : res["bumps"]) bumps.push_back(b);
   for (const char* want : {"none", "conty-2019", "chiang-2019"})
     EXPECT_NE(std::find(bumps.begin(), bumps.end(), want), bumps.end()) << want;
+}
 
+// What the probes gather: per method and lobe (or bump method) the deviations, and the counts.
+struct ViewerProbes {
   std::map<std::string, std::unique_ptr<occlusion::MicroShadowingEvaluator>> evaluators;
   std::map<std::string, Stat> stats;
   int lit_total = 0, texel_probes = 0, texel_nonzero = 0;
+};
+
+// A lit probe pixel's inputs as the page read them.
+struct ProbeInputs {
+  float V, nl, nv, r, cphi;
+  Vec3f v, l;
+  int n;       // the estimator's samples
+  double phi;  // the relative azimuth
+};
+
+// What a lobe should read at a probe: the library's value, the tolerances of the float32 and 8-bit reads,
+// and the exact generic term where one applies (-1 otherwise).
+struct Expected {
+  double want = 1, tol = 1e-4, tol8 = 1.0 / 255, exact = -1;
+};
+
+// A texel form: the directional term at the channels the shader fetched (filtered half floats, read back as
+// float), its tangent-space light and normal: the port's documented float bound (docs/shaders.md; S = sum
+// |c_i b_i(l)|), the 8-bit display clamped to 1 (the term may exceed 1 near the coarse terminator).
+void texel_expected(const nlohmann::json& p, const nlohmann::json& form, const std::string& id, Expected& e,
+                    ViewerProbes& out) {
+  ASSERT_TRUE(p.contains("directional")) << "a texel method without probed channels (" << id << ")";
+  // The view correction's forms read all 21 channels and the tangent-space view (directional.h).
+  const int nch = occlusion::find_micro_shadowing_method(form["method"])->texel_channels;
+  ASSERT_GE(int(p["directional"].size()), nch) << id;
+  float ch[directional::kViewChannels], b[directional::kDirectionalChannels];
+  for (int k = 0; k < nch; ++k) ch[k] = p["directional"][k].get<float>();
+  const auto vec = [&](const char* key) {
+    return Vec3f(p[key][0].get<float>(), p[key][1].get<float>(), p[key][2].get<float>());
+  };
+  const Vec3f lt = vec("l_tangent"), nt = vec("n_tangent"), vt = vec("v_tangent");
+  directional::poly2_basis(lt, b);
+  // S of each 9-term sum (the view's G sums weighted as in shaders/portable/directional.h).
+  double S = 0, nl_abs = std::abs(nt.x * lt.x) + std::abs(nt.y * lt.y) + std::abs(nt.z * lt.z);
+  const double vz = std::max(double(vt.z), directional::kMinViewZ);
+  for (int k = 0; k < nch; ++k) {
+    const int ns = directional::kSlopeTerms;
+    const double w = k < 9 ? 1.0 : k < 9 + ns ? std::abs(vt.x) / vz : std::abs(vt.y) / vz;
+    S += std::abs(double(ch[k]) * b[k < 9 ? k : (k - 9) % ns]) * w;
+  }
+  e.want = nch == directional::kViewChannels ? directional::directional_view_term<float>(ch, lt, vt, nt)
+                                             : directional::directional_term<float>(ch, lt, nt);
+  const double ntl = std::max(1e-4, double(dot(nt, lt)));
+  e.tol = 1e-6 * S / ntl + (1e-6 + 2.5e-7 * nl_abs / ntl) * std::abs(e.want) + 1e-7;
+  e.tol8 = 1.0 / 255 + e.tol;
+  ++out.texel_probes;
+  if (S > 0) ++out.texel_nonzero;
+}
+
+// One lobe of a method (`form`: the method's cpp entry, or a pair's lobe) at a probe. A pair against the
+// registry's eval_lobes; a test pair (not in the registry), or a pair with a texel lobe (its eval needs the
+// texel's channels), each lobe against its own term.
+void lobe_expected(const nlohmann::json& p, const ProbeInputs& x, const nlohmann::json& c,
+                   const nlohmann::json& form, int lobe, const std::string& id, Expected& e,
+                   ViewerProbes& out) {
+  const bool pair = c.contains("diffuse");
+  const std::string method = form["method"];
+  const bool texel_pair = pair && (c["diffuse"].value("texel", false) || c["specular"].value("texel", false));
+  const std::string eval_name =
+      occlusion::find_micro_shadowing_method(c["method"]) && !texel_pair ? c["method"] : form["method"];
+  if (form.value("texel", false)) {
+    texel_expected(p, form, id, e, out);
+  } else if (form.value("frame", false)) {
+    // The Sobol estimator at the pixel's own v and l (it is not rotation-invariant about n).
+    EXPECT_EQ(method, "generic-vndf") << "no C++ evaluation here for the frame form of " << method;
+    const float a = x.r * x.r;
+    e.want = micro_shadowing::generic_vndf_estimate<float>(x.V, GGX<float>(a, a), x.v, x.l, x.n,
+                                                           micro_shadowing::G2Form::HeightCorrelated, 1u);
+    e.tol = 2.0 / x.n + 1e-4, e.tol8 = 1.0 / 255 + 2.0 / x.n;
+    e.exact = micro_shadowing::generic_vndf_exact(x.V, double(a), double(a), Vec3d(x.v), Vec3d(x.l));
+  } else if (form.value("two_stage", false)) {
+    e.want = micro_shadowing::generic_vndf_alu_two_stage<float>(x.V, x.nl, x.nv, x.r);
+  } else {
+    const bool with_phi = form.value("phi", false);
+    auto& ev = out.evaluators[eval_name + (with_phi ? "@phi" : "")];
+    if (!ev) ev = std::make_unique<occlusion::MicroShadowingEvaluator>(eval_name);
+    occlusion::MicroShadowingQuery q{x.V, x.nl, x.nv, x.r, std::nullopt, std::nullopt};
+    if (with_phi) q.phi = x.phi;
+    const auto lobes = ev->eval_lobes(q);
+    e.want = lobe ? lobes.second : lobes.first;
+  }
+  if (method.rfind("lut", 0) == 0 || method == "generic-vndf-alu") {
+    // Tables: half floats in the texture (2^-11 relative) and the GPU's filter weights.
+    if (method.rfind("lut", 0) == 0) e.tol = 1e-3, e.tol8 = 2.0 / 255;
+    const double a = double(x.r) * x.r;
+    e.exact =
+        form.value("phi", false)
+            ? micro_shadowing::generic_vndf_exact(x.V, a, a, lut::study_view_dir(x.nv),
+                                                  lut::study_light_dir(x.nl, x.phi))
+            : micro_shadowing::generic_vndf_exact_azimuth_mean(x.V, a, x.nl, method == "lut2d" ? 1.0 : x.nv);
+  }
+}
+
+// Every method's lobes at a lit probe pixel against the library.
+void check_probe_methods(const nlohmann::json& res, const nlohmann::json& cfg, const nlohmann::json& p,
+                         ViewerProbes& out) {
+  ProbeInputs x{p["visibility"], p["ndotl"], p["ndotv"], p["roughness"], p["cos_phi"], {}, {},
+                p["samples"],    0};
+  ASSERT_TRUE(x.V >= 0 && x.V <= 1 && x.nl >= 0 && x.nl <= 1 && x.nv >= 0 && x.nv <= 1 && x.r >= 0 &&
+              x.r <= 1);
+  x.v = Vec3f(p["v"][0].get<float>(), p["v"][1].get<float>(), p["v"][2].get<float>());
+  x.l = Vec3f(p["l"][0].get<float>(), p["l"][1].get<float>(), p["l"][2].get<float>());
+  x.phi = std::acos(std::clamp(double(x.cphi), -1.0, 1.0));
+  for (const auto& m : res["methods"]) {
+    const std::string id = m["id"];
+    const auto& c = m["cpp"];
+    const bool pair = c.contains("diffuse");
+    for (int lobe = 0; lobe < (pair ? 2 : 1); ++lobe) {
+      const auto& form = pair ? c[lobe ? "specular" : "diffuse"] : c;
+      const double got = lobe ? p["values_specular"][id] : p["values"][id];
+      const double got8 = (lobe ? p["term8_specular"][id] : p["term8"][id]).get<double>() / 255.0;
+      Expected e;
+      ASSERT_NO_FATAL_FAILURE(lobe_expected(p, x, c, form, lobe, id, e, out));
+      if (form["method"] == "reference" && std::abs(double(x.nl) - std::sqrt(1.0 - x.V)) < 1e-4)
+        continue;  // boundary
+      const std::string what = pair ? id + (lobe ? " specular" : " diffuse") : id;
+      EXPECT_NEAR(got, e.want, e.tol) << what << " at V=" << x.V << " N.L=" << x.nl << " N.V=" << x.nv
+                                      << " r=" << x.r << " cos_phi=" << x.cphi << " (" << cfg["name"] << ")";
+      EXPECT_NEAR(got8, std::min(e.want, 1.0), e.tol8) << what << " 8-bit (" << cfg["name"] << ")";
+      Stat& st = out.stats[what];
+      st.max_float = std::max(st.max_float, std::abs(got - e.want));
+      st.max_8bit = std::max(st.max_8bit, std::abs(got8 - std::min(e.want, 1.0)));
+      if (e.exact >= 0) st.max_vs_exact = std::max(st.max_vs_exact, std::abs(got - e.exact));
+      ++st.n;
+    }
+  }
+}
+
+// An unlit pixel reads 0 for every method (both lobes of a pair).
+void check_unlit_probe(const nlohmann::json& res, const nlohmann::json& p) {
+  for (const auto& m : res["methods"]) {
+    const std::string id = m["id"];
+    EXPECT_EQ(p["values"][id].get<double>(), 0.0) << "unlit pixel " << id;
+    if (m["pair"].get<bool>()) {
+      EXPECT_EQ(p["values_specular"][id].get<double>(), 0.0) << "unlit pixel " << id;
+    }
+  }
+}
+
+// The bump-terminator terms at the pixel's own normals and light direction (world space), C++ float.
+void check_probe_bumps(const nlohmann::json& res, const nlohmann::json& cfg, const nlohmann::json& p,
+                       ViewerProbes& out) {
+  auto vec = [&](const char* k) {
+    return Vec3f(p[k][0].get<float>(), p[k][1].get<float>(), p[k][2].get<float>());
+  };
+  const Vec3f ng = vec("ng"), ns = vec("ns"), wl = vec("wl");
+  const auto test = p["bump_hemi"].get<bool>() ? bump::HemisphereTest::kOn : bump::HemisphereTest::kOff;
+  for (const auto& id : res["bumps"]) {
+    bump::Method m = bump::Method::kNone;
+    double want = 1;
+    if (id != "none") {
+      ASSERT_TRUE(bump::parse_method(id.get<std::string>(), m)) << id;
+      want = bump::term(m, ng, ns, wl, test);
+    }
+    const double got = p["bumps"][id.get<std::string>()];
+    EXPECT_NEAR(got, want, 1e-4) << id << " (" << cfg["name"] << ")";
+    Stat& st = out.stats["bump " + id.get<std::string>()];
+    st.max_float = std::max(st.max_float, std::abs(got - want));
+    ++st.n;
+  }
+}
+
+// Every configuration's probes: the methods at the lit ones, 0 at the others, then the bump terminator.
+void check_configs(const nlohmann::json& res, ViewerProbes& out) {
   for (const auto& cfg : res["configs"]) {
     int lit = 0;
     for (const auto& p : cfg["probes"]) {
       if (!p["lit"].get<bool>()) {
-        for (const auto& m : res["methods"]) {
-          const std::string id = m["id"];
-          EXPECT_EQ(p["values"][id].get<double>(), 0.0) << "unlit pixel " << id;
-          if (m["pair"].get<bool>()) {
-            EXPECT_EQ(p["values_specular"][id].get<double>(), 0.0) << "unlit pixel " << id;
-          }
-        }
+        check_unlit_probe(res, p);
         continue;
       }
       ++lit;
-      const float V = p["visibility"], nl = p["ndotl"], nv = p["ndotv"], r = p["roughness"],
-                  cphi = p["cos_phi"];
-      ASSERT_TRUE(V >= 0 && V <= 1 && nl >= 0 && nl <= 1 && nv >= 0 && nv <= 1 && r >= 0 && r <= 1);
-      const Vec3f v(p["v"][0].get<float>(), p["v"][1].get<float>(), p["v"][2].get<float>());
-      const Vec3f l(p["l"][0].get<float>(), p["l"][1].get<float>(), p["l"][2].get<float>());
-      const int n = p["samples"];
-      const double phi = std::acos(std::clamp(double(cphi), -1.0, 1.0));
-      for (const auto& m : res["methods"]) {
-        const std::string id = m["id"];
-        const auto& c = m["cpp"];
-        // A pair: each lobe (its term's GLSL form in cpp.diffuse / cpp.specular) against the registry's
-        // eval_lobes; a test pair (not in the registry) against its terms.
-        const bool pair = c.contains("diffuse");
-        for (int lobe = 0; lobe < (pair ? 2 : 1); ++lobe) {
-          const auto& form = pair ? c[lobe ? "specular" : "diffuse"] : c;
-          const std::string method = form["method"];
-          // A pair with a texel lobe: each lobe on its own (the pair's eval needs the texel's channels).
-          const bool texel_pair =
-              pair && (c["diffuse"].value("texel", false) || c["specular"].value("texel", false));
-          const std::string eval_name = occlusion::find_micro_shadowing_method(c["method"]) && !texel_pair
-                                            ? c["method"]
-                                            : form["method"];
-          const double got = lobe ? p["values_specular"][id] : p["values"][id];
-          const double got8 = (lobe ? p["term8_specular"][id] : p["term8"][id]).get<double>() / 255.0;
-          double want = 1, tol = 1e-4, tol8 = 1.0 / 255, exact = -1;
-          if (form.value("texel", false)) {
-            // The directional term at the channels the shader fetched (filtered half floats, read back as
-            // float), its tangent-space light and normal: the port's documented float bound (docs/shaders.md;
-            // S = sum |c_i b_i(l)|), the 8-bit display clamped to 1 (the term may exceed 1 near the coarse
-            // terminator).
-            ASSERT_TRUE(p.contains("directional")) << "a texel method without probed channels (" << id << ")";
-            // The view correction's forms read all 21 channels and the tangent-space view (directional.h).
-            const int nch = occlusion::find_micro_shadowing_method(form["method"])->texel_channels;
-            ASSERT_GE(int(p["directional"].size()), nch) << id;
-            float ch[directional::kViewChannels], b[directional::kDirectionalChannels];
-            for (int k = 0; k < nch; ++k) ch[k] = p["directional"][k].get<float>();
-            const auto vec = [&](const char* key) {
-              return Vec3f(p[key][0].get<float>(), p[key][1].get<float>(), p[key][2].get<float>());
-            };
-            const Vec3f lt = vec("l_tangent"), nt = vec("n_tangent"), vt = vec("v_tangent");
-            directional::poly2_basis(lt, b);
-            // S of each 9-term sum (the view's G sums weighted as in shaders/portable/directional.h).
-            double S = 0, nl_abs = std::abs(nt.x * lt.x) + std::abs(nt.y * lt.y) + std::abs(nt.z * lt.z);
-            const double vz = std::max(double(vt.z), directional::kMinViewZ);
-            for (int k = 0; k < nch; ++k) {
-              const int ns = directional::kSlopeTerms;
-              const double w = k < 9 ? 1.0 : k < 9 + ns ? std::abs(vt.x) / vz : std::abs(vt.y) / vz;
-              S += std::abs(double(ch[k]) * b[k < 9 ? k : (k - 9) % ns]) * w;
-            }
-            want = nch == directional::kViewChannels
-                       ? directional::directional_view_term<float>(ch, lt, vt, nt)
-                       : directional::directional_term<float>(ch, lt, nt);
-            const double ntl = std::max(1e-4, double(dot(nt, lt)));
-            tol = 1e-6 * S / ntl + (1e-6 + 2.5e-7 * nl_abs / ntl) * std::abs(want) + 1e-7;
-            tol8 = 1.0 / 255 + tol;
-            ++texel_probes;
-            if (S > 0) ++texel_nonzero;
-          } else if (form.value("frame", false)) {
-            // The Sobol estimator at the pixel's own v and l (it is not rotation-invariant about n).
-            EXPECT_EQ(method, "generic-vndf") << "no C++ evaluation here for the frame form of " << method;
-            const float a = r * r;
-            want = micro_shadowing::generic_vndf_estimate<float>(
-                V, GGX<float>(a, a), v, l, n, micro_shadowing::G2Form::HeightCorrelated, 1u);
-            tol = 2.0 / n + 1e-4, tol8 = 1.0 / 255 + 2.0 / n;
-            exact = micro_shadowing::generic_vndf_exact(V, double(a), double(a), Vec3d(v), Vec3d(l));
-          } else if (form.value("two_stage", false)) {
-            want = micro_shadowing::generic_vndf_alu_two_stage<float>(V, nl, nv, r);
-          } else {
-            const bool with_phi = form.value("phi", false);
-            auto& e = evaluators[eval_name + (with_phi ? "@phi" : "")];
-            if (!e) e = std::make_unique<occlusion::MicroShadowingEvaluator>(eval_name);
-            occlusion::MicroShadowingQuery q{V, nl, nv, r, std::nullopt, std::nullopt};
-            if (with_phi) q.phi = phi;
-            const auto lobes = e->eval_lobes(q);
-            want = lobe ? lobes.second : lobes.first;
-          }
-          if (method.rfind("lut", 0) == 0 || method == "generic-vndf-alu") {
-            // Tables: half floats in the texture (2^-11 relative) and the GPU's filter weights.
-            if (method.rfind("lut", 0) == 0) tol = 1e-3, tol8 = 2.0 / 255;
-            exact = form.value("phi", false) ? micro_shadowing::generic_vndf_exact(
-                                                   V, double(r) * r, double(r) * r, lut::study_view_dir(nv),
-                                                   lut::study_light_dir(nl, phi))
-                                             : micro_shadowing::generic_vndf_exact_azimuth_mean(
-                                                   V, double(r) * r, nl, method == "lut2d" ? 1.0 : nv);
-          }
-          if (method == "reference" && std::abs(double(nl) - std::sqrt(1.0 - V)) < 1e-4)
-            continue;  // boundary
-          const std::string what = pair ? id + (lobe ? " specular" : " diffuse") : id;
-          EXPECT_NEAR(got, want, tol) << what << " at V=" << V << " N.L=" << nl << " N.V=" << nv << " r=" << r
-                                      << " cos_phi=" << cphi << " (" << cfg["name"] << ")";
-          EXPECT_NEAR(got8, std::min(want, 1.0), tol8) << what << " 8-bit (" << cfg["name"] << ")";
-          Stat& st = stats[what];
-          st.max_float = std::max(st.max_float, std::abs(got - want));
-          st.max_8bit = std::max(st.max_8bit, std::abs(got8 - std::min(want, 1.0)));
-          if (exact >= 0) st.max_vs_exact = std::max(st.max_vs_exact, std::abs(got - exact));
-          ++st.n;
-        }
-      }
+      ASSERT_NO_FATAL_FAILURE(check_probe_methods(res, cfg, p, out));
     }
-    // The bump-terminator terms at the pixel's own normals and light direction (world space), C++ float.
     for (const auto& p : cfg["probes"]) {
-      if (!p["lit"].get<bool>()) continue;
-      auto vec = [&](const char* k) {
-        return Vec3f(p[k][0].get<float>(), p[k][1].get<float>(), p[k][2].get<float>());
-      };
-      const Vec3f ng = vec("ng"), ns = vec("ns"), wl = vec("wl");
-      const auto test = p["bump_hemi"].get<bool>() ? bump::HemisphereTest::kOn : bump::HemisphereTest::kOff;
-      for (const auto& id : res["bumps"]) {
-        bump::Method m = bump::Method::kNone;
-        double want = 1;
-        if (id != "none") {
-          ASSERT_TRUE(bump::parse_method(id.get<std::string>(), m)) << id;
-          want = bump::term(m, ng, ns, wl, test);
-        }
-        const double got = p["bumps"][id.get<std::string>()];
-        EXPECT_NEAR(got, want, 1e-4) << id << " (" << cfg["name"] << ")";
-        Stat& st = stats["bump " + id.get<std::string>()];
-        st.max_float = std::max(st.max_float, std::abs(got - want));
-        ++st.n;
+      if (p["lit"].get<bool>()) {
+        ASSERT_NO_FATAL_FAILURE(check_probe_bumps(res, cfg, p, out));
       }
     }
     EXPECT_GE(lit, 6) << cfg["name"] << ": too few lit probe pixels for a meaningful comparison";
-    lit_total += lit;
+    out.lit_total += lit;
   }
   // The built-in plaster carries the directional channels: the texel forms were compared where they hold
   // data.
-  EXPECT_GT(texel_probes, 0) << "no directional probe was compared";
-  EXPECT_GT(texel_nonzero, texel_probes / 2) << "the probed directional channels are (mostly) zero";
+  EXPECT_GT(out.texel_probes, 0) << "no directional probe was compared";
+  EXPECT_GT(out.texel_nonzero, out.texel_probes / 2) << "the probed directional channels are (mostly) zero";
+}
+
+void print_viewer_summary(const nlohmann::json& res, const std::set<std::string>& test_pairs,
+                          const ViewerProbes& out) {
   int pairs = 0, registry_pairs = 0;
   for (const auto& m : res["methods"])
     if (m["pair"].get<bool>()) ++pairs, registry_pairs += test_pairs.count(m["id"]) ? 0 : 1;
   EXPECT_GE(pairs, 1) << "no pair was checked";
   double worst8 = 0;
-  for (const auto& [id, st] : stats) worst8 = std::max(worst8, st.max_8bit);
+  for (const auto& [id, st] : out.stats) worst8 = std::max(worst8, st.max_8bit);
   std::printf(
       "viewer: %zu methods (%d pairs: %d of the registry, %d test pairs), %d lit probe pixels, max 8-bit "
       "deviation %.2f/255; |shader - C++| per method and lobe (float32 target / 8-bit output), and vs the "
       "exact generic term where one applies:\n",
-      ids.size(), pairs, registry_pairs, pairs - registry_pairs, lit_total, worst8 * 255);
-  for (const auto& [id, st] : stats)
+      res["methods"].size(), pairs, registry_pairs, pairs - registry_pairs, out.lit_total, worst8 * 255);
+  for (const auto& [id, st] : out.stats)
     std::printf("  %-36s n=%3d  float %.2e  8-bit %.2f/255  vs exact %s\n", id.c_str(), st.n, st.max_float,
                 st.max_8bit * 255, st.max_vs_exact > 0 ? std::to_string(st.max_vs_exact).c_str() : "-");
+}
+
+TEST(ViewerBrowser, EveryMethodMatchesTheLibrary) {
+  REQUIRE_BROWSER();
+  const fs::path dir = scratch_dir("viewer");
+  const fs::path shots = fs::path(MSH_BINARY_DIR) / "viewer_screenshots";
+  fs::remove_all(shots);
+  std::set<std::string> test_pairs;
+  const auto methods = page_methods(test_pairs);
+  nlohmann::json res;
+  ASSERT_NO_FATAL_FAILURE(run_viewer(dir, shots, methods, res));
+  ASSERT_NO_FATAL_FAILURE(check_page_and_lists(res, methods));
+  ViewerProbes probes;
+  ASSERT_NO_FATAL_FAILURE(check_configs(res, probes));
+  print_viewer_summary(res, test_pairs, probes);
 }
 
 }  // namespace
