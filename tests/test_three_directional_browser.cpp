@@ -252,17 +252,34 @@ const DriverRun& driver_run() {
   return run;
 }
 
-TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
-  MSH_REQUIRE_BROWSER(missing_three_browser());
-  const DriverRun& run = driver_run();
-  ASSERT_TRUE(run.failure.empty()) << run.failure;
-  const json& res = run.res;
-  const fs::path copy = kCopy, mat = kMat, shots = kShots;
-  const json mips = json::parse(slurp(mat / "mips" / "mips.json"));
-  ASSERT_EQ(mips["directional"]["channels"], directional::kViewChannels);
+// The direction to a light of the probe scene (view space) from a point P: a directional light's direction,
+// else towards its position.
+Vec3d light_dir(const json& lights, const std::string& type, const Vec3d& P) {
+  return type == "directional" ? normalize(vec3(lights[type]["direction"]))
+                               : normalize(vec3(lights[type]["position"]) - P);
+}
+
+// l and v in the channels' frame (x, y, z in view space) against the scene's, and the frame's normal n_t
+// against three's N·L (where N·L is neither 0 nor 1, whose clamps hide a difference).
+struct FrameInputs {
+  double lt = 0, vt = 0, nl = 0;
+  void view(const Vec3d& P, const Vec3d& x, const Vec3d& y, const Vec3d& z, const Vec3f& v_t) {
+    const Vec3d vv = normalize(-P);
+    vt = std::max(vt, length(Vec3d(v_t) - Vec3d(dot(vv, x), dot(vv, y), dot(vv, z))));
+  }
+  void light(const Vec3d& wl, const Vec3d& x, const Vec3d& y, const Vec3d& z, const Vec3f& l_t,
+             const Vec3f& n_t, float n_dot_l) {
+    lt = std::max(lt, length(Vec3d(l_t) - Vec3d(dot(wl, x), dot(wl, y), dot(wl, z))));
+    if (n_dot_l > 0.01f && n_dot_l < 0.99f) nl = std::max(nl, std::abs(double(dot(n_t, l_t)) - n_dot_l));
+  }
+};
+
+// The driver's plain outputs: no console errors; the only failed requests, the bad-input cases' missing
+// textures (KTX2 for the loader, PNG for the glTF plugin); the module lists directional-view and its pair
+// with the generic ALU fit (the 21-channel texel forms); bad input, one clear line each; the loaded codes are
+// the files'.
+void check_driver_outputs(const json& res, const json& mips) {
   EXPECT_TRUE(res["errors"].empty()) << res["errors"].dump(1);
-  // The only failed requests: the bad-input cases' missing textures (KTX2 for the loader, PNG for the glTF
-  // plugin).
   ASSERT_EQ(res["http_errors"].size(), 2u) << res["http_errors"].dump(1);
   EXPECT_NE(res["http_errors"][0].get<std::string>().find("404 "), std::string::npos);
   EXPECT_NE(res["http_errors"][0].get<std::string>().find("/bad_missing/mips/no_such_file.ktx2"),
@@ -270,13 +287,9 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   EXPECT_NE(res["http_errors"][1].get<std::string>().find("404 "), std::string::npos);
   EXPECT_NE(res["http_errors"][1].get<std::string>().find("/dirmat/gltf/missing.png"), std::string::npos);
   ASSERT_TRUE(res.contains("runs")) << res["errors"].dump(1);
-
-  // The module lists directional-view and its pair with the generic ALU fit (the 21-channel texel forms).
   std::vector<std::string> ids;
   for (const auto& m : res["methods"]) ids.push_back(m["id"]);
   EXPECT_EQ(ids, (std::vector<std::string>{"directional-view", "directional-view+generic-vndf-alu"}));
-
-  // Bad input: one clear line each.
   const auto has = [&](const char* k, const std::vector<std::string>& parts) {
     expect_error_line(res.at("errors_by_case"), k, parts);
   };
@@ -287,8 +300,6 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   has("no_directional", {"directional-view", "loadDirectionalOcclusion"});
   has("wrong_k", {"K = 9 needs 3 coefficient textures"});
   has("no_renderer", {"needs the renderer"});
-
-  // The loaded codes are the files'.
   const auto& codes = res["codes"];
   EXPECT_EQ(codes["channels21"]["K"], 21);
   EXPECT_TRUE(codes["channels21"]["identity"].get<bool>());
@@ -301,150 +312,157 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
     EXPECT_EQ(m["width"], 128);
     EXPECT_EQ(m["levels"], 8) << "the KTX2 mip chain";
   }
+}
 
-  const std::vector<std::string> order = res["light_order"];
-  const auto& lights = res["lights"];
-  const int npts = int(res["points"].size());
+// What the probes of the scene gather.
+struct SceneProbes {
+  ProbeStats stats;  // [light][run lobe]
+  FrameInputs inputs;
+  double frame_err = 0, ortho_err = 0, uv_err = 0, compose_err = 0, direct_err = 0;
+  int frame_n[3] = {0, 0, 0}, direct_n = 0;  // probes on the plane, the sphere, the cylinder
+};
+
+// The channels' frame (x, y, z, view space) at probe p of run R: orthonormal, and against the surface's +u,
+// +v and normal in world space (the object told from the position); on the plane, the UV.
+void check_frame(const json& res, const json& R, int p, const Vec3d& P, const Vec3d& x, const Vec3d& y,
+                 const Vec3d& z, SceneProbes& out) {
   const CameraWorld cam(res["camera_world"]);
-  const Vec3d cam_pos = cam.position();
   const auto& ob = res["objects"];
   const Vec3d sphere_c = vec3(ob["sphere"]), cyl_c = vec3(ob["cylinder"]);
-  occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
+  out.ortho_err =
+      std::max({out.ortho_err, std::abs(length(x) - 1), std::abs(length(y) - 1), std::abs(length(z) - 1),
+                std::abs(dot(x, y)), std::abs(dot(y, z)), std::abs(dot(x, z))});
+  const Vec3d Pw = cam.to_world(P) + cam.position();
+  Vec3d ex, ey, ez;
+  int obj = -1;
+  if (std::abs(Pw.y) < 1e-3) {
+    obj = 0, ex = Vec3d(1, 0, 0), ey = Vec3d(0, 0, -1), ez = Vec3d(0, 1, 0);
+    // UV on the plane: 3 repeats over 5 units, +v toward −z.
+    const auto& uv = R["dir_uv"][p];
+    out.uv_err = std::max({out.uv_err, std::abs(uv[0].get<double>() - 3 * (Pw.x + 2.5) / 5),
+                           std::abs(uv[1].get<double>() - 3 * (2.5 - Pw.z) / 5)});
+  } else if (std::abs(length(Pw - sphere_c) - ob["sphere_radius"].get<double>()) < 0.02) {
+    obj = 1, ez = normalize(Pw - sphere_c);
+  } else {
+    obj = 2;
+    const Vec3d r = Pw - cyl_c;
+    ez = normalize(Vec3d(r.x, 0, r.z));
+  }
+  if (obj > 0) {
+    const Vec3d up(0, 1, 0);
+    ex = normalize(cross(up, ez)) * (obj == 2 ? -1.0 : 1.0);  // the cylinder's u is mirrored
+    ey = normalize(up - ez * dot(ez, up));
+  }
+  ++out.frame_n[obj];
+  out.frame_err = std::max({out.frame_err, length(cam.to_world(x) - ex), length(cam.to_world(y) - ey),
+                            length(cam.to_world(z) - ez)});
+}
 
-  ProbeStats stats;  // [light][run lobe]
-  double frame_err = 0, ortho_err = 0, lt_err = 0, vt_err = 0, nl_err = 0, uv_err = 0, compose_err = 0,
-         direct_err = 0;
-  int frame_n[3] = {0, 0, 0}, direct_n = 0;
+// The 21 channels run R read at probe p into c; the compact form's are mean + basis · a (code cd).
+void read_channels(const json& R, const json& cd, int p, float (&c)[21], SceneProbes& out) {
+  for (int i = 0; i < 21; ++i) c[i] = R["c"][i / 4][p][i % 4];
+  if (!cd["identity"].get<bool>()) {
+    for (int i = 0; i < 21; ++i) {
+      double s = cd["mean"][i].get<double>(), scale = std::abs(s);
+      for (int k = 0; k < int(cd["K"]); ++k) {
+        const double b = cd["basis"][i][k], ak = R["a"][k / 4][p][k % 4];
+        s += b * ak, scale += std::abs(b * ak);
+      }
+      out.compose_err = std::max(out.compose_err, std::abs(c[i] - s) / std::max(scale, 1e-3));
+    }
+  } else {
+    for (int i = 0; i < 21; ++i)
+      out.compose_err =
+          std::max(out.compose_err, double(std::abs(c[i] - R["a"][i / 4][p][i % 4].get<float>())));
+  }
+}
+
+// One lit probe of run R under light k: l and v in the frame against the scene; each lobe's term against the
+// library (directional_view_term at the pixel's channels; the pair's specular lobe, the generic ALU fit, over
+// the rect light its area-cap form as the module wires it: built on sin/cos, 2/255 as test_three_browser
+// holds it); the direct light on/off against the terms.
+void check_light_terms(const json& res, const json& R, int k, int p, const Vec3d& P, const Vec3d (&frame)[3],
+                       const float (&c)[21], occlusion::MicroShadowingEvaluator& generic_alu,
+                       SceneProbes& out) {
+  const std::string type = res["light_order"][k], method = R["method"];
+  const bool rect = type == "rect", pair = method != "directional-view";
+  const std::string run_name = method + " (" + R["code"].get<std::string>() + ")";
+  const auto& L = R["lights"][k];
+  const float V = L["inputs"][p][0], nl = L["inputs"][p][1], nv = L["inputs"][p][2], r = L["inputs"][p][3];
+  const Vec3f l_t(vec3(L["l_t"][p])), v_t(vec3(L["v_t"][p])), n_t(vec3(R["dir_n"][p]));
+  if (!(rect ? L["cap"][p][1].get<double>() > 0 : nl > 0)) return;  // unlit
+  const auto& [x, y, z] = frame;
+  out.inputs.view(P, x, y, z, v_t);
+  if (!rect) out.inputs.light(light_dir(res["lights"], type, P), x, y, z, l_t, n_t, nl);
+  const float want_dir = directional::directional_view_term<float>(c, l_t, v_t, n_t);
+  for (int lobe = 0; lobe < 2; ++lobe) {
+    double want = want_dir, tol = 1e-4 * std::max(1.0, std::abs(double(want_dir)));
+    if (lobe == 1 && pair && !rect)
+      want = generic_alu.eval({V, nl, nv, r, std::nullopt, std::nullopt}), tol = 1e-4;
+    if (lobe == 1 && pair && rect)
+      want = micro_shadowing::generic_vndf_alu_area_cap<double>(V, L["cap"][p][0].get<double>(), nv, r,
+                                                                L["cap"][p][1].get<double>()),
+      tol = 2.0 / 255;
+    const double got = R[lobe ? "terms_s" : "terms_d"][p][k];
+    const double got8 = R[lobe ? "terms8_s" : "terms8_d"][p][k].get<double>() / 255.0;
+    const std::string what = run_name + (lobe ? " specular" : " diffuse");
+    // float32: the shader and C++ float agree to rounding (the term divides by N·L: relative); the 8-bit
+    // output (clamped to [0, 1]) within 2/255.
+    EXPECT_NEAR(got, want, tol) << what << " (" << type << ") l_t " << l_t.x << " " << l_t.y << " " << l_t.z;
+    EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255) << what << " 8-bit (" << type << ")";
+    out.stats[type][what].add(std::abs(got - want) / std::max(1.0, std::abs(want)),
+                              std::abs(got8 - std::clamp(want, 0.0, 1.0)));
+  }
+  if (!L.contains("direct_on")) return;
+  for (int lobe = 0; lobe < 2; ++lobe) {
+    const double o = L["direct_off"][p][lobe], t = R[lobe ? "terms_s" : "terms_d"][p][k];
+    if (!(o > 1e-4)) continue;
+    const double d = std::abs(L["direct_on"][p][lobe].get<double>() - o * t) / (o * std::max(1.0, t));
+    out.direct_err = std::max(out.direct_err, d);
+    ++out.direct_n;
+  }
+}
+
+// Every run (method and code), probe on a surface and light.
+void check_scene_probes(const json& res, SceneProbes& out) {
+  occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
+  const int npts = int(res["points"].size());
   for (const auto& R : res["runs"]) {
-    const std::string method = R["method"], code_name = R["code"];
-    const bool pair = method != "directional-view";
-    const json& cd = codes[code_name];
-    const bool identity = cd["identity"];
-    const std::string run_name = method + " (" + code_name + ")";
+    const json& cd = res["codes"][R["code"].get<std::string>()];
     for (int p = 0; p < npts; ++p) {
       const auto& pos = R["position"][p];
       if (!(pos[3].get<double>() > 0.5)) continue;
       const Vec3d P = vec3(pos);
-      const Vec3d x = vec3(R["dir_x"][p]), y = vec3(R["dir_y"][p]), z = vec3(R["dir_z"][p]);
-      // The frame: orthonormal; against the surface's +u, +v and normal (world).
-      ortho_err =
-          std::max({ortho_err, std::abs(length(x) - 1), std::abs(length(y) - 1), std::abs(length(z) - 1),
-                    std::abs(dot(x, y)), std::abs(dot(y, z)), std::abs(dot(x, z))});
-      const Vec3d Pw = cam.to_world(P) + cam_pos;
-      Vec3d ex, ey, ez;
-      int obj = -1;
-      if (std::abs(Pw.y) < 1e-3) {
-        obj = 0, ex = Vec3d(1, 0, 0), ey = Vec3d(0, 0, -1), ez = Vec3d(0, 1, 0);
-        // UV on the plane: 3 repeats over 5 units, +v toward −z.
-        const auto& uv = R["dir_uv"][p];
-        uv_err = std::max({uv_err, std::abs(uv[0].get<double>() - 3 * (Pw.x + 2.5) / 5),
-                           std::abs(uv[1].get<double>() - 3 * (2.5 - Pw.z) / 5)});
-      } else if (std::abs(length(Pw - sphere_c) - ob["sphere_radius"].get<double>()) < 0.02) {
-        obj = 1, ez = normalize(Pw - sphere_c);
-      } else {
-        obj = 2;
-        const Vec3d r = Pw - cyl_c;
-        ez = normalize(Vec3d(r.x, 0, r.z));
-      }
-      if (obj > 0) {
-        const Vec3d up(0, 1, 0);
-        ex = normalize(cross(up, ez)) * (obj == 2 ? -1.0 : 1.0);  // the cylinder's u is mirrored
-        ey = normalize(up - ez * dot(ez, up));
-      }
-      ++frame_n[obj];
-      frame_err = std::max({frame_err, length(cam.to_world(x) - ex), length(cam.to_world(y) - ey),
-                            length(cam.to_world(z) - ez)});
-      // The channels: the compact form's are mean + basis · a.
+      const Vec3d frame[3] = {vec3(R["dir_x"][p]), vec3(R["dir_y"][p]), vec3(R["dir_z"][p])};
+      check_frame(res, R, p, P, frame[0], frame[1], frame[2], out);
       float c[21];
-      for (int i = 0; i < 21; ++i) c[i] = R["c"][i / 4][p][i % 4];
-      if (!identity) {
-        for (int i = 0; i < 21; ++i) {
-          double s = cd["mean"][i].get<double>(), scale = std::abs(s);
-          for (int k = 0; k < int(cd["K"]); ++k) {
-            const double b = cd["basis"][i][k], ak = R["a"][k / 4][p][k % 4];
-            s += b * ak, scale += std::abs(b * ak);
-          }
-          compose_err = std::max(compose_err, std::abs(c[i] - s) / std::max(scale, 1e-3));
-        }
-      } else {
-        for (int i = 0; i < 21; ++i)
-          compose_err = std::max(compose_err, double(std::abs(c[i] - R["a"][i / 4][p][i % 4].get<float>())));
-      }
-      const Vec3f n_t(vec3(R["dir_n"][p]));
-      for (int k = 0; k < int(order.size()); ++k) {
-        const std::string type = order[k];
-        const bool rect = type == "rect";
-        const auto& L = R["lights"][k];
-        const float V = L["inputs"][p][0], nl = L["inputs"][p][1], nv = L["inputs"][p][2],
-                    r = L["inputs"][p][3];
-        const Vec3f l_t(vec3(L["l_t"][p])), v_t(vec3(L["v_t"][p]));
-        const bool lit = rect ? L["cap"][p][1].get<double>() > 0 : nl > 0;
-        if (!lit) continue;
-        // l and v in the frame against the scene (view space).
-        const Vec3d vv = normalize(-P);
-        vt_err = std::max(vt_err, length(Vec3d(v_t) - Vec3d(dot(vv, x), dot(vv, y), dot(vv, z))));
-        if (!rect) {
-          const Vec3d wl = type == "directional" ? normalize(vec3(lights[type]["direction"]))
-                                                 : normalize(vec3(lights[type]["position"]) - P);
-          lt_err = std::max(lt_err, length(Vec3d(l_t) - Vec3d(dot(wl, x), dot(wl, y), dot(wl, z))));
-          // The normal in the frame is three's shading normal: its N·L.
-          if (nl > 0.01f && nl < 0.99f) nl_err = std::max(nl_err, std::abs(double(dot(n_t, l_t)) - nl));
-        }
-        const float want_dir = directional::directional_view_term<float>(c, l_t, v_t, n_t);
-        for (int lobe = 0; lobe < 2; ++lobe) {
-          double want = want_dir, tol = 1e-4 * std::max(1.0, std::abs(double(want_dir)));
-          // The pair's specular lobe: the generic ALU fit; over the rect light its area-cap form (as the
-          // module wires it; built on sin/cos: 2/255, as test_three_browser holds it).
-          if (lobe == 1 && pair && !rect)
-            want = generic_alu.eval({V, nl, nv, r, std::nullopt, std::nullopt}), tol = 1e-4;
-          if (lobe == 1 && pair && rect)
-            want = micro_shadowing::generic_vndf_alu_area_cap<double>(V, L["cap"][p][0].get<double>(), nv, r,
-                                                                      L["cap"][p][1].get<double>()),
-            tol = 2.0 / 255;
-          const double got = R[lobe ? "terms_s" : "terms_d"][p][k];
-          const double got8 = R[lobe ? "terms8_s" : "terms8_d"][p][k].get<double>() / 255.0;
-          const std::string what = run_name + (lobe ? " specular" : " diffuse");
-          // float32: the shader and C++ float agree to rounding (the term divides by N·L: relative);
-          // the 8-bit output (clamped to [0, 1]) within 2/255.
-          EXPECT_NEAR(got, want, tol)
-              << what << " (" << type << ") l_t " << l_t.x << " " << l_t.y << " " << l_t.z;
-          EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255) << what << " 8-bit (" << type << ")";
-          stats[type][what].add(std::abs(got - want) / std::max(1.0, std::abs(want)),
-                                std::abs(got8 - std::clamp(want, 0.0, 1.0)));
-        }
-        if (L.contains("direct_on")) {
-          for (int lobe = 0; lobe < 2; ++lobe) {
-            const double o = L["direct_off"][p][lobe], t = R[lobe ? "terms_s" : "terms_d"][p][k];
-            if (!(o > 1e-4)) continue;
-            const double d = std::abs(L["direct_on"][p][lobe].get<double>() - o * t) / (o * std::max(1.0, t));
-            direct_err = std::max(direct_err, d);
-            ++direct_n;
-          }
-        }
-      }
+      read_channels(R, cd, p, c, out);
+      for (int k = 0; k < int(res["light_order"].size()); ++k)
+        check_light_terms(res, R, k, p, P, frame, c, generic_alu, out);
     }
   }
-  EXPECT_LE(ortho_err, 1e-4) << "the channels' frame is not orthonormal";
-  EXPECT_LE(frame_err, 0.03) << "the channels' frame differs from the surfaces' +u, +v, normal";
-  for (int o = 0; o < 3; ++o) EXPECT_GE(frame_n[o], 20) << "too few probes on object " << o;
-  EXPECT_LE(uv_err, 1e-3);
-  EXPECT_LE(lt_err, 1e-4) << "l in the channels' frame differs from the scene's";
-  EXPECT_LE(vt_err, 1e-4) << "v in the channels' frame differs from the scene's";
-  EXPECT_LE(nl_err, 1e-4) << "the frame's normal does not give three's N.L";
-  EXPECT_LE(compose_err, 1e-5) << "the channels differ from mean + basis . coefficients";
-  EXPECT_LE(direct_err, 1e-4) << "direct light on/off differs from the terms";
-  EXPECT_GE(direct_n, 100);
-  for (const auto& t : order)
-    for (const auto& [what, st] : stats[t]) EXPECT_GE(st.n, 20) << t << " " << what << ": too few lit probes";
+  EXPECT_LE(out.ortho_err, 1e-4) << "the channels' frame is not orthonormal";
+  EXPECT_LE(out.frame_err, 0.03) << "the channels' frame differs from the surfaces' +u, +v, normal";
+  for (int o = 0; o < 3; ++o) EXPECT_GE(out.frame_n[o], 20) << "too few probes on object " << o;
+  EXPECT_LE(out.uv_err, 1e-3);
+  EXPECT_LE(out.inputs.lt, 1e-4) << "l in the channels' frame differs from the scene's";
+  EXPECT_LE(out.inputs.vt, 1e-4) << "v in the channels' frame differs from the scene's";
+  EXPECT_LE(out.inputs.nl, 1e-4) << "the frame's normal does not give three's N.L";
+  EXPECT_LE(out.compose_err, 1e-5) << "the channels differ from mean + basis . coefficients";
+  EXPECT_LE(out.direct_err, 1e-4) << "direct light on/off differs from the terms";
+  EXPECT_GE(out.direct_n, 100);
+  for (const std::string& t : res["light_order"].get<std::vector<std::string>>())
+    for (const auto& [what, st] : out.stats[t])
+      EXPECT_GE(st.n, 20) << t << " " << what << ": too few lit probes";
+}
 
-  // Nearest fetches: the channels (21) and the coefficients (compact) are the files' level-0 texels at the
-  // pixel's UV (row y = floor(v · h): the textures' rows run along +v), decoded with the files' ranges.
-  double near_err = 0;
-  int near_n = 0;
+// Nearest fetches: the channels (21) and the coefficients (compact) are the files' level-0 texels at the
+// pixel's UV (row y = floor(v · h): the textures' rows run along +v), decoded with the files' ranges.
+void check_nearest_fetches(const json& res, double& near_err, int& near_n) {
   for (const auto& N : res["nearest"]) {
     const bool is_compact = N["code"] == "compact_nearest";
-    const fs::path mdir = is_compact ? copy / "data" / "dircompact" / "mips" : mat / "mips";
-    const json& cd = codes[is_compact ? "compact" : "channels21"];
+    const fs::path mdir = is_compact ? kCopy / "data" / "dircompact" / "mips" : kMat / "mips";
+    const json& cd = res["codes"][is_compact ? "compact" : "channels21"];
     const int K = cd["K"];
     std::vector<io::Volume> tex;
     for (int t = 0; 4 * t < K; ++t)
@@ -452,26 +470,140 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
           io::read_texture_level(mdir / (is_compact ? "directional_compact_" + std::to_string(t) + ".ktx2"
                                                     : "directional_" + std::to_string(t) + ".ktx2"),
                                  0));
-    compare_nearest(N, tex, cd["lo"], cd["hi"], K, npts, near_err, near_n);
+    compare_nearest(N, tex, cd["lo"], cd["hi"], K, int(res["points"].size()), near_err, near_n);
   }
   EXPECT_LE(near_err, 1e-5) << "the fetched channels are not the files' texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
+}
 
+TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
+  MSH_REQUIRE_BROWSER(missing_three_browser());
+  const DriverRun& run = driver_run();
+  ASSERT_TRUE(run.failure.empty()) << run.failure;
+  const json& res = run.res;
+  const json mips = json::parse(slurp(kMat / "mips" / "mips.json"));
+  ASSERT_EQ(mips["directional"]["channels"], directional::kViewChannels);
+  ASSERT_NO_FATAL_FAILURE(check_driver_outputs(res, mips));
+  SceneProbes probes;
+  ASSERT_NO_FATAL_FAILURE(check_scene_probes(res, probes));
+  double near_err = 0;
+  int near_n = 0;
+  check_nearest_fetches(res, near_err, near_n);
+  const SceneProbes& s = probes;
   std::printf(
       "three.js r%s, %d probe points; frame vs surfaces %.1e (orthonormal %.1e; probes plane %d, sphere %d, "
       "cylinder %d), l %.1e, v %.1e, N.L %.1e, uv %.1e; compose %.1e; nearest channels vs files %.1e (n=%d); "
       "direct on/off %.1e (n=%d); driver %.0f s\n",
-      res["revision"].get<std::string>().c_str(), npts, frame_err, ortho_err, frame_n[0], frame_n[1],
-      frame_n[2], lt_err, vt_err, nl_err, uv_err, compose_err, near_err, near_n, direct_err, direct_n,
-      res["timing"]["done"].get<double>());
+      res["revision"].get<std::string>().c_str(), int(res["points"].size()), s.frame_err, s.ortho_err,
+      s.frame_n[0], s.frame_n[1], s.frame_n[2], s.inputs.lt, s.inputs.vt, s.inputs.nl, s.uv_err,
+      s.compose_err, near_err, near_n, s.direct_err, s.direct_n, res["timing"]["done"].get<double>());
   std::printf("max |three.js - C++|: 8-bit output in 1/255 (float32, relative to max(1, |term|)) n:\n");
   print_probe_table(
-      stats, order, 62,
+      probes.stats, res["light_order"].get<std::vector<std::string>>(), 62,
       [](const std::string& t, const ProbeStat& st) {
         std::printf(" %s %4.2f (%.1e) %3d", t.c_str(), st.max_8bit * 255, st.max_float, st.n);
         return json{{"max_8bit_255", st.max_8bit * 255}, {"max_float_rel", st.max_float}, {"n", st.n}};
       },
-      shots / "comparison.json");
+      kShots / "comparison.json");
+}
+
+// The glTF run's plain outputs: the plugin's method and code (the compact form pca8 of gen-material
+// --directional-form pca8 --gltf: two RGBA8 coefficient PNGs) with the maps three needs; bad assets: the
+// load rejects with one line naming the problem, and their page's console has GLTFLoader's own line for the
+// missing image, nothing else.
+void check_gltf_outputs(const json& all, const json& G, const json& ext) {
+  EXPECT_EQ(G["method"], "directional-view+generic-vndf-alu");
+  EXPECT_EQ(G["code"]["K"], ext["coefficients"]);
+  EXPECT_EQ(ext["form"], "pca8");
+  EXPECT_EQ(G["code"]["K"], 8);
+  EXPECT_EQ(G["code"]["textures"], 2);
+  EXPECT_FALSE(G["code"]["identity"].get<bool>());
+  EXPECT_TRUE(G["aomap"].get<bool>() && G["normalmap"].get<bool>() && G["tangents"].get<bool>());
+  EXPECT_EQ(G["gl_error"], 0);
+  const auto has = [&](const char* k, const std::vector<std::string>& parts) {
+    expect_error_line(all["gltf_errors"], k, parts);
+  };
+  has("bad_k", {"glTF material 0", "K = 9 needs 3 textures, the extension lists 2"});
+  has("bad_channels", {"'channels' must be 21, got 20"});
+  has("bad_basis", {"'basis' must have 21 rows", "got 20"});
+  has("bad_texture", {"texture 3 (missing.png) did not load"});
+  has("bad_json", {"JSON"});
+  EXPECT_EQ(all["bad_console"].size(), 1u) << all["bad_console"].dump(1);
+  for (const auto& l : all["bad_console"])
+    EXPECT_NE(l.get<std::string>().find("THREE.GLTFLoader: Couldn't load texture"), std::string::npos) << l;
+}
+
+// What the glTF plane's probes gather.
+struct GltfProbes {
+  std::map<std::string, ProbeStat> stats;  // [light + lobe]
+  FrameInputs inputs;
+  double frame_err = 0, uv_err = 0, direct_err = 0;
+  int n_pix = 0, direct_n = 0;
+};
+
+// Probe p under light k: l and v in the frame against the scene, each lobe's term against the library, the
+// direct light on/off against the terms.
+void check_gltf_light(const json& G, int k, int p, const Vec3d& P, const Vec3d (&frame)[3],
+                      const float (&c)[21], occlusion::MicroShadowingEvaluator& generic_alu,
+                      GltfProbes& out) {
+  const std::string type = G["light_order"][k];
+  const auto& L = G["lights_read"][k];
+  const float V = L["inputs"][p][0], nl = L["inputs"][p][1], nv = L["inputs"][p][2], r = L["inputs"][p][3];
+  if (!(nl > 0)) return;
+  const Vec3f l_t(vec3(L["l_t"][p])), v_t(vec3(L["v_t"][p])), n_t(vec3(G["dir_n"][p]));
+  const auto& [x, y, z] = frame;
+  out.inputs.light(light_dir(G["lights"], type, P), x, y, z, l_t, n_t, nl);
+  out.inputs.view(P, x, y, z, v_t);
+  const float want_dir = directional::directional_view_term<float>(c, l_t, v_t, n_t);
+  for (int lobe = 0; lobe < 2; ++lobe) {
+    const double want =
+        lobe == 0 ? double(want_dir) : generic_alu.eval({V, nl, nv, r, std::nullopt, std::nullopt});
+    const double tol = lobe == 0 ? 1e-4 * std::max(1.0, std::abs(want)) : 1e-4;
+    const double got = G[lobe ? "terms_s" : "terms_d"][p][k];
+    const double got8 = G[lobe ? "terms8_s" : "terms8_d"][p][k].get<double>() / 255.0;
+    EXPECT_NEAR(got, want, tol) << (lobe ? "specular" : "diffuse") << " (" << type << ")";
+    EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255) << (lobe ? "specular" : "diffuse") << " 8-bit";
+    out.stats[type + (lobe ? " specular" : " diffuse")].add(
+        std::abs(got - want) / std::max(1.0, std::abs(want)), std::abs(got8 - std::clamp(want, 0.0, 1.0)));
+    const double o = L["direct_off"][p][lobe];
+    if (o > 1e-4) {
+      out.direct_err = std::max(out.direct_err, std::abs(L["direct_on"][p][lobe].get<double>() - o * got) /
+                                                    (o * std::max(1.0, got)));
+      ++out.direct_n;
+    }
+  }
+}
+
+// Every probe on the plane: the frame against its +u (+x), +v (+z) and normal, the UV, then each light.
+void check_gltf_probes(const json& G, GltfProbes& out) {
+  const CameraWorld cam(G["camera_world"]);
+  const double scale = G["scale"];
+  occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
+  for (int p = 0; p < int(G["points"].size()); ++p) {
+    const auto& pos = G["position"][p];
+    if (!(pos[3].get<double>() > 0.5)) continue;
+    ++out.n_pix;
+    const Vec3d P = vec3(pos), Pw = cam.to_world(P) + cam.position();
+    const Vec3d frame[3] = {vec3(G["dir_x"][p]), vec3(G["dir_y"][p]), vec3(G["dir_z"][p])};
+    out.frame_err = std::max({out.frame_err, length(cam.to_world(frame[0]) - Vec3d(1, 0, 0)),
+                              length(cam.to_world(frame[1]) - Vec3d(0, 0, 1)),
+                              length(cam.to_world(frame[2]) - Vec3d(0, 1, 0))});
+    out.uv_err = std::max({out.uv_err, std::abs(G["dir_uv"][p][0].get<double>() - (Pw.x / scale + 0.5)),
+                           std::abs(G["dir_uv"][p][1].get<double>() - (Pw.z / scale + 0.5))});
+    float c[21];
+    for (int i = 0; i < 21; ++i) c[i] = G["c"][i / 4][p][i % 4];
+    for (int k = 0; k < int(G["light_order"].size()); ++k)
+      check_gltf_light(G, k, p, P, frame, c, generic_alu, out);
+  }
+  EXPECT_GE(out.n_pix, 100) << "too few probes on the plane";
+  EXPECT_LE(out.frame_err, 1e-4) << "the channels' frame differs from the plane's +u, +v, normal";
+  EXPECT_LE(out.uv_err, 1e-4);
+  EXPECT_LE(out.inputs.lt, 1e-4);
+  EXPECT_LE(out.inputs.vt, 1e-4);
+  EXPECT_LE(out.inputs.nl, 1e-4);
+  EXPECT_LE(out.direct_err, 1e-4);
+  EXPECT_GE(out.direct_n, 100);
+  for (const auto& [what, st] : out.stats) EXPECT_GE(st.n, 30) << what << ": too few lit probes";
 }
 
 // The glTF asset of gen-material --gltf through three's GLTFLoader and the module's MicroShadowGLTFPlugin
@@ -489,95 +621,9 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   ASSERT_FALSE(G.contains("error")) << G["error"];
   const json gj = json::parse(slurp(kMat / "gltf" / "material.gltf"));
   const json& ext = gj["materials"][0]["extensions"]["MSH_materials_directional_occlusion"];
-  EXPECT_EQ(G["method"], "directional-view+generic-vndf-alu");
-  EXPECT_EQ(G["code"]["K"], ext["coefficients"]);
-  // The compact form pca8 (gen-material --directional-form pca8 --gltf): two RGBA8 coefficient PNGs.
-  EXPECT_EQ(ext["form"], "pca8");
-  EXPECT_EQ(G["code"]["K"], 8);
-  EXPECT_EQ(G["code"]["textures"], 2);
-  EXPECT_FALSE(G["code"]["identity"].get<bool>());
-  EXPECT_TRUE(G["aomap"].get<bool>() && G["normalmap"].get<bool>() && G["tangents"].get<bool>());
-  EXPECT_EQ(G["gl_error"], 0);
-  // Bad assets: the load rejects with one line naming the problem.
-  const auto has = [&](const char* k, const std::vector<std::string>& parts) {
-    expect_error_line(run.res["gltf_errors"], k, parts);
-  };
-  has("bad_k", {"glTF material 0", "K = 9 needs 3 textures, the extension lists 2"});
-  has("bad_channels", {"'channels' must be 21, got 20"});
-  has("bad_basis", {"'basis' must have 21 rows", "got 20"});
-  has("bad_texture", {"texture 3 (missing.png) did not load"});
-  has("bad_json", {"JSON"});
-  // Their page's console: GLTFLoader's own line for the missing image, nothing else.
-  EXPECT_EQ(run.res["bad_console"].size(), 1u) << run.res["bad_console"].dump(1);
-  for (const auto& l : run.res["bad_console"])
-    EXPECT_NE(l.get<std::string>().find("THREE.GLTFLoader: Couldn't load texture"), std::string::npos) << l;
-  const std::vector<std::string> order = G["light_order"];
-  const int npts = int(G["points"].size());
-  const CameraWorld cam(G["camera_world"]);
-  const Vec3d cam_pos = cam.position();
-  const double scale = G["scale"];
-  occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
-  std::map<std::string, ProbeStat> stats;
-  double frame_err = 0, uv_err = 0, lt_err = 0, vt_err = 0, nl_err = 0, direct_err = 0;
-  int n_pix = 0, direct_n = 0;
-  for (int p = 0; p < npts; ++p) {
-    const auto& pos = G["position"][p];
-    if (!(pos[3].get<double>() > 0.5)) continue;
-    ++n_pix;
-    const Vec3d P = vec3(pos), Pw = cam.to_world(P) + cam_pos;
-    const Vec3d x = vec3(G["dir_x"][p]), y = vec3(G["dir_y"][p]), z = vec3(G["dir_z"][p]);
-    frame_err =
-        std::max({frame_err, length(cam.to_world(x) - Vec3d(1, 0, 0)),
-                  length(cam.to_world(y) - Vec3d(0, 0, 1)), length(cam.to_world(z) - Vec3d(0, 1, 0))});
-    uv_err = std::max({uv_err, std::abs(G["dir_uv"][p][0].get<double>() - (Pw.x / scale + 0.5)),
-                       std::abs(G["dir_uv"][p][1].get<double>() - (Pw.z / scale + 0.5))});
-    float c[21];
-    for (int i = 0; i < 21; ++i) c[i] = G["c"][i / 4][p][i % 4];
-    const Vec3f n_t(vec3(G["dir_n"][p]));
-    for (int k = 0; k < int(order.size()); ++k) {
-      const std::string type = order[k];
-      const auto& L = G["lights_read"][k];
-      const float V = L["inputs"][p][0], nl = L["inputs"][p][1], nv = L["inputs"][p][2],
-                  r = L["inputs"][p][3];
-      if (!(nl > 0)) continue;
-      const Vec3f l_t(vec3(L["l_t"][p])), v_t(vec3(L["v_t"][p]));
-      const Vec3d wl = type == "directional" ? normalize(vec3(G["lights"][type]["direction"]))
-                                             : normalize(vec3(G["lights"][type]["position"]) - P);
-      const Vec3d vv = normalize(-P);
-      lt_err = std::max(lt_err, length(Vec3d(l_t) - Vec3d(dot(wl, x), dot(wl, y), dot(wl, z))));
-      vt_err = std::max(vt_err, length(Vec3d(v_t) - Vec3d(dot(vv, x), dot(vv, y), dot(vv, z))));
-      if (nl > 0.01f && nl < 0.99f) nl_err = std::max(nl_err, std::abs(double(dot(n_t, l_t)) - nl));
-      const float want_dir = directional::directional_view_term<float>(c, l_t, v_t, n_t);
-      for (int lobe = 0; lobe < 2; ++lobe) {
-        const double want =
-            lobe == 0 ? double(want_dir) : generic_alu.eval({V, nl, nv, r, std::nullopt, std::nullopt});
-        const double tol = lobe == 0 ? 1e-4 * std::max(1.0, std::abs(want)) : 1e-4;
-        const double got = G[lobe ? "terms_s" : "terms_d"][p][k];
-        const double got8 = G[lobe ? "terms8_s" : "terms8_d"][p][k].get<double>() / 255.0;
-        EXPECT_NEAR(got, want, tol) << (lobe ? "specular" : "diffuse") << " (" << type << ")";
-        EXPECT_NEAR(got8, std::clamp(want, 0.0, 1.0), 2.0 / 255)
-            << (lobe ? "specular" : "diffuse") << " 8-bit";
-        stats[type + (lobe ? " specular" : " diffuse")].add(
-            std::abs(got - want) / std::max(1.0, std::abs(want)),
-            std::abs(got8 - std::clamp(want, 0.0, 1.0)));
-        const double o = L["direct_off"][p][lobe];
-        if (o > 1e-4) {
-          direct_err = std::max(direct_err, std::abs(L["direct_on"][p][lobe].get<double>() - o * got) /
-                                                (o * std::max(1.0, got)));
-          ++direct_n;
-        }
-      }
-    }
-  }
-  EXPECT_GE(n_pix, 100) << "too few probes on the plane";
-  EXPECT_LE(frame_err, 1e-4) << "the channels' frame differs from the plane's +u, +v, normal";
-  EXPECT_LE(uv_err, 1e-4);
-  EXPECT_LE(lt_err, 1e-4);
-  EXPECT_LE(vt_err, 1e-4);
-  EXPECT_LE(nl_err, 1e-4);
-  EXPECT_LE(direct_err, 1e-4);
-  EXPECT_GE(direct_n, 100);
-  for (const auto& [what, st] : stats) EXPECT_GE(st.n, 30) << what << ": too few lit probes";
+  check_gltf_outputs(run.res, G, ext);
+  GltfProbes probes;
+  check_gltf_probes(G, probes);
   // Nearest: the PNG texels at the pixel's UV, decoded with the extension's ranges.
   double near_err = 0;
   int near_n = 0;
@@ -586,17 +632,20 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
     const int src = gj["textures"][t["index"].get<int>()]["source"];
     png.push_back(io::read_image(kMat / "gltf" / gj["images"][src]["uri"].get<std::string>()));
   }
-  compare_nearest(G["nearest"], png, ext["lo"], ext["hi"], ext["coefficients"], npts, near_err, near_n);
+  compare_nearest(G["nearest"], png, ext["lo"], ext["hi"], ext["coefficients"], int(G["points"].size()),
+                  near_err, near_n);
   EXPECT_LE(near_err, 1e-5) << "the fetched coefficients are not the PNG texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
+  const GltfProbes& s = probes;
   std::printf(
       "glTF (gen-material --directional-form pca8 --gltf, plaster 128) through MicroShadowGLTFPlugin: %d "
-      "plane probes; frame %.1e, "
-      "uv "
-      "%.1e, l %.1e, v %.1e, N.L %.1e, nearest vs PNG %.1e (n=%d), direct on/off %.1e (n=%d)\n",
-      n_pix, frame_err, uv_err, lt_err, vt_err, nl_err, near_err, near_n, direct_err, direct_n);
+      "plane probes; frame %.1e, uv %.1e, l %.1e, v %.1e, N.L %.1e, nearest vs PNG %.1e (n=%d), direct "
+      "on/off "
+      "%.1e (n=%d)\n",
+      s.n_pix, s.frame_err, s.uv_err, s.inputs.lt, s.inputs.vt, s.inputs.nl, near_err, near_n, s.direct_err,
+      s.direct_n);
   std::printf("max |three.js - C++|: 8-bit in 1/255 (float32 relative) n:\n");
-  for (const auto& [what, st] : stats)
+  for (const auto& [what, st] : s.stats)
     std::printf("  %-24s %4.2f (%.1e) %3d\n", what.c_str(), st.max_8bit * 255, st.max_float, st.n);
 }
 
