@@ -61,120 +61,134 @@ struct Tex {
 
 }  // namespace
 
-TEST(ShaderPortableCpp, MicroShadowing) {
-  using namespace test::ms_inputs;
-  const std::vector<Record> recs = make_records();
-  const Luts& L = luts();
-  const Tex plain(L.plain), az(L.azimuth), two_d(L.two_d);
-  const int n_est = 128;
-  double qmc_sum = 0;  // the estimator's mean error vs the exact term
-  int qmc_n = 0;
-  // Bounds: shaders/portable/micro_shadowing.h, each function's comment. (Families print in reverse order.)
-  Family lut_f{"LUT samplers vs the C++ sampler"}, smp{"VNDF sampling and GenericM_m"},
-      dbl{"micro-shadowing vs double"},
-      same{"closed forms, cone cos, early-out, azimuth cos, projected alpha, Sobol vs C++ float"};
-  for (std::size_t i = 0; i < recs.size(); ++i) {
-    const Record& x = recs[i];
-    const float3 v = f3(x.v), l = f3(x.l);
-    const float2 a(x.ax, x.ay), u(x.u1, x.u2);
-    const GGX<float> ggx(x.ax, x.ay);
-    const float vis = x.vis, nl = x.nl, pa_vf = sh::msh_ggx_projected_alpha(v, a);
-    const bool zero = sh::msh_ms_exact_zero(vis, nl);
-    // The closed forms, cone cos, early-out, azimuth cos and projected roughness are the C++ templates' float
-    // expressions in the same order (std::sqrt, std::pow): identical. Sobol/Hammersley: integer code.
-    same.eq("differ", sh::msh_ms_reference_step(vis, nl), ms::reference_step(vis, nl));
-    same.eq("differ", sh::msh_ms_brinck_maximov2016(vis, nl), ms::brinck_maximov_2016(vis, nl));
-    same.eq("differ", sh::msh_ms_chan2018(vis, nl), ms::chan_2018(vis, nl));
-    same.eq("differ", sh::msh_ms_part1_analytic(vis, nl), ms::part1_analytic(vis, nl));
-    same.eq("differ", sh::msh_ms_cone_cos(vis), ms::cone_cos_from_visibility(vis));
-    same.eq("differ", zero, ms::exact_zero(vis, nl));
-    same.eq("differ", sh::msh_ms_relative_azimuth_cos(v, l), lut::relative_azimuth_cos(x.v, x.l));
-    same.eq("differ", pa_vf, ggx.projected_alpha(x.v));
-    same.eq("differ", sh::msh_ggx_projected_alpha(l, a), ggx.projected_alpha(x.l));
-    for (uint32_t seed : {0u, 7u})
-      for (int k = 0; k < 2; ++k)
-        same.eq("differ", sh::msh_sobol_2d(x.index, seed)[k], sobol_2d<float>(x.index, seed)[k]);
-    same.eq("differ", sh::msh_hammersley_2d(x.index, 1u << 20).y, hammersley_2d<float>(x.index, 1u << 20).y);
-    dbl.diff("brinck", 2.4e-7, sh::msh_ms_brinck_maximov2016(vis, nl), ref_brinck(vis, nl));
-    dbl.diff("chan", 1e-6, sh::msh_ms_chan2018(vis, nl), ref_chan(vis, nl));
-    const bool small = vis > 0 && vis < 0.05f;  // the exponent 0.75 / vis is large
-    dbl.diff(small ? "part1 (vis < 0.05)" : "part1", small ? 2e-5 : 2e-6, sh::msh_ms_part1_analytic(vis, nl),
-             ref_part1(vis, nl));
-    dbl.diff("cone cos", 1.2e-7, sh::msh_ms_cone_cos(vis), std::sqrt(1 - sat(vis)));
-    const double margin = 2 * sat(vis) + sat(nl) - 1;  // the early-out in double
-    dbl.count("early-out off (margin > 1e-6)", 0, std::abs(margin) > 1e-6 && zero != (margin < 0));
-    const Vec3d vd(x.v), ld(x.l);
-    const double pa_v = ref_projected_alpha(vd, x.ax, x.ay), pa_l = ref_projected_alpha(ld, x.ax, x.ay);
-    dbl.diff("projected alpha (rel)", 2.5e-7, pa_vf / pa_v, 1);
-    dbl.diff("projected alpha (rel)", 2.5e-7, sh::msh_ggx_projected_alpha(l, a) / pa_l, 1);
-    const double r_an = sh::msh_ms_lut_roughness_anisotropic(v, l, a);
-    dbl.diff("anisotropic roughness (rel)", 1e-6,
-             r_an / std::sqrt(std::sqrt(0.5 * (pa_v * pa_v + pa_l * pa_l))), 1);
-    dbl.diff("anisotropic roughness (rel)", 1e-6,
-             r_an / ms::micro_shadowing_isotropic_roughness(x.ax, x.ay, x.v, x.l), 1);
-    if (length(vd) > 0) dbl.diff("G1", 5e-7, sh::msh_ggx_g1_projected(v, pa_vf), ref_g1(vd, pa_v));
-    // The sampler; vs double where the float algorithm is conditioned (alpha >= 0.01, u.y < 1 - 1e-4).
-    const float3 m = sh::msh_ggx_sample_vndf(v, a, u);
-    const Vec3d mf(ggx.Sample_wm(x.v, Vec2f(u.x, u.y)));
-    smp.max("m vs C++ float", 5e-6, length(d3(m) - mf));
-    if (std::min(x.ax, x.ay) >= 0.01f && x.u2 < 1 - 1e-4f)
-      smp.max("m vs double", 1e-5, length(d3(m) - GGX<double>(x.ax, x.ay).Sample_wm(vd, Vec2d(u.x, u.y))));
-    const float c = sh::msh_ms_cone_cos(vis);
-    float hc[3], un[3];  // cone, hemisphere, weight
-    sh::msh_ms_generic_vndf_sample(c, a, v, l, u, true, hc[0], hc[1], hc[2]);
-    sh::msh_ms_generic_vndf_sample_isotropic(c, x.ax, v, l, u, false, un[0], un[1], un[2]);
-    for (float o : {m.x, m.y, m.z, hc[0], hc[1], hc[2], un[0], un[1], un[2]})
-      smp.count("not finite", 0, !std::isfinite(o));
-    const auto c_hc = ms::generic_vndf_sample(c, ggx, x.v, x.l, Vec2f(u.x, u.y), G2Form::HeightCorrelated);
-    const auto c_un =
-        ms::generic_vndf_sample(c, GGX<float>(x.ax), x.v, x.l, Vec2f(u.x, u.y), G2Form::Uncorrelated);
-    if (std::abs(length(ld) - 1) > 1e-5 || std::abs(length(vd) - 1) > 1e-5) continue;
-    const double gl = ref_g1(ld, pa_l), gv = ref_g1(vd, pa_v), cos_t = std::sqrt(1 - sat(vis));
-    if (hc[2] != 0 && c_hc.weight != 0) {
-      smp.diff("weight vs C++ float", 1e-6, hc[2], c_hc.weight);
-      smp.diff("weight vs double", 1e-6, hc[2], gl / (gl + gv - gl * gv));
-    }
-    const float g2 =
-        sh::msh_ms_smith_g2_over_g1(sh::msh_ggx_g1_projected(l, sh::msh_ggx_projected_alpha(l, a)),
-                                    sh::msh_ggx_g1_projected(v, pa_vf), false);
-    smp.diff("weight vs C++ float", 1e-6, g2, ms::smith_g2_over_g1(ggx, x.v, x.l, G2Form::Uncorrelated));
-    smp.diff("weight vs double", 1e-6, g2, gl);
-    // Decisions agree where the sample is not within 1e-4 of a threshold (the sampler's precision).
-    if (std::min({std::abs(dot(mf, ld) - cos_t), std::abs(mf.z - cos_t), std::abs(dot(mf, ld)),
-                  std::abs(mf.z)}) > 1e-4) {
-      smp.at_least("decisions checked", 3000, true);
-      smp.count("decision mismatches", 0,
-                (hc[0] != 0) != (c_hc.cone != 0) || (hc[1] != 0) != (c_hc.hemisphere != 0) ||
-                    (un[0] != 0) != (c_un.cone != 0) || (un[1] != 0) != (c_un.hemisphere != 0));
-    }
-    // The estimator: the same Sobol points as C++ (2/n: a flipped decision); vs the exact term its QMC error.
-    if (x.v.z > 0 && vis >= 0 && vis <= 1 && nl == x.l.z) {
-      const float est = sh::msh_ms_generic_vndf_estimate(vis, a, v, l, n_est, true, 1u);
-      smp.diff("estimate vs C++ float", 2.0 / n_est, est,
-               ms::generic_vndf_estimate(vis, ggx, x.v, x.l, n_est, G2Form::HeightCorrelated, 1));
-      smp.diff("estimate vs C++ float", 2.0 / n_est,
-               sh::msh_ms_generic_vndf_estimate(vis, float2(x.ax), v, l, n_est, false, 0u),
-               ms::generic_vndf_estimate(vis, GGX<float>(x.ax), x.v, x.l, n_est, G2Form::Uncorrelated, 0));
-      if (i % 8 == 0 && x.ax >= 0.01 && x.ay >= 0.01) {  // the exact term costs ~20 us
-        const double e = std::abs(est - ms::generic_vndf_exact(vis, x.ax, x.ay, vd, ld));
-        smp.max("estimate vs exact (QMC)", 0.1, e);
-        qmc_sum += e, ++qmc_n;
-      }
-    }
+namespace {
+namespace ms_checks {
+using namespace test::ms_inputs;
+
+// The closed forms, cone cos, early-out, azimuth cos and projected roughness are the C++ templates' float
+// expressions in the same order (std::sqrt, std::pow): identical. Sobol/Hammersley: integer code. Against
+// double: each function's stated bound.
+void closed_forms(const Record& x, Family& same, Family& dbl) {
+  const float3 v = f3(x.v), l = f3(x.l);
+  const float2 a(x.ax, x.ay);
+  const GGX<float> ggx(x.ax, x.ay);
+  const float vis = x.vis, nl = x.nl, pa_vf = sh::msh_ggx_projected_alpha(v, a);
+  const bool zero = sh::msh_ms_exact_zero(vis, nl);
+  same.eq("differ", sh::msh_ms_reference_step(vis, nl), ms::reference_step(vis, nl));
+  same.eq("differ", sh::msh_ms_brinck_maximov2016(vis, nl), ms::brinck_maximov_2016(vis, nl));
+  same.eq("differ", sh::msh_ms_chan2018(vis, nl), ms::chan_2018(vis, nl));
+  same.eq("differ", sh::msh_ms_part1_analytic(vis, nl), ms::part1_analytic(vis, nl));
+  same.eq("differ", sh::msh_ms_cone_cos(vis), ms::cone_cos_from_visibility(vis));
+  same.eq("differ", zero, ms::exact_zero(vis, nl));
+  same.eq("differ", sh::msh_ms_relative_azimuth_cos(v, l), lut::relative_azimuth_cos(x.v, x.l));
+  same.eq("differ", pa_vf, ggx.projected_alpha(x.v));
+  same.eq("differ", sh::msh_ggx_projected_alpha(l, a), ggx.projected_alpha(x.l));
+  for (uint32_t seed : {0u, 7u})
+    for (int k = 0; k < 2; ++k)
+      same.eq("differ", sh::msh_sobol_2d(x.index, seed)[k], sobol_2d<float>(x.index, seed)[k]);
+  same.eq("differ", sh::msh_hammersley_2d(x.index, 1u << 20).y, hammersley_2d<float>(x.index, 1u << 20).y);
+  dbl.diff("brinck", 2.4e-7, sh::msh_ms_brinck_maximov2016(vis, nl), ref_brinck(vis, nl));
+  dbl.diff("chan", 1e-6, sh::msh_ms_chan2018(vis, nl), ref_chan(vis, nl));
+  const bool small = vis > 0 && vis < 0.05f;  // the exponent 0.75 / vis is large
+  dbl.diff(small ? "part1 (vis < 0.05)" : "part1", small ? 2e-5 : 2e-6, sh::msh_ms_part1_analytic(vis, nl),
+           ref_part1(vis, nl));
+  dbl.diff("cone cos", 1.2e-7, sh::msh_ms_cone_cos(vis), std::sqrt(1 - sat(vis)));
+  const double margin = 2 * sat(vis) + sat(nl) - 1;  // the early-out in double
+  dbl.count("early-out off (margin > 1e-6)", 0, std::abs(margin) > 1e-6 && zero != (margin < 0));
+  const Vec3d vd(x.v), ld(x.l);
+  const double pa_v = ref_projected_alpha(vd, x.ax, x.ay), pa_l = ref_projected_alpha(ld, x.ax, x.ay);
+  dbl.diff("projected alpha (rel)", 2.5e-7, pa_vf / pa_v, 1);
+  dbl.diff("projected alpha (rel)", 2.5e-7, sh::msh_ggx_projected_alpha(l, a) / pa_l, 1);
+  const double r_an = sh::msh_ms_lut_roughness_anisotropic(v, l, a);
+  dbl.diff("anisotropic roughness (rel)", 1e-6,
+           r_an / std::sqrt(std::sqrt(0.5 * (pa_v * pa_v + pa_l * pa_l))), 1);
+  dbl.diff("anisotropic roughness (rel)", 1e-6,
+           r_an / ms::micro_shadowing_isotropic_roughness(x.ax, x.ay, x.v, x.l), 1);
+  if (length(vd) > 0) dbl.diff("G1", 5e-7, sh::msh_ggx_g1_projected(v, pa_vf), ref_g1(vd, pa_v));
+}
+
+// The estimator's error against the exact term, summed over the records where it is computed.
+struct QmcError {
+  double sum = 0;
+  int n = 0;
+};
+
+// The VNDF sampler (vs C++ float; vs double where the float algorithm is conditioned: alpha >= 0.01,
+// u.y < 1 - 1e-4), the generic term's sample (finite; its weight and decisions vs C++ float and double) and
+// the estimator (the same Sobol points as C++: 2/n, a flipped decision; vs the exact term its QMC error).
+void sampler(const Record& x, std::size_t i, Family& smp, QmcError& qmc) {
+  constexpr int n_est = 128;
+  const float3 v = f3(x.v), l = f3(x.l);
+  const float2 a(x.ax, x.ay), u(x.u1, x.u2);
+  const GGX<float> ggx(x.ax, x.ay);
+  const float vis = x.vis, nl = x.nl, pa_vf = sh::msh_ggx_projected_alpha(v, a);
+  const Vec3d vd(x.v), ld(x.l);
+  const float3 m = sh::msh_ggx_sample_vndf(v, a, u);
+  const Vec3d mf(ggx.Sample_wm(x.v, Vec2f(u.x, u.y)));
+  smp.max("m vs C++ float", 5e-6, length(d3(m) - mf));
+  if (std::min(x.ax, x.ay) >= 0.01f && x.u2 < 1 - 1e-4f)
+    smp.max("m vs double", 1e-5, length(d3(m) - GGX<double>(x.ax, x.ay).Sample_wm(vd, Vec2d(u.x, u.y))));
+  const float c = sh::msh_ms_cone_cos(vis);
+  float hc[3], un[3];  // cone, hemisphere, weight
+  sh::msh_ms_generic_vndf_sample(c, a, v, l, u, true, hc[0], hc[1], hc[2]);
+  sh::msh_ms_generic_vndf_sample_isotropic(c, x.ax, v, l, u, false, un[0], un[1], un[2]);
+  for (float o : {m.x, m.y, m.z, hc[0], hc[1], hc[2], un[0], un[1], un[2]})
+    smp.count("not finite", 0, !std::isfinite(o));
+  const auto c_hc = ms::generic_vndf_sample(c, ggx, x.v, x.l, Vec2f(u.x, u.y), G2Form::HeightCorrelated);
+  const auto c_un =
+      ms::generic_vndf_sample(c, GGX<float>(x.ax), x.v, x.l, Vec2f(u.x, u.y), G2Form::Uncorrelated);
+  if (std::abs(length(ld) - 1) > 1e-5 || std::abs(length(vd) - 1) > 1e-5) return;
+  const double pa_v = ref_projected_alpha(vd, x.ax, x.ay), pa_l = ref_projected_alpha(ld, x.ax, x.ay);
+  const double gl = ref_g1(ld, pa_l), gv = ref_g1(vd, pa_v), cos_t = std::sqrt(1 - sat(vis));
+  if (hc[2] != 0 && c_hc.weight != 0) {
+    smp.diff("weight vs C++ float", 1e-6, hc[2], c_hc.weight);
+    smp.diff("weight vs double", 1e-6, hc[2], gl / (gl + gv - gl * gv));
   }
-  smp.at_least("estimates vs exact", 300, qmc_n);
-  smp.max("mean estimate vs exact", 0.01, qmc_sum / qmc_n);
+  const float g2 = sh::msh_ms_smith_g2_over_g1(sh::msh_ggx_g1_projected(l, sh::msh_ggx_projected_alpha(l, a)),
+                                               sh::msh_ggx_g1_projected(v, pa_vf), false);
+  smp.diff("weight vs C++ float", 1e-6, g2, ms::smith_g2_over_g1(ggx, x.v, x.l, G2Form::Uncorrelated));
+  smp.diff("weight vs double", 1e-6, g2, gl);
+  // Decisions agree where the sample is not within 1e-4 of a threshold (the sampler's precision).
+  if (std::min({std::abs(dot(mf, ld) - cos_t), std::abs(mf.z - cos_t), std::abs(dot(mf, ld)),
+                std::abs(mf.z)}) > 1e-4) {
+    smp.at_least("decisions checked", 3000, true);
+    smp.count("decision mismatches", 0,
+              (hc[0] != 0) != (c_hc.cone != 0) || (hc[1] != 0) != (c_hc.hemisphere != 0) ||
+                  (un[0] != 0) != (c_un.cone != 0) || (un[1] != 0) != (c_un.hemisphere != 0));
+  }
+  if (!(x.v.z > 0 && vis >= 0 && vis <= 1 && nl == x.l.z)) return;
+  const float est = sh::msh_ms_generic_vndf_estimate(vis, a, v, l, n_est, true, 1u);
+  smp.diff("estimate vs C++ float", 2.0 / n_est, est,
+           ms::generic_vndf_estimate(vis, ggx, x.v, x.l, n_est, G2Form::HeightCorrelated, 1));
+  smp.diff("estimate vs C++ float", 2.0 / n_est,
+           sh::msh_ms_generic_vndf_estimate(vis, float2(x.ax), v, l, n_est, false, 0u),
+           ms::generic_vndf_estimate(vis, GGX<float>(x.ax), x.v, x.l, n_est, G2Form::Uncorrelated, 0));
+  if (i % 8 == 0 && x.ax >= 0.01 && x.ay >= 0.01) {  // the exact term costs ~20 us
+    const double e = std::abs(est - ms::generic_vndf_exact(vis, x.ax, x.ay, vd, ld));
+    smp.max("estimate vs exact (QMC)", 0.1, e);
+    qmc.sum += e, ++qmc.n;
+  }
+}
+
+// The seed tables (3D, 2D, azimuth-aware) as the prelude's texture views.
+struct SeedTables {
+  const Luts& L = luts();
+  const Tex plain{L.plain}, az{L.azimuth}, two_d{L.two_d};
+};
+
+// The seed tables: the prelude's exact float filter (lerps) vs the C++ sampler's 8-tap sum.
+void seed_luts(const std::vector<Record>& recs, const SeedTables& S, Family& lut_f) {
+  const Luts& L = S.L;
   for (const Record& x : recs) {
-    // The seed tables: the prelude's exact float filter (lerps) vs the C++ sampler's 8-tap sum.
     const float l3 = lut::sample_micro_shadowing(L.plain_v, x.vis, x.nl, x.nv, x.roughness);
     const float g[3] = {
-        sh::msh_ms_lut_sample(plain.t3(), x.vis, x.nl, x.nv, x.roughness),
-        sh::msh_ms_lut_sample_2d(two_d.t2(), x.vis, x.nl, x.roughness),
-        sh::msh_ms_lut_sample_azimuth(az.t3(), kHarmonics, x.vis, x.nl, x.nv, x.roughness, x.cos_phi)};
+        sh::msh_ms_lut_sample(S.plain.t3(), x.vis, x.nl, x.nv, x.roughness),
+        sh::msh_ms_lut_sample_2d(S.two_d.t2(), x.vis, x.nl, x.roughness),
+        sh::msh_ms_lut_sample_azimuth(S.az.t3(), kHarmonics, x.vis, x.nl, x.nv, x.roughness, x.cos_phi)};
     lut_f.diff("3D", 1e-6, g[0], l3);
     lut_f.diff("3D", 1e-6,
-               sh::msh_ms_lut_sample_azimuth(plain.t3(), 0, x.vis, x.nl, x.nv, x.roughness, x.cos_phi), l3);
-    const float4 ch = sh::msh_ms_lut_fetch(plain.t3(), x.vis, x.nl, x.nv);
+               sh::msh_ms_lut_sample_azimuth(S.plain.t3(), 0, x.vis, x.nl, x.nv, x.roughness, x.cos_phi), l3);
+    const float4 ch = sh::msh_ms_lut_fetch(S.plain.t3(), x.vis, x.nl, x.nv);
     if (!ms::exact_zero(x.vis, x.nl))
       lut_f.diff("3D", 1e-6, sh::msh_ms_lut_roughness(ch, x.roughness, float4(0.1f, 0.4f, 0.7f, 1.0f), 4),
                  l3);
@@ -184,30 +198,44 @@ TEST(ShaderPortableCpp, MicroShadowing) {
     lut_f.count("early-outs not exactly 0", 0,
                 ms::exact_zero(x.vis, x.nl) && (g[0] != 0 || g[1] != 0 || g[2] != 0));
   }
-  // The cone-layout (default) tables; bound: docs/shaders.md's for the cone samplers.
+}
+
+// The cone-layout (default) tables as the prelude's texture views; sample(h < 0, ...) the 3D table, h >= 0
+// the azimuth-aware one with h harmonics.
+struct ConeTables {
   const ConeLuts& C = cone_luts();
-  const Tex cplain(C.plain), caz(C.azimuth);
+  const Tex plain{C.plain}, az{C.azimuth};
+  float sample(int h, float vis, float nl, float nv, float r, float cp) const {
+    return h < 0 ? sh::msh_ms_lut_sample_cone(plain.t3(), C.n_rough, vis, nl, nv, r)
+                 : sh::msh_ms_lut_sample_cone_azimuth(az.t3(), C.n_rough, h, vis, nl, nv, r, cp);
+  }
+};
+
+// The cone-layout samplers vs the C++ sampler; bound: docs/shaders.md's for the cone samplers.
+void cone_luts_check(const ConeTables& T, Family& lut_f) {
+  const ConeLuts& C = T.C;
   lut::MicroShadowingLutView az1 = C.azimuth_v;
   az1.harmonics = 1;
-  const auto cone = [&](int h, float vis, float nl, float nv, float r, float cp) {
-    return h < 0 ? sh::msh_ms_lut_sample_cone(cplain.t3(), C.n_rough, vis, nl, nv, r)
-                 : sh::msh_ms_lut_sample_cone_azimuth(caz.t3(), C.n_rough, h, vis, nl, nv, r, cp);
-  };
   for (const ConeRecord& x : make_cone_records()) {
-    const float g[3] = {cone(-1, x.vis, x.nl, x.nv, x.roughness, 0),
-                        cone(3, x.vis, x.nl, x.nv, x.roughness, x.cos_phi),
-                        cone(1, x.vis, x.nl, x.nv, x.roughness, x.cos_phi)};
+    const float g[3] = {T.sample(-1, x.vis, x.nl, x.nv, x.roughness, 0),
+                        T.sample(3, x.vis, x.nl, x.nv, x.roughness, x.cos_phi),
+                        T.sample(1, x.vis, x.nl, x.nv, x.roughness, x.cos_phi)};
     lut_f.diff("cone", 1e-5, g[0], lut::sample_micro_shadowing(C.plain_v, x.vis, x.nl, x.nv, x.roughness));
     lut_f.diff("cone", 1e-5, g[1],
                lut::sample_micro_shadowing_azimuth(C.azimuth_v, x.vis, x.nl, x.nv, x.roughness, x.cos_phi));
     lut_f.diff("cone", 1e-5, g[2],
                lut::sample_micro_shadowing_azimuth(az1, x.vis, x.nl, x.nv, x.roughness, x.cos_phi));
-    lut_f.diff("cone", 1e-5, sh::msh_ms_lut_fetch_cone(caz.t3(), C.n_rough, x.vis, x.nl, x.nv, x.roughness).w,
+    lut_f.diff("cone", 1e-5,
+               sh::msh_ms_lut_fetch_cone(T.az.t3(), C.n_rough, x.vis, x.nl, x.nv, x.roughness).w,
                lut::fetch_cone(C.azimuth_v, x.vis, x.nl, x.nv, x.roughness)[3]);
     const bool zero = ms::exact_zero(x.vis, x.nl);
     lut_f.count("early-outs not exactly 0", 0, zero && (g[0] != 0 || g[1] != 0 || g[2] != 0));
   }
-  // NaN vis, N.L, N.V -> 0, roughness -> the first knot (0.1), cos phi -> -1.
+}
+
+// NaN vis, N.L, N.V -> 0, roughness -> the first knot (0.1), cos phi -> -1.
+void nan_clamps(const std::vector<Record>& recs, const SeedTables& S, const ConeTables& T, Family& same,
+                Family& lut_f) {
   for (std::size_t i = 0; i < recs.size(); i += 64) {
     const Record& x = recs[i];
     for (auto f : {sh::msh_ms_reference_step, sh::msh_ms_brinck_maximov2016, sh::msh_ms_chan2018,
@@ -220,12 +248,36 @@ TEST(ShaderPortableCpp, MicroShadowing) {
     lut_f.count("NaN not at the lower bound", 0,
                 nan_clamp_violations(
                     [&](float p, float q, float r, float t, float cp) {
-                      return sh::msh_ms_lut_sample(plain.t3(), p, q, r, t) +
-                             sh::msh_ms_lut_sample_azimuth(az.t3(), kHarmonics, p, q, r, t, cp) +
-                             cone(3, p, q, r, t, cp);
+                      return sh::msh_ms_lut_sample(S.plain.t3(), p, q, r, t) +
+                             sh::msh_ms_lut_sample_azimuth(S.az.t3(), kHarmonics, p, q, r, t, cp) +
+                             T.sample(3, p, q, r, t, cp);
                     },
                     {x.vis, x.nl, x.nv, x.roughness, x.cos_phi}, {0, 0, 0, 0.1f, -1}));
   }
+}
+
+}  // namespace ms_checks
+}  // namespace
+
+TEST(ShaderPortableCpp, MicroShadowing) {
+  using namespace ms_checks;
+  const std::vector<Record> recs = make_records();
+  const SeedTables seed;
+  // Bounds: shaders/portable/micro_shadowing.h, each function's comment. (Families print in reverse order.)
+  Family lut_f{"LUT samplers vs the C++ sampler"}, smp{"VNDF sampling and GenericM_m"},
+      dbl{"micro-shadowing vs double"},
+      same{"closed forms, cone cos, early-out, azimuth cos, projected alpha, Sobol vs C++ float"};
+  QmcError qmc;
+  for (std::size_t i = 0; i < recs.size(); ++i) {
+    closed_forms(recs[i], same, dbl);
+    sampler(recs[i], i, smp, qmc);
+  }
+  smp.at_least("estimates vs exact", 300, qmc.n);
+  smp.max("mean estimate vs exact", 0.01, qmc.sum / qmc.n);
+  seed_luts(recs, seed, lut_f);
+  const ConeTables cone;
+  cone_luts_check(cone, lut_f);
+  nan_clamps(recs, seed, cone, same, lut_f);
 }
 
 TEST(ShaderPortableCpp, Fit) {
