@@ -137,6 +137,69 @@ G2Kind parse_g2(const std::string& s) {
       s));
 }
 
+// ndf_G2: without m the height-correlated G2(wo, wi); with m the chosen form at that microfacet normal.
+auto ndf_G2(const std::string& ndf, pyb::handle wo, pyb::handle wi, pyb::handle wm, const std::string& form,
+            const std::string& lambda_phi, pyb::handle alpha, pyb::handle alpha_y, double gamma) {
+  const G2Kind kind = parse_g2(form);
+  const bool van = lambda_phi == "van-ginneken";
+  if (!van && lambda_phi != "ashikhmin")
+    throw InputError(fmt::format("lambda_phi must be ashikhmin or van-ginneken; got '{}'", lambda_phi));
+  if (wm.is_none() && kind != G2Kind::HeightCorrelated)
+    throw pyb::value_error(fmt::format("form '{}' needs the microfacet normal m", form));
+  const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
+  std::vector<ArgSpec> args = {{wo, "wo", 3, Domain::Direction},
+                               {wi, "wi", 3, Domain::Direction},
+                               {alpha, "alpha", 0, Domain::Checked}};
+  if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
+  const std::size_t im = args.size();
+  if (!wm.is_none()) args.push_back({wm, "m", 3, Domain::Direction});
+  const Broadcast b = broadcast(args);
+  return map_scalar(b, [&](const auto& r, std::size_t i) {
+    const auto [ax, ay] = alphas(a, r, i, 2, 3);
+    const Vec3d o = r.vec(0, i), l = r.vec(1, i);
+    return with_ndf(a, ax, ay, [&](const auto& d) -> double {
+      if (wm.is_none()) return d.G2(o, l);
+      const Vec3d h = r.vec(im, i);
+      const auto lam = [van](double p) { return van ? lambda_van_ginneken(p) : lambda_ashikhmin(p); };
+      switch (kind) {
+        case G2Kind::HeightCorrelated:
+          return G2_height_correlated(d, o, l, h);
+        case G2Kind::Separable:
+          return G2_separable(d, o, l, h);
+        case G2Kind::DirectionCorrelated:
+          return G2_direction_correlated(d, o, l, h, lam);
+        default:
+          return G2_height_direction_correlated(d, o, l, h, lam);
+      }
+    });
+  });
+}
+
+// sample_vndf: GGX (spherical caps or Heitz 2018) or Beckmann visible normals from uniform numbers.
+auto sample_vndf(const std::string& ndf, pyb::handle w, pyb::handle u, pyb::handle alpha, pyb::handle alpha_y,
+                 const std::string& sampler) {
+  const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, 2.0);
+  if (a.ndf != Ndf::Ggx && a.ndf != Ndf::Beckmann)
+    throw InputError(fmt::format("sample_vndf: ndf must be ggx or beckmann; got '{}'", ndf));
+  const bool heitz = sampler == "heitz-2018";
+  if (!heitz && sampler != "spherical-caps")
+    throw InputError(fmt::format("sampler must be spherical-caps or heitz-2018; got '{}'", sampler));
+  if (heitz && a.ndf != Ndf::Ggx) throw InputError("sampler heitz-2018 is GGX only");
+  // u: (..., 2) uniform numbers in [0, 1)
+  std::vector<ArgSpec> args = {
+      {w, "w", 3, Domain::Direction}, {u, "u", 2, Domain::Uniform}, {alpha, "alpha", 0, Domain::Checked}};
+  if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
+  const Broadcast b = broadcast(args);
+  return map_vec3(b, [&](const auto& r, std::size_t i) -> Vec3d {
+    const auto [ax, ay] = alphas(a, r, i, 2, 3);
+    const Vec3d v = r.vec(0, i);
+    const Vec2d uv(r(1, i, 0), r(1, i, 1));
+    if (a.ndf == Ndf::Beckmann) return Beckmann<double>(ax, ay).Sample_wm(v, uv);
+    const GGX<double> g(ax, ay);
+    return heitz ? g.sample_vndf_heitz2018(v, uv) : g.sample_vndf_spherical_caps(v, uv);
+  });
+}
+
 }  // namespace
 
 void register_microfacet(pyb::module_& m) {
@@ -173,44 +236,7 @@ void register_microfacet(pyb::module_& m) {
        common)
           .c_str());
   m.def(
-      "ndf_G2",
-      [](const std::string& ndf, pyb::handle wo, pyb::handle wi, pyb::handle wm, const std::string& form,
-         const std::string& lambda_phi, pyb::handle alpha, pyb::handle alpha_y, double gamma) {
-        const G2Kind kind = parse_g2(form);
-        const bool van = lambda_phi == "van-ginneken";
-        if (!van && lambda_phi != "ashikhmin")
-          throw InputError(fmt::format("lambda_phi must be ashikhmin or van-ginneken; got '{}'", lambda_phi));
-        if (wm.is_none() && kind != G2Kind::HeightCorrelated)
-          throw pyb::value_error(fmt::format("form '{}' needs the microfacet normal m", form));
-        const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, gamma);
-        std::vector<ArgSpec> args = {{wo, "wo", 3, Domain::Direction},
-                                     {wi, "wi", 3, Domain::Direction},
-                                     {alpha, "alpha", 0, Domain::Checked}};
-        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
-        const std::size_t im = args.size();
-        if (!wm.is_none()) args.push_back({wm, "m", 3, Domain::Direction});
-        const Broadcast b = broadcast(args);
-        return map_scalar(b, [&](const auto& r, std::size_t i) {
-          const auto [ax, ay] = alphas(a, r, i, 2, 3);
-          const Vec3d o = r.vec(0, i), l = r.vec(1, i);
-          return with_ndf(a, ax, ay, [&](const auto& d) -> double {
-            if (wm.is_none()) return d.G2(o, l);
-            const Vec3d h = r.vec(im, i);
-            const auto lam = [van](double p) { return van ? lambda_van_ginneken(p) : lambda_ashikhmin(p); };
-            switch (kind) {
-              case G2Kind::HeightCorrelated:
-                return G2_height_correlated(d, o, l, h);
-              case G2Kind::Separable:
-                return G2_separable(d, o, l, h);
-              case G2Kind::DirectionCorrelated:
-                return G2_direction_correlated(d, o, l, h, lam);
-              default:
-                return G2_height_direction_correlated(d, o, l, h, lam);
-            }
-          });
-        });
-      },
-      "ndf"_a, "wo"_a, "wi"_a, "m"_a = pyb::none(), "form"_a = "height-correlated",
+      "ndf_G2", &ndf_G2, "ndf"_a, "wo"_a, "wi"_a, "m"_a = pyb::none(), "form"_a = "height-correlated",
       "lambda_phi"_a = "ashikhmin", "alpha"_a = 0.5, "alpha_y"_a = pyb::none(), "gamma"_a = 2.0,
       (std::string("Smith masking-shadowing G2(wo, wi[, m]). form: 'height-correlated' (RTR4 eq. 9.31; "
                    "without m: no chi+ factors), 'separable' (9.27), 'direction-correlated' (9.28), "
@@ -230,36 +256,12 @@ void register_microfacet(pyb::module_& m) {
                    "solid-angle pdf of sample_vndf.") +
        common)
           .c_str());
-  m.def(
-      "sample_vndf",
-      [](const std::string& ndf, pyb::handle w, pyb::handle u, pyb::handle alpha, pyb::handle alpha_y,
-         const std::string& sampler) {
-        const NdfArgs a = prepare_ndf(ndf, alpha, alpha_y, 2.0);
-        if (a.ndf != Ndf::Ggx && a.ndf != Ndf::Beckmann)
-          throw InputError(fmt::format("sample_vndf: ndf must be ggx or beckmann; got '{}'", ndf));
-        const bool heitz = sampler == "heitz-2018";
-        if (!heitz && sampler != "spherical-caps")
-          throw InputError(fmt::format("sampler must be spherical-caps or heitz-2018; got '{}'", sampler));
-        if (heitz && a.ndf != Ndf::Ggx) throw InputError("sampler heitz-2018 is GGX only");
-        // u: (..., 2) uniform numbers in [0, 1)
-        std::vector<ArgSpec> args = {
-            {w, "w", 3, Domain::Direction}, {u, "u", 2, Domain::Uniform}, {alpha, "alpha", 0, Domain::Checked}};
-        if (a.has_alpha_y) args.push_back({alpha_y, "alpha_y", 0, Domain::Checked});
-        const Broadcast b = broadcast(args);
-        return map_vec3(b, [&](const auto& r, std::size_t i) -> Vec3d {
-          const auto [ax, ay] = alphas(a, r, i, 2, 3);
-          const Vec3d v = r.vec(0, i);
-          const Vec2d uv(r(1, i, 0), r(1, i, 1));
-          if (a.ndf == Ndf::Beckmann) return Beckmann<double>(ax, ay).Sample_wm(v, uv);
-          const GGX<double> g(ax, ay);
-          return heitz ? g.sample_vndf_heitz2018(v, uv) : g.sample_vndf_spherical_caps(v, uv);
-        });
-      },
-      "ndf"_a, "w"_a, "u"_a, "alpha"_a = 0.5, "alpha_y"_a = pyb::none(), "sampler"_a = "spherical-caps",
-      "Samples visible normals m ~ D_w(m) for view direction w (shape (..., 3)) from uniform numbers u "
-      "(shape (..., 2), in [0, 1)); returns unit normals, shape (..., 3). ndf: 'ggx' (sampler "
-      "'spherical-caps', Dupuy & Benyoub 2023, or 'heitz-2018', Heitz 2018) or 'beckmann'. alpha, alpha_y "
-      "as for ndf_D (broadcast).");
+  m.def("sample_vndf", &sample_vndf, "ndf"_a, "w"_a, "u"_a, "alpha"_a = 0.5, "alpha_y"_a = pyb::none(),
+        "sampler"_a = "spherical-caps",
+        "Samples visible normals m ~ D_w(m) for view direction w (shape (..., 3)) from uniform numbers u "
+        "(shape (..., 2), in [0, 1)); returns unit normals, shape (..., 3). ndf: 'ggx' (sampler "
+        "'spherical-caps', Dupuy & Benyoub 2023, or 'heitz-2018', Heitz 2018) or 'beckmann'. alpha, alpha_y "
+        "as for ndf_D (broadcast).");
 }
 
 }  // namespace msh::py
