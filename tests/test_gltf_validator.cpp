@@ -73,20 +73,8 @@ std::vector<unsigned char> bytes(const fs::path& p) {
 
 double q8(double x) { return std::round(std::clamp(x, 0.0, 1.0) * 255) / 255; }
 
-TEST(GltfExport, GenMaterialAssetValidatesAndDecodes) {
-  MSH_REQUIRE_BROWSER(missing_validator());
-  const fs::path dir = scratch_dir("gltf");
-  const fs::path mat = dir / "plaster";
-  const auto r = run_cli(
-      "gen-material --kind plaster --size 64 --directional-view --gltf --no-mips --out " + mat.string(), dir);
-  ASSERT_EQ(r.code, 0) << r.err;
-  const fs::path g = mat / "gltf" / "material.gltf";
-  ASSERT_TRUE(fs::is_regular_file(g));
-  // No temporary directory left beside it.
-  for (const auto& e : fs::directory_iterator(mat))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
-  const json report = validate(g, dir);
-  expect_clean(report, 6, 3);
+// The validator's report, printed.
+void print_report(const json& report) {
   std::printf(
       "gltf-validator %s on gen-material --gltf (plaster 64, 21 channels): %d errors, %d warnings, %d infos, "
       "%d hints\n",
@@ -96,9 +84,17 @@ TEST(GltfExport, GenMaterialAssetValidatesAndDecodes) {
   for (const auto& m : report["issues"]["messages"])
     std::printf("  %s %s: %s\n", m["code"].get<std::string>().c_str(), m.value("pointer", "").c_str(),
                 m["message"].get<std::string>().c_str());
+}
 
-  // The extension against the texture set.
-  const json j = json::parse(slurp(g));
+// Texture `texture` of asset j (in MAT/gltf) decoded.
+io::Volume gltf_image(const json& j, const fs::path& mat, int texture) {
+  const int src = j["textures"][texture]["source"];
+  return io::read_image(mat / "gltf" / j["images"][src]["uri"].get<std::string>());
+}
+
+// The extension against the texture set (MAT/directional.npy): the identity code of the 21 channels, their
+// ranges, and six coefficient PNGs holding each channel's UNORM8 quantisation between its range.
+void check_extension(const json& j, const fs::path& mat) {
   const auto& ext = j["materials"][0]["extensions"][render::kGltfDirectionalExtension];
   EXPECT_EQ(j["extensionsUsed"], json::array({render::kGltfDirectionalExtension}));
   EXPECT_FALSE(j.contains("extensionsRequired"));
@@ -119,14 +115,10 @@ TEST(GltfExport, GenMaterialAssetValidatesAndDecodes) {
     EXPECT_EQ(ext["mean"][i].get<double>(), 0.0);
     for (int k = 0; k < 21; ++k) EXPECT_EQ(ext["basis"][i][k].get<double>(), i == k ? 1.0 : 0.0);
   }
-  const auto image = [&](int texture) {
-    const int src = j["textures"][texture]["source"];
-    return io::read_image(mat / "gltf" / j["images"][src]["uri"].get<std::string>());
-  };
   double dir_err = 0;
   for (int t = 0; t < 6; ++t) {
     EXPECT_EQ(ext["textures"][t]["index"], 3 + t);
-    const io::Volume im = image(ext["textures"][t]["index"]);
+    const io::Volume im = gltf_image(j, mat, ext["textures"][t]["index"]);
     ASSERT_EQ(im.channels, 4);
     ASSERT_EQ(im.width, c.width);
     for (int y = 0; y < c.height; ++y)
@@ -141,17 +133,21 @@ TEST(GltfExport, GenMaterialAssetValidatesAndDecodes) {
   }
   // One step at most: the writer rounds in float, this check in double (a tie may round either way).
   EXPECT_LE(dir_err, 1.01 / 255) << "a coefficient PNG differs from the channels' UNORM8 quantisation";
-  // Core maps: the normal's green flipped (glTF: +Y up the image), ORM = (V, roughness, metallic).
+}
+
+// Core maps: the normal's green flipped (glTF: +Y up the image), ORM = (V, roughness, metallic).
+void check_core_maps(const json& j, const fs::path& mat) {
   const auto& m = j["materials"][0];
-  const io::Volume nrm = image(m["normalTexture"]["index"]), src_n = io::read_image(mat / "normal.png");
+  const io::Volume nrm = gltf_image(j, mat, m["normalTexture"]["index"]),
+                   src_n = io::read_image(mat / "normal.png");
   const int orm_index = m["occlusionTexture"]["index"];
   EXPECT_EQ(m["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"], orm_index);
-  const io::Volume orm = image(orm_index), vis = io::read_image(mat / "micro_occlusion.png"),
+  const io::Volume orm = gltf_image(j, mat, orm_index), vis = io::read_image(mat / "micro_occlusion.png"),
                    rough = io::read_image(mat / "roughness.png"),
                    metal = io::read_image(mat / "metallic.png");
   double n_err = 0, orm_err = 0;
-  for (int y = 0; y < c.height; ++y)
-    for (int x = 0; x < c.width; ++x) {
+  for (int y = 0; y < src_n.height; ++y)
+    for (int x = 0; x < src_n.width; ++x) {
       n_err = std::max({n_err, std::abs(nrm.at(x, y, 0, 0) - q8(src_n.at(x, y, 0, 0))),
                         std::abs(nrm.at(x, y, 0, 1) - q8(1 - src_n.at(x, y, 0, 1))),
                         std::abs(nrm.at(x, y, 0, 2) - q8(src_n.at(x, y, 0, 2)))});
@@ -162,7 +158,10 @@ TEST(GltfExport, GenMaterialAssetValidatesAndDecodes) {
   // The texture set's normal.png is 16-bit: its rounding and the writer's 8 bits differ by one step at most.
   EXPECT_LE(n_err, 1.01 / 255) << "normal.png is not the texture set's with green flipped";
   EXPECT_LE(orm_err, 1e-6) << "orm.png is not (V, roughness, metallic)";
-  // The plane: bitangent cross(N, T) w toward −v (glTF), u along +x, v along +z.
+}
+
+// The plane: bitangent cross(N, T) w toward −v (glTF), u along +x, v along +z.
+void check_plane_frame(const json& j, const fs::path& mat) {
   const auto bin = bytes(mat / "gltf" / "material.bin");
   ASSERT_EQ(bin.size(), j["buffers"][0]["byteLength"].get<std::size_t>());
   const auto floats = [&](int accessor) {
@@ -185,7 +184,27 @@ TEST(GltfExport, GenMaterialAssetValidatesAndDecodes) {
       EXPECT_EQ(U[2 * k + 1] - U[2 * i + 1] > 0, P[3 * k + 2] - P[3 * i + 2] > 0);
     }
   }
+}
 
+TEST(GltfExport, GenMaterialAssetValidatesAndDecodes) {
+  MSH_REQUIRE_BROWSER(missing_validator());
+  const fs::path dir = scratch_dir("gltf");
+  const fs::path mat = dir / "plaster";
+  const auto r = run_cli(
+      "gen-material --kind plaster --size 64 --directional-view --gltf --no-mips --out " + mat.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path g = mat / "gltf" / "material.gltf";
+  ASSERT_TRUE(fs::is_regular_file(g));
+  // No temporary directory left beside it.
+  for (const auto& e : fs::directory_iterator(mat))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  const json report = validate(g, dir);
+  expect_clean(report, 6, 3);
+  print_report(report);
+  const json j = json::parse(slurp(g));
+  ASSERT_NO_FATAL_FAILURE(check_extension(j, mat));
+  check_core_maps(j, mat);
+  ASSERT_NO_FATAL_FAILURE(check_plane_frame(j, mat));
   // The check can fail: a copy whose accessor reads past its buffer view.
   json broken = j;
   broken["accessors"][0]["count"] = 40;
@@ -293,8 +312,7 @@ TEST(GltfExport, GenMaterialCompactFormIsTheMipsCode) {
   for (const char* k : {"lo", "hi", "mean", "basis"}) EXPECT_EQ(ext[k], dc[k]) << k;
   ASSERT_EQ(ext["textures"].size(), 2u);
   for (int t = 0; t < 2; ++t) {
-    const int src = g["textures"][ext["textures"][t]["index"].get<int>()]["source"];
-    const io::Volume a = io::read_image(mat / "gltf" / g["images"][src]["uri"].get<std::string>());
+    const io::Volume a = gltf_image(g, mat, ext["textures"][t]["index"]);
     const io::Volume b = io::read_image(mat / ("directional_compact_" + std::to_string(t) + ".png"));
     ASSERT_EQ(a.width, b.width);
     ASSERT_EQ(a.height, b.height);
