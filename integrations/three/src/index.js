@@ -480,9 +480,8 @@ export function addMicroShadowingToScene(root, options = {}) {
   return { patched, skipped };
 }
 
-function patch(material, { cfg, visSource, lobes, luts, dir }) {
-  const { method, aoOnIndirect, debug, areaLights } = cfg;
-  const uniforms = materialUniforms(material);
+// Sets the patched material's uniforms from the resolved options.
+function setUniforms(uniforms, { cfg, visSource, luts, dir }) {
   uniforms.msh_enabled.value = true;
   uniforms.u_samples.value = cfg.samples;
   uniforms.msh_debug_mode.value = 0;
@@ -502,39 +501,17 @@ function patch(material, { cfg, visSource, lobes, luts, dir }) {
     uniforms[`${u}_slabs`].value = L.slabs;
     if (k === 'lut_azimuth') uniforms.u_lut_az_harmonics.value = L.harmonics;
   }
+}
 
-  // The material's own hooks (not three's defaults) are kept: called first, and part of the cache key.
-  const proto = Object.getPrototypeOf(material);
-  const previous = material.onBeforeCompile, previousKey = material.customProgramCacheKey;
-  const userCompile = previous !== proto.onBeforeCompile ? previous : null;
-  const userKey = previousKey !== proto.customProgramCacheKey ? previousKey : null;
-  const patches = (PATCHES.get(material) ?? 0) + 1;
-  PATCHES.set(material, patches);
-  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}${dir ? `:dir${dir.textures}${dir.identity ? 'i' : 'b'}` : ''}${areaLights === 'center' ? ':area-center' : ''}${patches > 1 ? `:patch${patches}` : ''}`;
-  // With debug the switch stays a uniform (the debug outputs read the inputs with micro-shadowing off too).
-  const offProgram = () => !debug && !uniforms.msh_enabled.value;
-  material.onBeforeCompile = function (shader, renderer) {
-    if (userCompile) userCompile.call(this, shader, renderer);
-    Object.assign(shader.uniforms, uniforms);
-    let fs = shader.fragmentShader;
-    // Off (handle.enabled = false, without debug): three's own shader, nothing of the module in it (a program
-    // of its own, compiled at the first switch: a branch on the uniform before the form factor did not save
-    // the work under SwiftShader, docs/three.md "Cost").
-    if (offProgram()) {
-      if (!aoOnIndirect) shader.fragmentShader = replaceOnce(fs, '#include <aomap_fragment>', '// microshadow: aoOnIndirect = false, three\'s AO on indirect light left out', 'fragment');
-      return;
-    }
-    fs = replaceOnce(fs, '#include <lights_physical_pars_fragment>',
-      `#include <lights_physical_pars_fragment>\n${debug ? '#define MSH_DEBUG\n' : ''}${parsBlock(lobes, luts, debug, visSource, dir, areaLights)}`, 'fragment');
-    if (dir) fs = replaceOnce(fs, '#include <normal_fragment_maps>', '#include <normal_fragment_maps>\n\tmsh_dir_setup( - vViewPosition, nonPerturbedNormal, normal, vMshDirUv );', 'fragment');
-    const vis = visSource === 'aoMap'
-      ? '#ifdef USE_AOMAP\n\tmsh_vis = ( texture2D( aoMap, vAoMapUv ).r - 1.0 ) * aoMapIntensity + 1.0;\n#endif'
-      : visSource === 'map' ? '\tmsh_vis = texture2D( msh_visibility_map, vMshVisUv ).r;'
-      : visSource === 'none' ? '\tmsh_vis = 1.0;' : '\tmsh_vis = msh_visibility;';
-    fs = replaceOnce(fs, '#include <lights_fragment_begin>', `${vis}\n\tmsh_vis = clamp( msh_vis, 0.0, 1.0 );\n#include <lights_fragment_begin>`, 'fragment');
-    if (!aoOnIndirect) fs = replaceOnce(fs, '#include <aomap_fragment>', '// microshadow: aoOnIndirect = false, three\'s AO on indirect light left out', 'fragment');
-    if (debug)
-      fs = replaceOnce(fs, '#include <dithering_fragment>', `#include <dithering_fragment>
+// three's AO on indirect light left out (aoOnIndirect = false).
+function withoutIndirectAo(fs) {
+  return replaceOnce(fs, '#include <aomap_fragment>', '// microshadow: aoOnIndirect = false, three\'s AO on indirect light left out', 'fragment');
+}
+
+// The debug outputs (options.debug): after dithering, gl_FragColor is the output msh_debug_mode names
+// (DEBUG_MODES); with directional channels also their inputs and frame.
+function debugOutputs(dir) {
+  return `#include <dithering_fragment>
 	if ( msh_debug_mode == 1 ) gl_FragColor = msh_dbg_inputs;
 	else if ( msh_debug_mode == 2 ) gl_FragColor = msh_dbg_terms;
 	else if ( msh_debug_mode == 3 ) gl_FragColor = msh_dbg_v;
@@ -554,26 +531,43 @@ ${Array.from({ length: dir.textures }, (_, t) => `	else if ( msh_debug_mode == $
 	else if ( msh_debug_mode == 27 ) gl_FragColor = vec4( vMshDirUv, 0.0, 1.0 );
 	else if ( msh_debug_mode == 28 ) gl_FragColor = vec4( msh_dir_x, 1.0 );
 	else if ( msh_debug_mode == 29 ) gl_FragColor = vec4( msh_dir_y, 1.0 );
-	else if ( msh_debug_mode == 30 ) gl_FragColor = vec4( msh_dir_z, 1.0 );` : ''}`, 'fragment');
-    shader.fragmentShader = fs;
-    if (visSource === 'map' || dir) {
-      let vs = shader.vertexShader;
-      const decl = [], set = [];
-      if (visSource === 'map') {
-        decl.push('uniform mat3 msh_visibility_map_transform;\nvarying vec2 vMshVisUv;');
-        set.push('\tvMshVisUv = ( msh_visibility_map_transform * vec3( uv, 1.0 ) ).xy;');
-      }
-      if (dir) { decl.push('varying vec2 vMshDirUv;'); set.push('\tvMshDirUv = uv;'); }  // UV channel 0, no transform
-      vs = replaceOnce(vs, '#include <common>', `#include <common>\n${decl.join('\n')}`, 'vertex');
-      vs = replaceOnce(vs, '#include <uv_vertex>', `#include <uv_vertex>\n${set.join('\n')}`, 'vertex');
-      shader.vertexShader = vs;
-    }
-  };
-  material.customProgramCacheKey = function () {
-    return `${userKey ? userKey.call(this) : userCompile ? userCompile.toString() : ''}|${key}${offProgram() ? ':off' : ''}`;
-  };
-  material.needsUpdate = true;
+	else if ( msh_debug_mode == 30 ) gl_FragColor = vec4( msh_dir_z, 1.0 );` : ''}`;
+}
 
+// three's fragment shader with micro-shadowing: the module's functions after the lights' pars, the
+// directional frame after the normal maps, V before the lights, three's AO on indirect light left out
+// without aoOnIndirect, the debug outputs with debug.
+function patchFragment(fs, { lobes, luts, debug, visSource, dir, areaLights, aoOnIndirect }) {
+  fs = replaceOnce(fs, '#include <lights_physical_pars_fragment>',
+    `#include <lights_physical_pars_fragment>\n${debug ? '#define MSH_DEBUG\n' : ''}${parsBlock(lobes, luts, debug, visSource, dir, areaLights)}`, 'fragment');
+  if (dir) fs = replaceOnce(fs, '#include <normal_fragment_maps>', '#include <normal_fragment_maps>\n\tmsh_dir_setup( - vViewPosition, nonPerturbedNormal, normal, vMshDirUv );', 'fragment');
+  const vis = visSource === 'aoMap'
+    ? '#ifdef USE_AOMAP\n\tmsh_vis = ( texture2D( aoMap, vAoMapUv ).r - 1.0 ) * aoMapIntensity + 1.0;\n#endif'
+    : visSource === 'map' ? '\tmsh_vis = texture2D( msh_visibility_map, vMshVisUv ).r;'
+    : visSource === 'none' ? '\tmsh_vis = 1.0;' : '\tmsh_vis = msh_visibility;';
+  fs = replaceOnce(fs, '#include <lights_fragment_begin>', `${vis}\n\tmsh_vis = clamp( msh_vis, 0.0, 1.0 );\n#include <lights_fragment_begin>`, 'fragment');
+  if (!aoOnIndirect) fs = withoutIndirectAo(fs);
+  if (debug) fs = replaceOnce(fs, '#include <dithering_fragment>', debugOutputs(dir), 'fragment');
+  return fs;
+}
+
+// three's vertex shader with the UVs the fragment shader reads: the visibility map's (its transform) and
+// the directional channels' (UV channel 0, no transform).
+function patchVertex(vs, visSource, dir) {
+  const decl = [], set = [];
+  if (visSource === 'map') {
+    decl.push('uniform mat3 msh_visibility_map_transform;\nvarying vec2 vMshVisUv;');
+    set.push('\tvMshVisUv = ( msh_visibility_map_transform * vec3( uv, 1.0 ) ).xy;');
+  }
+  if (dir) { decl.push('varying vec2 vMshDirUv;'); set.push('\tvMshDirUv = uv;'); }  // UV channel 0, no transform
+  vs = replaceOnce(vs, '#include <common>', `#include <common>\n${decl.join('\n')}`, 'vertex');
+  vs = replaceOnce(vs, '#include <uv_vertex>', `#include <uv_vertex>\n${set.join('\n')}`, 'vertex');
+  return vs;
+}
+
+// The handle of a patched material (addMicroShadowing's comment); previous, previousKey: the material's own
+// hooks, restored by dispose().
+function makeHandle(material, { method, lobes, uniforms, dir, debug, visSource, previous, previousKey }) {
   const handle = {
     method,
     lobes,
@@ -612,6 +606,42 @@ ${Array.from({ length: dir.textures }, (_, t) => `	else if ( msh_debug_mode == $
       material.needsUpdate = true;
     },
   };
+  return handle;
+}
+
+function patch(material, { cfg, visSource, lobes, luts, dir }) {
+  const { method, aoOnIndirect, debug, areaLights } = cfg;
+  const uniforms = materialUniforms(material);
+  setUniforms(uniforms, { cfg, visSource, luts, dir });
+  // The material's own hooks (not three's defaults) are kept: called first, and part of the cache key.
+  const proto = Object.getPrototypeOf(material);
+  const previous = material.onBeforeCompile, previousKey = material.customProgramCacheKey;
+  const userCompile = previous !== proto.onBeforeCompile ? previous : null;
+  const userKey = previousKey !== proto.customProgramCacheKey ? previousKey : null;
+  const patches = (PATCHES.get(material) ?? 0) + 1;
+  PATCHES.set(material, patches);
+  const key = `msh:${method}:${visSource}:${aoOnIndirect}:${debug}${dir ? `:dir${dir.textures}${dir.identity ? 'i' : 'b'}` : ''}${areaLights === 'center' ? ':area-center' : ''}${patches > 1 ? `:patch${patches}` : ''}`;
+  // With debug the switch stays a uniform (the debug outputs read the inputs with micro-shadowing off too).
+  const offProgram = () => !debug && !uniforms.msh_enabled.value;
+  material.onBeforeCompile = function (shader, renderer) {
+    if (userCompile) userCompile.call(this, shader, renderer);
+    Object.assign(shader.uniforms, uniforms);
+    // Off (handle.enabled = false, without debug): three's own shader, nothing of the module in it (a program
+    // of its own, compiled at the first switch: a branch on the uniform before the form factor did not save
+    // the work under SwiftShader, docs/three.md "Cost").
+    if (offProgram()) {
+      if (!aoOnIndirect) shader.fragmentShader = withoutIndirectAo(shader.fragmentShader);
+      return;
+    }
+    shader.fragmentShader = patchFragment(shader.fragmentShader, { lobes, luts, debug, visSource, dir, areaLights, aoOnIndirect });
+    if (visSource === 'map' || dir) shader.vertexShader = patchVertex(shader.vertexShader, visSource, dir);
+  };
+  material.customProgramCacheKey = function () {
+    return `${userKey ? userKey.call(this) : userCompile ? userCompile.toString() : ''}|${key}${offProgram() ? ':off' : ''}`;
+  };
+  material.needsUpdate = true;
+
+  const handle = makeHandle(material, { method, lobes, uniforms, dir, debug, visSource, previous, previousKey });
   ACTIVE.set(material, { handle, cfg });
   handle.updateVisibilityTransform();
   return handle;
