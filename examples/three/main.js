@@ -26,15 +26,19 @@ async function loadTexture(url, srgb) {
   return t;
 }
 
-async function main() {
-  RectAreaLightUniformsLib.init();
+// The manifest, its tables (loadMicroShadowingLut) and the texture set's maps.
+async function loadAssets() {
   const man = await (await fetch('data/manifest.json')).json();
   const luts = {};
   for (const [k, L] of Object.entries(man.luts || {})) luts[k] = await loadMicroShadowingLut(L.url);
   const m = man.material;
   const [base, normal, rough, metal, ao] = await Promise.all([loadTexture(m.base_color, true), loadTexture(m.normal),
     loadTexture(m.roughness), m.metallic ? loadTexture(m.metallic) : null, loadTexture(m.micro_occlusion)]);
+  return { material: m, luts, maps: { base, normal, rough, metal, ao } };
+}
 
+// The renderer filling the window, the scene, the camera and its orbit controls.
+function makeView() {
   const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(1);
   renderer.setSize(window.innerWidth, window.innerHeight);
@@ -48,8 +52,12 @@ async function main() {
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.target.set(0, 0.7, 0);
   controls.update();
+  return { renderer, scene, camera, controls };
+}
 
-  // One material per object: the textures' repeat differs (texel size about equal on every surface).
+// The texture set on a plane, a sphere and a cylinder, one material per object (the textures' repeat
+// differs: texel size about equal on every surface), and the glTF model; returns every material.
+async function addObjects(scene, { base, normal, rough, metal, ao }) {
   const plasterMaterial = (rx, ry) => {
     const tex = (t) => { if (!t) return null; const c = t.clone(); c.repeat.set(rx, ry); return c; };
     return new THREE.MeshStandardMaterial({ map: tex(base), normalMap: tex(normal), roughnessMap: tex(rough),
@@ -69,8 +77,11 @@ async function main() {
   scene.add(model);
   const materials = objects.map((o) => o.material);
   model.traverse((o) => { if (o.isMesh) materials.push(o.material); });
+  return materials;
+}
 
-  // Lights: a weak sky for the indirect light (where three applies AO), and the direct light.
+// A weak sky for the indirect light (where three applies AO), and the direct lights (one shown at a time).
+function addLights(scene) {
   scene.add(new THREE.HemisphereLight(0xbfd4ff, 0x302820, 0.35));
   const sun = new THREE.DirectionalLight(0xfff1e0, 3.5);
   const point = new THREE.PointLight(0xfff1e0, 12, 0, 2);
@@ -79,6 +90,28 @@ async function main() {
   rect.add(new RectAreaLightHelper(rect));
   for (const l of [sun, point, spot, rect]) scene.add(l);
   scene.add(sun.target, spot.target);
+  return { sun, point, spot, rect };
+}
+
+// The direct lights placed for the state's elevation and azimuth; only the chosen one visible.
+function placeLights({ sun, point, spot, rect }, state) {
+  const el = THREE.MathUtils.degToRad(state.elevation), az = THREE.MathUtils.degToRad(state.azimuth);
+  const d = new THREE.Vector3(Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az));
+  sun.position.copy(d).multiplyScalar(10);
+  point.position.copy(d).multiplyScalar(3.5).add(new THREE.Vector3(0, 0.3, 0));
+  spot.position.copy(d).multiplyScalar(5);
+  spot.target.position.set(0, 0.5, 0);
+  rect.position.copy(d).multiplyScalar(3.5).add(new THREE.Vector3(0, 0.3, 0));
+  rect.lookAt(0, 0.5, 0);
+  for (const [k, l] of Object.entries({ sun, point, spot, rect })) l.visible = state.light === k;
+}
+
+async function main() {
+  RectAreaLightUniformsLib.init();
+  const { material: m, luts, maps } = await loadAssets();
+  const { renderer, scene, camera, controls } = makeView();
+  const materials = await addObjects(scene, maps);
+  const lights = addLights(scene);
 
   const state = { attached: true, method: DEFAULT_METHOD, enabled: true, ao_indirect: true, light: 'sun', elevation: 12, animate: true,
     azimuth: 40, split: false, panel: true, camera: null, target: null };
@@ -92,19 +125,8 @@ async function main() {
     handles = state.attached ? materials.map((mat) => addMicroShadowing(mat, { method: state.method, luts, aoOnIndirect: state.ao_indirect })) : [];
     for (const h of handles) h.enabled = state.enabled;
   };
-  const placeLights = () => {
-    const el = THREE.MathUtils.degToRad(state.elevation), az = THREE.MathUtils.degToRad(state.azimuth);
-    const d = new THREE.Vector3(Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az));
-    sun.position.copy(d).multiplyScalar(10);
-    point.position.copy(d).multiplyScalar(3.5).add(new THREE.Vector3(0, 0.3, 0));
-    spot.position.copy(d).multiplyScalar(5);
-    spot.target.position.set(0, 0.5, 0);
-    rect.position.copy(d).multiplyScalar(3.5).add(new THREE.Vector3(0, 0.3, 0));
-    rect.lookAt(0, 0.5, 0);
-    for (const [k, l] of Object.entries({ sun, point, spot, rect })) l.visible = state.light === k;
-  };
   const render = () => {
-    placeLights();
+    placeLights(lights, state);
     const w = renderer.domElement.width, h = renderer.domElement.height;
     if (!state.split) {
       for (const x of handles) x.enabled = state.enabled;
