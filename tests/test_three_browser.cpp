@@ -260,8 +260,6 @@ std::string docs_gltf_block(const std::string& model) {
   return block.replace(glb, 11, model);
 }
 
-Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
-
 // The C++ value of one lobe's term at a probe pixel: the point term (the registry's evaluator, at the pixel's
 // azimuth, its own v and l or in two stages as the GLSL form says), or for the rect light's 'cap' form the
 // area-light fast form over the equivalent cap (occlusion/micro_shadowing_area.h).
@@ -442,8 +440,7 @@ void check_pixel_inputs(const json& res, const ProbePixel& x, bool variant, Prob
   const double nv_scene = std::clamp(dot(x.n, -normalize(x.P)), 0.0, 1.0);
   out.scene_nv[x.type] = std::max(out.scene_nv[x.type], std::abs(x.nv - nv_scene));
   if (!x.rect) {
-    const Vec3d wl = x.type == "directional" ? normalize(vec3(lights[x.type]["direction"]))
-                                             : normalize(vec3(lights[x.type]["position"]) - x.P);
+    const Vec3d wl = light_dir(lights, x.type, x.P);
     out.scene_nl[x.type] =
         std::max(out.scene_nl[x.type], std::abs(x.nl - std::clamp(dot(x.n, wl), 0.0, 1.0)));
   } else {

@@ -42,8 +42,6 @@ namespace {
 
 constexpr int kCompactK = 8;
 
-Vec3d vec3(const json& a) { return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); }
-
 // A camera's matrixWorld as three.js gives it (column-major 4x4): view-space directions to world (its
 // rotation) and its position.
 struct CameraWorld {
@@ -250,13 +248,6 @@ const DriverRun& driver_run() {
     return out;
   }();
   return run;
-}
-
-// The direction to a light of the probe scene (view space) from a point P: a directional light's direction,
-// else towards its position.
-Vec3d light_dir(const json& lights, const std::string& type, const Vec3d& P) {
-  return type == "directional" ? normalize(vec3(lights[type]["direction"]))
-                               : normalize(vec3(lights[type]["position"]) - P);
 }
 
 // l and v in the channels' frame (x, y, z in view space) against the scene's, and the frame's normal n_t

@@ -1,6 +1,6 @@
 // The three.js browser tests' probe statistics (test_three_browser, test_three_directional_browser): per light
 // and per method lobe, the largest |three.js − C++| over the lit probe pixels, float32 and 8-bit, printed as a
-// table and written as JSON.
+// table and written as JSON; and the two helpers both read their probe scenes with.
 #pragma once
 
 #include <algorithm>
@@ -8,11 +8,24 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <microshadow/math/vec.h>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 namespace msh::test {
+
+// A 3-vector of the page's results (a JSON array of three numbers).
+inline Vec3d vec3(const nlohmann::json& a) {
+  return Vec3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+}
+
+// The direction to a light of a probe scene (view space, the page's `lights` entry of that type) from a point
+// P: a directional light's direction, else towards its position.
+inline Vec3d light_dir(const nlohmann::json& lights, const std::string& type, const Vec3d& P) {
+  return type == "directional" ? normalize(vec3(lights[type]["direction"]))
+                               : normalize(vec3(lights[type]["position"]) - P);
+}
 
 struct ProbeStat {
   double max_float = 0, max_8bit = 0;
