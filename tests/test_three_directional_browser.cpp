@@ -313,13 +313,24 @@ struct SceneProbes {
   int frame_n[3] = {0, 0, 0}, direct_n = 0;  // probes on the plane, the sphere, the cylinder
 };
 
+// The probe scene's camera and the sphere's and cylinder's placement, read once from the page's results.
+struct SceneObjects {
+  explicit SceneObjects(const json& res)
+      : cam(res["camera_world"]),
+        sphere_c(vec3(res["objects"]["sphere"])),
+        cyl_c(vec3(res["objects"]["cylinder"])),
+        sphere_r(res["objects"]["sphere_radius"].get<double>()) {}
+  const CameraWorld cam;
+  const Vec3d sphere_c, cyl_c;
+  const double sphere_r;
+};
+
 // The channels' frame (x, y, z, view space) at probe p of run R: orthonormal, and against the surface's +u,
 // +v and normal in world space (the object told from the position); on the plane, the UV.
-void check_frame(const json& res, const json& R, int p, const Vec3d& P, const Vec3d& x, const Vec3d& y,
-                 const Vec3d& z, SceneProbes& out) {
-  const CameraWorld cam(res["camera_world"]);
-  const auto& ob = res["objects"];
-  const Vec3d sphere_c = vec3(ob["sphere"]), cyl_c = vec3(ob["cylinder"]);
+void check_frame(const SceneObjects& s, const json& R, int p, const Vec3d& P, const Vec3d (&frame)[3],
+                 SceneProbes& out) {
+  const auto& [x, y, z] = frame;
+  const CameraWorld& cam = s.cam;
   out.ortho_err =
       std::max({out.ortho_err, std::abs(length(x) - 1), std::abs(length(y) - 1), std::abs(length(z) - 1),
                 std::abs(dot(x, y)), std::abs(dot(y, z)), std::abs(dot(x, z))});
@@ -332,11 +343,11 @@ void check_frame(const json& res, const json& R, int p, const Vec3d& P, const Ve
     const auto& uv = R["dir_uv"][p];
     out.uv_err = std::max({out.uv_err, std::abs(uv[0].get<double>() - 3 * (Pw.x + 2.5) / 5),
                            std::abs(uv[1].get<double>() - 3 * (2.5 - Pw.z) / 5)});
-  } else if (std::abs(length(Pw - sphere_c) - ob["sphere_radius"].get<double>()) < 0.02) {
-    obj = 1, ez = normalize(Pw - sphere_c);
+  } else if (std::abs(length(Pw - s.sphere_c) - s.sphere_r) < 0.02) {
+    obj = 1, ez = normalize(Pw - s.sphere_c);
   } else {
     obj = 2;
-    const Vec3d r = Pw - cyl_c;
+    const Vec3d r = Pw - s.cyl_c;
     ez = normalize(Vec3d(r.x, 0, r.z));
   }
   if (obj > 0) {
@@ -417,6 +428,7 @@ void check_light_terms(const json& res, const json& R, int k, int p, const Vec3d
 // Every run (method and code), probe on a surface and light.
 void check_scene_probes(const json& res, SceneProbes& out) {
   occlusion::MicroShadowingEvaluator generic_alu("generic-vndf-alu");
+  const SceneObjects scene(res);
   const int npts = int(res["points"].size());
   for (const auto& R : res["runs"]) {
     const json& cd = res["codes"][R["code"].get<std::string>()];
@@ -425,7 +437,7 @@ void check_scene_probes(const json& res, SceneProbes& out) {
       if (!(pos[3].get<double>() > 0.5)) continue;
       const Vec3d P = vec3(pos);
       const Vec3d frame[3] = {vec3(R["dir_x"][p]), vec3(R["dir_y"][p]), vec3(R["dir_z"][p])};
-      check_frame(res, R, p, P, frame[0], frame[1], frame[2], out);
+      check_frame(scene, R, p, P, frame, out);
       float c[21];
       read_channels(R, cd, p, c, out);
       for (int k = 0; k < int(res["light_order"].size()); ++k)
