@@ -65,14 +65,33 @@ namespace {
 namespace ms_checks {
 using namespace test::ms_inputs;
 
+// A record's inputs as both checks take them: float vectors for the portable functions and the C++ float
+// templates, double ones and the projected roughness in double for the references.
+struct RecordInputs {
+  explicit RecordInputs(const Record& x)
+      : v(f3(x.v)),
+        l(f3(x.l)),
+        a(x.ax, x.ay),
+        ggx(x.ax, x.ay),
+        pa_vf(sh::msh_ggx_projected_alpha(v, a)),
+        vd(x.v),
+        ld(x.l),
+        pa_v(ref_projected_alpha(vd, x.ax, x.ay)),
+        pa_l(ref_projected_alpha(ld, x.ax, x.ay)) {}
+  const float3 v, l;
+  const float2 a;
+  const GGX<float> ggx;
+  const float pa_vf;  // the portable projected roughness along v
+  const Vec3d vd, ld;
+  const double pa_v, pa_l;
+};
+
 // The closed forms, cone cos, early-out, azimuth cos and projected roughness are the C++ templates' float
 // expressions in the same order (std::sqrt, std::pow): identical. Sobol/Hammersley: integer code. Against
 // double: each function's stated bound.
-void closed_forms(const Record& x, Family& same, Family& dbl) {
-  const float3 v = f3(x.v), l = f3(x.l);
-  const float2 a(x.ax, x.ay);
-  const GGX<float> ggx(x.ax, x.ay);
-  const float vis = x.vis, nl = x.nl, pa_vf = sh::msh_ggx_projected_alpha(v, a);
+void closed_forms(const Record& x, const RecordInputs& in, Family& same, Family& dbl) {
+  const auto& [v, l, a, ggx, pa_vf, vd, ld, pa_v, pa_l] = in;
+  const float vis = x.vis, nl = x.nl;
   const bool zero = sh::msh_ms_exact_zero(vis, nl);
   same.eq("differ", sh::msh_ms_reference_step(vis, nl), ms::reference_step(vis, nl));
   same.eq("differ", sh::msh_ms_brinck_maximov2016(vis, nl), ms::brinck_maximov_2016(vis, nl));
@@ -95,8 +114,6 @@ void closed_forms(const Record& x, Family& same, Family& dbl) {
   dbl.diff("cone cos", 1.2e-7, sh::msh_ms_cone_cos(vis), std::sqrt(1 - sat(vis)));
   const double margin = 2 * sat(vis) + sat(nl) - 1;  // the early-out in double
   dbl.count("early-out off (margin > 1e-6)", 0, std::abs(margin) > 1e-6 && zero != (margin < 0));
-  const Vec3d vd(x.v), ld(x.l);
-  const double pa_v = ref_projected_alpha(vd, x.ax, x.ay), pa_l = ref_projected_alpha(ld, x.ax, x.ay);
   dbl.diff("projected alpha (rel)", 2.5e-7, pa_vf / pa_v, 1);
   dbl.diff("projected alpha (rel)", 2.5e-7, sh::msh_ggx_projected_alpha(l, a) / pa_l, 1);
   const double r_an = sh::msh_ms_lut_roughness_anisotropic(v, l, a);
@@ -116,13 +133,11 @@ struct QmcError {
 // The VNDF sampler (vs C++ float; vs double where the float algorithm is conditioned: alpha >= 0.01,
 // u.y < 1 - 1e-4), the generic term's sample (finite; its weight and decisions vs C++ float and double) and
 // the estimator (the same Sobol points as C++: 2/n, a flipped decision; vs the exact term its QMC error).
-void sampler(const Record& x, std::size_t i, Family& smp, QmcError& qmc) {
+void sampler(const Record& x, const RecordInputs& in, std::size_t i, Family& smp, QmcError& qmc) {
   constexpr int n_est = 128;
-  const float3 v = f3(x.v), l = f3(x.l);
-  const float2 a(x.ax, x.ay), u(x.u1, x.u2);
-  const GGX<float> ggx(x.ax, x.ay);
-  const float vis = x.vis, nl = x.nl, pa_vf = sh::msh_ggx_projected_alpha(v, a);
-  const Vec3d vd(x.v), ld(x.l);
+  const auto& [v, l, a, ggx, pa_vf, vd, ld, pa_v, pa_l] = in;
+  const float2 u(x.u1, x.u2);
+  const float vis = x.vis, nl = x.nl;
   const float3 m = sh::msh_ggx_sample_vndf(v, a, u);
   const Vec3d mf(ggx.Sample_wm(x.v, Vec2f(u.x, u.y)));
   smp.max("m vs C++ float", 5e-6, length(d3(m) - mf));
@@ -138,7 +153,6 @@ void sampler(const Record& x, std::size_t i, Family& smp, QmcError& qmc) {
   const auto c_un =
       ms::generic_vndf_sample(c, GGX<float>(x.ax), x.v, x.l, Vec2f(u.x, u.y), G2Form::Uncorrelated);
   if (std::abs(length(ld) - 1) > 1e-5 || std::abs(length(vd) - 1) > 1e-5) return;
-  const double pa_v = ref_projected_alpha(vd, x.ax, x.ay), pa_l = ref_projected_alpha(ld, x.ax, x.ay);
   const double gl = ref_g1(ld, pa_l), gv = ref_g1(vd, pa_v), cos_t = std::sqrt(1 - sat(vis));
   if (hc[2] != 0 && c_hc.weight != 0) {
     smp.diff("weight vs C++ float", 1e-6, hc[2], c_hc.weight);
@@ -269,8 +283,9 @@ TEST(ShaderPortableCpp, MicroShadowing) {
       same{"closed forms, cone cos, early-out, azimuth cos, projected alpha, Sobol vs C++ float"};
   QmcError qmc;
   for (std::size_t i = 0; i < recs.size(); ++i) {
-    closed_forms(recs[i], same, dbl);
-    sampler(recs[i], i, smp, qmc);
+    const RecordInputs in(recs[i]);
+    closed_forms(recs[i], in, same, dbl);
+    sampler(recs[i], in, i, smp, qmc);
   }
   smp.at_least("estimates vs exact", 300, qmc.n);
   smp.max("mean estimate vs exact", 0.01, qmc.sum / qmc.n);
