@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <microshadow/bsdf/runtime/brdf_model.h>
 #include <microshadow/io/error.h>
+#include <type_traits>
 
 #include "py_common.h"
 
@@ -67,38 +68,42 @@ pyb::list models_list() {
   return out;
 }
 
+// The binding of eval_brdf and brdf_pdf: the model by name and keywords, then value(model, wo, wi) at every
+// broadcast (wo, wi) pair; a double per pair gives shape (...), a Vec3d gives (..., 3).
+template <class Value>
+auto at_direction_pairs(Value value) {
+  return [value](const std::string& model, pyb::handle wo, pyb::handle wi, const pyb::kwargs& kw) {
+    const auto brdf = make_model(model, kw);
+    const Broadcast b = broadcast({{wo, "wo", 3, Domain::Direction}, {wi, "wi", 3, Domain::Direction}});
+    const auto at = [&](const auto& r, std::size_t i) { return value(*brdf, r.vec(0, i), r.vec(1, i)); };
+    if constexpr (std::is_same_v<std::invoke_result_t<Value, const bsdf::BrdfModel&, Vec3d, Vec3d>, double>)
+      return map_scalar(b, at);
+    else
+      return map_vec3(b, at);
+  };
+}
+
 }  // namespace
 
 void register_bsdf(pyb::module_& m) {
   m.def("brdf_models", &models_list,
         "Every BRDF model of the registry (as `microshadow eval brdf --list --json`): a list of dicts with "
         "name, summary, source and params (name, help, components, default, range or choices).");
-  m.def(
-      "eval_brdf",
-      [](const std::string& model, pyb::handle wo, pyb::handle wi, const pyb::kwargs& kw) {
-        const auto brdf = make_model(model, kw);
-        const Broadcast b = broadcast({{wo, "wo", 3, Domain::Direction}, {wi, "wi", 3, Domain::Direction}});
-        return map_vec3(b, [&](const auto& r, std::size_t i) {
-          const Rgbd f = brdf->f(r.vec(0, i), r.vec(1, i));
+  m.def("eval_brdf", at_direction_pairs([](const bsdf::BrdfModel& brdf, const Vec3d& wo, const Vec3d& wi) {
+          const Rgbd f = brdf.f(wo, wi);
           return Vec3d(f.r, f.g, f.b);
-        });
-      },
-      "model"_a, "wo"_a, "wi"_a,
-      "BRDF value f(wo, wi) (no cosine) of a model by name, RGB: shape (..., 3). wo (view) and wi (light) "
-      "are unit directions of shape (..., 3) in the local frame (n = +z), broadcast like numpy ufuncs; "
-      "float32 in -> float32 out. Keyword arguments are the model's parameters (brdf_models(); '_' may "
-      "replace '-', e.g. base_color=(1, 0.5, 0.2), fresnel='schlick'); missing ones take their defaults, "
-      "out-of-range ones raise ValueError with the CLI's message.");
-  m.def(
-      "brdf_pdf",
-      [](const std::string& model, pyb::handle wo, pyb::handle wi, const pyb::kwargs& kw) {
-        const auto brdf = make_model(model, kw);
-        const Broadcast b = broadcast({{wo, "wo", 3, Domain::Direction}, {wi, "wi", 3, Domain::Direction}});
-        return map_scalar(b,
-                          [&](const auto& r, std::size_t i) { return brdf->pdf(r.vec(0, i), r.vec(1, i)); });
-      },
-      "model"_a, "wo"_a, "wi"_a,
-      "Solid-angle pdf of sample_brdf's wi given wo for a model by name (parameters as for eval_brdf).");
+        }),
+        "model"_a, "wo"_a, "wi"_a,
+        "BRDF value f(wo, wi) (no cosine) of a model by name, RGB: shape (..., 3). wo (view) and wi (light) "
+        "are unit directions of shape (..., 3) in the local frame (n = +z), broadcast like numpy ufuncs; "
+        "float32 in -> float32 out. Keyword arguments are the model's parameters (brdf_models(); '_' may "
+        "replace '-', e.g. base_color=(1, 0.5, 0.2), fresnel='schlick'); missing ones take their defaults, "
+        "out-of-range ones raise ValueError with the CLI's message.");
+  m.def("brdf_pdf", at_direction_pairs([](const bsdf::BrdfModel& brdf, const Vec3d& wo, const Vec3d& wi) {
+          return brdf.pdf(wo, wi);
+        }),
+        "model"_a, "wo"_a, "wi"_a,
+        "Solid-angle pdf of sample_brdf's wi given wo for a model by name (parameters as for eval_brdf).");
   m.def(
       "sample_brdf",
       [](const std::string& model, pyb::handle wo, pyb::handle u, const pyb::kwargs& kw) {
