@@ -487,12 +487,11 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
   const json mips = json::parse(slurp(kMat / "mips" / "mips.json"));
   ASSERT_EQ(mips["directional"]["channels"], directional::kViewChannels);
   ASSERT_NO_FATAL_FAILURE(check_driver_outputs(res, mips));
-  SceneProbes probes;
-  ASSERT_NO_FATAL_FAILURE(check_scene_probes(res, probes));
+  SceneProbes s;
+  ASSERT_NO_FATAL_FAILURE(check_scene_probes(res, s));
   double near_err = 0;
   int near_n = 0;
   check_nearest_fetches(res, near_err, near_n);
-  const SceneProbes& s = probes;
   std::printf(
       "three.js r%s, %d probe points; frame vs surfaces %.1e (orthonormal %.1e; probes plane %d, sphere %d, "
       "cylinder %d), l %.1e, v %.1e, N.L %.1e, uv %.1e; compose %.1e; nearest channels vs files %.1e (n=%d); "
@@ -502,7 +501,7 @@ TEST(ThreeDirectional, MatchesTheLibraryAtProbes) {
       s.compose_err, near_err, near_n, s.direct_err, s.direct_n, res["timing"]["done"].get<double>());
   std::printf("max |three.js - C++|: 8-bit output in 1/255 (float32, relative to max(1, |term|)) n:\n");
   print_probe_table(
-      probes.stats, res["light_order"].get<std::vector<std::string>>(), 62,
+      s.stats, res["light_order"].get<std::vector<std::string>>(), 62,
       [](const std::string& t, const ProbeStat& st) {
         std::printf(" %s %4.2f (%.1e) %3d", t.c_str(), st.max_8bit * 255, st.max_float, st.n);
         return json{{"max_8bit_255", st.max_8bit * 255}, {"max_float_rel", st.max_float}, {"n", st.n}};
@@ -625,8 +624,8 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
   const json gj = json::parse(slurp(kMat / "gltf" / "material.gltf"));
   const json& ext = gj["materials"][0]["extensions"]["MSH_materials_directional_occlusion"];
   check_gltf_outputs(run.res, G, ext);
-  GltfProbes probes;
-  check_gltf_probes(G, probes);
+  GltfProbes s;
+  check_gltf_probes(G, s);
   // Nearest: the PNG texels at the pixel's UV, decoded with the extension's ranges.
   double near_err = 0;
   int near_n = 0;
@@ -639,12 +638,10 @@ TEST(ThreeDirectional, GltfPluginMatchesTheLibraryAtProbes) {
                   near_err, near_n);
   EXPECT_LE(near_err, 1e-5) << "the fetched coefficients are not the PNG texels at the pixel's UV";
   EXPECT_GE(near_n, 100);
-  const GltfProbes& s = probes;
   std::printf(
       "glTF (gen-material --directional-form pca8 --gltf, plaster 128) through MicroShadowGLTFPlugin: %d "
       "plane probes; frame %.1e, uv %.1e, l %.1e, v %.1e, N.L %.1e, nearest vs PNG %.1e (n=%d), direct "
-      "on/off "
-      "%.1e (n=%d)\n",
+      "on/off %.1e (n=%d)\n",
       s.n_pix, s.frame_err, s.uv_err, s.inputs.lt, s.inputs.vt, s.inputs.nl, near_err, near_n, s.direct_err,
       s.direct_n);
   std::printf("max |three.js - C++|: 8-bit in 1/255 (float32 relative) n:\n");
