@@ -74,6 +74,7 @@ struct RecordInputs {
         a(x.ax, x.ay),
         ggx(x.ax, x.ay),
         pa_vf(sh::msh_ggx_projected_alpha(v, a)),
+        pa_lf(sh::msh_ggx_projected_alpha(l, a)),
         vd(x.v),
         ld(x.l),
         pa_v(ref_projected_alpha(vd, x.ax, x.ay)),
@@ -81,7 +82,7 @@ struct RecordInputs {
   const float3 v, l;
   const float2 a;
   const GGX<float> ggx;
-  const float pa_vf;  // the portable projected roughness along v
+  const float pa_vf, pa_lf;  // the portable projected roughness along v and l
   const Vec3d vd, ld;
   const double pa_v, pa_l;
 };
@@ -90,7 +91,7 @@ struct RecordInputs {
 // expressions in the same order (std::sqrt, std::pow): identical. Sobol/Hammersley: integer code. Against
 // double: each function's stated bound.
 void closed_forms(const Record& x, const RecordInputs& in, Family& same, Family& dbl) {
-  const auto& [v, l, a, ggx, pa_vf, vd, ld, pa_v, pa_l] = in;
+  const auto& [v, l, a, ggx, pa_vf, pa_lf, vd, ld, pa_v, pa_l] = in;
   const float vis = x.vis, nl = x.nl;
   const bool zero = sh::msh_ms_exact_zero(vis, nl);
   same.eq("differ", sh::msh_ms_reference_step(vis, nl), ms::reference_step(vis, nl));
@@ -101,7 +102,7 @@ void closed_forms(const Record& x, const RecordInputs& in, Family& same, Family&
   same.eq("differ", zero, ms::exact_zero(vis, nl));
   same.eq("differ", sh::msh_ms_relative_azimuth_cos(v, l), lut::relative_azimuth_cos(x.v, x.l));
   same.eq("differ", pa_vf, ggx.projected_alpha(x.v));
-  same.eq("differ", sh::msh_ggx_projected_alpha(l, a), ggx.projected_alpha(x.l));
+  same.eq("differ", pa_lf, ggx.projected_alpha(x.l));
   for (uint32_t seed : {0u, 7u})
     for (int k = 0; k < 2; ++k)
       same.eq("differ", sh::msh_sobol_2d(x.index, seed)[k], sobol_2d<float>(x.index, seed)[k]);
@@ -115,7 +116,7 @@ void closed_forms(const Record& x, const RecordInputs& in, Family& same, Family&
   const double margin = 2 * sat(vis) + sat(nl) - 1;  // the early-out in double
   dbl.count("early-out off (margin > 1e-6)", 0, std::abs(margin) > 1e-6 && zero != (margin < 0));
   dbl.diff("projected alpha (rel)", 2.5e-7, pa_vf / pa_v, 1);
-  dbl.diff("projected alpha (rel)", 2.5e-7, sh::msh_ggx_projected_alpha(l, a) / pa_l, 1);
+  dbl.diff("projected alpha (rel)", 2.5e-7, pa_lf / pa_l, 1);
   const double r_an = sh::msh_ms_lut_roughness_anisotropic(v, l, a);
   dbl.diff("anisotropic roughness (rel)", 1e-6,
            r_an / std::sqrt(std::sqrt(0.5 * (pa_v * pa_v + pa_l * pa_l))), 1);
@@ -135,7 +136,7 @@ struct QmcError {
 // the estimator (the same Sobol points as C++: 2/n, a flipped decision; vs the exact term its QMC error).
 void sampler(const Record& x, const RecordInputs& in, std::size_t i, Family& smp, QmcError& qmc) {
   constexpr int n_est = 128;
-  const auto& [v, l, a, ggx, pa_vf, vd, ld, pa_v, pa_l] = in;
+  const auto& [v, l, a, ggx, pa_vf, pa_lf, vd, ld, pa_v, pa_l] = in;
   const float2 u(x.u1, x.u2);
   const float vis = x.vis, nl = x.nl;
   const float3 m = sh::msh_ggx_sample_vndf(v, a, u);
@@ -158,7 +159,7 @@ void sampler(const Record& x, const RecordInputs& in, std::size_t i, Family& smp
     smp.diff("weight vs C++ float", 1e-6, hc[2], c_hc.weight);
     smp.diff("weight vs double", 1e-6, hc[2], gl / (gl + gv - gl * gv));
   }
-  const float g2 = sh::msh_ms_smith_g2_over_g1(sh::msh_ggx_g1_projected(l, sh::msh_ggx_projected_alpha(l, a)),
+  const float g2 = sh::msh_ms_smith_g2_over_g1(sh::msh_ggx_g1_projected(l, pa_lf),
                                                sh::msh_ggx_g1_projected(v, pa_vf), false);
   smp.diff("weight vs C++ float", 1e-6, g2, ms::smith_g2_over_g1(ggx, x.v, x.l, G2Form::Uncorrelated));
   smp.diff("weight vs double", 1e-6, g2, gl);
