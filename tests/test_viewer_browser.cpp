@@ -500,6 +500,11 @@ struct ViewerProbes {
   int lit_total = 0, texel_probes = 0, texel_nonzero = 0;
 };
 
+// A probe pixel's 3-vector `key` (a JSON array of three numbers) as the page's float.
+Vec3f probe_vec(const nlohmann::json& p, const char* key) {
+  return Vec3f(p[key][0].get<float>(), p[key][1].get<float>(), p[key][2].get<float>());
+}
+
 // A lit probe pixel's inputs as the page read them.
 struct ProbeInputs {
   float V, nl, nv, r, cphi;
@@ -525,10 +530,7 @@ void texel_expected(const nlohmann::json& p, const nlohmann::json& form, const s
   ASSERT_GE(int(p["directional"].size()), nch) << id;
   float ch[directional::kViewChannels], b[directional::kDirectionalChannels];
   for (int k = 0; k < nch; ++k) ch[k] = p["directional"][k].get<float>();
-  const auto vec = [&](const char* key) {
-    return Vec3f(p[key][0].get<float>(), p[key][1].get<float>(), p[key][2].get<float>());
-  };
-  const Vec3f lt = vec("l_tangent"), nt = vec("n_tangent"), vt = vec("v_tangent");
+  const Vec3f lt = probe_vec(p, "l_tangent"), nt = probe_vec(p, "n_tangent"), vt = probe_vec(p, "v_tangent");
   directional::poly2_basis(lt, b);
   // S of each 9-term sum (the view's G sums weighted as in shaders/portable/directional.h).
   double S = 0, nl_abs = std::abs(nt.x * lt.x) + std::abs(nt.y * lt.y) + std::abs(nt.z * lt.z);
@@ -598,8 +600,8 @@ void check_probe_methods(const nlohmann::json& res, const nlohmann::json& cfg, c
                 p["samples"],    0};
   ASSERT_TRUE(x.V >= 0 && x.V <= 1 && x.nl >= 0 && x.nl <= 1 && x.nv >= 0 && x.nv <= 1 && x.r >= 0 &&
               x.r <= 1);
-  x.v = Vec3f(p["v"][0].get<float>(), p["v"][1].get<float>(), p["v"][2].get<float>());
-  x.l = Vec3f(p["l"][0].get<float>(), p["l"][1].get<float>(), p["l"][2].get<float>());
+  x.v = probe_vec(p, "v");
+  x.l = probe_vec(p, "l");
   x.phi = std::acos(std::clamp(double(x.cphi), -1.0, 1.0));
   for (const auto& m : res["methods"]) {
     const std::string id = m["id"];
@@ -640,10 +642,7 @@ void check_unlit_probe(const nlohmann::json& res, const nlohmann::json& p) {
 // The bump-terminator terms at the pixel's own normals and light direction (world space), C++ float.
 void check_probe_bumps(const nlohmann::json& res, const nlohmann::json& cfg, const nlohmann::json& p,
                        ViewerProbes& out) {
-  auto vec = [&](const char* k) {
-    return Vec3f(p[k][0].get<float>(), p[k][1].get<float>(), p[k][2].get<float>());
-  };
-  const Vec3f ng = vec("ng"), ns = vec("ns"), wl = vec("wl");
+  const Vec3f ng = probe_vec(p, "ng"), ns = probe_vec(p, "ns"), wl = probe_vec(p, "wl");
   const auto test = p["bump_hemi"].get<bool>() ? bump::HemisphereTest::kOn : bump::HemisphereTest::kOff;
   for (const auto& id : res["bumps"]) {
     bump::Method m = bump::Method::kNone;
